@@ -1,0 +1,12 @@
+/// @file Commands.h
+/// @brief The gvr subcommands; each adds itself to the application.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace gvr {
+
+void addIngestCommand(CLI::App& app);
+void addInfoCommand(CLI::App& app);
+
+}  // namespace gvr

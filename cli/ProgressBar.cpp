@@ -1,0 +1,52 @@
+#include "ProgressBar.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace gvr {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsBetween(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+}
+
+}  // namespace
+
+ProgressBar::ProgressBar(std::string label, bool enabled)
+    : mLabel(std::move(label)), mEnabled(enabled && isatty(STDERR_FILENO)),
+      mStart(Clock::now()), mLastDraw(mStart) {}
+
+ProgressBar::~ProgressBar() {
+    if (mDrawn) std::fputc('\n', stderr);
+}
+
+void ProgressBar::update(double fraction) {
+    if (!mEnabled) return;
+    const Clock::time_point now = Clock::now();
+    if (fraction < 1.0 && mDrawn && secondsBetween(mLastDraw, now) < 0.1) return;
+    mLastDraw = now;
+    draw(std::clamp(fraction, 0.0, 1.0));
+}
+
+ProgressFn ProgressBar::callback() {
+    return [this](double fraction) { update(fraction); };
+}
+
+void ProgressBar::draw(double fraction) {
+    constexpr int kWidth = 30;
+    const int filled = int(fraction * kWidth);
+    const double elapsed = secondsBetween(mStart, Clock::now());
+    const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
+    std::fprintf(stderr, "\r%-14s [%.*s%*s] %5.1f %%  %6.1f s elapsed, ETA %6.1f s", mLabel.c_str(),
+                 filled, "##############################", kWidth - filled, "", 100.0 * fraction,
+                 elapsed, eta);
+    std::fflush(stderr);
+    mDrawn = true;
+}
+
+}  // namespace gvr

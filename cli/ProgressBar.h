@@ -1,0 +1,35 @@
+/// @file ProgressBar.h
+/// @brief A one-line progress bar on stderr, shown only when stderr is a terminal.
+#pragma once
+
+#include "Progress.h"
+
+#include <chrono>
+#include <string>
+
+namespace gvr {
+
+class ProgressBar {
+public:
+    /// @param label what is being done ("reading", "building grid")
+    explicit ProgressBar(std::string label, bool enabled = true);
+    ~ProgressBar();
+    ProgressBar(const ProgressBar&) = delete;
+    ProgressBar& operator=(const ProgressBar&) = delete;
+
+    /// Draws the bar at @a fraction in [0, 1], at most ten times a second.
+    void update(double fraction);
+
+    /// A callback for library calls that report progress.
+    ProgressFn callback();
+
+private:
+    void draw(double fraction);
+
+    std::string mLabel;
+    bool mEnabled;
+    bool mDrawn = false;
+    std::chrono::steady_clock::time_point mStart, mLastDraw;
+};
+
+}  // namespace gvr

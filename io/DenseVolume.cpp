@@ -1,0 +1,29 @@
+#include "DenseVolume.h"
+
+#include "Error.h"
+#include "MemoryBudget.h"
+
+namespace gvr {
+
+openvdb::math::Mat4d worldFromIndexRows(const double rows[3][4]) {
+    openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 4; ++c) m(c, r) = rows[r][c];  // OpenVDB transposes
+    }
+    return m;
+}
+
+openvdb::Vec3d axisSpacing(const openvdb::math::Mat4d& worldFromIndex) {
+    openvdb::Vec3d spacing;
+    for (int axis = 0; axis < 3; ++axis) {
+        spacing[axis] = worldFromIndex.row(axis).getVec3().length();
+    }
+    return spacing;
+}
+
+void allocateSamples(DenseVolume& volume, const std::string& file) {
+    checkVolumeFitsInMemory(file, volume.dims, volume.channels, bytesPerSample(volume.type));
+    volume.samples.assign(volume.sampleBytes(), 0);
+}
+
+}  // namespace gvr

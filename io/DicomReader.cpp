@@ -1,0 +1,273 @@
+// A DICOM series (one folder) through GDCM, compressed transfer syntaxes included.
+//
+// Headers are read first (without pixel data) to sort the slices along the slice
+// normal and to check that the series is consistent; only then is the volume
+// allocated and the slices decoded, in parallel.
+
+#include "Error.h"
+#include "Readers.h"
+
+#include <gdcmImageHelper.h>
+#include <gdcmImageReader.h>
+#include <gdcmReader.h>
+#include <tbb/parallel_for.h>
+
+#include <openvdb/Types.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+namespace gvr {
+
+namespace {
+
+namespace fs = std::filesystem;
+using openvdb::Vec3d;
+
+struct SliceHeader {
+    std::string file;
+    Vec3d position;  // ImagePositionPatient, LPS mm
+    double along = 0;  // position projected on the slice normal
+    double intercept = 0;
+    double slope = 1;
+};
+
+struct SeriesHeader {
+    unsigned columns = 0, rows = 0, samplesPerPixel = 1;
+    SampleType type = SampleType::Int16;
+    Vec3d rowDirection, columnDirection;
+    double columnSpacing = 1, rowSpacing = 1;  // mm between columns, between rows
+    std::string modality = "unknown";
+    std::string seriesUid;
+    std::vector<SliceHeader> slices;
+};
+
+std::string stringElement(const gdcm::DataSet& dataSet, const gdcm::Tag& tag) {
+    if (!dataSet.FindDataElement(tag)) return "";
+    const gdcm::ByteValue* value = dataSet.GetDataElement(tag).GetByteValue();
+    if (!value) return "";
+    std::string text(value->GetPointer(), value->GetLength());
+    const auto end = text.find_last_not_of(std::string(" \0", 2));
+    return end == std::string::npos ? "" : text.substr(0, end + 1);
+}
+
+SampleType sampleTypeOf(const gdcm::PixelFormat& format, const std::string& file) {
+    const bool isSigned = format.GetPixelRepresentation() == 1;
+    switch (format.GetBitsAllocated()) {
+        case 8: return isSigned ? SampleType::Int8 : SampleType::UInt8;
+        case 16: return isSigned ? SampleType::Int16 : SampleType::UInt16;
+        case 32: return isSigned ? SampleType::Int32 : SampleType::UInt32;
+        default: break;
+    }
+    throw InputError(file, "unsupported DICOM pixel format: " +
+                               std::to_string(format.GetBitsAllocated()) + " bits allocated");
+}
+
+Vec3d vec3(const std::vector<double>& values, std::size_t offset) {
+    return Vec3d(values.at(offset), values.at(offset + 1), values.at(offset + 2));
+}
+
+/// Reads one slice's header; the pixel data is skipped.
+SliceHeader readSliceHeader(const std::string& file, SeriesHeader& series, bool first) {
+    gdcm::Reader reader;
+    reader.SetFileName(file.c_str());
+    if (!reader.ReadUpToTag(gdcm::Tag(0x7fe0, 0x0010))) {
+        throw InputError(file, "corrupt DICOM header (GDCM could not parse it)");
+    }
+    const gdcm::File& dicom = reader.GetFile();
+    const gdcm::DataSet& dataSet = dicom.GetDataSet();
+    const std::vector<unsigned> dims = gdcm::ImageHelper::GetDimensionsValue(dicom);
+    const gdcm::PixelFormat format = gdcm::ImageHelper::GetPixelFormatValue(dicom);
+    const std::vector<double> cosines = gdcm::ImageHelper::GetDirectionCosinesValue(dicom);
+    const std::vector<double> spacing = gdcm::ImageHelper::GetSpacingValue(dicom);
+    if (dims.size() < 2 || dims[0] == 0 || dims[1] == 0) {
+        throw InputError(file, "DICOM header has no image dimensions");
+    }
+    if (dims.size() > 2 && dims[2] > 1) {
+        throw InputError(file, "multi-frame DICOM files are not supported; gvr reads series "
+                               "of single-frame slices");
+    }
+
+    SliceHeader slice;
+    slice.file = file;
+    slice.position = vec3(gdcm::ImageHelper::GetOriginValue(dicom), 0);
+    const std::vector<double> rescale = gdcm::ImageHelper::GetRescaleInterceptSlopeValue(dicom);
+    slice.intercept = rescale.at(0);
+    slice.slope = rescale.at(1);
+
+    const std::string uid = stringElement(dataSet, gdcm::Tag(0x0020, 0x000e));
+    if (first) {
+        series.columns = dims[0];
+        series.rows = dims[1];
+        series.samplesPerPixel = format.GetSamplesPerPixel();
+        series.type = sampleTypeOf(format, file);
+        series.rowDirection = vec3(cosines, 0);
+        series.columnDirection = vec3(cosines, 3);
+        series.columnSpacing = spacing.at(0);
+        series.rowSpacing = spacing.at(1);
+        series.seriesUid = uid;
+        const std::string modality = stringElement(dataSet, gdcm::Tag(0x0008, 0x0060));
+        if (!modality.empty()) series.modality = modality;
+    } else if (dims[0] != series.columns || dims[1] != series.rows) {
+        throw InputError(file, "slice is " + std::to_string(dims[0]) + "x" +
+                                   std::to_string(dims[1]) + " but the series is " +
+                                   std::to_string(series.columns) + "x" +
+                                   std::to_string(series.rows));
+    } else if (uid != series.seriesUid) {
+        throw InputError(file, "belongs to another series (SeriesInstanceUID " + uid +
+                                   "); put one series per folder");
+    } else if (sampleTypeOf(format, file) != series.type ||
+               format.GetSamplesPerPixel() != series.samplesPerPixel) {
+        throw InputError(file, "pixel format differs from the rest of the series");
+    }
+    if (series.samplesPerPixel != 1 && series.samplesPerPixel != 3) {
+        throw InputError(file, "unsupported DICOM samples per pixel: " +
+                                   std::to_string(series.samplesPerPixel));
+    }
+    return slice;
+}
+
+SeriesHeader readSeriesHeader(const std::string& folder) {
+    std::vector<std::string> files;
+    for (const auto& entry : fs::directory_iterator(folder)) {
+        if (entry.is_regular_file() && isDicomFile(entry.path().string())) files.push_back(entry.path());
+    }
+    if (files.empty()) throw InputError(folder, "folder holds no DICOM files");
+    std::sort(files.begin(), files.end());
+
+    SeriesHeader series;
+    for (const std::string& file : files) {
+        series.slices.push_back(readSliceHeader(file, series, series.slices.empty()));
+    }
+    const Vec3d normal = series.rowDirection.cross(series.columnDirection);
+    if (normal.length() < 0.5) {
+        throw InputError(files.front(), "ImageOrientationPatient is missing or degenerate");
+    }
+    for (SliceHeader& slice : series.slices) slice.along = slice.position.dot(normal);
+    std::sort(series.slices.begin(), series.slices.end(),
+              [](const SliceHeader& a, const SliceHeader& b) { return a.along < b.along; });
+    for (std::size_t s = 1; s < series.slices.size(); ++s) {
+        if (std::abs(series.slices[s].along - series.slices[s - 1].along) < 1e-4) {
+            throw InputError(series.slices[s].file, "lies at the same position as " +
+                                                        series.slices[s - 1].file);
+        }
+    }
+    return series;
+}
+
+/// The step between slices. Taken from first to last position rather than from the
+/// normal, so a gantry tilt shows up as a sheared axis.
+Vec3d sliceStep(const SeriesHeader& series, DenseVolume& volume) {
+    const auto& slices = series.slices;
+    if (slices.size() < 2) {
+        return series.rowDirection.cross(series.columnDirection);  // 1 mm, as nothing says more
+    }
+    const std::size_t gaps = slices.size() - 1;
+    const Vec3d step = (slices.back().position - slices.front().position) / double(gaps);
+    double smallest = INFINITY, largest = 0;
+    for (std::size_t s = 1; s < slices.size(); ++s) {
+        const double gap = slices[s].along - slices[s - 1].along;
+        smallest = std::min(smallest, gap);
+        largest = std::max(largest, gap);
+    }
+    if (largest > 1.1 * smallest) {
+        volume.warnings.push_back("slice spacing is not uniform (" + std::to_string(smallest) +
+                                  " to " + std::to_string(largest) +
+                                  " mm); using the mean, positions may be off");
+    }
+    return step;
+}
+
+void setGeometry(const SeriesHeader& series, DenseVolume& volume) {
+    const Vec3d origin = series.slices.front().position;
+    const Vec3d iAxis = series.rowDirection * series.columnSpacing;
+    const Vec3d jAxis = series.columnDirection * series.rowSpacing;
+    const Vec3d kAxis = sliceStep(series, volume);
+    // DICOM is LPS; gvr's world is RAS like NIfTI, so x and y change sign.
+    const double sign[3] = {-1, -1, 1};
+    double rows[3][4];
+    for (int r = 0; r < 3; ++r) {
+        rows[r][0] = sign[r] * iAxis[r];
+        rows[r][1] = sign[r] * jAxis[r];
+        rows[r][2] = sign[r] * kAxis[r];
+        rows[r][3] = sign[r] * origin[r];
+    }
+    volume.worldFromIndex = worldFromIndexRows(rows);
+}
+
+bool rescaleIsUniform(const SeriesHeader& series) {
+    const SliceHeader& first = series.slices.front();
+    return std::all_of(series.slices.begin(), series.slices.end(), [&](const SliceHeader& s) {
+        return s.slope == first.slope && s.intercept == first.intercept;
+    });
+}
+
+/// Decodes one slice and stores it at its place, rescaled to float when the series
+/// mixes rescale parameters.
+void decodeSlice(const SeriesHeader& series, std::size_t index, DenseVolume& volume,
+                 bool perSliceRescale) {
+    const SliceHeader& slice = series.slices[index];
+    gdcm::ImageReader reader;
+    reader.SetFileName(slice.file.c_str());
+    if (!reader.Read()) throw InputError(slice.file, "truncated or undecodable DICOM pixel data");
+    const gdcm::Image& image = reader.GetImage();
+    const std::size_t samples = std::size_t(series.columns) * series.rows * series.samplesPerPixel;
+    const std::size_t storedBytes = samples * bytesPerSample(series.type);
+    if (image.GetBufferLength() != storedBytes) {
+        throw InputError(slice.file, "pixel data holds " + std::to_string(image.GetBufferLength()) +
+                                         " bytes, expected " + std::to_string(storedBytes));
+    }
+    std::vector<char> stored(storedBytes);
+    if (!image.GetBuffer(stored.data())) {
+        throw InputError(slice.file, "truncated or undecodable DICOM pixel data");
+    }
+    if (!perSliceRescale) {
+        std::copy(stored.begin(), stored.end(), volume.samples.begin() + index * storedBytes);
+        return;
+    }
+    float* out = volume.data<float>() + index * samples;
+    dispatchSampleType(series.type, [&](auto sample) {
+        using T = decltype(sample);
+        const T* in = reinterpret_cast<const T*>(stored.data());
+        for (std::size_t s = 0; s < samples; ++s) out[s] = float(slice.slope * in[s] + slice.intercept);
+    });
+}
+
+}  // namespace
+
+bool isDicomFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    char magic[4] = {};
+    in.seekg(128);  // the magic follows a 128-byte preamble
+    in.read(magic, 4);
+    return in && std::string(magic, 4) == "DICM";
+}
+
+DenseVolume readDicomSeries(const std::string& folder, const ReadOptions& options) {
+    const SeriesHeader series = readSeriesHeader(folder);
+    DenseVolume volume;
+    volume.dims = {series.columns, series.rows, std::int64_t(series.slices.size())};
+    volume.channels = int(series.samplesPerPixel);
+    volume.modality = series.modality;
+    setGeometry(series, volume);
+
+    const bool perSliceRescale = !rescaleIsUniform(series);
+    volume.type = perSliceRescale ? SampleType::Float32 : series.type;
+    if (!perSliceRescale) {
+        volume.slope = series.slices.front().slope;
+        volume.intercept = series.slices.front().intercept;
+    }
+    allocateSamples(volume, folder);
+
+    ProgressCounter progress(options.progress, series.slices.size());
+    tbb::parallel_for(std::size_t(0), series.slices.size(), [&](std::size_t index) {
+        decodeSlice(series, index, volume, perSliceRescale);
+        progress.advance();
+    });
+    return volume;
+}
+
+}  // namespace gvr

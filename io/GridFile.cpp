@@ -1,0 +1,45 @@
+#include "GridFile.h"
+
+#include "AtomicFile.h"
+#include "Error.h"
+
+#include <fstream>
+
+namespace gvr {
+
+void initializeOpenVdb() { openvdb::initialize(); }
+
+bool isVdbFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::int32_t magic = 0;
+    in.read(reinterpret_cast<char*>(&magic), sizeof magic);
+    return in && magic == openvdb::OPENVDB_MAGIC;
+}
+
+openvdb::GridPtrVecPtr readGridFile(const std::string& path) {
+    initializeOpenVdb();
+    if (!isVdbFile(path)) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
+    try {
+        openvdb::io::File file(path);
+        file.open(/*delayLoad=*/false);
+        openvdb::GridPtrVecPtr grids = file.getGrids();
+        file.close();
+        return grids;
+    } catch (const openvdb::Exception& error) {
+        throw InputError(path, std::string("corrupt or truncated VDB file: ") + error.what());
+    } catch (const std::ios_base::failure& error) {
+        throw InputError(path, std::string("truncated VDB file: ") + error.what());
+    }
+}
+
+void writeGridFile(const std::string& path, const openvdb::GridCPtrVec& grids) {
+    initializeOpenVdb();
+    writeAtomically(path, [&](const std::string& temporary) {
+        openvdb::io::File file(temporary);
+        file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
+        file.write(grids);
+        file.close();
+    });
+}
+
+}  // namespace gvr

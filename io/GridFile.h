@@ -1,0 +1,23 @@
+/// @file GridFile.h
+/// @brief Reading and writing .vdb files.
+#pragma once
+
+#include <openvdb/openvdb.h>
+
+#include <string>
+
+namespace gvr {
+
+/// Registers OpenVDB's types; safe to call many times from one thread.
+void initializeOpenVdb();
+
+/// True when @a path starts with the OpenVDB magic number.
+bool isVdbFile(const std::string& path);
+
+/// @throw InputError naming @a path when it is missing, truncated or not a VDB file.
+openvdb::GridPtrVecPtr readGridFile(const std::string& path);
+
+/// Writes @a grids with Blosc compression, atomically (see writeAtomically).
+void writeGridFile(const std::string& path, const openvdb::GridCPtrVec& grids);
+
+}  // namespace gvr

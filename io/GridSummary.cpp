@@ -1,0 +1,106 @@
+#include "GridSummary.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace gvr {
+
+namespace {
+
+struct ActiveRange {
+    double min = INFINITY, max = -INFINITY;
+
+    template <typename GridT>
+    void operator()(const GridT& grid) {
+        for (auto value = grid.cbeginValueOn(); value; ++value) {
+            if constexpr (openvdb::VecTraits<typename GridT::ValueType>::IsVec) {
+                for (int c = 0; c < openvdb::VecTraits<typename GridT::ValueType>::Size; ++c) {
+                    include(double((*value)[c]));
+                }
+            } else {
+                include(double(*value));
+            }
+        }
+    }
+
+    void include(double v) {
+        min = std::min(min, v);
+        max = std::max(max, v);
+    }
+};
+
+std::string fixed(double value, int digits) {
+    std::ostringstream out;
+    out << std::setprecision(digits) << value;
+    return out.str();
+}
+
+}  // namespace
+
+std::string formatBytes(std::uint64_t bytes) {
+    const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+    double size = double(bytes);
+    int unit = 0;
+    while (size >= 1024.0 && unit < 4) {
+        size /= 1024.0;
+        ++unit;
+    }
+    return fixed(size, unit == 0 ? 6 : 3) + " " + units[unit];
+}
+
+GridSummary summarizeGrid(const openvdb::GridBase& grid) {
+    GridSummary summary;
+    summary.name = grid.getName();
+    summary.valueType = grid.valueType();
+    summary.gridClass = openvdb::GridBase::gridClassToString(grid.getGridClass());
+    summary.dims = grid.evalActiveVoxelBoundingBox().dim();
+    summary.spacingMm = grid.transform().voxelSize();
+    summary.activeVoxels = grid.activeVoxelCount();
+    summary.memoryBytes = grid.memUsage();
+    ActiveRange range;
+    using Supported = openvdb::TypeList<openvdb::FloatGrid, openvdb::DoubleGrid, openvdb::Int32Grid,
+                                        openvdb::Vec3SGrid>;
+    if (grid.apply<Supported>(range) && summary.activeVoxels > 0) {
+        summary.valueMin = range.min;
+        summary.valueMax = range.max;
+    }
+    for (auto meta = grid.beginMeta(); meta != grid.endMeta(); ++meta) {
+        if (meta->first == "name" || meta->first == "class") continue;
+        summary.metadata[meta->first] = meta->second->str();
+    }
+    return summary;
+}
+
+nlohmann::json toJson(const GridSummary& s) {
+    return {{"name", s.name},
+            {"value_type", s.valueType},
+            {"grid_class", s.gridClass},
+            {"dims", {s.dims.x(), s.dims.y(), s.dims.z()}},
+            {"spacing_mm", {s.spacingMm.x(), s.spacingMm.y(), s.spacingMm.z()}},
+            {"value_min", s.valueMin},
+            {"value_max", s.valueMax},
+            {"active_voxels", s.activeVoxels},
+            {"memory_bytes", s.memoryBytes},
+            {"metadata", s.metadata}};
+}
+
+std::string toText(const GridSummary& s) {
+    std::ostringstream out;
+    const double boxVoxels = double(s.dims.x()) * s.dims.y() * s.dims.z();
+    out << "grid '" << s.name << "' (" << s.valueType << ", " << s.gridClass << ")\n"
+        << "  dimensions:    " << s.dims.x() << " x " << s.dims.y() << " x " << s.dims.z()
+        << " voxels (active bounding box)\n"
+        << "  spacing:       " << fixed(s.spacingMm.x(), 6) << " x " << fixed(s.spacingMm.y(), 6)
+        << " x " << fixed(s.spacingMm.z(), 6) << " mm\n"
+        << "  value range:   " << fixed(s.valueMin, 6) << " .. " << fixed(s.valueMax, 6)
+        << " (active voxels)\n"
+        << "  active voxels: " << s.activeVoxels;
+    if (boxVoxels > 0) out << " (" << fixed(100.0 * s.activeVoxels / boxVoxels, 3) << " % of the box)";
+    out << "\n  memory:        " << formatBytes(s.memoryBytes) << "\n";
+    if (!s.metadata.empty()) out << "  metadata:\n";
+    for (const auto& [key, value] : s.metadata) out << "    " << key << " = " << value << "\n";
+    return out.str();
+}
+
+}  // namespace gvr

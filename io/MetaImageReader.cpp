@@ -1,0 +1,166 @@
+// ITK MetaImage: a text header of "Key = Value" lines (.mhd, with the samples in a
+// separate file) or the same header followed by the samples (.mha, ElementDataFile = LOCAL).
+
+#include "Error.h"
+#include "Readers.h"
+#include "SampleFile.h"
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace gvr {
+
+namespace {
+
+struct MetaHeader {
+    std::map<std::string, std::string> fields;
+    std::uint64_t endOffset = 0;  // where LOCAL data begins
+};
+
+std::string trim(const std::string& text) {
+    const auto begin = text.find_first_not_of(" \t\r");
+    if (begin == std::string::npos) return "";
+    return text.substr(begin, text.find_last_not_of(" \t\r") - begin + 1);
+}
+
+/// Reads "Key = Value" lines up to ElementDataFile, which MetaImage requires last.
+MetaHeader readHeader(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, "cannot open file");
+    MetaHeader header;
+    std::string line;
+    constexpr std::size_t kMaxHeaderLines = 200;
+    for (std::size_t lineCount = 0; lineCount < kMaxHeaderLines && std::getline(in, line);
+         ++lineCount) {
+        const auto equals = line.find('=');
+        if (equals == std::string::npos) {
+            throw InputError(path, "corrupt MetaImage header: line '" + line.substr(0, 40) +
+                                       "' is not 'Key = Value'");
+        }
+        const std::string key = trim(line.substr(0, equals));
+        header.fields[key] = trim(line.substr(equals + 1));
+        if (key == "ElementDataFile") {
+            header.endOffset = std::uint64_t(in.tellg());
+            return header;
+        }
+    }
+    throw InputError(path, "corrupt MetaImage header: no ElementDataFile line");
+}
+
+const std::string& field(const MetaHeader& header, const std::string& key, const std::string& path) {
+    const auto found = header.fields.find(key);
+    if (found == header.fields.end()) throw InputError(path, "MetaImage header lacks " + key);
+    return found->second;
+}
+
+std::vector<double> numbers(const MetaHeader& header, const std::string& key, std::size_t count,
+                            const std::string& path) {
+    std::istringstream in(field(header, key, path));
+    std::vector<double> values(count);
+    for (double& value : values) {
+        if (!(in >> value)) {
+            throw InputError(path, "MetaImage " + key + " needs " + std::to_string(count) +
+                                       " numbers");
+        }
+    }
+    return values;
+}
+
+std::vector<double> numbersOr(const MetaHeader& header, const std::string& key,
+                              std::vector<double> fallback, const std::string& path) {
+    if (!header.fields.count(key)) return fallback;
+    return numbers(header, key, fallback.size(), path);
+}
+
+SampleType sampleTypeOf(const std::string& elementType, const std::string& path) {
+    static const std::map<std::string, SampleType> types = {
+        {"MET_UCHAR", SampleType::UInt8},   {"MET_CHAR", SampleType::Int8},
+        {"MET_USHORT", SampleType::UInt16}, {"MET_SHORT", SampleType::Int16},
+        {"MET_UINT", SampleType::UInt32},   {"MET_INT", SampleType::Int32},
+        {"MET_FLOAT", SampleType::Float32}, {"MET_DOUBLE", SampleType::Float64}};
+    const auto found = types.find(elementType);
+    if (found == types.end()) {
+        throw InputError(path, "unsupported MetaImage ElementType " + elementType);
+    }
+    return found->second;
+}
+
+bool isTrue(const MetaHeader& header, const std::string& key) {
+    const auto found = header.fields.find(key);
+    return found != header.fields.end() && (found->second == "True" || found->second == "true");
+}
+
+/// MetaImage geometry is LPS like ITK; gvr's world is RAS, so x and y change sign.
+/// TransformMatrix lists the direction of each index axis in turn.
+openvdb::math::Mat4d worldFromIndexOf(const MetaHeader& header, int ndims, const std::string& path) {
+    const std::size_t n = std::size_t(ndims);
+    std::vector<double> identity(n * n, 0.0);
+    for (std::size_t a = 0; a < n; ++a) identity[a * n + a] = 1.0;
+    const std::vector<double> spacing = numbersOr(header, "ElementSpacing", std::vector<double>(n, 1.0), path);
+    std::vector<double> origin = numbersOr(header, "Offset", std::vector<double>(n, 0.0), path);
+    origin = numbersOr(header, "Position", origin, path);
+    origin = numbersOr(header, "Origin", origin, path);
+    std::vector<double> directions = numbersOr(header, "TransformMatrix", identity, path);
+    directions = numbersOr(header, "Rotation", directions, path);
+    directions = numbersOr(header, "Orientation", directions, path);
+
+    const double sign[3] = {-1, -1, 1};
+    double rows[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+    for (std::size_t r = 0; r < n; ++r) {
+        for (std::size_t axis = 0; axis < n; ++axis) {
+            rows[r][axis] = sign[r] * directions[axis * n + r] * spacing[axis];
+        }
+        rows[r][3] = sign[r] * origin[r];
+    }
+    return worldFromIndexRows(rows);
+}
+
+}  // namespace
+
+DenseVolume readMetaImage(const std::string& path, const ReadOptions& options) {
+    const MetaHeader header = readHeader(path);
+    const int ndims = int(numbers(header, "NDims", 1, path)[0]);
+    if (ndims != 2 && ndims != 3) {
+        throw InputError(path, "MetaImage NDims is " + std::to_string(ndims) + "; gvr reads 2 or 3");
+    }
+    const std::vector<double> size = numbers(header, "DimSize", std::size_t(ndims), path);
+    DenseVolume volume;
+    // Out-of-range sizes become 0 so that allocateSamples() rejects them by name.
+    const auto dimension = [&](std::size_t axis) -> std::int64_t {
+        if (axis >= size.size()) return 1;
+        return size[axis] >= 1 && size[axis] < 9e18 ? std::int64_t(size[axis]) : 0;
+    };
+    volume.dims = {dimension(0), dimension(1), dimension(2)};
+    volume.type = sampleTypeOf(field(header, "ElementType", path), path);
+    volume.channels = int(numbersOr(header, "ElementNumberOfChannels", {1.0}, path)[0]);
+    if (volume.channels != 1 && volume.channels != 3) {
+        throw InputError(path, "MetaImage has " + std::to_string(volume.channels) +
+                                   " channels; gvr reads 1 (grey) or 3 (RGB)");
+    }
+    volume.worldFromIndex = worldFromIndexOf(header, ndims, path);
+    const bool bigEndian = isTrue(header, "BinaryDataByteOrderMSB") || isTrue(header, "ElementByteOrderMSB");
+    const std::string dataFile = field(header, "ElementDataFile", path);
+    if (dataFile == "LIST" || dataFile.find('%') != std::string::npos) {
+        throw InputError(path, "MetaImage ElementDataFile '" + dataFile + "' (slice lists) is not supported");
+    }
+    allocateSamples(volume, path);
+
+    const bool local = dataFile == "LOCAL";
+    const std::string samplesPath =
+        local ? path : (std::filesystem::path(path).parent_path() / dataFile).string();
+    if (!local && !std::filesystem::exists(samplesPath)) {
+        throw InputError(path, "ElementDataFile " + samplesPath + " does not exist");
+    }
+    const std::uint64_t offset = local ? header.endOffset : 0;
+    if (isTrue(header, "CompressedData")) {
+        readDeflatedSamples(samplesPath, offset, bigEndian, volume);
+    } else {
+        readPlainSamples(samplesPath, offset, bigEndian, volume);
+    }
+    if (options.progress) options.progress(1.0);
+    return volume;
+}
+
+}  // namespace gvr

@@ -1,0 +1,131 @@
+// NIfTI-1 and NIfTI-2 through nifticlib's nifti2 API, which reads both.
+
+#include "Error.h"
+#include "Readers.h"
+
+#include <nifti2_io.h>
+#include <zlib.h>
+
+#include <cmath>
+#include <memory>
+
+namespace gvr {
+
+namespace {
+
+struct NiftiImageDeleter {
+    void operator()(nifti_image* image) const { nifti_image_free(image); }
+};
+using NiftiImagePtr = std::unique_ptr<nifti_image, NiftiImageDeleter>;
+
+/// nifticlib only says "failed" on stderr, so look at sizeof_hdr ourselves first to
+/// tell a truncated or foreign file from a corrupt header.
+void checkHeaderSize(const std::string& path) {
+    gzFile file = gzopen(path.c_str(), "rb");
+    if (!file) throw InputError(path, "cannot open file");
+    std::int32_t sizeofHdr = 0;
+    const int got = gzread(file, &sizeofHdr, sizeof sizeofHdr);
+    gzclose(file);
+    if (got != int(sizeof sizeofHdr)) throw InputError(path, "file is too short for a NIfTI header");
+    const std::int32_t swapped = std::int32_t(__builtin_bswap32(std::uint32_t(sizeofHdr)));
+    for (std::int32_t size : {sizeofHdr, swapped}) {
+        if (size == 348 || size == 540) return;
+    }
+    throw InputError(path, "corrupt NIfTI header: sizeof_hdr is " + std::to_string(sizeofHdr) +
+                               " (expected 348 for NIfTI-1 or 540 for NIfTI-2)");
+}
+
+struct Layout {
+    SampleType type;
+    int channels;
+};
+
+Layout layoutOf(const nifti_image& image, const std::string& path) {
+    switch (image.datatype) {
+        case NIFTI_TYPE_UINT8: return {SampleType::UInt8, 1};
+        case NIFTI_TYPE_INT8: return {SampleType::Int8, 1};
+        case NIFTI_TYPE_UINT16: return {SampleType::UInt16, 1};
+        case NIFTI_TYPE_INT16: return {SampleType::Int16, 1};
+        case NIFTI_TYPE_UINT32: return {SampleType::UInt32, 1};
+        case NIFTI_TYPE_INT32: return {SampleType::Int32, 1};
+        case NIFTI_TYPE_FLOAT32: return {SampleType::Float32, 1};
+        case NIFTI_TYPE_FLOAT64: return {SampleType::Float64, 1};
+        case NIFTI_TYPE_RGB24: return {SampleType::UInt8, 3};
+        default: break;
+    }
+    const char* name = nifti_datatype_to_string(image.datatype);
+    throw InputError(path, std::string("unsupported NIfTI datatype ") + name + " (" +
+                               std::to_string(image.datatype) +
+                               "); gvr reads uint8, int8, uint16, int16, uint32, int32, "
+                               "float32, float64 and RGB24");
+}
+
+/// sform if set, else qform, else the voxel sizes alone (NIfTI's "method 1").
+openvdb::math::Mat4d worldFromIndexOf(const nifti_image& image, DenseVolume& volume) {
+    const nifti_dmat44* matrix = nullptr;
+    if (image.sform_code > 0) matrix = &image.sto_xyz;
+    else if (image.qform_code > 0) matrix = &image.qto_xyz;
+    double rows[3][4] = {{std::abs(image.dx), 0, 0, 0},
+                         {0, std::abs(image.dy), 0, 0},
+                         {0, 0, std::abs(image.dz), 0}};
+    if (matrix) {
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 4; ++c) rows[r][c] = matrix->m[r][c];
+        }
+    } else {
+        volume.warnings.push_back("no sform or qform: orientation unknown, using voxel sizes only");
+    }
+    return worldFromIndexRows(rows);
+}
+
+}  // namespace
+
+DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
+    checkHeaderSize(path);
+    nifti_set_debug_level(0);
+    NiftiImagePtr image(nifti_image_read(path.c_str(), /*read_data=*/0));
+    if (!image) throw InputError(path, "corrupt NIfTI header (nifticlib could not parse it)");
+
+    DenseVolume volume;
+    const Layout layout = layoutOf(*image, path);
+    volume.type = layout.type;
+    volume.channels = layout.channels;
+    volume.dims = {image->nx, image->ny, image->nz};
+    for (int d = 5; d <= 7; ++d) {
+        if (image->dim[0] >= d && image->dim[d] > 1) {
+            throw InputError(path, "has " + std::to_string(image->dim[0]) +
+                                       " dimensions; gvr reads 3D volumes and 4D series");
+        }
+    }
+    const std::int64_t volumeCount = image->dim[0] >= 4 ? std::max<std::int64_t>(image->nt, 1) : 1;
+    if (options.volumeIndex < 0 || options.volumeIndex >= volumeCount) {
+        throw InputError(path, "--volume " + std::to_string(options.volumeIndex) +
+                                   " is out of range: the file holds " +
+                                   std::to_string(volumeCount) + " volume(s), 0.." +
+                                   std::to_string(volumeCount - 1));
+    }
+    if (volumeCount > 1) {
+        volume.warnings.push_back("4D series of " + std::to_string(volumeCount) +
+                                  " volumes: reading volume " +
+                                  std::to_string(options.volumeIndex) + " (choose with --volume)");
+    }
+    volume.worldFromIndex = worldFromIndexOf(*image, volume);
+    if (image->scl_slope != 0.0 && std::isfinite(image->scl_slope) &&
+        std::isfinite(image->scl_inter)) {
+        volume.slope = image->scl_slope;
+        volume.intercept = image->scl_inter;
+    }
+
+    allocateSamples(volume, path);
+    const std::int64_t selection[8] = {0, -1, -1, -1, options.volumeIndex, -1, -1, -1};
+    void* buffer = volume.samples.data();
+    const std::int64_t bytesRead = nifti_read_collapsed_image(image.get(), selection, &buffer);
+    if (bytesRead != std::int64_t(volume.sampleBytes())) {
+        throw InputError(path, "truncated or unreadable voxel data (expected " +
+                                   std::to_string(volume.sampleBytes()) + " bytes)");
+    }
+    if (options.progress) options.progress(1.0);
+    return volume;
+}
+
+}  // namespace gvr

@@ -1,0 +1,56 @@
+/// @file Readers.h
+/// @brief Decoders for the volume formats gvr ingests, one per source file.
+///
+/// Every reader validates its header before it allocates, throws InputError naming
+/// the file on anything truncated, corrupt or unsupported, and returns physical
+/// values through DenseVolume::slope and intercept. World coordinates are RAS
+/// millimetres (NIfTI's convention); LPS formats (DICOM, MetaImage) are flipped.
+#pragma once
+
+#include "DenseVolume.h"
+#include "Progress.h"
+
+#include <openvdb/Types.h>
+
+#include <optional>
+#include <string>
+
+namespace gvr {
+
+/// How to read a headerless raw file (--raw-dims, --raw-type, --endian, --header-bytes).
+struct RawLayout {
+    std::array<std::int64_t, 3> dims{0, 0, 0};
+    SampleType type = SampleType::UInt8;
+    int channels = 1;
+    bool bigEndian = false;
+    std::uint64_t headerBytes = 0;
+};
+
+struct ReadOptions {
+    int volumeIndex = 0;  ///< which 3D volume of a 4D file (--volume)
+    /// Voxel size in mm for formats that do not store one (stacks, raw).
+    std::optional<openvdb::Vec3d> spacingMm;
+    std::optional<RawLayout> raw;  ///< set: read INPUT as raw samples
+    ProgressFn progress;
+};
+
+DenseVolume readNifti(const std::string& path, const ReadOptions& options);
+/// True when @a path carries the DICOM Part 10 magic ("DICM" after the preamble).
+bool isDicomFile(const std::string& path);
+DenseVolume readDicomSeries(const std::string& folder, const ReadOptions& options);
+/// @param files slices in stacking order; one file may hold many pages (multi-page TIFF).
+DenseVolume readImageStack(const std::vector<std::string>& files, const std::string& culprit,
+                           const ReadOptions& options);
+DenseVolume readRaw(const std::string& path, const ReadOptions& options);
+DenseVolume readMetaImage(const std::string& path, const ReadOptions& options);
+DenseVolume readMgh(const std::string& path, const ReadOptions& options);
+DenseVolume readVdb(const std::string& path, const ReadOptions& options);
+
+/// Picks the reader for @a input: a file, a folder (DICOM series or image stack) or a
+/// glob pattern of images, and applies it.
+DenseVolume readVolume(const std::string& input, const ReadOptions& options);
+
+/// Adds the usual warning when a format carries no voxel size and none was given.
+openvdb::Vec3d spacingOrDefault(const ReadOptions& options, DenseVolume& volume);
+
+}  // namespace gvr

@@ -1,0 +1,22 @@
+/// @file SampleFile.h
+/// @brief Reads a block of voxel samples that follows a header, plain or deflated.
+#pragma once
+
+#include "DenseVolume.h"
+
+#include <cstdint>
+#include <string>
+
+namespace gvr {
+
+/// Fills volume.samples (already allocated) from @a file at @a offset and converts
+/// them to host byte order.
+/// @throw InputError naming @a file when it holds fewer bytes than the volume needs.
+void readPlainSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
+                      DenseVolume& volume);
+
+/// As readPlainSamples, for a zlib or gzip stream starting at @a offset.
+void readDeflatedSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
+                         DenseVolume& volume);
+
+}  // namespace gvr

@@ -1,0 +1,139 @@
+// Chooses a reader from what INPUT is: a folder, a glob pattern, or a file whose
+// content (VDB magic) or name (.nii, .mgz, ...) gives its format away.
+
+#include "Error.h"
+#include "GridFile.h"
+#include "Readers.h"
+
+#include <glob.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+namespace gvr {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string lowerCase(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return text;
+}
+
+bool endsWith(const std::string& text, const std::string& suffix) {
+    return text.size() >= suffix.size() &&
+           text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+bool isImageFile(const std::string& path) {
+    const std::string name = lowerCase(path);
+    for (const char* extension : {".png", ".tif", ".tiff", ".jpg", ".jpeg", ".bmp", ".exr"}) {
+        if (endsWith(name, extension)) return true;
+    }
+    return false;
+}
+
+/// "10.png" after "2.png": digit runs compare as numbers, everything else as text.
+bool naturalLess(const std::string& a, const std::string& b) {
+    std::size_t i = 0, j = 0;
+    while (i < a.size() && j < b.size()) {
+        if (std::isdigit((unsigned char)a[i]) && std::isdigit((unsigned char)b[j])) {
+            std::size_t iEnd = i, jEnd = j;
+            while (iEnd < a.size() && std::isdigit((unsigned char)a[iEnd])) ++iEnd;
+            while (jEnd < b.size() && std::isdigit((unsigned char)b[jEnd])) ++jEnd;
+            std::string x = a.substr(i, iEnd - i), y = b.substr(j, jEnd - j);
+            x.erase(0, std::min(x.find_first_not_of('0'), x.size()));
+            y.erase(0, std::min(y.find_first_not_of('0'), y.size()));
+            if (x.size() != y.size()) return x.size() < y.size();
+            if (x != y) return x < y;
+            i = iEnd;
+            j = jEnd;
+        } else {
+            if (a[i] != b[j]) return a[i] < b[j];
+            ++i;
+            ++j;
+        }
+    }
+    return a.size() - i < b.size() - j;
+}
+
+std::vector<std::string> naturallySorted(std::vector<std::string> files) {
+    std::sort(files.begin(), files.end(), naturalLess);
+    return files;
+}
+
+std::vector<std::string> imagesInFolder(const std::string& folder) {
+    std::vector<std::string> files;
+    for (const auto& entry : fs::directory_iterator(folder)) {
+        if (entry.is_regular_file() && isImageFile(entry.path().string())) {
+            files.push_back(entry.path().string());
+        }
+    }
+    return naturallySorted(files);
+}
+
+std::vector<std::string> globFiles(const std::string& pattern) {
+    glob_t matches{};
+    std::vector<std::string> files;
+    if (glob(pattern.c_str(), 0, nullptr, &matches) == 0) {
+        files.assign(matches.gl_pathv, matches.gl_pathv + matches.gl_pathc);
+    }
+    globfree(&matches);
+    return naturallySorted(files);
+}
+
+bool folderHasDicom(const std::string& folder) {
+    for (const auto& entry : fs::directory_iterator(folder)) {
+        if (entry.is_regular_file() && isDicomFile(entry.path().string())) return true;
+    }
+    return false;
+}
+
+DenseVolume readFolder(const std::string& folder, const ReadOptions& options) {
+    if (fs::is_empty(folder)) throw InputError(folder, "folder is empty");
+    if (folderHasDicom(folder)) return readDicomSeries(folder, options);
+    const std::vector<std::string> images = imagesInFolder(folder);
+    if (images.empty()) {
+        throw InputError(folder, "folder holds neither DICOM files nor images "
+                                 "(.png, .tif, .tiff, .jpg, .jpeg, .bmp, .exr)");
+    }
+    return readImageStack(images, folder, options);
+}
+
+DenseVolume readFile(const std::string& path, const ReadOptions& options) {
+    if (isVdbFile(path)) return readVdb(path, options);
+    const std::string name = lowerCase(path);
+    if (endsWith(name, ".nii") || endsWith(name, ".nii.gz")) return readNifti(path, options);
+    if (endsWith(name, ".mgh") || endsWith(name, ".mgz")) return readMgh(path, options);
+    if (endsWith(name, ".mha") || endsWith(name, ".mhd")) return readMetaImage(path, options);
+    if (endsWith(name, ".vdb")) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
+    if (isImageFile(path)) return readImageStack({path}, path, options);
+    throw InputError(path, "unknown volume format; gvr reads .nii/.nii.gz, .mgh/.mgz, .mha/.mhd, "
+                           ".vdb, a DICOM folder, image stacks, or raw data with --raw-dims");
+}
+
+}  // namespace
+
+openvdb::Vec3d spacingOrDefault(const ReadOptions& options, DenseVolume& volume) {
+    if (options.spacingMm) return *options.spacingMm;
+    volume.warnings.push_back("voxel spacing is unknown for this format; assuming 1 x 1 x 1 mm "
+                              "(set it with --spacing X,Y,Z)");
+    return openvdb::Vec3d(1.0);
+}
+
+DenseVolume readVolume(const std::string& input, const ReadOptions& options) {
+    if (input.find_first_of("*?[") != std::string::npos && !fs::exists(input)) {
+        const std::vector<std::string> files = globFiles(input);
+        if (files.empty()) throw InputError(input, "pattern matches no files");
+        return readImageStack(files, input, options);
+    }
+    if (!fs::exists(input)) throw InputError(input, "no such file or folder");
+    if (options.raw) return readRaw(input, options);
+    if (fs::is_directory(input)) return readFolder(input, options);
+    return readFile(input, options);
+}
+
+}  // namespace gvr

@@ -1,0 +1,58 @@
+#include "VolumeMetadata.h"
+
+#include "Error.h"
+#include "SampleType.h"
+
+namespace gvr {
+
+namespace {
+
+template <typename MetaT, typename T>
+std::optional<T> findMeta(const openvdb::GridBase& grid, const std::string& key) {
+    if (auto meta = grid.getMetadata<MetaT>(key)) return meta->value();
+    return std::nullopt;
+}
+
+}  // namespace
+
+std::uint64_t VolumeMetadata::rawSourceBytes() const {
+    const std::uint64_t voxels = std::uint64_t(dims.x()) * dims.y() * dims.z();
+    return voxels * channels * bytesPerSample(sampleTypeFromName(sourceType, sourceFile));
+}
+
+void writeVolumeMetadata(const VolumeMetadata& m, openvdb::GridBase& grid) {
+    grid.insertMeta("gvr_source_file", openvdb::StringMetadata(m.sourceFile));
+    grid.insertMeta("gvr_modality", openvdb::StringMetadata(m.modality));
+    grid.insertMeta("gvr_source_type", openvdb::StringMetadata(m.sourceType));
+    grid.insertMeta("gvr_channels", openvdb::Int32Metadata(m.channels));
+    grid.insertMeta("gvr_dims", openvdb::Vec3IMetadata(m.dims));
+    grid.insertMeta("gvr_spacing_mm", openvdb::Vec3DMetadata(m.spacingMm));
+    grid.insertMeta("gvr_value_min", openvdb::DoubleMetadata(m.valueMin));
+    grid.insertMeta("gvr_value_max", openvdb::DoubleMetadata(m.valueMax));
+    grid.insertMeta("gvr_background", openvdb::DoubleMetadata(m.background));
+    if (m.threshold) grid.insertMeta("gvr_threshold", openvdb::DoubleMetadata(*m.threshold));
+}
+
+std::optional<VolumeMetadata> readVolumeMetadata(const openvdb::GridBase& grid) {
+    auto sourceType = findMeta<openvdb::StringMetadata, std::string>(grid, "gvr_source_type");
+    auto dims = findMeta<openvdb::Vec3IMetadata, openvdb::Vec3i>(grid, "gvr_dims");
+    if (!sourceType || !dims) return std::nullopt;
+
+    VolumeMetadata m;
+    m.sourceType = *sourceType;
+    m.dims = *dims;
+    m.sourceFile = findMeta<openvdb::StringMetadata, std::string>(grid, "gvr_source_file")
+                       .value_or("");
+    m.modality = findMeta<openvdb::StringMetadata, std::string>(grid, "gvr_modality")
+                     .value_or("unknown");
+    m.channels = findMeta<openvdb::Int32Metadata, int>(grid, "gvr_channels").value_or(1);
+    m.spacingMm = findMeta<openvdb::Vec3DMetadata, openvdb::Vec3d>(grid, "gvr_spacing_mm")
+                      .value_or(openvdb::Vec3d(1.0));
+    m.valueMin = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_value_min").value_or(0);
+    m.valueMax = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_value_max").value_or(0);
+    m.background = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_background").value_or(0);
+    m.threshold = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_threshold");
+    return m;
+}
+
+}  // namespace gvr
