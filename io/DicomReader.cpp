@@ -205,6 +205,35 @@ bool rescaleIsUniform(const SeriesHeader& series) {
     });
 }
 
+bool endsWithSequenceDelimiter(const std::string& file) {
+    std::ifstream in(file, std::ios::binary | std::ios::ate);
+    const unsigned char expected[8] = {0xfe, 0xff, 0xdd, 0xe0, 0, 0, 0, 0};
+    unsigned char tail[8] = {};
+    in.seekg(-8, std::ios::end);
+    in.read(reinterpret_cast<char*>(tail), 8);
+    return in && std::equal(tail, tail + 8, expected);
+}
+
+/// GDCM decodes what it can of a cut-off file without complaint, so check that the
+/// pixel data is all there: native data must hold every byte, and encapsulated
+/// (compressed) data must end with its sequence delimiter.
+void checkPixelDataComplete(const gdcm::DataSet& dataSet, const std::string& file,
+                            std::size_t storedBytes) {
+    const gdcm::Tag pixelData(0x7fe0, 0x0010);
+    if (!dataSet.FindDataElement(pixelData)) throw InputError(file, "has no pixel data");
+    const gdcm::DataElement& element = dataSet.GetDataElement(pixelData);
+    if (element.GetSequenceOfFragments()) {
+        if (!endsWithSequenceDelimiter(file)) {
+            throw InputError(file, "truncated: compressed pixel data has no end delimiter");
+        }
+    } else if (const gdcm::ByteValue* value = element.GetByteValue()) {
+        if (value->GetLength() < storedBytes) {
+            throw InputError(file, "truncated: pixel data holds " + std::to_string(value->GetLength()) +
+                                       " bytes, expected " + std::to_string(storedBytes));
+        }
+    }
+}
+
 /// Decodes one slice and stores it at its place, rescaled to float when the series
 /// mixes rescale parameters.
 void decodeSlice(const SeriesHeader& series, std::size_t index, DenseVolume& volume,
@@ -216,6 +245,7 @@ void decodeSlice(const SeriesHeader& series, std::size_t index, DenseVolume& vol
     const gdcm::Image& image = reader.GetImage();
     const std::size_t samples = std::size_t(series.columns) * series.rows * series.samplesPerPixel;
     const std::size_t storedBytes = samples * bytesPerSample(series.type);
+    checkPixelDataComplete(reader.GetFile().GetDataSet(), slice.file, storedBytes);
     if (image.GetBufferLength() != storedBytes) {
         throw InputError(slice.file, "pixel data holds " + std::to_string(image.GetBufferLength()) +
                                          " bytes, expected " + std::to_string(storedBytes));

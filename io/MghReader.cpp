@@ -4,6 +4,7 @@
 #include "ByteOrder.h"
 #include "Error.h"
 #include "Readers.h"
+#include "SampleFile.h"
 
 #include <zlib.h>
 
@@ -39,7 +40,7 @@ private:
     std::size_t mOffset = 0;
 };
 
-struct GzipFile {
+struct GzipFile {  // closes on every path out
     explicit GzipFile(const std::string& path) : handle(gzopen(path.c_str(), "rb")) {
         if (!handle) throw InputError(path, "cannot open file");
     }
@@ -115,23 +116,8 @@ DenseVolume readMgh(const std::string& path, const ReadOptions& options) {
     }
     allocateSamples(volume, path);
 
-    const z_off_t frameStart = z_off_t(kHeaderBytes + volume.sampleBytes() * options.volumeIndex);
-    if (gzseek(file.handle, frameStart, SEEK_SET) != frameStart) {
-        throw InputError(path, "truncated: frame " + std::to_string(options.volumeIndex) + " is missing");
-    }
-    std::uint64_t filled = 0;
-    while (filled < volume.samples.size()) {
-        const unsigned chunk = unsigned(std::min<std::uint64_t>(volume.samples.size() - filled, 1u << 30));
-        const int got = gzread(file.handle, volume.samples.data() + filled, chunk);
-        if (got <= 0) break;
-        filled += std::uint64_t(got);
-    }
-    if (filled != volume.samples.size()) {
-        throw InputError(path, "truncated: voxel data holds " + std::to_string(filled) +
-                                   " bytes, expected " + std::to_string(volume.samples.size()));
-    }
-    const std::size_t width = bytesPerSample(volume.type);
-    toHostOrder(volume.samples.data(), volume.samples.size() / width, width, true);
+    readGzipSamples(path, kHeaderBytes + volume.sampleBytes() * std::uint64_t(options.volumeIndex),
+                    /*bigEndian=*/true, volume);
     if (options.progress) options.progress(1.0);
     return volume;
 }

@@ -2,6 +2,7 @@
 
 #include "Error.h"
 #include "Readers.h"
+#include "SampleFile.h"
 
 #include <nifti2_io.h>
 #include <zlib.h>
@@ -117,13 +118,11 @@ DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
     }
 
     allocateSamples(volume, path);
-    const std::int64_t selection[8] = {0, -1, -1, -1, options.volumeIndex, -1, -1, -1};
-    void* buffer = volume.samples.data();
-    const std::int64_t bytesRead = nifti_read_collapsed_image(image.get(), selection, &buffer);
-    if (bytesRead != std::int64_t(volume.sampleBytes())) {
-        throw InputError(path, "truncated or unreadable voxel data (expected " +
-                                   std::to_string(volume.sampleBytes()) + " bytes)");
-    }
+    // The samples are read with zlib rather than nifticlib, which prints to stderr
+    // on a short read and frees the caller's buffer.
+    const std::uint64_t offset =
+        std::uint64_t(image->iname_offset) + volume.sampleBytes() * std::uint64_t(options.volumeIndex);
+    readGzipSamples(image->iname, offset, image->byteorder == 2 /* MSB first */, volume);
     if (options.progress) options.progress(1.0);
     return volume;
 }

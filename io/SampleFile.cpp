@@ -40,6 +40,28 @@ void readPlainSamples(const std::string& file, std::uint64_t offset, bool bigEnd
     toHostOrder(volume, bigEndian);
 }
 
+void readGzipSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
+                     DenseVolume& volume) {
+    gzFile stream = gzopen(file.c_str(), "rb");
+    if (!stream) throw InputError(file, "cannot open file");
+    std::uint64_t filled = 0;
+    if (gzseek(stream, z_off_t(offset), SEEK_SET) == z_off_t(offset)) {
+        while (filled < volume.samples.size()) {
+            const unsigned chunk =
+                unsigned(std::min<std::uint64_t>(volume.samples.size() - filled, 1u << 30));
+            const int got = gzread(stream, volume.samples.data() + filled, chunk);
+            if (got <= 0) break;
+            filled += std::uint64_t(got);
+        }
+    }
+    gzclose(stream);
+    if (filled != volume.samples.size()) {
+        throw InputError(file, "truncated: voxel data holds " + std::to_string(filled) +
+                                   " bytes, expected " + std::to_string(volume.samples.size()));
+    }
+    toHostOrder(volume, bigEndian);
+}
+
 void readDeflatedSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
                          DenseVolume& volume) {
     std::ifstream in(file, std::ios::binary);

@@ -15,6 +15,11 @@ namespace gvr {
 void readPlainSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
                       DenseVolume& volume);
 
+/// As readPlainSamples, for a file that may be gzip'd as a whole (.nii.gz, .mgz);
+/// @a offset counts bytes of the uncompressed stream.
+void readGzipSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
+                     DenseVolume& volume);
+
 /// As readPlainSamples, for a zlib or gzip stream starting at @a offset.
 void readDeflatedSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
                          DenseVolume& volume);

@@ -1,0 +1,57 @@
+// Shared fixtures for the gvr tests: temporary folders, shared data paths and
+// small synthetic volumes.
+#pragma once
+
+#include "DenseVolume.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace gvr::test {
+
+/// A fresh folder under the system temporary folder, removed with its contents.
+class TempDir {
+public:
+    TempDir();
+    ~TempDir();
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+
+    std::string path(const std::string& name) const { return (mRoot / name).string(); }
+    const std::filesystem::path& root() const { return mRoot; }
+
+private:
+    std::filesystem::path mRoot;
+};
+
+/// Absolute path of a file or folder under ../shared/data.
+std::string sharedData(const std::string& relative);
+
+std::string readBytes(const std::string& path);
+void writeBytes(const std::string& path, const std::string& bytes);
+/// Copies @a from to @a to, keeping only the first @a keep bytes.
+void copyTruncated(const std::string& from, const std::string& to, std::size_t keep);
+
+/// A volume of @a dims filled from @a values (i fastest), stored as T.
+template <typename T>
+DenseVolume makeVolume(std::array<std::int64_t, 3> dims, const std::vector<T>& values,
+                       SampleType type, int channels = 1) {
+    DenseVolume volume;
+    volume.dims = dims;
+    volume.type = type;
+    volume.channels = channels;
+    volume.samples.resize(values.size() * sizeof(T));
+    std::memcpy(volume.samples.data(), values.data(), volume.samples.size());
+    return volume;
+}
+
+}  // namespace gvr::test
+
+/// Skips the test when the shared data sets are not beside the checkout.
+#define GVR_REQUIRE_SHARED_DATA()                                                  \
+    if (!std::filesystem::exists(gvr::test::sharedData("README.md")))             \
+    GTEST_SKIP() << "shared data not found at " << gvr::test::sharedData("")

@@ -1,0 +1,171 @@
+// Broken input gets an InputError that names the file and the problem, never a
+// crash or garbage. Corrupted copies of real data are made in a temporary folder.
+
+#include "Error.h"
+#include "GridFile.h"
+#include "Ingest.h"
+#include "TestHelpers.h"
+
+#include <nifti2_io.h>
+
+namespace gvr {
+namespace {
+
+/// Runs ingest on @a input and returns the error message, or fails the test.
+std::string ingestError(const std::string& input, const IngestOptions& options = {}) {
+    try {
+        ingest(input, options);
+    } catch (const InputError& error) {
+        return error.what();
+    }
+    ADD_FAILURE() << "no InputError for " << input;
+    return "";
+}
+
+void expectMentions(const std::string& message, const std::string& part) {
+    EXPECT_NE(message.find(part), std::string::npos) << "message: " << message;
+}
+
+/// An uncompressed copy of ch2.nii.gz, for header surgery.
+std::string plainCh2(const test::TempDir& dir) {
+    const std::string path = dir.path("ch2.nii");
+    nifti_image* image = nifti_image_read(test::sharedData("mri-colin27-aal/ch2.nii.gz").c_str(), 1);
+    nifti_set_filenames(image, path.c_str(), 0, 0);
+    nifti_image_write(image);
+    nifti_image_free(image);
+    return path;
+}
+
+void patchInt16(const std::string& path, std::size_t offset, std::int16_t value) {
+    std::string bytes = test::readBytes(path);
+    std::memcpy(&bytes[offset], &value, sizeof value);
+    test::writeBytes(path, bytes);
+}
+
+TEST(BadInput, TruncatedNifti) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string gz = dir.path("cut.nii.gz");
+    test::copyTruncated(test::sharedData("mri-colin27-aal/ch2.nii.gz"), gz, 100000);
+    expectMentions(ingestError(gz), gz + ": truncated");
+    const std::string plain = plainCh2(dir);
+    test::copyTruncated(plain, dir.path("cut.nii"), 352 + 1000);
+    expectMentions(ingestError(dir.path("cut.nii")), "truncated");
+}
+
+TEST(BadInput, CorruptNiftiHeader) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string path = plainCh2(dir);
+    patchInt16(path, 0, 1234);  // sizeof_hdr
+    expectMentions(ingestError(path), "corrupt NIfTI header");
+}
+
+TEST(BadInput, DimensionsBeyondMemoryAreRefusedBeforeAllocating) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string path = plainCh2(dir);
+    for (std::size_t axis = 1; axis <= 3; ++axis) patchInt16(path, 40 + 2 * axis, 32000);
+    expectMentions(ingestError(path), "to ingest, but only");
+}
+
+TEST(BadInput, UnsupportedNiftiDatatype) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string path = plainCh2(dir);
+    patchInt16(path, 70, NIFTI_TYPE_COMPLEX64);
+    patchInt16(path, 72, 64);  // bitpix to match
+    expectMentions(ingestError(path), "unsupported NIfTI datatype");
+}
+
+TEST(BadInput, NaNVoxelsAreCountedOrReplaced) {
+    test::TempDir dir;
+    std::vector<float> values(8, 1.0f);
+    values[3] = std::numeric_limits<float>::quiet_NaN();
+    values[5] = -std::numeric_limits<float>::infinity();
+    std::string bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
+    test::writeBytes(dir.path("nan.raw"), bytes);
+    IngestOptions options;
+    options.read.raw = RawLayout{{2, 2, 2}, SampleType::Float32, 1, false, 0};
+    expectMentions(ingestError(dir.path("nan.raw"), options), "2 voxels are NaN or Inf");
+    options.build.nanTo = 0.0f;
+    EXPECT_NO_THROW(ingest(dir.path("nan.raw"), options));
+}
+
+TEST(BadInput, StackSlicesOfDifferentSizes) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string stack = dir.path("stack");
+    std::filesystem::create_directory(stack);
+    std::filesystem::copy(test::sharedData("ct-head-visible-human-png/texture-0.png"), stack + "/0.png");
+    std::filesystem::copy(test::sharedData("rgb-brainmaps54-cryosection/1020.jpg"), stack + "/1.jpg");
+    expectMentions(ingestError(stack), "/1.jpg: slice is 512x304 but earlier slices are 512x512");
+}
+
+TEST(BadInput, TruncatedImageSlice) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string stack = dir.path("stack");
+    std::filesystem::create_directory(stack);
+    for (int slice = 0; slice < 3; ++slice) {
+        const std::string name = "texture-" + std::to_string(slice) + ".png";
+        std::filesystem::copy(test::sharedData("ct-head-visible-human-png/" + name), stack + "/" + name);
+    }
+    const std::string cut = stack + "/texture-1.png";
+    test::copyTruncated(test::sharedData("ct-head-visible-human-png/texture-1.png"), cut, 4000);
+    expectMentions(ingestError(stack), cut + ":");
+}
+
+TEST(BadInput, EmptyFolderAndMissingFile) {
+    test::TempDir dir;
+    std::filesystem::create_directory(dir.path("empty"));
+    expectMentions(ingestError(dir.path("empty")), "folder is empty");
+    expectMentions(ingestError(dir.path("nothing.nii")), "no such file or folder");
+    expectMentions(ingestError(dir.path("*.png")), "pattern matches no files");
+}
+
+TEST(BadInput, TruncatedDicomSlice) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string series = dir.path("series");
+    std::filesystem::create_directory(series);
+    for (const char* name : {"1-001.dcm", "1-002.dcm", "1-003.dcm"}) {
+        std::filesystem::copy(test::sharedData(std::string("ct-chest-ricord-512/") + name),
+                              series + "/" + name);
+    }
+    const std::string cut = series + "/1-002.dcm";
+    test::copyTruncated(test::sharedData("ct-chest-ricord-512/1-002.dcm"), cut, 60000);
+    expectMentions(ingestError(series), cut + ":");
+}
+
+TEST(BadInput, TruncatedMgzAndCorruptMghHeader) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string cut = dir.path("cut.mgz");
+    test::copyTruncated(test::sharedData("mri-freesurfer-norm-aparc/norm.mgz"), cut, 300000);
+    expectMentions(ingestError(cut), cut + ": truncated");
+    test::writeBytes(dir.path("junk.mgh"), std::string(300, '\x7f'));
+    expectMentions(ingestError(dir.path("junk.mgh")), "corrupt MGH header");
+}
+
+TEST(BadInput, TruncatedAndForeignVdb) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const IngestResult ingested = ingest(test::sharedData("mri-colin27-aal/ch2.nii.gz"), {});
+    writeGridFile(dir.path("whole.vdb"), {ingested.grid});
+    test::copyTruncated(dir.path("whole.vdb"), dir.path("cut.vdb"), 5000);
+    expectMentions(ingestError(dir.path("cut.vdb")), dir.path("cut.vdb") + ":");
+    test::writeBytes(dir.path("text.vdb"), "hello");
+    expectMentions(ingestError(dir.path("text.vdb")), "not a VDB file");
+}
+
+TEST(BadInput, RawFileShorterThanItsDimensions) {
+    test::TempDir dir;
+    test::writeBytes(dir.path("short.raw"), std::string(100, '\0'));
+    IngestOptions options;
+    options.read.raw = RawLayout{{10, 10, 10}, SampleType::UInt16, 1, false, 0};
+    expectMentions(ingestError(dir.path("short.raw"), options), "truncated: voxel data needs 2000 bytes");
+}
+
+}  // namespace
+}  // namespace gvr

@@ -1,0 +1,241 @@
+// Each reader on small files written here, with values and geometry known exactly.
+
+#include "ByteOrder.h"
+#include "Error.h"
+#include "Readers.h"
+#include "TestHelpers.h"
+
+#include <OpenImageIO/imageio.h>
+#include <nifti2_io.h>
+#include <zlib.h>
+
+namespace gvr {
+namespace {
+
+template <typename T>
+void appendWord(std::string& bytes, T value, bool bigEndian) {
+    unsigned char word[sizeof(T)];
+    std::memcpy(word, &value, sizeof(T));
+    if (bigEndian != hostIsBigEndian()) swapBytes(word, 1, sizeof(T));
+    bytes.append(reinterpret_cast<const char*>(word), sizeof(T));
+}
+
+openvdb::Vec3d worldOf(const DenseVolume& volume, openvdb::Vec3d index) {
+    return volume.worldFromIndex.transform(index);
+}
+
+void expectNear(const openvdb::Vec3d& a, const openvdb::Vec3d& b) {
+    EXPECT_NEAR(a.x(), b.x(), 1e-5);
+    EXPECT_NEAR(a.y(), b.y(), 1e-5);
+    EXPECT_NEAR(a.z(), b.z(), 1e-5);
+}
+
+TEST(RawReader, ReadsBigEndianSignedAfterAHeader) {
+    test::TempDir dir;
+    std::string bytes(16, 'x');
+    const std::vector<std::int16_t> values{-1024, -1, 0, 1, 3071, 7};
+    for (auto v : values) appendWord(bytes, v, true);
+    test::writeBytes(dir.path("ct.raw"), bytes);
+    ReadOptions options;
+    options.raw = RawLayout{{3, 2, 1}, SampleType::Int16, 1, true, 16};
+    options.spacingMm = openvdb::Vec3d(0.5, 0.5, 2.0);
+    const DenseVolume volume = readRaw(dir.path("ct.raw"), options);
+    for (std::size_t v = 0; v < values.size(); ++v) EXPECT_EQ(volume.data<std::int16_t>()[v], values[v]);
+    expectNear(worldOf(volume, {1, 1, 1}), {0.5, 0.5, 2.0});
+    EXPECT_TRUE(volume.warnings.empty());
+}
+
+TEST(RawReader, DefaultSpacingWarns) {
+    test::TempDir dir;
+    test::writeBytes(dir.path("v.raw"), std::string(8, '\1'));
+    ReadOptions options;
+    options.raw = RawLayout{{2, 2, 2}, SampleType::UInt8, 1, false, 0};
+    const DenseVolume volume = readRaw(dir.path("v.raw"), options);
+    ASSERT_EQ(volume.warnings.size(), 1u);
+    EXPECT_NE(volume.warnings[0].find("spacing is unknown"), std::string::npos);
+}
+
+std::string metaHeader(const std::string& extra, const std::string& dataFile) {
+    return "ObjectType = Image\nNDims = 3\nDimSize = 2 2 1\nElementType = MET_SHORT\n"
+           "ElementSpacing = 0.5 0.25 3\nOffset = 10 20 30\n"
+           "TransformMatrix = 0 1 0 -1 0 0 0 0 1\n" + extra +
+           "ElementDataFile = " + dataFile + "\n";
+}
+
+std::string shortSamples(const std::vector<std::int16_t>& values, bool bigEndian) {
+    std::string bytes;
+    for (auto v : values) appendWord(bytes, v, bigEndian);
+    return bytes;
+}
+
+TEST(MetaImageReader, LocalDataWithOrientationBecomesRas) {
+    test::TempDir dir;
+    const std::vector<std::int16_t> values{-5, 6, 700, -800};
+    test::writeBytes(dir.path("v.mha"), metaHeader("BinaryDataByteOrderMSB = True\n", "LOCAL") +
+                                            shortSamples(values, true));
+    const DenseVolume volume = readMetaImage(dir.path("v.mha"), {});
+    for (std::size_t v = 0; v < values.size(); ++v) EXPECT_EQ(volume.data<std::int16_t>()[v], values[v]);
+    // LPS: axis i runs along +y (0.5 mm), axis j along -x (0.25 mm); RAS flips x and y.
+    expectNear(worldOf(volume, {0, 0, 0}), {-10, -20, 30});
+    expectNear(worldOf(volume, {1, 0, 0}), {-10, -20.5, 30});
+    expectNear(worldOf(volume, {0, 1, 0}), {-9.75, -20, 30});
+}
+
+TEST(MetaImageReader, DetachedAndCompressedData) {
+    test::TempDir dir;
+    const std::vector<std::int16_t> values{1, 2, 3, 4};
+    const std::string plain = shortSamples(values, false);
+    uLongf packedSize = compressBound(uLong(plain.size()));
+    std::string packed(packedSize, '\0');
+    ASSERT_EQ(compress(reinterpret_cast<Bytef*>(packed.data()), &packedSize,
+                       reinterpret_cast<const Bytef*>(plain.data()), uLong(plain.size())),
+              Z_OK);
+    packed.resize(packedSize);
+    test::writeBytes(dir.path("v.zraw"), packed);
+    test::writeBytes(dir.path("v.mhd"), metaHeader("CompressedData = True\n", "v.zraw"));
+    const DenseVolume volume = readMetaImage(dir.path("v.mhd"), {});
+    for (std::size_t v = 0; v < values.size(); ++v) EXPECT_EQ(volume.data<std::int16_t>()[v], values[v]);
+
+    test::writeBytes(dir.path("v.zraw"), packed.substr(0, packed.size() / 2));
+    EXPECT_THROW(readMetaImage(dir.path("v.mhd"), {}), InputError);
+}
+
+/// An MGH file of 2x2x2 uint8 in FreeSurfer's LIA orientation, centred at c_ras.
+std::string mghBytes() {
+    std::string bytes;
+    for (std::int32_t v : {1, 2, 2, 2, 1, 0, 0}) appendWord(bytes, v, true);  // version..dof
+    appendWord(bytes, std::int16_t(1), true);                                 // goodRAS
+    for (float v : {1.f, 1.f, 2.f}) appendWord(bytes, v, true);               // spacing
+    for (float v : {-1.f, 0.f, 0.f, 0.f, 0.f, -1.f, 0.f, 1.f, 0.f}) appendWord(bytes, v, true);
+    for (float v : {5.f, 6.f, 7.f}) appendWord(bytes, v, true);               // c_ras
+    bytes.resize(284, '\0');
+    for (int v = 0; v < 8; ++v) bytes.push_back(char(v * 10));
+    return bytes;
+}
+
+TEST(MghReader, PlainAndGzippedGiveFreeSurferGeometry) {
+    test::TempDir dir;
+    test::writeBytes(dir.path("v.mgh"), mghBytes());
+    gzFile gz = gzopen(dir.path("v.mgz").c_str(), "wb");
+    const std::string bytes = mghBytes();
+    gzwrite(gz, bytes.data(), unsigned(bytes.size()));
+    gzclose(gz);
+    for (const char* name : {"v.mgh", "v.mgz"}) {
+        const DenseVolume volume = readMgh(dir.path(name), {});
+        EXPECT_EQ(volume.data<std::uint8_t>()[7], 70);
+        // Centre voxel (1,1,1) lands on c_ras; i runs to -x, j to -z, k to +y (2 mm).
+        expectNear(worldOf(volume, {1, 1, 1}), {5, 6, 7});
+        expectNear(worldOf(volume, {2, 1, 1}), {4, 6, 7});
+        expectNear(worldOf(volume, {1, 2, 1}), {5, 6, 6});
+        expectNear(worldOf(volume, {1, 1, 2}), {5, 8, 7});
+    }
+}
+
+/// Writes a NIfTI-1 file through nifticlib itself, so the reader meets real output.
+void writeNifti(const std::string& path, const std::vector<std::int64_t>& dims, int datatype,
+                const void* data, double slope, double inter, bool shear) {
+    std::int64_t nimDims[8] = {std::int64_t(dims.size())};
+    for (std::size_t d = 0; d < dims.size(); ++d) nimDims[d + 1] = dims[d];
+    nifti_image* image = nifti_make_new_nim(nimDims, datatype, 1);
+    std::memcpy(image->data, data, image->nvox * image->nbyper);
+    image->scl_slope = slope;
+    image->scl_inter = inter;
+    image->sform_code = 1;
+    image->sto_xyz = nifti_dmat44{};
+    image->sto_xyz.m[0][0] = 0.5;
+    image->sto_xyz.m[1][1] = 0.5;
+    image->sto_xyz.m[2][2] = 2.5;
+    image->sto_xyz.m[1][2] = shear ? 0.15 : 0.0;
+    image->sto_xyz.m[0][3] = -100;
+    image->sto_xyz.m[3][3] = 1;
+    nifti_set_filenames(image, path.c_str(), 0, 0);
+    nifti_image_write(image);
+    nifti_image_free(image);
+}
+
+TEST(NiftiReader, AppliesSlopeInterceptAndShearedSform) {
+    test::TempDir dir;
+    const std::vector<std::uint8_t> stored{0, 1, 100, 255};
+    writeNifti(dir.path("shear.nii.gz"), {2, 2, 1}, NIFTI_TYPE_UINT8, stored.data(), 7.1, -1024, true);
+    const DenseVolume volume = readNifti(dir.path("shear.nii.gz"), {});
+    EXPECT_EQ(volume.type, SampleType::UInt8);
+    EXPECT_NEAR(volume.slope, 7.1, 1e-6);  // NIfTI-1 stores it as float32
+    EXPECT_DOUBLE_EQ(volume.intercept, -1024);
+    EXPECT_EQ(volume.data<std::uint8_t>()[2], 100);
+    expectNear(worldOf(volume, {1, 1, 1}), {-99.5, 0.65, 2.5});
+}
+
+TEST(NiftiReader, SelectsAVolumeOfA4DSeries) {
+    test::TempDir dir;
+    std::vector<float> values(2 * 1 * 1 * 3);
+    for (std::size_t v = 0; v < values.size(); ++v) values[v] = float(v) - 2.5f;
+    writeNifti(dir.path("series.nii"), {2, 1, 1, 3}, NIFTI_TYPE_FLOAT32, values.data(), 0, 0, false);
+    ReadOptions options;
+    options.volumeIndex = 2;
+    const DenseVolume volume = readNifti(dir.path("series.nii"), options);
+    EXPECT_EQ(volume.data<float>()[0], 1.5f);
+    EXPECT_EQ(volume.data<float>()[1], 2.5f);
+    options.volumeIndex = 3;
+    EXPECT_THROW(readNifti(dir.path("series.nii"), options), InputError);
+}
+
+TEST(NiftiReader, ReadsRgb24AsThreeChannels) {
+    test::TempDir dir;
+    const std::vector<std::uint8_t> rgb{255, 0, 0, 0, 255, 0};
+    writeNifti(dir.path("rgb.nii.gz"), {2, 1, 1}, NIFTI_TYPE_RGB24, rgb.data(), 0, 0, false);
+    const DenseVolume volume = readNifti(dir.path("rgb.nii.gz"), {});
+    EXPECT_EQ(volume.channels, 3);
+    EXPECT_EQ(volume.data<std::uint8_t>()[4], 255);
+}
+
+void writeImage(const std::string& path, int width, int height, int channels,
+                OIIO::TypeDesc type, const void* pixels) {
+    auto output = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(output);
+    ASSERT_TRUE(output->open(path, OIIO::ImageSpec(width, height, channels, type)));
+    ASSERT_TRUE(output->write_image(type, pixels));
+    output->close();
+}
+
+TEST(ImageStackReader, SortsNumericallyAndKeeps16Bits) {
+    test::TempDir dir;
+    std::filesystem::create_directory(dir.path("stack"));
+    for (int slice : {1, 2, 10}) {
+        const std::vector<std::uint16_t> pixels(6, std::uint16_t(slice * 1000));
+        writeImage(dir.path("stack/" + std::to_string(slice) + ".png"), 3, 2, 1,
+                   OIIO::TypeDesc::UINT16, pixels.data());
+    }
+    test::writeBytes(dir.path("stack/README.txt"), "not an image");
+    const DenseVolume volume = readVolume(dir.path("stack"), {});
+    EXPECT_EQ(volume.type, SampleType::UInt16);
+    ASSERT_EQ(volume.dims[2], 3);
+    EXPECT_EQ(volume.data<std::uint16_t>()[0], 1000);
+    EXPECT_EQ(volume.data<std::uint16_t>()[6], 2000);
+    EXPECT_EQ(volume.data<std::uint16_t>()[12], 10000);
+
+    const DenseVolume globbed = readVolume(dir.path("stack/*.png"), {});
+    EXPECT_EQ(globbed.data<std::uint16_t>()[12], 10000);
+}
+
+TEST(ImageStackReader, ReadsMultiPageTiffAsSlices) {
+    test::TempDir dir;
+    const std::string path = dir.path("pages.tif");
+    auto output = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(output && output->supports("multiimage"));
+    const OIIO::ImageSpec specs[2] = {OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::UINT8),
+                                      OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::UINT8)};
+    ASSERT_TRUE(output->open(path, 2, specs));
+    for (int page = 0; page < 2; ++page) {
+        if (page > 0) ASSERT_TRUE(output->open(path, specs[page], OIIO::ImageOutput::AppendSubimage));
+        const std::vector<std::uint8_t> pixels(12, std::uint8_t(50 + page * 100));
+        ASSERT_TRUE(output->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+    }
+    output->close();
+    const DenseVolume volume = readVolume(path, {});
+    EXPECT_EQ(volume.channels, 3);
+    EXPECT_EQ(volume.dims[2], 2);
+    EXPECT_EQ(volume.data<std::uint8_t>()[12], 150);
+}
+
+}  // namespace
+}  // namespace gvr
