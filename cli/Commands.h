@@ -8,5 +8,6 @@ namespace gvr {
 
 void addIngestCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
+void addFitCommand(CLI::App& app);
 
 }  // namespace gvr

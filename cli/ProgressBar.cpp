@@ -25,26 +25,26 @@ ProgressBar::~ProgressBar() {
     if (mDrawn) std::fputc('\n', stderr);
 }
 
-void ProgressBar::update(double fraction) {
+void ProgressBar::update(double fraction, const std::string& detail) {
     if (!mEnabled) return;
     const Clock::time_point now = Clock::now();
     if (fraction < 1.0 && mDrawn && secondsBetween(mLastDraw, now) < 0.1) return;
     mLastDraw = now;
-    draw(std::clamp(fraction, 0.0, 1.0));
+    draw(std::clamp(fraction, 0.0, 1.0), detail);
 }
 
 ProgressFn ProgressBar::callback() {
     return [this](double fraction) { update(fraction); };
 }
 
-void ProgressBar::draw(double fraction) {
+void ProgressBar::draw(double fraction, const std::string& detail) {
     constexpr int kWidth = 30;
     const int filled = int(fraction * kWidth);
     const double elapsed = secondsBetween(mStart, Clock::now());
     const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
-    std::fprintf(stderr, "\r%-14s [%.*s%*s] %5.1f %%  %6.1f s elapsed, ETA %6.1f s", mLabel.c_str(),
-                 filled, "##############################", kWidth - filled, "", 100.0 * fraction,
-                 elapsed, eta);
+    std::fprintf(stderr, "\r%-14s [%.*s%*s] %5.1f %%  %6.1f s elapsed, ETA %6.1f s  %s\033[K",
+                 mLabel.c_str(), filled, "##############################", kWidth - filled, "",
+                 100.0 * fraction, elapsed, eta, detail.c_str());
     std::fflush(stderr);
     mDrawn = true;
 }

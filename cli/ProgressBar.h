@@ -17,14 +17,15 @@ public:
     ProgressBar(const ProgressBar&) = delete;
     ProgressBar& operator=(const ProgressBar&) = delete;
 
-    /// Draws the bar at @a fraction in [0, 1], at most ten times a second.
-    void update(double fraction);
+    /// Draws the bar at @a fraction in [0, 1], at most ten times a second, with
+    /// @a detail (e.g. "iteration 120, 31.2 dB") after it.
+    void update(double fraction, const std::string& detail = "");
 
     /// A callback for library calls that report progress.
     ProgressFn callback();
 
 private:
-    void draw(double fraction);
+    void draw(double fraction, const std::string& detail);
 
     std::string mLabel;
     bool mEnabled;

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "gvr 0.1.0");
     gvr::addIngestCommand(app);
     gvr::addInfoCommand(app);
+    gvr::addFitCommand(app);
     try {
         app.parse(argc, argv);
         return 0;

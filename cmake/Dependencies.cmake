@@ -15,6 +15,7 @@ get_target_property(_oiio_includes OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DI
 list(FILTER _oiio_includes EXCLUDE REGEX "opencv4")
 set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_oiio_includes}")
 
+find_package(embree 3 REQUIRED CONFIG)
 find_package(GDCM REQUIRED)
 find_package(CLI11 REQUIRED CONFIG)
 find_package(nlohmann_json 3 REQUIRED CONFIG)

@@ -32,6 +32,24 @@ openvdb::GridPtrVecPtr readGridFile(const std::string& path) {
     }
 }
 
+openvdb::GridBase::Ptr chooseVolumeGrid(const openvdb::GridPtrVec& grids, const std::string& path) {
+    for (const char* name : {"density", "color", "Cd"}) {
+        for (const auto& grid : grids) {
+            if (grid->getName() == name) return grid;
+        }
+    }
+    for (const auto& grid : grids) {
+        if (grid->isType<openvdb::FloatGrid>() || grid->isType<openvdb::DoubleGrid>() ||
+            grid->isType<openvdb::Vec3SGrid>()) {
+            return grid;
+        }
+    }
+    std::string found;
+    for (const auto& grid : grids) found += " " + grid->getName() + " (" + grid->valueType() + ")";
+    throw InputError(path, "holds no float, double or Vec3s grid; found:" +
+                               (found.empty() ? std::string(" nothing") : found));
+}
+
 void writeGridFile(const std::string& path, const openvdb::GridCPtrVec& grids) {
     initializeOpenVdb();
     writeAtomically(path, [&](const std::string& temporary) {

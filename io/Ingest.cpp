@@ -2,6 +2,8 @@
 
 #include "GridFile.h"
 
+#include <filesystem>
+
 namespace gvr {
 
 IngestResult ingest(const std::string& input, IngestOptions options) {
@@ -12,6 +14,15 @@ IngestResult ingest(const std::string& input, IngestOptions options) {
     result.grid = buildGrid(volume, options.build, options.buildProgress);
     result.warnings = std::move(volume.warnings);
     return result;
+}
+
+IngestResult loadOrIngest(const std::string& input, const IngestOptions& options) {
+    if (std::filesystem::is_regular_file(input) && isVdbFile(input)) {
+        IngestResult result;
+        result.grid = chooseVolumeGrid(*readGridFile(input), input);
+        return result;
+    }
+    return ingest(input, options);
 }
 
 }  // namespace gvr

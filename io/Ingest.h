@@ -20,4 +20,7 @@ struct IngestResult {
 
 IngestResult ingest(const std::string& input, IngestOptions options);
 
+/// The volume grid of a .vdb file as it is, or any other input ingested with @a options.
+IngestResult loadOrIngest(const std::string& input, const IngestOptions& options);
+
 }  // namespace gvr

@@ -10,25 +10,6 @@ namespace gvr {
 
 namespace {
 
-/// Prefers grids named as gvr and the DCC tools name them, then any supported type.
-openvdb::GridBase::Ptr chooseGrid(const openvdb::GridPtrVec& grids, const std::string& path) {
-    for (const char* name : {"density", "color", "Cd"}) {
-        for (const auto& grid : grids) {
-            if (grid->getName() == name) return grid;
-        }
-    }
-    for (const auto& grid : grids) {
-        if (grid->isType<openvdb::FloatGrid>() || grid->isType<openvdb::DoubleGrid>() ||
-            grid->isType<openvdb::Vec3SGrid>()) {
-            return grid;
-        }
-    }
-    std::string found;
-    for (const auto& grid : grids) found += " " + grid->getName() + " (" + grid->valueType() + ")";
-    throw InputError(path, "holds no float, double or Vec3s grid; found:" +
-                               (found.empty() ? std::string(" nothing") : found));
-}
-
 template <typename GridT>
 void copyToDense(const GridT& grid, const openvdb::CoordBBox& box, DenseVolume& volume) {
     using Value = typename GridT::ValueType;
@@ -53,7 +34,7 @@ void copyToDense(const GridT& grid, const openvdb::CoordBBox& box, DenseVolume& 
 
 DenseVolume readVdb(const std::string& path, const ReadOptions& options) {
     const openvdb::GridPtrVecPtr grids = readGridFile(path);
-    const openvdb::GridBase::Ptr grid = chooseGrid(*grids, path);
+    const openvdb::GridBase::Ptr grid = chooseVolumeGrid(*grids, path);
     const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
     if (box.empty()) throw InputError(path, "grid '" + grid->getName() + "' has no active voxels");
 

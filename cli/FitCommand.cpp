@@ -1,0 +1,242 @@
+// gvr fit IN -o ASSET: Gaussians fitted to a grid, with error against run time.
+
+#include "Commands.h"
+#include "Error.h"
+#include "Fitter.h"
+#include "GaussianAsset.h"
+#include "GaussianField.h"
+#include "GridSummary.h"
+#include "ProgressBar.h"
+#include "SourceOptions.h"
+#include "VolumeError.h"
+
+#include <sys/resource.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace gvr {
+
+namespace {
+
+struct FitFlags {
+    std::string input, output, logPath, ablation = "full";
+    double ratio = 10.0;
+    std::size_t gaussians = 0;
+    std::size_t threads = 0;
+    bool json = false, quiet = false;
+    FitSettings settings;
+    SourceFlags source;
+};
+
+double peakRssMiB() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_maxrss / 1024.0;
+}
+
+std::string formatDb(double db) {
+    if (std::isinf(db)) return "inf";
+    std::ostringstream out;
+    out << std::fixed << std::setprecision(2) << db;
+    return out.str();
+}
+
+/// The CSV of error against run time, one row per held-out evaluation.
+class FitLog {
+public:
+    FitLog(const std::string& path, double peak) {
+        if (path.empty()) return;
+        mOut.open(path);
+        if (!mOut) throw InputError(path, "cannot write the fit log");
+        mOut << "# gvr fit log; PSNR on fixed held-out voxels, peak = " << peak
+             << " (the normalised data range)\n"
+             << "iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib\n";
+    }
+    void record(const FitProgress& p) {
+        if (!mOut.is_open() || !p.heldOutEvaluated) return;
+        mOut << p.iteration << "," << p.seconds << "," << p.loss << "," << formatDb(p.heldOutPsnr) << ","
+             << p.gaussians << "," << peakRssMiB() << "\n" << std::flush;
+    }
+
+private:
+    std::ofstream mOut;
+};
+
+nlohmann::json settingsJson(const FitFlags& flags) {
+    const FitSettings& s = flags.settings;
+    return {{"ablation", flags.ablation},        {"seed", s.seed},
+            {"iterations", s.iterations},        {"seconds", s.seconds},
+            {"batch", s.voxelBatch},             {"refresh_every", s.refreshEvery},
+            {"mc_lambda", s.importance.uniformShare}, {"mc_epsilon", s.importance.epsilon},
+            {"slice_pixels", s.slicePixels},     {"slice_max", s.sliceMax},
+            {"slice_gamma", s.sliceGamma},       {"slice_beta", s.sliceBeta},
+            {"lr", s.learningRate},              {"lr_final", s.finalRateFactor},
+            {"gradient_share", s.gradientSeedShare}, {"uniform_share", s.uniformSeedShare},
+            {"prune_every", s.pruneEvery},       {"prune_amplitude", s.pruneAmplitude}};
+}
+
+GaussianAsset assetSkeleton(const openvdb::GridBase& grid, const VolumeTarget& target, const FitFlags& flags,
+                            const std::string& input) {
+    GaussianAsset asset;
+    asset.params = GaussianParameters(0, target.channels());
+    asset.cutoffSigmas = flags.settings.cutoffSigmas;
+    asset.worldFromIndex = grid.transform().baseMap()->getAffineMap()->getMat4();
+    asset.mapping = target.mapping();
+    if (auto metadata = readVolumeMetadata(grid)) {
+        asset.source = *metadata;
+    } else {  // a foreign grid: describe it as float32 samples over its box
+        asset.source.sourceFile = input;
+        asset.source.sourceType = "float32";
+        asset.source.channels = target.channels();
+        asset.source.dims = openvdb::Vec3i(target.box().dim().asVec3i());
+        asset.source.spacingMm = grid.transform().voxelSize();
+    }
+    asset.fitSettings = settingsJson(flags);
+    return asset;
+}
+
+std::size_t budgetedGaussians(const GaussianAsset& asset, const FitFlags& flags, std::uint64_t& maxBytes) {
+    if (flags.gaussians > 0) {
+        maxBytes = 0;
+        return flags.gaussians;
+    }
+    if (!(flags.ratio >= 1.0) || !std::isfinite(flags.ratio)) throw InputError("--ratio", "must be at least 1");
+    maxBytes = std::uint64_t(double(asset.source.rawSourceBytes()) / flags.ratio);
+    const std::size_t capacity = assetCapacity(asset, maxBytes);
+    if (capacity == 0) {
+        throw InputError("--ratio", "leaves " + std::to_string(maxBytes) +
+                                        " bytes, too few for even one Gaussian");
+    }
+    return capacity;
+}
+
+FitObserver progressObserver(ProgressBar& bar, FitLog& log) {
+    return [&bar, &log, lastPsnr = std::string("-")](const FitProgress& p) mutable {
+        if (p.heldOutEvaluated) lastPsnr = formatDb(p.heldOutPsnr);
+        bar.update(p.fraction, "it " + std::to_string(p.iteration) + ", " + lastPsnr + " dB held-out, " +
+                                   std::to_string(p.gaussians) + " Gaussians");
+        log.record(p);
+    };
+}
+
+void report(const FitFlags& flags, const GaussianAsset& asset, const FitReport& fit, const VolumeError& error,
+            std::size_t dropped) {
+    const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
+    const std::uint64_t rawBytes = asset.source.rawSourceBytes();
+    const std::uint64_t floatBytes = std::uint64_t(asset.source.dims.x()) * asset.source.dims.y() *
+                                     asset.source.dims.z() * asset.source.channels * 4;
+    const double peak = asset.mapping.scale > 0 ? (asset.source.valueMax - asset.source.valueMin) / asset.mapping.scale : 1.0;
+    if (flags.json) {
+        nlohmann::json out = {{"output", flags.output}, {"gaussians", asset.params.count()},
+                              {"file_bytes", fileBytes}, {"raw_source_bytes", rawBytes},
+                              {"ratio_vs_raw", double(rawBytes) / fileBytes},
+                              {"ratio_vs_float32", double(floatBytes) / fileBytes},
+                              {"iterations", fit.iterations}, {"seconds", fit.seconds},
+                              {"psnr_db", error.psnr}, {"fg_psnr_db", error.foregroundPsnr},
+                              {"peak", peak}, {"skipped_steps", fit.skippedSteps},
+                              {"pruned", fit.pruned}, {"respawned", fit.respawned},
+                              {"dropped_to_fit_budget", dropped}, {"peak_rss_mib", peakRssMiB()}};
+        std::cout << out.dump(2) << "\n";
+        return;
+    }
+    std::cout << "wrote " << flags.output << ": " << asset.params.count() << " Gaussians, "
+              << formatBytes(fileBytes) << "\n"
+              << "  compression:     " << std::setprecision(4) << double(rawBytes) / fileBytes
+              << ":1 against the raw source (" << formatBytes(rawBytes) << "), "
+              << double(floatBytes) / fileBytes << ":1 against float32\n"
+              << "  fit:             " << fit.iterations << " iterations in " << std::setprecision(4)
+              << fit.seconds << " s; " << fit.skippedSteps << " steps skipped (non-finite), "
+              << fit.pruned << " Gaussians pruned, " << fit.respawned << " respawned\n"
+              << "  PSNR (as saved): " << formatDb(error.psnr) << " dB whole volume, "
+              << formatDb(error.foregroundPsnr) << " dB foreground (" << error.foregroundVoxels
+              << " voxels above the ingest threshold); peak = " << peak << " (normalised data range)\n"
+              << "  peak memory:     " << std::setprecision(5) << peakRssMiB() << " MiB\n";
+}
+
+void runFit(FitFlags& flags) {
+    tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                                flags.threads > 0 ? flags.threads : tbb::this_task_arena::max_concurrency());
+    applyAblation(ablationFromName(flags.ablation), flags.settings);
+    const std::string problem = flags.settings.validate();
+    if (!problem.empty()) throw InputError("gvr fit", problem);
+
+    const IngestResult loaded = loadOrIngest(flags.input, toIngestOptions(flags.source));
+    for (const std::string& warning : loaded.warnings) std::cerr << "gvr: warning: " << warning << "\n";
+    const VolumeTarget target(loaded.grid, flags.input);
+    GaussianAsset asset = assetSkeleton(*loaded.grid, target, flags, flags.input);
+    std::uint64_t maxBytes = 0;
+    flags.settings.gaussians = budgetedGaussians(asset, flags, maxBytes);
+    if (target.activeVoxelCount() == 0) {
+        std::cerr << "gvr: warning: " << flags.input << " has no active voxels; writing an empty asset\n";
+    }
+
+    FitReport fit;
+    {
+        FitLog log(flags.logPath, target.peak());
+        ProgressBar bar("fitting", !flags.quiet);
+        asset.params = fitGaussians(target, flags.settings, progressObserver(bar, log), &fit);
+    }
+    const std::size_t dropped = writeAsset(flags.output, asset, maxBytes);
+    ProgressBar measuring("measuring", !flags.quiet);
+    const GaussianField saved(quantisedCopy(asset.params), asset.cutoffSigmas);
+    const VolumeError error = measureVolumeError(saved, target, measuring.callback());
+    report(flags, asset, fit, error, dropped);
+}
+
+void addTuningFlags(CLI::App& command, FitSettings& s) {
+    command.add_option("--batch", s.voxelBatch, "Voxel samples per iteration")->capture_default_str();
+    command.add_option("--refresh-every", s.refreshEvery, "K: redraw the voxel samples every K iterations")->capture_default_str();
+    command.add_option("--mc-lambda", s.importance.uniformShare, "lambda: uniform share of p(x) = lambda/n + (1-lambda) p_imp(x)")->capture_default_str();
+    command.add_option("--mc-epsilon", s.importance.epsilon, "epsilon added to each block's error in p_imp")->capture_default_str();
+    command.add_option("--slice-pixels", s.slicePixels, "Pixels per random slice")->capture_default_str();
+    command.add_option("--slice-max", s.sliceMax, "lambda_s,max of the slice curriculum")->capture_default_str();
+    command.add_option("--slice-gamma", s.sliceGamma, "gamma_s: curriculum midpoint, as a fraction of the budget")->capture_default_str();
+    command.add_option("--slice-beta", s.sliceBeta, "beta_s: curriculum width, as a fraction of the budget")->capture_default_str();
+    command.add_option("--lr", s.learningRate, "Base Adam learning rate (the paper's 5e-4), scaled per group")->capture_default_str();
+    command.add_option("--lr-final", s.finalRateFactor, "Learning rates decay exponentially to this factor")->capture_default_str();
+    command.add_option("--gradient-share", s.gradientSeedShare, "Share of seeds drawn by gradient magnitude")->capture_default_str();
+    command.add_option("--uniform-share", s.uniformSeedShare, "Share of seeds drawn uniformly")->capture_default_str();
+    command.add_option("--cutoff", s.cutoffSigmas, "Truncation radius of every Gaussian, in standard deviations")->capture_default_str();
+    command.add_option("--prune-every", s.pruneEvery, "Iterations between prune-and-respawn passes (0: never)")->capture_default_str();
+    command.add_option("--prune-amplitude", s.pruneAmplitude, "Prune Gaussians whose peak |opacity*colour| is below this")->capture_default_str();
+    command.add_option("--held-out", s.heldOutVoxels, "Fixed voxels for the PSNR curve")->capture_default_str();
+    command.add_option("--log-every", s.logEvery, "Iterations between PSNR evaluations")->capture_default_str();
+}
+
+}  // namespace
+
+void addFitCommand(CLI::App& app) {
+    auto flags = std::make_shared<FitFlags>();
+    flags->settings.seconds = 300.0;
+    CLI::App* command = app.add_subcommand(
+        "fit", "Fit Gaussians to a volume (a .vdb from ingest, or any input ingest reads) and write a "
+               "Gaussian asset. Ablations: full = Monte Carlo importance voxels then the slice curriculum; "
+               "A1 = uniform random voxels; A2 = uniform voxels then slices; A3 = slices then voxels; "
+               "A4 = slices only; A5 = Monte Carlo voxels only");
+    command->add_option("input", flags->input, "Grid (.vdb) or source volume")->required();
+    command->add_option("-o,--output", flags->output, "Asset file to write (any name)")->required();
+    auto* ratio = command->add_option("--ratio", flags->ratio, "Target compression ratio against the raw source bytes")->capture_default_str();
+    command->add_option("--gaussians", flags->gaussians, "Fit exactly this many Gaussians instead")->excludes(ratio);
+    auto* time = command->add_option("--time", flags->settings.seconds, "Time budget in seconds")->capture_default_str();
+    command->add_option("--iterations", flags->settings.iterations,
+                        "Iteration budget; with it the result is reproducible byte for byte")
+        ->excludes(time)
+        ->each([flags](const std::string&) { flags->settings.seconds = 0.0; });
+    command->add_option("--seed", flags->settings.seed, "Random seed")->capture_default_str();
+    command->add_option("--ablation", flags->ablation, "full, A1, A2, A3, A4 or A5")->capture_default_str();
+    command->add_option("--log", flags->logPath, "Write error against run time as CSV");
+    command->add_option("--threads", flags->threads, "Worker threads (default: all cores)");
+    addTuningFlags(*command, flags->settings);
+    addSourceFlags(*command, flags->source);
+    command->add_flag("--json", flags->json, "Print the result as JSON");
+    command->add_flag("-q,--quiet", flags->quiet, "No progress bars");
+    command->callback([flags] { runFit(*flags); });
+}
+
+}  // namespace gvr

@@ -1,0 +1,83 @@
+#include "FitSettings.h"
+
+#include "Error.h"
+
+#include <cmath>
+
+namespace gvr {
+
+std::string FitSettings::validate() const {
+    if (iterations == 0 && !(seconds > 0.0)) return "--iterations or --time must be positive";
+    if (seconds < 0.0 || !std::isfinite(seconds)) return "--time must be a finite number of seconds >= 0";
+    if (gradientSeedShare < 0.0 || uniformSeedShare < 0.0 || gradientSeedShare + uniformSeedShare <= 0.0) {
+        return "--gradient-share and --uniform-share must be >= 0 and not both 0";
+    }
+    if (voxelBatch == 0 && schedule != SliceSchedule::SlicesOnly) return "--batch must be positive";
+    if (refreshEvery == 0) return "--refresh-every must be positive";
+    if (importance.uniformShare < 0.0 || importance.uniformShare > 1.0) return "--mc-lambda must lie in [0, 1]";
+    if (!(importance.epsilon > 0.0)) return "--mc-epsilon must be positive";
+    if (slicePixels == 0 && schedule != SliceSchedule::None) return "--slice-pixels must be positive";
+    if (sliceMax < 0.0 || sliceMax > 1.0) return "--slice-max must lie in [0, 1]";
+    if (!(sliceBeta > 0.0)) return "--slice-beta must be positive";
+    if (!(learningRate > 0.0) || !std::isfinite(learningRate)) return "--lr must be positive";
+    if (!(finalRateFactor > 0.0) || finalRateFactor > 1.0) return "--lr-final must lie in (0, 1]";
+    if (!(cutoffSigmas >= 1.0f) || cutoffSigmas > 10.0f) return "--cutoff must lie in [1, 10] sigmas";
+    if (pruneAmplitude < 0.0) return "--prune-amplitude must be >= 0";
+    if (heldOutVoxels == 0 || logEvery == 0) return "--held-out and --log-every must be positive";
+    return "";
+}
+
+void applyAblation(Ablation ablation, FitSettings& settings) {
+    switch (ablation) {
+        case Ablation::Full:
+            settings.importanceSampling = true;
+            settings.schedule = SliceSchedule::VoxelsThenSlices;
+            break;
+        case Ablation::A1:
+            settings.importanceSampling = false;
+            settings.schedule = SliceSchedule::None;
+            break;
+        case Ablation::A2:
+            settings.importanceSampling = false;
+            settings.schedule = SliceSchedule::VoxelsThenSlices;
+            break;
+        case Ablation::A3:
+            settings.importanceSampling = true;
+            settings.schedule = SliceSchedule::SlicesThenVoxels;
+            break;
+        case Ablation::A4:
+            settings.schedule = SliceSchedule::SlicesOnly;
+            break;
+        case Ablation::A5:
+            settings.importanceSampling = true;
+            settings.schedule = SliceSchedule::None;
+            break;
+    }
+}
+
+std::string ablationName(Ablation ablation) {
+    static const char* names[] = {"full", "A1", "A2", "A3", "A4", "A5"};
+    return names[int(ablation)];
+}
+
+Ablation ablationFromName(const std::string& name) {
+    for (Ablation a : {Ablation::Full, Ablation::A1, Ablation::A2, Ablation::A3, Ablation::A4, Ablation::A5}) {
+        if (ablationName(a) == name) return a;
+    }
+    throw InputError("--ablation", "unknown value '" + name + "' (expected full, A1, A2, A3, A4 or A5)");
+}
+
+double sliceWeight(const FitSettings& settings, double t) {
+    const auto logistic = [](double x) { return 1.0 / (1.0 + std::exp(-x)); };
+    switch (settings.schedule) {
+        case SliceSchedule::None: return 0.0;
+        case SliceSchedule::VoxelsThenSlices:
+            return settings.sliceMax * logistic((t - settings.sliceGamma) / settings.sliceBeta);
+        case SliceSchedule::SlicesThenVoxels:
+            return logistic(-(t - settings.sliceGamma) / settings.sliceBeta);
+        case SliceSchedule::SlicesOnly: return 1.0;
+    }
+    return 0.0;
+}
+
+}  // namespace gvr

@@ -1,0 +1,80 @@
+/// @file FitSettings.h
+/// @brief Every constant of a fit, with its default, in one place.
+#pragma once
+
+#include "GaussianKernel.h"
+#include "ImportanceSampler.h"
+#include "Initialisation.h"
+
+#include <array>
+#include <string>
+
+namespace gvr {
+
+/// How the slice term's weight lambda_s(t) moves over the budget; t in [0, 1] is
+/// the fraction of the iteration or time budget spent.
+enum class SliceSchedule {
+    None,              ///< lambda_s = 0: voxels only
+    VoxelsThenSlices,  ///< lambda_s = max * sigmoid((t - gamma) / beta)
+    SlicesThenVoxels,  ///< lambda_s = sigmoid(-(t - gamma) / beta): slices first, max ignored
+    SlicesOnly,        ///< lambda_s = 1
+};
+
+/// The paper's full method and its ablations A1-A5.
+enum class Ablation { Full, A1, A2, A3, A4, A5 };
+
+struct FitSettings {
+    std::size_t gaussians = 0;  ///< m; the caller derives it from --ratio
+    std::size_t iterations = 0; ///< stop after this many (0: no limit)
+    double seconds = 0.0;       ///< stop after this long (0: no limit); one of the two must be set
+    std::uint64_t seed = 1;
+
+    double gradientSeedShare = 0.6;
+    double uniformSeedShare = 0.4;
+
+    std::size_t voxelBatch = 32768;  ///< voxel samples per iteration
+    std::size_t refreshEvery = 5;    ///< K: draw new voxel samples every K iterations
+    bool importanceSampling = true;  ///< false: uniform voxels (lambda = 1)
+    ImportanceSettings importance;
+
+    std::size_t slicePixels = 8192;  ///< pixels per random plane
+    SliceSchedule schedule = SliceSchedule::VoxelsThenSlices;
+    double sliceMax = 0.3;    ///< lambda_s,max
+    double sliceGamma = 0.5;  ///< gamma_s, as a fraction of the budget
+    double sliceBeta = 0.08;  ///< beta_s, as a fraction of the budget
+
+    /// Base learning rate (the paper's 5e-4), scaled per group: means move in
+    /// voxels, so their rate is also multiplied by the longest side of the volume.
+    double learningRate = 5e-4;
+    std::array<double, kGroupCount> rateScale{1.0, 2.0, 10.0, 100.0, 10.0};
+    double finalRateFactor = 0.1;  ///< rates decay exponentially to this factor at the end
+
+    float cutoffSigmas = kDefaultCutoffSigmas;
+    std::size_t pruneEvery = 200;  ///< iterations between prune-and-respawn passes (0: never)
+    double pruneAmplitude = 2e-3;  ///< Gaussians with |opacity * colour| below this are pruned
+
+    std::size_t heldOutVoxels = 32768;  ///< fixed voxels for the PSNR curve
+    std::size_t logEvery = 50;          ///< iterations between held-out PSNR evaluations
+
+    /// Empty when the settings are usable, else what is wrong, naming the flag.
+    std::string validate() const;
+};
+
+/// Settings for the full method or one of the paper's ablations:
+///   full  Monte Carlo importance voxels, then the slice curriculum
+///   A1    uniform random voxels only
+///   A2    uniform random voxels, then slices
+///   A3    slices first, then importance voxels
+///   A4    slices only
+///   A5    Monte Carlo importance voxels only
+void applyAblation(Ablation ablation, FitSettings& settings);
+
+/// "full", "A1", ... "A5".
+std::string ablationName(Ablation ablation);
+/// @throw InputError for an unknown name.
+Ablation ablationFromName(const std::string& name);
+
+/// lambda_s(t) for the schedule; the voxel term gets 1 - lambda_s.
+double sliceWeight(const FitSettings& settings, double t);
+
+}  // namespace gvr

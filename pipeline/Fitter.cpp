@@ -1,0 +1,267 @@
+#include "Fitter.h"
+
+#include "Adam.h"
+#include "Error.h"
+#include "Loss.h"
+#include "Pruning.h"
+#include "SliceSampler.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace gvr {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// A seed for one purpose at one iteration, so that runs are reproducible.
+std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t purpose, std::uint64_t iteration) {
+    std::seed_seq sequence{std::uint32_t(seed), std::uint32_t(seed >> 32), std::uint32_t(purpose),
+                           std::uint32_t(iteration), std::uint32_t(iteration >> 32)};
+    std::uint32_t words[2];
+    sequence.generate(words, words + 2);
+    return (std::uint64_t(words[0]) << 32) | words[1];
+}
+
+enum Purpose : std::uint64_t { kVoxels = 1, kSlices = 2, kHeldOut = 3, kSeeds = 4 };
+
+void fillVoxelTargets(const VolumeTarget& target, SampleSet& set) {
+    const int channels = target.channels();
+    set.targets.resize(set.size() * channels);
+    tbb::parallel_for(std::size_t(0), set.size(), [&](std::size_t s) {
+        const auto& p = set.points[s];
+        target.valueAt(openvdb::Coord(int(p[0]), int(p[1]), int(p[2])), &set.targets[s * channels]);
+    });
+}
+
+SampleSet voxelSampleSet(const VolumeTarget& target, const std::vector<VoxelSample>& samples) {
+    SampleSet set;
+    set.points.resize(samples.size());
+    set.weights.resize(samples.size());
+    for (std::size_t s = 0; s < samples.size(); ++s) {
+        const openvdb::Coord& ijk = samples[s].ijk;
+        set.points[s] = {float(ijk.x()), float(ijk.y()), float(ijk.z())};
+        set.weights[s] = samples[s].weight / float(samples.size());
+    }
+    fillVoxelTargets(target, set);
+    return set;
+}
+
+SampleSet sliceSampleSet(const VolumeTarget& target, std::size_t pixels, std::uint64_t seed) {
+    SampleSet set;
+    set.points = drawSlicePoints(target.box(), pixels, seed);
+    set.weights.assign(set.size(), 1.0f / float(set.size()));
+    set.targets.resize(set.size() * target.channels());
+    tbb::parallel_for(std::size_t(0), set.size(), [&](std::size_t s) {
+        target.trilinearAt(set.points[s].data(), &set.targets[s * target.channels()]);
+    });
+    return set;
+}
+
+SampleSet heldOutSet(const VolumeTarget& target, std::size_t count, std::uint64_t seed) {
+    ImportanceSettings uniform;
+    uniform.uniformShare = 1.0;
+    return voxelSampleSet(target, ImportanceSampler(target.box(), uniform).draw(count, seed));
+}
+
+/// Where the residual of the last voxel batch is largest, one site per voxel.
+std::vector<RespawnSite> respawnSites(const SampleSet& set, const std::vector<float>& squared,
+                                      const GaussianField& field, std::size_t wanted) {
+    std::vector<std::size_t> order(set.size());
+    for (std::size_t s = 0; s < order.size(); ++s) order[s] = s;
+    wanted = std::min(wanted, order.size());
+    std::partial_sort(order.begin(), order.begin() + wanted, order.end(),
+                      [&](std::size_t a, std::size_t b) { return squared[a] > squared[b] || (squared[a] == squared[b] && a < b); });
+    std::vector<RespawnSite> sites;
+    std::vector<std::uint32_t> hits;
+    const int channels = field.channels();
+    for (std::size_t k = 0; k < wanted; ++k) {
+        const std::size_t s = order[k];
+        RespawnSite site{set.points[s], {0, 0, 0}};
+        float value[3];
+        field.evaluate(site.position.data(), value, hits);
+        for (int c = 0; c < channels; ++c) site.residual[c] = set.targets[s * channels + c] - value[c];
+        if (sites.empty() || sites.back().position != site.position) sites.push_back(site);
+    }
+    return sites;
+}
+
+/// Keeps every parameter inside the ranges where the kernel is well defined.
+void repair(GaussianParameters& params, const openvdb::CoordBBox& box) {
+    const openvdb::Vec3f lower = box.min().asVec3s() - openvdb::Vec3f(8.0f);
+    const openvdb::Vec3f upper = box.max().asVec3s() + openvdb::Vec3f(8.0f);
+    tbb::parallel_for(std::size_t(0), params.count(), [&](std::size_t i) {
+        float* mean = params.at(kMeans, i);
+        for (int a = 0; a < 3; ++a) mean[a] = std::clamp(mean[a], lower[a], upper[a]);
+        float* logScale = params.at(kLogScales, i);
+        for (int a = 0; a < 3; ++a) logScale[a] = std::clamp(logScale[a], kMinLogScale, kMaxLogScale);
+        float* logit = params.at(kOpacityLogits, i);
+        *logit = std::clamp(*logit, -12.0f, 12.0f);
+        float* q = params.at(kRotations, i);
+        const float norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+        if (norm > 1e-6f) {
+            for (int k = 0; k < 4; ++k) q[k] /= norm;
+        } else {
+            q[0] = 1.0f;
+            q[1] = q[2] = q[3] = 0.0f;
+        }
+    });
+}
+
+class FitLoop {
+public:
+    FitLoop(const VolumeTarget& target, const FitSettings& settings)
+        : mTarget(target), mSettings(settings), mStart(Clock::now()),
+          mSampler(target.box(), samplerSettings(settings)) {}
+
+    GaussianParameters run(const FitObserver& observer, FitReport& report);
+
+private:
+    static ImportanceSettings samplerSettings(const FitSettings& settings) {
+        ImportanceSettings importance = settings.importance;
+        if (!settings.importanceSampling) importance.uniformShare = 1.0;
+        return importance;
+    }
+
+    double elapsed() const { return std::chrono::duration<double>(Clock::now() - mStart).count(); }
+
+    double fractionDone(std::size_t iteration) const {
+        double fraction = 0.0;
+        if (mSettings.iterations > 0) fraction = double(iteration) / double(mSettings.iterations);
+        if (mSettings.seconds > 0.0) fraction = std::max(fraction, elapsed() / mSettings.seconds);
+        return std::min(fraction, 1.0);
+    }
+
+    std::array<double, kGroupCount> rates(double fraction) const {
+        const double longestSide = double(mTarget.box().dim().asVec3d().length() / std::sqrt(3.0));
+        const double decay = std::pow(mSettings.finalRateFactor, fraction);
+        std::array<double, kGroupCount> rates;
+        for (int g = 0; g < kGroupCount; ++g) {
+            rates[g] = mSettings.learningRate * mSettings.rateScale[g] * decay;
+        }
+        rates[kMeans] *= longestSide;
+        return rates;
+    }
+
+    double step(std::size_t iteration, double fraction, FitProgress& progress);
+
+    const VolumeTarget& mTarget;
+    const FitSettings& mSettings;
+    Clock::time_point mStart;
+    ImportanceSampler mSampler;
+    GaussianParameters mParams, mGradient, mBackup;
+    GaussianField mField;
+    GradientChunks mChunks;
+    std::vector<VoxelSample> mLastDraw;
+    SampleSet mVoxels;
+    std::vector<float> mVoxelResiduals;
+    std::unique_ptr<Adam> mAdam;
+    FitReport mReport;
+};
+
+double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progress) {
+    const double sliceShare = sliceWeight(mSettings, fraction);
+    const double voxelShare = 1.0 - sliceShare;
+    mField.rebuild(mParams, mSettings.cutoffSigmas, /*fastBuild=*/true);
+    mChunks.reset(mParams.count(), mParams.channels);
+
+    double loss = 0.0;
+    if (voxelShare > 0.0) {
+        if (iteration % mSettings.refreshEvery == 0 || mVoxels.size() == 0) {
+            if (!mVoxelResiduals.empty()) mSampler.recordErrors(mLastDraw, mVoxelResiduals);
+            mLastDraw = mSampler.draw(mSettings.voxelBatch, streamSeed(mSettings.seed, kVoxels, iteration));
+            mVoxels = voxelSampleSet(mTarget, mLastDraw);
+        }
+        loss += weightedSquaredError(mField, mVoxels, voxelShare, &mChunks, &mVoxelResiduals);
+    }
+    if (sliceShare > 0.0) {
+        const SampleSet slice = sliceSampleSet(mTarget, mSettings.slicePixels,
+                                               streamSeed(mSettings.seed, kSlices, iteration));
+        loss += weightedSquaredError(mField, slice, sliceShare, &mChunks);
+    }
+    mChunks.sumInto(mGradient);
+    progress.sliceWeight = sliceShare;
+
+    if (!std::isfinite(loss) || !mGradient.allFinite()) {
+        ++mReport.skippedSteps;
+        return loss;
+    }
+    mBackup = mParams;
+    mAdam->step(mParams, mGradient, rates(fraction));
+    repair(mParams, mTarget.box());
+    if (!mParams.allFinite()) {
+        mParams = mBackup;
+        ++mReport.skippedSteps;
+    }
+    return loss;
+}
+
+GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) {
+    SeedSettings seeds;
+    seeds.count = mSettings.gaussians;
+    seeds.gradientShare = mSettings.gradientSeedShare;
+    seeds.uniformShare = mSettings.uniformSeedShare;
+    seeds.seed = streamSeed(mSettings.seed, kSeeds, 0);
+    mParams = initialiseGaussians(mTarget, seeds);
+    mAdam = std::make_unique<Adam>(mParams.count(), mParams.channels);
+    const SampleSet heldOut = heldOutSet(mTarget, mSettings.heldOutVoxels, streamSeed(mSettings.seed, kHeldOut, 0));
+
+    std::size_t iteration = 0;
+    while (mParams.count() > 0) {
+        const double fraction = fractionDone(iteration);
+        if (fraction >= 1.0) break;
+        FitProgress progress;
+        progress.loss = step(iteration, fraction, progress);
+        ++iteration;
+
+        if (mSettings.pruneEvery > 0 && iteration % mSettings.pruneEvery == 0 && !mVoxelResiduals.empty()) {
+            const std::size_t budget = mParams.count();
+            const std::vector<RespawnSite> sites =
+                respawnSites(mVoxels, mVoxelResiduals, mField, budget / 20 + 1);
+            const PruneResult pruned = pruneAndRespawn(mParams, *mAdam, mSettings.pruneAmplitude, sites);
+            mReport.pruned += pruned.removed;
+            mReport.respawned += pruned.respawned;
+        }
+        progress.iteration = iteration;
+        progress.seconds = elapsed();
+        progress.fraction = fractionDone(iteration);
+        progress.gaussians = mParams.count();
+        progress.skippedSteps = mReport.skippedSteps;
+        if (iteration % mSettings.logEvery == 0 || progress.fraction >= 1.0) {
+            mField.rebuild(mParams, mSettings.cutoffSigmas, true);
+            progress.heldOutEvaluated = true;
+            // The loss sums channels; PSNR uses the mean over channels.
+            const double mse = weightedSquaredError(mField, heldOut, 1.0) / mTarget.channels();
+            progress.heldOutPsnr = psnrFromMse(mse, mTarget.peak());
+        }
+        if (observer) observer(progress);
+    }
+    mReport.iterations = iteration;
+    mReport.seconds = elapsed();
+    report = mReport;
+    return std::move(mParams);
+}
+
+}  // namespace
+
+double psnrFromMse(double mse, double peak) {
+    if (mse <= 0.0) return std::numeric_limits<double>::infinity();
+    return 10.0 * std::log10(peak * peak / mse);
+}
+
+GaussianParameters fitGaussians(const VolumeTarget& target, const FitSettings& settings,
+                                const FitObserver& observer, FitReport* report) {
+    const std::string problem = settings.validate();
+    if (!problem.empty()) throw InputError("fit settings", problem);
+    FitReport ignored;
+    FitLoop loop(target, settings);
+    return loop.run(observer, report ? *report : ignored);
+}
+
+}  // namespace gvr

@@ -1,0 +1,48 @@
+/// @file Fitter.h
+/// @brief The fit: Gaussians that approximate a volume, by Adam on an importance-
+/// sampled Monte Carlo voxel loss plus a curriculum of random-slice losses.
+#pragma once
+
+#include "FitSettings.h"
+#include "GaussianParameters.h"
+#include "VolumeTarget.h"
+
+#include <functional>
+
+namespace gvr {
+
+/// What the fit reports after each iteration.
+struct FitProgress {
+    std::size_t iteration = 0;   ///< iterations finished
+    double seconds = 0.0;        ///< since the fit started, initialisation included
+    double fraction = 0.0;       ///< of the budget spent, in [0, 1]
+    double loss = 0.0;           ///< lambda_v * voxel term + lambda_s * slice term
+    double sliceWeight = 0.0;    ///< lambda_s at this iteration
+    bool heldOutEvaluated = false;
+    double heldOutPsnr = 0.0;    ///< dB, on the fixed held-out voxels; peak = target.peak()
+    std::size_t gaussians = 0;
+    std::size_t skippedSteps = 0;  ///< steps dropped for a non-finite gradient or result
+};
+
+using FitObserver = std::function<void(const FitProgress&)>;
+
+struct FitReport {
+    std::size_t iterations = 0;
+    double seconds = 0.0;
+    std::size_t skippedSteps = 0;
+    std::size_t pruned = 0;
+    std::size_t respawned = 0;
+};
+
+/// Fits settings.gaussians Gaussians to @a target (index space). Same settings,
+/// seed and iteration budget give the same result whatever the thread count; a
+/// time budget stops wherever the clock says. An empty volume (no active voxel)
+/// gives no Gaussians.
+/// @throw InputError when settings.validate() fails.
+GaussianParameters fitGaussians(const VolumeTarget& target, const FitSettings& settings,
+                                const FitObserver& observer = {}, FitReport* report = nullptr);
+
+/// PSNR in dB of a mean squared error against a peak; +inf for a zero error.
+double psnrFromMse(double mse, double peak);
+
+}  // namespace gvr

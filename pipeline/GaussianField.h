@@ -1,0 +1,43 @@
+/// @file GaussianField.h
+/// @brief The truncated Gaussian field f(x) = sum_i amplitude_i exp(-q_i(x)/2), ready to
+/// evaluate anywhere in index space.
+#pragma once
+
+#include "GaussianBvh.h"
+#include "GaussianKernel.h"
+
+#include <vector>
+
+namespace gvr {
+
+class GaussianField {
+public:
+    GaussianField() = default;
+    GaussianField(const GaussianParameters& params, float cutoffSigmas, bool fastBuild = false) {
+        rebuild(params, cutoffSigmas, fastBuild);
+    }
+
+    /// Activates every Gaussian and rebuilds the BVH over their truncated bounds.
+    void rebuild(const GaussianParameters& params, float cutoffSigmas, bool fastBuild = false);
+
+    /// f at @a x into value[0..channels). @a hits is scratch space, one per thread;
+    /// it is left holding the indices of the Gaussians that reach x.
+    void evaluate(const float x[3], float* value, std::vector<std::uint32_t>& hits) const {
+        mBvh.query(x, hits);
+        for (int c = 0; c < mChannels; ++c) value[c] = 0.0f;
+        for (std::uint32_t index : hits) accumulateValue(mGaussians[index], x, mCutoff2, mChannels, value);
+    }
+
+    int channels() const { return mChannels; }
+    float cutoff2() const { return mCutoff2; }
+    const std::vector<ActiveGaussian>& gaussians() const { return mGaussians; }
+    const GaussianBvh& bvh() const { return mBvh; }
+
+private:
+    int mChannels = 1;
+    float mCutoff2 = kDefaultCutoffSigmas * kDefaultCutoffSigmas;
+    std::vector<ActiveGaussian> mGaussians;
+    GaussianBvh mBvh;
+};
+
+}  // namespace gvr

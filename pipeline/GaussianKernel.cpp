@@ -1,0 +1,119 @@
+#include "GaussianKernel.h"
+
+#include <algorithm>
+
+namespace gvr {
+
+float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
+
+void rotationFromQuaternion(const float q[4], float r[9]) {
+    const float w = q[0], x = q[1], y = q[2], z = q[3];
+    r[0] = 1 - 2 * (y * y + z * z); r[1] = 2 * (x * y - w * z);     r[2] = 2 * (x * z + w * y);
+    r[3] = 2 * (x * y + w * z);     r[4] = 1 - 2 * (x * x + z * z); r[5] = 2 * (y * z - w * x);
+    r[6] = 2 * (x * z - w * y);     r[7] = 2 * (y * z + w * x);     r[8] = 1 - 2 * (x * x + y * y);
+}
+
+ActiveGaussian activate(const GaussianParameters& params, std::size_t index) {
+    ActiveGaussian g{};
+    std::copy_n(params.at(kMeans, index), 3, g.mean);
+    const float* q = params.at(kRotations, index);
+    g.quatNorm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (g.quatNorm > 1e-12f) {
+        for (int k = 0; k < 4; ++k) g.quat[k] = q[k] / g.quatNorm;
+    } else {  // a vanished quaternion means no rotation; its gradient is dropped
+        g.quat[0] = 1.0f;
+        g.quatNorm = 0.0f;
+    }
+    rotationFromQuaternion(g.quat, g.rotation);
+    const float* logScale = params.at(kLogScales, index);
+    for (int a = 0; a < 3; ++a) {
+        g.scale[a] = std::exp(std::clamp(logScale[a], kMinLogScale, kMaxLogScale));
+        g.invVariance[a] = 1.0f / (g.scale[a] * g.scale[a]);
+    }
+    g.opacity = sigmoid(*params.at(kOpacityLogits, index));
+    const float* colour = params.at(kColours, index);
+    for (int c = 0; c < params.channels; ++c) {
+        g.colour[c] = colour[c];
+        g.amplitude[c] = g.opacity * colour[c];
+    }
+    return g;
+}
+
+void truncatedBounds(const ActiveGaussian& g, float cutoffSigmas, float lower[3], float upper[3]) {
+    // Half-extent along world axis a is cutoff * sqrt(Sigma_aa), Sigma = R S^2 R^T.
+    for (int a = 0; a < 3; ++a) {
+        float variance = 0.0f;
+        for (int b = 0; b < 3; ++b) {
+            const float rs = g.rotation[3 * a + b] * g.scale[b];
+            variance += rs * rs;
+        }
+        const float half = cutoffSigmas * std::sqrt(variance);
+        lower[a] = g.mean[a] - half;
+        upper[a] = g.mean[a] + half;
+    }
+}
+
+void quaternionAdjoint(const ActiveGaussian& g, const float dR[9], float dQuat[4]) {
+    if (g.quatNorm == 0.0f) {
+        std::fill_n(dQuat, 4, 0.0f);
+        return;
+    }
+    const float w = g.quat[0], x = g.quat[1], y = g.quat[2], z = g.quat[3];
+    // dL/dq_hat: each term is dR_ij/dq times dL/dR_ij, from rotationFromQuaternion.
+    const float dHat[4] = {
+        2 * (-z * dR[1] + y * dR[2] + z * dR[3] - x * dR[5] - y * dR[6] + x * dR[7]),
+        2 * (y * dR[1] + z * dR[2] + y * dR[3] - 2 * x * dR[4] - w * dR[5] + z * dR[6] +
+             w * dR[7] - 2 * x * dR[8]),
+        2 * (-2 * y * dR[0] + x * dR[1] + w * dR[2] + x * dR[3] + z * dR[5] - w * dR[6] +
+             z * dR[7] - 2 * y * dR[8]),
+        2 * (-2 * z * dR[0] - w * dR[1] + x * dR[2] + w * dR[3] - 2 * z * dR[4] + y * dR[5] +
+             x * dR[6] + y * dR[7])};
+    // q_hat = q / |q|:  dL/dq = (dL/dq_hat - q_hat (q_hat . dL/dq_hat)) / |q|
+    const float along = w * dHat[0] + x * dHat[1] + y * dHat[2] + z * dHat[3];
+    for (int k = 0; k < 4; ++k) dQuat[k] = (dHat[k] - g.quat[k] * along) / g.quatNorm;
+}
+
+void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float x[3],
+                        float cutoff2, const float* upstream, GaussianParameters& gradient) {
+    float u[3];
+    const float q = mahalanobis2(g, x, u);
+    if (q > cutoff2) return;
+    const float e = std::exp(-0.5f * q);
+    const int channels = gradient.channels;
+
+    // f_c = opacity * colour_c * e
+    float* dColour = gradient.at(kColours, index);
+    float upstreamDotColour = 0.0f, upstreamDotAmplitude = 0.0f;
+    for (int c = 0; c < channels; ++c) {
+        dColour[c] += upstream[c] * g.opacity * e;
+        upstreamDotColour += upstream[c] * g.colour[c];
+        upstreamDotAmplitude += upstream[c] * g.amplitude[c];
+    }
+    *gradient.at(kOpacityLogits, index) += upstreamDotColour * e * g.opacity * (1.0f - g.opacity);
+
+    // dL/dq = s * de/dq = -s e / 2, with s = sum_c upstream_c amplitude_c.
+    // q = sum_a u_a^2 / sigma_a^2, so dq/du_a = 2 u_a / sigma_a^2 and
+    // dq/dlogScale_a = -2 u_a^2 / sigma_a^2.
+    const float dLdq = -0.5f * upstreamDotAmplitude * e;
+    float dU[3];
+    float* dLogScale = gradient.at(kLogScales, index);
+    for (int a = 0; a < 3; ++a) {
+        dU[a] = dLdq * 2.0f * u[a] * g.invVariance[a];
+        dLogScale[a] += dLdq * -2.0f * u[a] * u[a] * g.invVariance[a];
+    }
+    // u = R^T d, d = x - mean:  dL/dd = R dU,  dL/dmean = -dL/dd,  dL/dR_ba = d_b dU_a.
+    const float d[3] = {x[0] - g.mean[0], x[1] - g.mean[1], x[2] - g.mean[2]};
+    float* dMean = gradient.at(kMeans, index);
+    float dR[9];
+    for (int b = 0; b < 3; ++b) {
+        dMean[b] -= g.rotation[3 * b] * dU[0] + g.rotation[3 * b + 1] * dU[1] +
+                    g.rotation[3 * b + 2] * dU[2];
+        for (int a = 0; a < 3; ++a) dR[3 * b + a] = d[b] * dU[a];
+    }
+    float dQuat[4];
+    quaternionAdjoint(g, dR, dQuat);
+    float* dRotation = gradient.at(kRotations, index);
+    for (int k = 0; k < 4; ++k) dRotation[k] += dQuat[k];
+}
+
+}  // namespace gvr

@@ -1,0 +1,77 @@
+/// @file GaussianKernel.h
+/// @brief One Gaussian: activation, truncated evaluation, and its adjoint.
+///
+/// A Gaussian contributes amplitude * exp(-q/2) at x, where q = (x-mu)^T Sigma^-1 (x-mu),
+/// Sigma = R S^2 R^T, amplitude = opacity * colour. The field is truncated: where
+/// q > cutoff^2 the contribution is exactly zero. Fit, export and render all use
+/// the cutoff stored with the model (kDefaultCutoffSigmas unless set otherwise).
+#pragma once
+
+#include "GaussianParameters.h"
+
+#include <cmath>
+
+namespace gvr {
+
+/// Truncation radius in standard deviations; exp(-3^2/2) = 1.1 % of the peak is cut.
+constexpr float kDefaultCutoffSigmas = 3.0f;
+
+/// Log-scale limits, in voxels: 1e-3 to about 8000 voxels, so that 1/sigma^2 and
+/// sigma^2 both stay well inside float range.
+constexpr float kMinLogScale = -6.9f;
+constexpr float kMaxLogScale = 9.0f;
+
+/// A Gaussian after activation, ready to evaluate. Index space throughout.
+struct ActiveGaussian {
+    float mean[3];
+    float quat[4];         ///< unit quaternion (w, x, y, z)
+    float quatNorm;        ///< norm of the raw quaternion, for the normalisation adjoint
+    float rotation[9];     ///< row-major R; column a is the Gaussian's axis a
+    float scale[3];        ///< standard deviation per axis, voxels
+    float invVariance[3];  ///< 1 / scale^2
+    float opacity;         ///< sigmoid(logit), in (0, 1)
+    float colour[3];
+    float amplitude[3];    ///< opacity * colour
+};
+
+float sigmoid(float x);
+
+/// Unit quaternion (w, x, y, z) to a row-major rotation matrix.
+void rotationFromQuaternion(const float q[4], float r[9]);
+
+ActiveGaussian activate(const GaussianParameters& params, std::size_t index);
+
+/// Axis-aligned box around the truncated ellipsoid (q <= cutoff^2).
+void truncatedBounds(const ActiveGaussian& g, float cutoffSigmas, float lower[3], float upper[3]);
+
+/// Squared Mahalanobis distance of x, and u = R^T (x - mean), the local coordinates.
+inline float mahalanobis2(const ActiveGaussian& g, const float x[3], float u[3]) {
+    const float d[3] = {x[0] - g.mean[0], x[1] - g.mean[1], x[2] - g.mean[2]};
+    float q = 0.0f;
+    for (int a = 0; a < 3; ++a) {
+        u[a] = g.rotation[a] * d[0] + g.rotation[3 + a] * d[1] + g.rotation[6 + a] * d[2];
+        q += u[a] * u[a] * g.invVariance[a];
+    }
+    return q;
+}
+
+/// Adds this Gaussian's contribution at x to value[0..channels).
+inline void accumulateValue(const ActiveGaussian& g, const float x[3], float cutoff2, int channels,
+                            float* value) {
+    float u[3];
+    const float q = mahalanobis2(g, x, u);
+    if (q > cutoff2) return;
+    const float e = std::exp(-0.5f * q);
+    for (int c = 0; c < channels; ++c) value[c] += g.amplitude[c] * e;
+}
+
+/// Adds dL/d(parameters of Gaussian @a index) to @a gradient, given dL/df at x
+/// (@a upstream, one per channel). Zero outside the cutoff, like the value.
+void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float x[3],
+                        float cutoff2, const float* upstream, GaussianParameters& gradient);
+
+/// Adjoint of rotationFromQuaternion followed by normalisation: dL/dR (row-major)
+/// to dL/d(raw quaternion).
+void quaternionAdjoint(const ActiveGaussian& g, const float dR[9], float dQuat[4]);
+
+}  // namespace gvr

@@ -1,0 +1,64 @@
+/// @file ImportanceSampler.h
+/// @brief Draws voxels for the Monte Carlo voxel loss, in proportion to recent error.
+///
+/// Voxels come from p(x) = lambda/n + (1 - lambda) p_imp(x), where p_imp is
+/// proportional to the recent mean squared error of x's 8^3 block plus epsilon.
+/// Each sample carries the weight 1/(n p(x)) for exactly that p, so the weighted
+/// mean of squared residuals is an unbiased estimate of the dense voxel MSE.
+#pragma once
+
+#include <openvdb/openvdb.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace gvr {
+
+struct ImportanceSettings {
+    /// lambda: share of uniform sampling. 1 gives plain uniform sampling. Valid range [0, 1].
+    double uniformShare = 0.3;
+    /// epsilon added to every block's error (normalised units squared). Must be > 0
+    /// so that every voxel keeps a chance to be drawn when lambda is 0.
+    double epsilon = 1e-4;
+    /// Weight of a block's newest error in its running average, in (0, 1].
+    double errorUpdate = 0.5;
+};
+
+struct VoxelSample {
+    openvdb::Coord ijk;
+    float weight;         ///< 1 / (n p(ijk))
+    std::uint32_t block;  ///< the 8^3 block the voxel lies in
+};
+
+class ImportanceSampler {
+public:
+    /// Starts with the same error everywhere, i.e. uniform sampling.
+    ImportanceSampler(const openvdb::CoordBBox& box, const ImportanceSettings& settings);
+
+    /// Draws @a count voxels; the same seed gives the same samples.
+    std::vector<VoxelSample> draw(std::size_t count, std::uint64_t seed) const;
+
+    /// p(x), the probability of drawing voxel @a ijk in one draw.
+    double probability(const openvdb::Coord& ijk) const;
+
+    /// Folds squared residuals observed at @a samples into the blocks' errors.
+    void recordErrors(const std::vector<VoxelSample>& samples, const std::vector<float>& squaredResiduals);
+
+    /// Sets one block's error directly (tests, and warm starts).
+    void setBlockError(std::uint32_t block, double error);
+    std::uint32_t blockOf(const openvdb::Coord& ijk) const;
+    std::size_t blockCount() const { return mBlockError.size(); }
+
+private:
+    void rebuildDistribution();
+    openvdb::Coord blockOrigin(std::uint32_t block) const;
+
+    openvdb::CoordBBox mBox;
+    ImportanceSettings mSettings;
+    openvdb::Coord mBlocks;                  // blocks along each axis
+    std::vector<std::uint32_t> mBlockVoxels; // voxels inside the box per block
+    std::vector<double> mBlockError;
+    std::vector<double> mCumulative;         // running sum of (error + eps) * voxels
+};
+
+}  // namespace gvr

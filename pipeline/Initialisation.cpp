@@ -1,0 +1,116 @@
+#include "Initialisation.h"
+
+#include "GaussianBvh.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <random>
+#include <unordered_set>
+
+namespace gvr {
+
+namespace {
+
+struct Keyed {
+    double key;
+    openvdb::Coord ijk;
+    bool operator>(const Keyed& other) const { return key > other.key; }
+};
+
+/// Keeps the @a capacity entries with the largest keys.
+class TopKeys {
+public:
+    explicit TopKeys(std::size_t capacity) : mCapacity(capacity) {}
+    void offer(double key, const openvdb::Coord& ijk) {
+        if (mCapacity == 0) return;
+        if (mHeap.size() < mCapacity) {
+            mHeap.push({key, ijk});
+        } else if (key > mHeap.top().key) {
+            mHeap.pop();
+            mHeap.push({key, ijk});
+        }
+    }
+    /// Largest key first.
+    std::vector<openvdb::Coord> takeSorted() {
+        std::vector<openvdb::Coord> coords(mHeap.size());
+        for (std::size_t k = coords.size(); k-- > 0;) {
+            coords[k] = mHeap.top().ijk;
+            mHeap.pop();
+        }
+        return coords;
+    }
+
+private:
+    std::size_t mCapacity;
+    std::priority_queue<Keyed, std::vector<Keyed>, std::greater<Keyed>> mHeap;
+};
+
+struct CoordHash {
+    std::size_t operator()(const openvdb::Coord& c) const { return c.hash<20>(); }
+};
+
+/// Weighted sampling without replacement (Efraimidis-Spirakis): the largest keys
+/// log(u)/w are a sample drawn with probability proportional to w.
+std::vector<openvdb::Coord> chooseSeeds(const VolumeTarget& target, std::size_t gradientCount,
+                                        std::size_t uniformCount, std::uint64_t seed) {
+    std::mt19937_64 random(seed);
+    std::uniform_real_distribution<double> unit(1e-300, 1.0);
+    TopKeys byGradient(gradientCount), byChance(gradientCount + uniformCount);
+    target.forEachActiveVoxel([&](const openvdb::Coord& ijk) {
+        const double weight = target.gradientMagnitude(ijk) + 1e-6;
+        byGradient.offer(std::log(unit(random)) / weight, ijk);
+        byChance.offer(unit(random), ijk);
+    });
+    std::vector<openvdb::Coord> seeds = byGradient.takeSorted();
+    std::unordered_set<openvdb::Coord, CoordHash> taken(seeds.begin(), seeds.end());
+    for (const openvdb::Coord& ijk : byChance.takeSorted()) {
+        if (seeds.size() == gradientCount + uniformCount) break;
+        if (taken.insert(ijk).second) seeds.push_back(ijk);
+    }
+    return seeds;
+}
+
+}  // namespace
+
+GaussianParameters initialiseGaussians(const VolumeTarget& target, const SeedSettings& settings,
+                                       const ProgressFn& progress) {
+    const std::size_t count = std::min<std::size_t>(settings.count, target.activeVoxelCount());
+    const double shareSum = settings.gradientShare + settings.uniformShare;
+    const double gradientFraction = shareSum > 0.0 ? settings.gradientShare / shareSum : 0.0;
+    const std::size_t gradientCount = std::size_t(std::llround(gradientFraction * double(count)));
+    const std::vector<openvdb::Coord> seeds =
+        chooseSeeds(target, gradientCount, count - gradientCount, settings.seed);
+    if (progress) progress(0.5);
+
+    std::vector<Box> points(seeds.size());
+    for (std::size_t i = 0; i < seeds.size(); ++i) {
+        for (int a = 0; a < 3; ++a) points[i].lower[a] = points[i].upper[a] = float(seeds[i][a]);
+    }
+    GaussianBvh neighbours;
+    neighbours.build(points);
+
+    GaussianParameters params(seeds.size(), target.channels());
+    tbb::parallel_for(std::size_t(0), seeds.size(), [&](std::size_t i) {
+        const float x[3] = {float(seeds[i].x()), float(seeds[i].y()), float(seeds[i].z())};
+        std::vector<std::pair<float, std::uint32_t>> nearest;
+        neighbours.nearestCentres(x, 3, std::uint32_t(i), nearest);
+        float meanDistance = 1.0f;
+        if (!nearest.empty()) {
+            meanDistance = 0.0f;
+            for (const auto& [distance, index] : nearest) meanDistance += distance / nearest.size();
+        }
+        const float sigma = std::clamp(0.5f * meanDistance, 0.5f, 64.0f);
+        std::copy_n(x, 3, params.at(kMeans, i));
+        params.at(kRotations, i)[0] = 1.0f;
+        std::fill_n(params.at(kLogScales, i), 3, std::log(sigma));
+        *params.at(kOpacityLogits, i) = 0.0f;
+        target.valueAt(seeds[i], params.at(kColours, i));
+    });
+    if (progress) progress(1.0);
+    return params;
+}
+
+}  // namespace gvr

@@ -1,0 +1,45 @@
+/// @file Loss.h
+/// @brief Weighted squared residuals of the field at sample points, and their gradient.
+///
+/// Work is split into a fixed number of chunks, each with its own gradient buffer,
+/// summed in chunk order: results do not depend on the thread count or scheduling.
+#pragma once
+
+#include "GaussianField.h"
+
+#include <array>
+#include <vector>
+
+namespace gvr {
+
+/// Points where the field is compared with the volume.
+struct SampleSet {
+    std::vector<std::array<float, 3>> points;  ///< index space
+    std::vector<float> targets;                ///< channels per point, normalised units
+    std::vector<float> weights;                ///< one per point
+    std::size_t size() const { return points.size(); }
+};
+
+/// One gradient buffer per chunk, reused across iterations.
+class GradientChunks {
+public:
+    static constexpr std::size_t kChunks = 16;
+
+    /// Zeroes every buffer, sized for @a count Gaussians of @a channels.
+    void reset(std::size_t count, int channels);
+    GaussianParameters& chunk(std::size_t c) { return mChunks[c]; }
+    /// Sums the buffers in chunk order into @a gradient (overwritten).
+    void sumInto(GaussianParameters& gradient) const;
+
+private:
+    std::array<GaussianParameters, kChunks> mChunks;
+};
+
+/// L = scale * sum_s w_s |f(x_s) - t_s|^2 over @a samples.
+/// @param gradients  when not null, dL/dparams is added into its chunks
+/// @param squaredResiduals  when not null, receives |f(x_s) - t_s|^2 per sample
+double weightedSquaredError(const GaussianField& field, const SampleSet& samples, double scale,
+                            GradientChunks* gradients = nullptr,
+                            std::vector<float>* squaredResiduals = nullptr);
+
+}  // namespace gvr

@@ -1,0 +1,128 @@
+#include "VolumeTarget.h"
+
+#include "Error.h"
+#include "VolumeMetadata.h"
+
+#include <cmath>
+
+namespace gvr {
+
+namespace {
+
+struct Range {
+    double min = INFINITY, max = -INFINITY;
+};
+
+template <typename GridT>
+Range luminanceRange(const GridT& grid) {
+    Range range;
+    for (auto value = grid.cbeginValueOn(); value; ++value) {
+        double v;
+        if constexpr (std::is_same_v<typename GridT::ValueType, openvdb::Vec3s>) {
+            v = 0.2126 * (*value)[0] + 0.7152 * (*value)[1] + 0.0722 * (*value)[2];
+        } else {
+            v = *value;
+        }
+        range.min = std::min(range.min, v);
+        range.max = std::max(range.max, v);
+    }
+    return range;
+}
+
+}  // namespace
+
+VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& name)
+    : mGrid(std::move(grid)) {
+    mFloat = openvdb::GridBase::constGrid<openvdb::FloatGrid>(mGrid);
+    mColour = openvdb::GridBase::constGrid<openvdb::Vec3SGrid>(mGrid);
+    if (!mFloat && !mColour) {
+        throw InputError(name, "grid '" + mGrid->getName() + "' is " + mGrid->valueType() +
+                                   "; gvr fits float (grey) or vec3s (RGB) grids");
+    }
+    mChannels = mFloat ? 1 : 3;
+    const auto metadata = readVolumeMetadata(*mGrid);
+    Range range;
+    if (metadata) {
+        mBox = openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(metadata->dims) - openvdb::Coord(1));
+        range = {metadata->valueMin, metadata->valueMax};
+    } else {
+        mBox = mGrid->evalActiveVoxelBoundingBox();
+        range = mFloat ? luminanceRange(*mFloat) : luminanceRange(*mColour);
+    }
+    if (mBox.empty()) throw InputError(name, "grid '" + mGrid->getName() + "' has no voxels");
+    const openvdb::Vec3d background =
+        mFloat ? openvdb::Vec3d(mFloat->background()) : openvdb::Vec3d(mColour->background());
+    // Grey: background to the top of the range spans 0..1. RGB: the luminance range
+    // does, so all three channels share one scale.
+    const double top = mFloat ? range.max - background[0] : range.max - range.min;
+    mMapping.scale = top > 0.0 && std::isfinite(top) ? top : 1.0;
+    for (int c = 0; c < 3; ++c) mMapping.offset[c] = mChannels == 1 ? background[0] : background[c];
+    mPeak = std::isfinite(range.max - range.min) && range.max > range.min
+                ? (range.max - range.min) / mMapping.scale
+                : 1.0;
+}
+
+void VolumeTarget::valueAt(const openvdb::Coord& ijk, float* out) const {
+    if (mFloat) {
+        out[0] = float(mMapping.toNormalised(mFloat->tree().getValue(ijk), 0));
+        return;
+    }
+    const openvdb::Vec3s v = mColour->tree().getValue(ijk);
+    for (int c = 0; c < 3; ++c) out[c] = float(mMapping.toNormalised(v[c], c));
+}
+
+bool VolumeTarget::isActive(const openvdb::Coord& ijk) const {
+    return mFloat ? mFloat->tree().isValueOn(ijk) : mColour->tree().isValueOn(ijk);
+}
+
+void VolumeTarget::trilinearAt(const float x[3], float* out) const {
+    const openvdb::Coord base(int(std::floor(x[0])), int(std::floor(x[1])), int(std::floor(x[2])));
+    const float t[3] = {x[0] - base.x(), x[1] - base.y(), x[2] - base.z()};
+    for (int c = 0; c < mChannels; ++c) out[c] = 0.0f;
+    float corner[3];
+    for (int k = 0; k < 2; ++k) {
+        for (int j = 0; j < 2; ++j) {
+            for (int i = 0; i < 2; ++i) {
+                const float weight = (i ? t[0] : 1 - t[0]) * (j ? t[1] : 1 - t[1]) * (k ? t[2] : 1 - t[2]);
+                if (weight == 0.0f) continue;
+                valueAt(base.offsetBy(i, j, k), corner);
+                for (int c = 0; c < mChannels; ++c) out[c] += weight * corner[c];
+            }
+        }
+    }
+}
+
+void VolumeTarget::forEachActiveVoxel(const std::function<void(const openvdb::Coord&)>& visit) const {
+    const auto visitTree = [&](const auto& tree) {
+        for (auto voxel = tree.cbeginValueOn(); voxel; ++voxel) {
+            if (voxel.isVoxelValue()) {
+                if (mBox.isInside(voxel.getCoord())) visit(voxel.getCoord());
+                continue;
+            }
+            openvdb::CoordBBox tile;
+            voxel.getBoundingBox(tile);
+            tile.intersect(mBox);
+            for (auto ijk = tile.begin(); ijk; ++ijk) visit(*ijk);
+        }
+    };
+    if (mFloat) visitTree(mFloat->tree());
+    else visitTree(mColour->tree());
+}
+
+float VolumeTarget::gradientMagnitude(const openvdb::Coord& ijk) const {
+    const auto scalar = [&](const openvdb::Coord& at) {
+        float v[3];
+        valueAt(at, v);
+        return mChannels == 1 ? v[0] : 0.2126f * v[0] + 0.7152f * v[1] + 0.0722f * v[2];
+    };
+    float squared = 0.0f;
+    for (int axis = 0; axis < 3; ++axis) {
+        openvdb::Coord step(0);
+        step[axis] = 1;
+        const float derivative = 0.5f * (scalar(ijk + step) - scalar(ijk - step));
+        squared += derivative * derivative;
+    }
+    return std::sqrt(squared);
+}
+
+}  // namespace gvr

@@ -1,0 +1,53 @@
+/// @file VolumeTarget.h
+/// @brief The volume a fit approximates, read from an ingested grid in normalised units.
+#pragma once
+
+#include "ValueMapping.h"
+
+#include <openvdb/openvdb.h>
+
+#include <functional>
+
+namespace gvr {
+
+/// Reads a float "density" or Vec3s "color" grid (as ingest writes them) at voxels
+/// or trilinearly, in normalised units: 0 = background, 1 = top of the data range.
+/// The sampled domain is the source's full box (inactive voxels read as background).
+class VolumeTarget {
+public:
+    /// @throw InputError naming @a name when the grid is neither float nor Vec3s.
+    VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& name);
+
+    int channels() const { return mChannels; }
+    /// The voxels fitted: the source volume's box in index space.
+    const openvdb::CoordBBox& box() const { return mBox; }
+    std::uint64_t voxelCount() const { return mBox.volume(); }
+    const ValueMapping& mapping() const { return mMapping; }
+    /// Normalised data range (max - min over the source), the PSNR peak.
+    double peak() const { return mPeak; }
+    const openvdb::GridBase& grid() const { return *mGrid; }
+
+    void valueAt(const openvdb::Coord& ijk, float* out) const;
+    bool isActive(const openvdb::Coord& ijk) const;
+    /// Trilinear interpolation between voxel centres at index-space point @a x.
+    void trilinearAt(const float x[3], float* out) const;
+
+    /// Calls @a visit for every active voxel inside box(), in a fixed order.
+    void forEachActiveVoxel(const std::function<void(const openvdb::Coord&)>& visit) const;
+    std::uint64_t activeVoxelCount() const { return mGrid->activeVoxelCount(); }
+
+    /// Normalised central-difference gradient magnitude at a voxel (first channel
+    /// for grey, luminance for RGB).
+    float gradientMagnitude(const openvdb::Coord& ijk) const;
+
+private:
+    openvdb::GridBase::ConstPtr mGrid;
+    openvdb::FloatGrid::ConstPtr mFloat;
+    openvdb::Vec3SGrid::ConstPtr mColour;
+    int mChannels = 1;
+    openvdb::CoordBBox mBox;
+    ValueMapping mMapping;
+    double mPeak = 1.0;
+};
+
+}  // namespace gvr
