@@ -1,5 +1,7 @@
 #include "TestHelpers.h"
 
+#include "GridBuilder.h"
+
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -36,6 +38,23 @@ void writeBytes(const std::string& path, const std::string& bytes) {
 
 void copyTruncated(const std::string& from, const std::string& to, std::size_t keep) {
     writeBytes(to, readBytes(from).substr(0, keep));
+}
+
+openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<float(int, int, int)>& value,
+                                openvdb::Vec3d spacingMm) {
+    std::vector<float> values;
+    values.reserve(std::size_t(dims[0]) * dims[1] * dims[2]);
+    for (int k = 0; k < dims[2]; ++k) {
+        for (int j = 0; j < dims[1]; ++j) {
+            for (int i = 0; i < dims[0]; ++i) values.push_back(value(i, j, k));
+        }
+    }
+    DenseVolume volume = makeVolume<float>({dims[0], dims[1], dims[2]}, values, SampleType::Float32);
+    const double rows[3][4] = {{spacingMm[0], 0, 0, 0}, {0, spacingMm[1], 0, 0}, {0, 0, spacingMm[2], 0}};
+    volume.worldFromIndex = worldFromIndexRows(rows);
+    GridBuildSettings settings;
+    settings.sourceFile = "synthetic";
+    return buildGrid(volume, settings);
 }
 
 }  // namespace gvr::test

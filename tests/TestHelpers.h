@@ -4,10 +4,13 @@
 
 #include "DenseVolume.h"
 
+#include <openvdb/openvdb.h>
+
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -44,10 +47,15 @@ DenseVolume makeVolume(std::array<std::int64_t, 3> dims, const std::vector<T>& v
     volume.dims = dims;
     volume.type = type;
     volume.channels = channels;
-    volume.samples.resize(values.size() * sizeof(T));
-    std::memcpy(volume.samples.data(), values.data(), volume.samples.size());
+    const auto* bytes = reinterpret_cast<const unsigned char*>(values.data());
+    volume.samples.assign(bytes, bytes + values.size() * sizeof(T));
     return volume;
 }
+
+/// An ingested float grid of @a dims whose voxel (i, j, k) holds value(i, j, k),
+/// with spacing @a spacingMm.
+openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<float(int, int, int)>& value,
+                                openvdb::Vec3d spacingMm = openvdb::Vec3d(1.0));
 
 }  // namespace gvr::test
 
