@@ -1,6 +1,7 @@
 // gvr info FILE: what a .vdb holds, or what ingest would make of a source volume.
 
 #include "Commands.h"
+#include "GaussianAsset.h"
 #include "GridFile.h"
 #include "GridSummary.h"
 #include "SourceOptions.h"
@@ -30,7 +31,49 @@ std::uint64_t sizeOnDisk(const std::string& path) {
     return total;
 }
 
+void printAssetInfo(const InfoFlags& flags) {
+    const GaussianAsset asset = readAsset(flags.input);
+    const std::uint64_t fileBytes = std::filesystem::file_size(flags.input);
+    const VolumeMetadata& source = asset.source;
+    const std::uint64_t rawBytes = source.rawSourceBytes();
+    const std::uint64_t floatBytes =
+        std::uint64_t(source.dims.x()) * source.dims.y() * source.dims.z() * source.channels * 4;
+    const double vsRaw = double(rawBytes) / double(fileBytes);
+    const double vsFloat = double(floatBytes) / double(fileBytes);
+    if (flags.json) {
+        const nlohmann::json report = {{"file", flags.input},
+                                       {"kind", "gaussian asset"},
+                                       {"format_version", kAssetVersion},
+                                       {"gaussians", asset.params.count()},
+                                       {"channels", asset.params.channels},
+                                       {"cutoff_sigmas", asset.cutoffSigmas},
+                                       {"file_bytes", fileBytes},
+                                       {"raw_source_bytes", rawBytes},
+                                       {"ratio_vs_raw", vsRaw},
+                                       {"ratio_vs_float32", vsFloat},
+                                       {"source_file", source.sourceFile},
+                                       {"source_dims", {source.dims.x(), source.dims.y(), source.dims.z()}},
+                                       {"fit", asset.fitSettings}};
+        std::cout << report.dump(2) << "\n";
+        return;
+    }
+    std::cout << flags.input << ": gvr Gaussian asset (format version " << kAssetVersion << ")\n"
+              << "  gaussians:    " << asset.params.count() << " (" << asset.params.channels
+              << (asset.params.channels == 1 ? " channel, grey" : " channels, RGB") << ")\n"
+              << "  file:         " << formatBytes(fileBytes) << " (" << fileBytes << " bytes)\n"
+              << "  compression:  " << vsRaw << ":1 against the raw source (" << formatBytes(rawBytes)
+              << " of " << source.sourceType << "), " << vsFloat << ":1 against float32\n"
+              << "  source:       " << source.sourceFile << ", " << source.dims.x() << " x "
+              << source.dims.y() << " x " << source.dims.z() << " voxels\n"
+              << "  cutoff:       " << asset.cutoffSigmas << " standard deviations\n"
+              << "  fit settings: " << asset.fitSettings.dump() << "\n";
+}
+
 void runInfo(const InfoFlags& flags) {
+    if (std::filesystem::is_regular_file(flags.input) && isAssetFile(flags.input)) {
+        printAssetInfo(flags);
+        return;
+    }
     const bool isGridFile = std::filesystem::is_regular_file(flags.input) && isVdbFile(flags.input);
     std::vector<GridSummary> summaries;
     std::vector<std::string> warnings;
@@ -66,9 +109,9 @@ void runInfo(const InfoFlags& flags) {
 void addInfoCommand(CLI::App& app) {
     auto flags = std::make_shared<InfoFlags>();
     CLI::App* command = app.add_subcommand(
-        "info", "Describe a .vdb file, or show what ingest would make of a source volume "
-                "(nothing is written)");
-    command->add_option("input", flags->input, "A .vdb file or any volume ingest reads")->required();
+        "info", "Describe a .vdb file or a Gaussian asset, or show what ingest would make of a "
+                "source volume (nothing is written)");
+    command->add_option("input", flags->input, "A .vdb file, a Gaussian asset, or any volume ingest reads")->required();
     addSourceFlags(*command, flags->source);
     command->add_flag("--json", flags->json, "Print the report as JSON");
     command->callback([flags] { runInfo(*flags); });

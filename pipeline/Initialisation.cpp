@@ -1,6 +1,7 @@
 #include "Initialisation.h"
 
 #include "GaussianBvh.h"
+#include "GaussianField.h"
 
 #include <tbb/parallel_for.h>
 
@@ -73,6 +74,27 @@ std::vector<openvdb::Coord> chooseSeeds(const VolumeTarget& target, std::size_t 
     return seeds;
 }
 
+/// Overlapping Gaussians add up, so a colour equal to the voxel value overshoots
+/// where seeds crowd and undershoots where they are sparse. One Jacobi step
+/// fixes the level: divide each seed's value by the coverage (the sum of
+/// opacity * exp(-q/2) over all Gaussians) at its own centre.
+void balanceColours(GaussianParameters& params, const VolumeTarget& target,
+                    const std::vector<openvdb::Coord>& seeds) {
+    GaussianParameters unitColour = params;
+    std::fill(unitColour.values[kColours].begin(), unitColour.values[kColours].end(), 1.0f);
+    unitColour.channels = params.channels;
+    const GaussianField coverage(unitColour, kDefaultCutoffSigmas);
+    tbb::parallel_for(std::size_t(0), seeds.size(), [&](std::size_t i) {
+        std::vector<std::uint32_t> hits;
+        float covered[3];
+        coverage.evaluate(params.at(kMeans, i), covered, hits);
+        const float own = sigmoid(*params.at(kOpacityLogits, i));
+        float* colour = params.at(kColours, i);
+        target.valueAt(seeds[i], colour);
+        for (int c = 0; c < params.channels; ++c) colour[c] /= std::max(covered[c], own);
+    });
+}
+
 }  // namespace
 
 GaussianParameters initialiseGaussians(const VolumeTarget& target, const SeedSettings& settings,
@@ -102,13 +124,13 @@ GaussianParameters initialiseGaussians(const VolumeTarget& target, const SeedSet
             meanDistance = 0.0f;
             for (const auto& [distance, index] : nearest) meanDistance += distance / nearest.size();
         }
-        const float sigma = std::clamp(0.5f * meanDistance, 0.5f, 64.0f);
+        const float sigma = std::clamp(meanDistance, 0.5f, 64.0f);
         std::copy_n(x, 3, params.at(kMeans, i));
         params.at(kRotations, i)[0] = 1.0f;
         std::fill_n(params.at(kLogScales, i), 3, std::log(sigma));
         *params.at(kOpacityLogits, i) = 0.0f;
-        target.valueAt(seeds[i], params.at(kColours, i));
     });
+    balanceColours(params, target, seeds);
     if (progress) progress(1.0);
     return params;
 }

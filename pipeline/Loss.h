@@ -23,7 +23,7 @@ struct SampleSet {
 /// One gradient buffer per chunk, reused across iterations.
 class GradientChunks {
 public:
-    static constexpr std::size_t kChunks = 16;
+    static constexpr std::size_t kChunks = 8;
 
     /// Zeroes every buffer, sized for @a count Gaussians of @a channels.
     void reset(std::size_t count, int channels);
