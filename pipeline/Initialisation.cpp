@@ -2,6 +2,7 @@
 
 #include "GaussianBvh.h"
 #include "GaussianField.h"
+#include "ImportanceSampler.h"
 
 #include <tbb/parallel_for.h>
 
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <queue>
 #include <random>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace gvr {
@@ -54,22 +56,43 @@ struct CoordHash {
 };
 
 /// Weighted sampling without replacement (Efraimidis-Spirakis): the largest keys
-/// log(u)/w are a sample drawn with probability proportional to w.
+/// log(u)/w are a sample drawn with probability proportional to w. Uniform seeds
+/// are stratified, one random active voxel per cell of a coarse grid sized for
+/// about @a uniformCount occupied cells, so that they leave no large holes;
+/// plain random voxels make up any shortfall.
+/// Voxels per side of a stratification cell for @a uniformCount seeds.
+int stratumSize(const VolumeTarget& target, std::size_t uniformCount) {
+    const double activePerSeed = double(target.activeVoxelCount()) / double(std::max<std::size_t>(uniformCount, 1));
+    return std::max(1, int(std::lround(std::cbrt(activePerSeed))));
+}
+
 std::vector<openvdb::Coord> chooseSeeds(const VolumeTarget& target, std::size_t gradientCount,
                                         std::size_t uniformCount, std::uint64_t seed) {
     std::mt19937_64 random(seed);
     std::uniform_real_distribution<double> unit(1e-300, 1.0);
+    const int cell = stratumSize(target, uniformCount);
     TopKeys byGradient(gradientCount), byChance(gradientCount + uniformCount);
+    std::unordered_map<openvdb::Coord, Keyed, CoordHash> byCell;
     target.forEachActiveVoxel([&](const openvdb::Coord& ijk) {
         const double weight = target.gradientMagnitude(ijk) + 1e-6;
         byGradient.offer(std::log(unit(random)) / weight, ijk);
-        byChance.offer(unit(random), ijk);
+        const double chance = unit(random);
+        byChance.offer(chance, ijk);
+        const openvdb::Coord key(ijk.x() / cell, ijk.y() / cell, ijk.z() / cell);
+        auto [entry, inserted] = byCell.try_emplace(key, Keyed{chance, ijk});
+        if (!inserted && chance > entry->second.key) entry->second = Keyed{chance, ijk};
     });
     std::vector<openvdb::Coord> seeds = byGradient.takeSorted();
     std::unordered_set<openvdb::Coord, CoordHash> taken(seeds.begin(), seeds.end());
-    for (const openvdb::Coord& ijk : byChance.takeSorted()) {
-        if (seeds.size() == gradientCount + uniformCount) break;
-        if (taken.insert(ijk).second) seeds.push_back(ijk);
+    const std::size_t wanted = gradientCount + uniformCount;
+    // Cells in a random but reproducible order: by their voxel's key.
+    TopKeys cells(uniformCount + gradientCount);
+    for (const auto& [key, keyed] : byCell) cells.offer(keyed.key, keyed.ijk);
+    for (TopKeys* source : {&cells, &byChance}) {
+        for (const openvdb::Coord& ijk : source->takeSorted()) {
+            if (seeds.size() == wanted) break;
+            if (taken.insert(ijk).second) seeds.push_back(ijk);
+        }
     }
     return seeds;
 }
@@ -95,6 +118,33 @@ void balanceColours(GaussianParameters& params, const VolumeTarget& target,
     });
 }
 
+/// Between seeds the coverage is lower than at them, so the balanced field still
+/// runs low on average. Scale all colours by the least-squares gain
+/// sum(f t) / sum(f^2) over random voxels, per channel.
+void matchOverallLevel(GaussianParameters& params, const VolumeTarget& target, std::uint64_t seed) {
+    const GaussianField field(params, kDefaultCutoffSigmas);
+    ImportanceSettings uniform;
+    uniform.uniformShare = 1.0;
+    const std::vector<VoxelSample> samples = ImportanceSampler(target.box(), uniform).draw(20000, seed);
+    double fieldTarget[3] = {0, 0, 0}, fieldSquared[3] = {0, 0, 0};
+    std::vector<std::uint32_t> hits;
+    for (const VoxelSample& sample : samples) {
+        float value[3], expected[3];
+        const float x[3] = {float(sample.ijk.x()), float(sample.ijk.y()), float(sample.ijk.z())};
+        field.evaluate(x, value, hits);
+        target.valueAt(sample.ijk, expected);
+        for (int c = 0; c < params.channels; ++c) {
+            fieldTarget[c] += double(value[c]) * expected[c];
+            fieldSquared[c] += double(value[c]) * value[c];
+        }
+    }
+    for (int c = 0; c < params.channels; ++c) {
+        if (!(fieldSquared[c] > 0.0)) continue;
+        const float gain = float(std::clamp(fieldTarget[c] / fieldSquared[c], 0.1, 10.0));
+        for (std::size_t i = 0; i < params.count(); ++i) params.at(kColours, i)[c] *= gain;
+    }
+}
+
 }  // namespace
 
 GaussianParameters initialiseGaussians(const VolumeTarget& target, const SeedSettings& settings,
@@ -105,6 +155,7 @@ GaussianParameters initialiseGaussians(const VolumeTarget& target, const SeedSet
     const std::size_t gradientCount = std::size_t(std::llround(gradientFraction * double(count)));
     const std::vector<openvdb::Coord> seeds =
         chooseSeeds(target, gradientCount, count - gradientCount, settings.seed);
+    const int stratum = stratumSize(target, count - gradientCount);
     if (progress) progress(0.5);
 
     std::vector<Box> points(seeds.size());
@@ -124,13 +175,17 @@ GaussianParameters initialiseGaussians(const VolumeTarget& target, const SeedSet
             meanDistance = 0.0f;
             for (const auto& [distance, index] : nearest) meanDistance += distance / nearest.size();
         }
-        const float sigma = std::clamp(meanDistance, 0.5f, 64.0f);
+        // Uniform seeds keep at least half a stratum, so that together they cover
+        // quiet regions even where edge seeds crowd their neighbourhood.
+        const float floor = i < gradientCount ? 0.5f : 0.5f * float(stratum);
+        const float sigma = std::clamp(std::max(0.5f * meanDistance, floor), 0.5f, 64.0f);
         std::copy_n(x, 3, params.at(kMeans, i));
         params.at(kRotations, i)[0] = 1.0f;
         std::fill_n(params.at(kLogScales, i), 3, std::log(sigma));
         *params.at(kOpacityLogits, i) = 0.0f;
     });
     balanceColours(params, target, seeds);
+    matchOverallLevel(params, target, settings.seed);
     if (progress) progress(1.0);
     return params;
 }

@@ -18,7 +18,7 @@ struct SeedSettings {
 };
 
 /// Places Gaussians on distinct active voxels only, never in empty space. Each
-/// starts isotropic, with a standard deviation of the mean distance to its
+/// starts isotropic, with a standard deviation of half the mean distance to its
 /// three nearest neighbours, opacity 1/2, and a colour that makes the overlapping
 /// Gaussians reproduce the voxel values at the seeds.
 GaussianParameters initialiseGaussians(const VolumeTarget& target, const SeedSettings& settings,
