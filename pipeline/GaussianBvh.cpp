@@ -117,7 +117,6 @@ void GaussianBvh::query(const float x[3], std::vector<std::uint32_t>& hits) cons
     rtcInitPointQueryContext(&context);
     QueryState state{&mBoxes, x, &hits};
     rtcPointQuery(mScene, &query, &context, collectContaining, &state);
-    std::sort(hits.begin(), hits.end());
 }
 
 void GaussianBvh::nearestCentres(const float x[3], std::size_t k, std::uint32_t exclude,

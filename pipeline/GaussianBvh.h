@@ -34,8 +34,8 @@ public:
     /// @param fast  a quicker, looser build for structures rebuilt every iteration
     void build(std::vector<Box> boxes, bool fast = false);
 
-    /// Replaces @a hits with the indices of the boxes that contain @a x, in
-    /// ascending order, so that sums over them do not depend on the traversal.
+    /// Replaces @a hits with the indices of the boxes that contain @a x, in the
+    /// traversal's order: sort what you sum over if the result must not depend on it.
     void query(const float x[3], std::vector<std::uint32_t>& hits) const;
 
     /// Replaces @a nearest with up to @a k (distance, index) pairs: the boxes whose

@@ -6,6 +6,7 @@
 #include "GaussianBvh.h"
 #include "GaussianKernel.h"
 
+#include <algorithm>
 #include <vector>
 
 namespace gvr {
@@ -24,6 +25,7 @@ public:
     /// it is left holding the indices of the Gaussians that reach x.
     void evaluate(const float x[3], float* value, std::vector<std::uint32_t>& hits) const {
         mBvh.query(x, hits);
+        std::sort(hits.begin(), hits.end());  // a fixed summation order
         for (int c = 0; c < mChannels; ++c) value[c] = 0.0f;
         for (std::uint32_t index : hits) accumulateValue(mGaussians[index], x, mCutoff2, mChannels, value);
     }

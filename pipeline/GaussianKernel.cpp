@@ -78,7 +78,11 @@ void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float 
     float u[3];
     const float q = mahalanobis2(g, x, u);
     if (q > cutoff2) return;
-    const float e = std::exp(-0.5f * q);
+    accumulateGradient(g, index, x, u, std::exp(-0.5f * q), upstream, gradient);
+}
+
+void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float x[3],
+                        const float u[3], float e, const float* upstream, GaussianParameters& gradient) {
     const int channels = gradient.channels;
 
     // f_c = opacity * colour_c * e

@@ -70,6 +70,11 @@ inline void accumulateValue(const ActiveGaussian& g, const float x[3], float cut
 void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float x[3],
                         float cutoff2, const float* upstream, GaussianParameters& gradient);
 
+/// The same, reusing what the forward pass computed at x: u = R^T (x - mean) and
+/// e = exp(-q/2), for a point inside the cutoff.
+void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float x[3],
+                        const float u[3], float e, const float* upstream, GaussianParameters& gradient);
+
 /// Adjoint of rotationFromQuaternion followed by normalisation: dL/dR (row-major)
 /// to dL/d(raw quaternion).
 void quaternionAdjoint(const ActiveGaussian& g, const float dR[9], float dQuat[4]);

@@ -34,6 +34,7 @@ TEST(GaussianBvh, ContainmentQueriesMatchBruteForce) {
         for (int q = 0; q < 2000; ++q) {
             const float x[3] = {position(random), position(random), position(random)};
             bvh.query(x, hits);
+            std::sort(hits.begin(), hits.end());
             std::vector<std::uint32_t> expected;
             for (std::uint32_t i = 0; i < boxes.size(); ++i) {
                 if (boxes[i].contains(x)) expected.push_back(i);
