@@ -171,9 +171,11 @@ void runFit(FitFlags& flags) {
     const VolumeTarget target(loaded.grid, flags.input);
     GaussianAsset asset = assetSkeleton(*loaded.grid, target, flags, flags.input);
     std::uint64_t maxBytes = 0;
-    flags.settings.gaussians = budgetedGaussians(asset, flags, maxBytes);
     if (target.activeVoxelCount() == 0) {
         std::cerr << "gvr: warning: " << flags.input << " has no active voxels; writing an empty asset\n";
+        flags.settings.gaussians = 0;
+    } else {
+        flags.settings.gaussians = budgetedGaussians(asset, flags, maxBytes);
     }
 
     FitReport fit;

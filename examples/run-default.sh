@@ -1,17 +1,25 @@
 #!/usr/bin/env bash
 # The main job (the README's first command): install, build, then run the pipeline
 # on the embedded default volume, Debian's Colin27 T1 MRI, and say where each output is.
+# Export and rendering join this job when they land.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash .ci/install-deps.sh
 bash .ci/build.sh
 
 input=/usr/share/mricron/templates/ch2.nii.gz
+gvr=build/cli/gvr
 mkdir -p out
-echo "== gvr info $input"
-build/cli/gvr info "$input"
 echo "== gvr ingest $input -o out/ch2.vdb"
-build/cli/gvr ingest "$input" -o out/ch2.vdb
+$gvr ingest "$input" -o out/ch2.vdb
+echo
+echo "== gvr fit out/ch2.vdb -o out/ch2.gvr --ratio 10 --time 60 --log out/ch2-fit.csv"
+$gvr fit out/ch2.vdb -o out/ch2.gvr --ratio 10 --time 60 --log out/ch2-fit.csv
+echo
+echo "== gvr info out/ch2.gvr"
+$gvr info out/ch2.gvr
 echo
 echo "Outputs:"
-echo "  sparse grid: $(pwd)/out/ch2.vdb   (open in Blender or Houdini; 'build/cli/gvr info out/ch2.vdb')"
+echo "  sparse grid:         $(pwd)/out/ch2.vdb      (Blender/Houdini; gvr info out/ch2.vdb)"
+echo "  Gaussian asset:      $(pwd)/out/ch2.gvr      (gvr info out/ch2.gvr)"
+echo "  error against time:  $(pwd)/out/ch2-fit.csv"

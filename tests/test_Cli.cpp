@@ -6,6 +6,7 @@
 
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -38,12 +39,16 @@ std::size_t lineCount(const std::string& text) {
 
 TEST(Cli, HelpOnEveryCommand) {
     test::TempDir dir;
-    for (const char* command : {"--help", "ingest --help", "info --help"}) {
+    for (const char* command : {"--help", "ingest --help", "info --help", "fit --help"}) {
         const CommandResult run = runGvr(command, dir);
         EXPECT_EQ(run.exitCode, 0) << command;
         EXPECT_NE(run.out.find("Usage"), std::string::npos) << command;
     }
     EXPECT_NE(runGvr("ingest --help", dir).out.find("--threshold"), std::string::npos);
+    const std::string fitHelp = runGvr("fit --help", dir).out;
+    for (const char* ablation : {"full", "A1", "A2", "A3", "A4", "A5"}) {
+        EXPECT_NE(fitHelp.find(ablation), std::string::npos) << ablation;
+    }
 }
 
 TEST(Cli, BadInputGivesOneLineExitTwoAndNoOutput) {
@@ -91,6 +96,76 @@ TEST(Cli, IngestThenInfoAsJson) {
     ASSERT_EQ(source.exitCode, 0) << source.err;
     EXPECT_NE(source.out.find("gvr ingest would write"), std::string::npos);
     EXPECT_NE(source.out.find("306 x"), std::string::npos) << source.out;
+}
+
+/// A small ingested grid: two soft blobs in a 24 x 20 x 16 uint8 raw volume.
+std::string smallGrid(const test::TempDir& dir, bool empty = false) {
+    std::string bytes;
+    for (int k = 0; k < 16; ++k) {
+        for (int j = 0; j < 20; ++j) {
+            for (int i = 0; i < 24; ++i) {
+                const double d2 = (i - 8) * (i - 8) + (j - 10) * (j - 10) + (k - 8) * (k - 8);
+                bytes.push_back(empty ? 0 : char(std::lround(200.0 * std::exp(-d2 / 20.0))));
+            }
+        }
+    }
+    test::writeBytes(dir.path("small.raw"), bytes);
+    const std::string grid = dir.path(empty ? "empty.vdb" : "small.vdb");
+    const CommandResult run = runGvr("ingest -q '" + dir.path("small.raw") + "' -o '" + grid +
+                                         "' --raw-dims 24,20,16 --raw-type uint8 --spacing 1,1,1", dir);
+    EXPECT_EQ(run.exitCode, 0) << run.err;
+    return grid;
+}
+
+TEST(Cli, FitIsReproducibleByteForByteWhateverTheThreads) {
+    test::TempDir dir;
+    const std::string grid = smallGrid(dir);
+    const std::string common = "fit -q '" + grid + "' --gaussians 120 --iterations 40 --seed 3 --batch 2048 ";
+    ASSERT_EQ(runGvr(common + "-o '" + dir.path("a.asset") + "'", dir).exitCode, 0);
+    ASSERT_EQ(runGvr(common + "-o '" + dir.path("b.asset") + "' --threads 1", dir).exitCode, 0);
+    const std::string a = test::readBytes(dir.path("a.asset")), b = test::readBytes(dir.path("b.asset"));
+    EXPECT_FALSE(a.empty());
+    EXPECT_EQ(a, b);
+
+    const CommandResult info = runGvr("info --json '" + dir.path("a.asset") + "'", dir);
+    ASSERT_EQ(info.exitCode, 0) << info.err;
+    const nlohmann::json report = nlohmann::json::parse(info.out);
+    EXPECT_EQ(report["gaussians"], 120);
+    EXPECT_EQ(report["raw_source_bytes"], 24 * 20 * 16);
+}
+
+TEST(Cli, FitRespectsTheRatioAndLogsErrorAgainstTime) {
+    test::TempDir dir;
+    const std::string grid = smallGrid(dir);
+    const CommandResult run = runGvr("fit -q '" + grid + "' -o '" + dir.path("r.asset") +
+                                         "' --ratio 4 --iterations 60 --log-every 20 --log '" +
+                                         dir.path("fit.csv") + "' --json", dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    EXPECT_LE(std::filesystem::file_size(dir.path("r.asset")), 24u * 20 * 16 / 4);
+    const nlohmann::json result = nlohmann::json::parse(run.out);
+    EXPECT_GT(result["psnr_db"].get<double>(), 20.0);
+    const std::string log = test::readBytes(dir.path("fit.csv"));
+    EXPECT_NE(log.find("peak = 1"), std::string::npos) << log;
+    EXPECT_NE(log.find("iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib"), std::string::npos);
+    EXPECT_EQ(lineCount(log), 2u + 3u);
+}
+
+TEST(Cli, FittingAnEmptyVolumeWarnsAndWritesAnEmptyAsset) {
+    test::TempDir dir;
+    const std::string grid = smallGrid(dir, /*empty=*/true);
+    const CommandResult run = runGvr("fit -q '" + grid + "' -o '" + dir.path("e.asset") + "' --iterations 5", dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    EXPECT_NE(run.err.find("no active voxels"), std::string::npos) << run.err;
+    const CommandResult info = runGvr("info --json '" + dir.path("e.asset") + "'", dir);
+    EXPECT_EQ(nlohmann::json::parse(info.out)["gaussians"], 0);
+}
+
+TEST(Cli, CorruptAssetIsAOneLineError) {
+    test::TempDir dir;
+    test::writeBytes(dir.path("bad.asset"), std::string("GVRASSET") + std::string(40, '\1'));
+    const CommandResult run = runGvr("info '" + dir.path("bad.asset") + "'", dir);
+    EXPECT_EQ(run.exitCode, 2);
+    EXPECT_EQ(lineCount(run.err), 1u) << run.err;
 }
 
 }  // namespace
