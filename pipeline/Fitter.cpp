@@ -150,6 +150,7 @@ private:
     }
 
     double step(std::size_t iteration, double fraction, FitProgress& progress);
+    bool refreshField();
 
     const VolumeTarget& mTarget;
     const FitSettings& mSettings;
@@ -165,19 +166,30 @@ private:
     FitReport mReport;
 };
 
+/// Brings the field up to date with the parameters; rebuilds the BVH only when
+/// a Gaussian has left its slack box. @return true when the BVH was rebuilt.
+bool FitLoop::refreshField() {
+    if (mField.update(mParams)) return false;
+    // Slack lets most steps skip the rebuild; queries stay exact either way.
+    mField.rebuild(mParams, mSettings.cutoffSigmas, /*fastBuild=*/true, 0.75f, 0.1f);
+    return true;
+}
+
 double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progress) {
     const double sliceShare = sliceWeight(mSettings, fraction);
     const double voxelShare = 1.0 - sliceShare;
-    mField.rebuild(mParams, mSettings.cutoffSigmas, /*fastBuild=*/true);
+    const bool rebuilt = refreshField();
     mChunks.reset(mParams.count(), mParams.channels);
 
     double loss = 0.0;
     if (voxelShare > 0.0) {
-        if (iteration % mSettings.refreshEvery == 0 || mVoxels.size() == 0) {
+        const bool redraw = iteration % mSettings.refreshEvery == 0 || mVoxels.size() == 0;
+        if (redraw) {
             if (!mVoxelResiduals.empty()) mSampler.recordErrors(mLastDraw, mVoxelResiduals);
             mLastDraw = mSampler.draw(mSettings.voxelBatch, streamSeed(mSettings.seed, kVoxels, iteration));
             mVoxels = voxelSampleSet(mTarget, mLastDraw);
         }
+        if (redraw || rebuilt) findCandidates(mField, mVoxels);
         loss += weightedSquaredError(mField, mVoxels, voxelShare, &mChunks, &mVoxelResiduals);
     }
     if (sliceShare > 0.0) {
@@ -234,7 +246,7 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
         progress.gaussians = mParams.count();
         progress.skippedSteps = mReport.skippedSteps;
         if (iteration % mSettings.logEvery == 0 || progress.fraction >= 1.0) {
-            mField.rebuild(mParams, mSettings.cutoffSigmas, true);
+            refreshField();
             progress.heldOutEvaluated = true;
             // The loss sums channels; PSNR uses the mean over channels.
             const double mse = weightedSquaredError(mField, heldOut, 1.0) / mTarget.channels();

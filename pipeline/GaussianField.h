@@ -18,8 +18,18 @@ public:
         rebuild(params, cutoffSigmas, fastBuild);
     }
 
-    /// Activates every Gaussian and rebuilds the BVH over their truncated bounds.
-    void rebuild(const GaussianParameters& params, float cutoffSigmas, bool fastBuild = false);
+    /// Activates every Gaussian and rebuilds the BVH over their truncated bounds,
+    /// each grown by @a slackVoxels plus @a slackFraction of its half-extent, so
+    /// that small moves need no rebuild (see update()).
+    void rebuild(const GaussianParameters& params, float cutoffSigmas, bool fastBuild = false,
+                 float slackVoxels = 0.0f, float slackFraction = 0.0f);
+
+    /// Re-activates the Gaussians of @a params (the same count as at the last
+    /// rebuild) and keeps the BVH. Queries stay exact because every Gaussian's
+    /// truncated bounds must still lie inside its box in the BVH.
+    /// @return false, changing nothing, when one has left its box or the count
+    ///         changed: rebuild() then.
+    bool update(const GaussianParameters& params);
 
     /// f at @a x into value[0..channels). @a hits is scratch space, one per thread;
     /// it is left holding the indices of the Gaussians that reach x.
@@ -37,6 +47,7 @@ public:
 
 private:
     int mChannels = 1;
+    float mCutoffSigmas = kDefaultCutoffSigmas;
     float mCutoff2 = kDefaultCutoffSigmas * kDefaultCutoffSigmas;
     std::vector<ActiveGaussian> mGaussians;
     GaussianBvh mBvh;

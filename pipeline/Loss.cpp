@@ -43,14 +43,15 @@ struct Contribution {
     float u[3];
 };
 
-/// f(x) into value[], recording every contribution inside the cutoff.
-void evaluateRecorded(const GaussianField& field, const float x[3], float* value,
-                      std::vector<std::uint32_t>& hits, std::vector<Contribution>& contributions) {
-    field.bvh().query(x, hits);
+/// f(x) into value[] from the Gaussians @a ids[0..count), recording every
+/// contribution inside the cutoff.
+void evaluateRecorded(const GaussianField& field, const float x[3], const std::uint32_t* ids,
+                      std::size_t count, float* value, std::vector<Contribution>& contributions) {
     contributions.clear();
     const int channels = field.channels();
     for (int c = 0; c < channels; ++c) value[c] = 0.0f;
-    for (std::uint32_t index : hits) {
+    for (std::size_t k = 0; k < count; ++k) {
+        const std::uint32_t index = ids[k];
         Contribution contribution{index, 0.0f, {}};
         const float q = mahalanobis2(field.gaussians()[index], x, contribution.u);
         if (q > field.cutoff2()) continue;
@@ -68,6 +69,25 @@ void evaluateRecorded(const GaussianField& field, const float x[3], float* value
 
 }  // namespace
 
+void findCandidates(const GaussianField& field, SampleSet& samples) {
+    const std::size_t n = samples.size();
+    std::array<std::vector<std::uint32_t>, GradientChunks::kChunks> ids, counts;
+    tbb::parallel_for(std::size_t(0), GradientChunks::kChunks, [&](std::size_t c) {
+        std::vector<std::uint32_t> hits;
+        for (std::size_t s = c * n / GradientChunks::kChunks; s < (c + 1) * n / GradientChunks::kChunks; ++s) {
+            field.bvh().query(samples.points[s].data(), hits);
+            ids[c].insert(ids[c].end(), hits.begin(), hits.end());
+            counts[c].push_back(std::uint32_t(hits.size()));
+        }
+    });
+    samples.candidateStart.assign(1, 0);
+    samples.candidates.clear();
+    for (std::size_t c = 0; c < GradientChunks::kChunks; ++c) {
+        samples.candidates.insert(samples.candidates.end(), ids[c].begin(), ids[c].end());
+        for (std::uint32_t count : counts[c]) samples.candidateStart.push_back(samples.candidateStart.back() + count);
+    }
+}
+
 double weightedSquaredError(const GaussianField& field, const SampleSet& samples, double scale,
                             GradientChunks* gradients, std::vector<float>* squaredResiduals) {
     const int channels = field.channels();
@@ -81,7 +101,13 @@ double weightedSquaredError(const GaussianField& field, const SampleSet& samples
         double sum = 0.0;
         for (std::size_t s = c * n / GradientChunks::kChunks; s < (c + 1) * n / GradientChunks::kChunks; ++s) {
             const float* x = samples.points[s].data();
-            evaluateRecorded(field, x, value, hits, contributions);
+            if (samples.candidates.empty() && samples.candidateStart.empty()) {
+                field.bvh().query(x, hits);
+                evaluateRecorded(field, x, hits.data(), hits.size(), value, contributions);
+            } else {
+                const std::uint32_t begin = samples.candidateStart[s], end = samples.candidateStart[s + 1];
+                evaluateRecorded(field, x, samples.candidates.data() + begin, end - begin, value, contributions);
+            }
             float squared = 0.0f;
             for (int ch = 0; ch < channels; ++ch) {
                 const float residual = value[ch] - samples.targets[s * channels + ch];

@@ -17,8 +17,16 @@ struct SampleSet {
     std::vector<std::array<float, 3>> points;  ///< index space
     std::vector<float> targets;                ///< channels per point, normalised units
     std::vector<float> weights;                ///< one per point
+    /// Optional, from findCandidates(): the Gaussians to try at point s are
+    /// candidates[candidateStart[s] .. candidateStart[s + 1]). Empty: ask the BVH.
+    std::vector<std::uint32_t> candidateStart, candidates;
     std::size_t size() const { return points.size(); }
 };
+
+/// Records, for every point of @a samples, the Gaussians whose BVH boxes hold it.
+/// They stay a superset of the Gaussians that reach the point for as long as
+/// GaussianField::update() succeeds, so the loss can skip the BVH until then.
+void findCandidates(const GaussianField& field, SampleSet& samples);
 
 /// One gradient buffer per chunk, reused across iterations.
 class GradientChunks {
