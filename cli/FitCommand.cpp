@@ -125,13 +125,12 @@ FitObserver progressObserver(ProgressBar& bar, FitLog& log) {
     };
 }
 
-void report(const FitFlags& flags, const GaussianAsset& asset, const FitReport& fit, const VolumeError& error,
-            std::size_t dropped) {
+void report(const FitFlags& flags, const GaussianAsset& asset, double peak, const FitReport& fit,
+            const VolumeError& error, std::size_t dropped) {
     const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
     const std::uint64_t rawBytes = asset.source.rawSourceBytes();
     const std::uint64_t floatBytes = std::uint64_t(asset.source.dims.x()) * asset.source.dims.y() *
                                      asset.source.dims.z() * asset.source.channels * 4;
-    const double peak = asset.mapping.scale > 0 ? (asset.source.valueMax - asset.source.valueMin) / asset.mapping.scale : 1.0;
     if (flags.json) {
         nlohmann::json out = {{"output", flags.output}, {"gaussians", asset.params.count()},
                               {"file_bytes", fileBytes}, {"raw_source_bytes", rawBytes},
@@ -188,7 +187,7 @@ void runFit(FitFlags& flags) {
     ProgressBar measuring("measuring", !flags.quiet);
     const GaussianField saved(quantisedCopy(asset.params), asset.cutoffSigmas);
     const VolumeError error = measureVolumeError(saved, target, measuring.callback());
-    report(flags, asset, fit, error, dropped);
+    report(flags, asset, target.peak(), fit, error, dropped);
 }
 
 void addTuningFlags(CLI::App& command, FitSettings& s) {

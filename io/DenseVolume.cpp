@@ -13,6 +13,11 @@ openvdb::math::Mat4d worldFromIndexRows(const double rows[3][4]) {
     return m;
 }
 
+openvdb::math::Mat4d worldFromSpacing(const openvdb::Vec3d& spacingMm) {
+    const double rows[3][4] = {{spacingMm[0], 0, 0, 0}, {0, spacingMm[1], 0, 0}, {0, 0, spacingMm[2], 0}};
+    return worldFromIndexRows(rows);
+}
+
 openvdb::Vec3d axisSpacing(const openvdb::math::Mat4d& worldFromIndex) {
     openvdb::Vec3d spacing;
     for (int axis = 0; axis < 3; ++axis) {

@@ -44,6 +44,9 @@ struct DenseVolume {
 /// world = rows * (i, j, k, 1)^T, as NIfTI's srow and DICOM's geometry give it.
 openvdb::math::Mat4d worldFromIndexRows(const double rows[3][4]);
 
+/// Axis-aligned voxels of @a spacingMm, with index 0 at the world origin.
+openvdb::math::Mat4d worldFromSpacing(const openvdb::Vec3d& spacingMm);
+
 /// Length of each index axis in world units.
 openvdb::Vec3d axisSpacing(const openvdb::math::Mat4d& worldFromIndex);
 

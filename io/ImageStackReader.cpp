@@ -107,9 +107,7 @@ DenseVolume readImageStack(const std::vector<std::string>& files, const std::str
     volume.dims = {layout.width, layout.height, std::int64_t(layout.pages.size())};
     volume.channels = layout.channels;
     volume.type = layout.type;
-    const openvdb::Vec3d spacing = spacingOrDefault(options, volume);
-    const double rows[3][4] = {{spacing[0], 0, 0, 0}, {0, spacing[1], 0, 0}, {0, 0, spacing[2], 0}};
-    volume.worldFromIndex = worldFromIndexRows(rows);
+    setGivenSpacing(options, volume);
     allocateSamples(volume, culprit);
 
     ProgressCounter progress(options.progress, layout.pages.size());

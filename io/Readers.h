@@ -50,7 +50,8 @@ DenseVolume readVdb(const std::string& path, const ReadOptions& options);
 /// glob pattern of images, and applies it.
 DenseVolume readVolume(const std::string& input, const ReadOptions& options);
 
-/// Adds the usual warning when a format carries no voxel size and none was given.
-openvdb::Vec3d spacingOrDefault(const ReadOptions& options, DenseVolume& volume);
+/// For formats that carry no geometry: axis-aligned voxels of --spacing, or of
+/// 1 mm with a warning when none was given.
+void setGivenSpacing(const ReadOptions& options, DenseVolume& volume);
 
 }  // namespace gvr

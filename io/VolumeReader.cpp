@@ -117,11 +117,12 @@ DenseVolume readFile(const std::string& path, const ReadOptions& options) {
 
 }  // namespace
 
-openvdb::Vec3d spacingOrDefault(const ReadOptions& options, DenseVolume& volume) {
-    if (options.spacingMm) return *options.spacingMm;
-    volume.warnings.push_back("voxel spacing is unknown for this format; assuming 1 x 1 x 1 mm "
-                              "(set it with --spacing X,Y,Z)");
-    return openvdb::Vec3d(1.0);
+void setGivenSpacing(const ReadOptions& options, DenseVolume& volume) {
+    if (!options.spacingMm) {
+        volume.warnings.push_back("voxel spacing is unknown for this format; assuming 1 x 1 x 1 mm "
+                                  "(set it with --spacing X,Y,Z)");
+    }
+    volume.worldFromIndex = worldFromSpacing(options.spacingMm.value_or(openvdb::Vec3d(1.0)));
 }
 
 DenseVolume readVolume(const std::string& input, const ReadOptions& options) {

@@ -50,8 +50,7 @@ openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<flo
         }
     }
     DenseVolume volume = makeVolume<float>({dims[0], dims[1], dims[2]}, values, SampleType::Float32);
-    const double rows[3][4] = {{spacingMm[0], 0, 0, 0}, {0, spacingMm[1], 0, 0}, {0, 0, spacingMm[2], 0}};
-    volume.worldFromIndex = worldFromIndexRows(rows);
+    volume.worldFromIndex = worldFromSpacing(spacingMm);
     GridBuildSettings settings;
     settings.sourceFile = "synthetic";
     return buildGrid(volume, settings);
