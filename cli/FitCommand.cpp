@@ -7,10 +7,10 @@
 #include "GaussianField.h"
 #include "GridSummary.h"
 #include "ProgressBar.h"
+#include "Report.h"
 #include "SourceOptions.h"
 #include "VolumeError.h"
 
-#include <sys/resource.h>
 #include <tbb/global_control.h>
 
 #include <cmath>
@@ -33,19 +33,6 @@ struct FitFlags {
     FitSettings settings;
     SourceFlags source;
 };
-
-double peakRssMiB() {
-    rusage usage{};
-    getrusage(RUSAGE_SELF, &usage);
-    return usage.ru_maxrss / 1024.0;
-}
-
-std::string formatDb(double db) {
-    if (std::isinf(db)) return "inf";
-    std::ostringstream out;
-    out << std::fixed << std::setprecision(2) << db;
-    return out.str();
-}
 
 /// The CSV of error against run time, one row per held-out evaluation.
 class FitLog {
@@ -137,7 +124,7 @@ void report(const FitFlags& flags, const GaussianAsset& asset, double peak, cons
                               {"ratio_vs_raw", double(rawBytes) / fileBytes},
                               {"ratio_vs_float32", double(floatBytes) / fileBytes},
                               {"iterations", fit.iterations}, {"seconds", fit.seconds},
-                              {"psnr_db", error.psnr}, {"fg_psnr_db", error.foregroundPsnr},
+                              {"psnr_db", jsonNumber(error.psnr)}, {"fg_psnr_db", jsonNumber(error.foregroundPsnr)},
                               {"peak", peak}, {"skipped_steps", fit.skippedSteps},
                               {"pruned", fit.pruned}, {"respawned", fit.respawned},
                               {"dropped_to_fit_budget", dropped}, {"peak_rss_mib", peakRssMiB()}};

@@ -6,7 +6,7 @@
 
 namespace gvr {
 
-void addSourceFlags(CLI::App& command, SourceFlags& flags) {
+void addSourceFlags(CLI::App& command, SourceFlags& flags, bool withThreshold) {
     command.add_option("--volume", flags.volume, "Volume of a 4D NIfTI or frame of an MGH to read")
         ->check(CLI::NonNegativeNumber);
     command.add_option("--spacing", flags.spacing,
@@ -21,9 +21,11 @@ void addSourceFlags(CLI::App& command, SourceFlags& flags) {
     command.add_option("--header-bytes", flags.headerBytes, "Bytes to skip before raw samples");
     command.add_option("--raw-channels", flags.rawChannels, "Raw channels per voxel: 1 grey, 3 RGB")
         ->check(CLI::IsMember({1, 3}));
-    command.add_option("--threshold", flags.threshold,
-                       "Deactivate voxels at or below this value (physical units, e.g. HU; "
-                       "luminance for RGB). Default: only the volume's minimum");
+    if (withThreshold) {
+        command.add_option("--threshold", flags.threshold,
+                           "Deactivate voxels at or below this value (physical units, e.g. HU; "
+                           "luminance for RGB). Default: only the volume's minimum");
+    }
     command.add_option("--nan-to", flags.nanTo, "Replace NaN/Inf samples with this value "
                                                 "(default: reject the file)");
     command.add_option("--modality", flags.modality, "Override the modality (CT, MR, ...)");

@@ -25,8 +25,9 @@ struct SourceFlags {
     std::string modality;
 };
 
-/// Adds --volume, --spacing, --raw-*, --threshold, --nan-to and --modality to @a command.
-void addSourceFlags(CLI::App& command, SourceFlags& flags);
+/// Adds --volume, --spacing, --raw-*, --threshold, --nan-to and --modality to @a command;
+/// without @a withThreshold, leaves --threshold to the command (eval gives it another meaning).
+void addSourceFlags(CLI::App& command, SourceFlags& flags, bool withThreshold = true);
 
 /// Checks the flags together and turns them into ingest options.
 /// @throw InputError naming the offending flag.

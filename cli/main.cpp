@@ -8,12 +8,16 @@
 #include <new>
 
 int main(int argc, char** argv) {
-    CLI::App app{"gvr: turn medical volumes into sparse OpenVDB grids and compact Gaussian assets"};
+    CLI::App app{"gvr: turn medical volumes into sparse OpenVDB grids and compact Gaussian assets, "
+                 "and evaluate reconstructions"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "gvr 0.1.0");
     gvr::addIngestCommand(app);
     gvr::addInfoCommand(app);
     gvr::addFitCommand(app);
+    gvr::addExportCommand(app);
+    gvr::addEvalCommand(app);
+    gvr::addProbeCommand(app);
     try {
         app.parse(argc, argv);
         return 0;

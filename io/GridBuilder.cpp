@@ -1,6 +1,8 @@
 #include "GridBuilder.h"
 
 #include "Error.h"
+#include "LeafAssembly.h"
+#include "Luminance.h"
 #include "VolumeMetadata.h"
 
 #include <tbb/blocked_range.h>
@@ -37,7 +39,8 @@ public:
     /// What thresholds compare: the value, or the Rec. 709 luminance for RGB.
     float key(std::size_t voxel) const {
         if (mChannels == 1) return value(voxel, 0);
-        return 0.2126f * value(voxel, 0) + 0.7152f * value(voxel, 1) + 0.0722f * value(voxel, 2);
+        const float rgb[3] = {value(voxel, 0), value(voxel, 1), value(voxel, 2)};
+        return float(luminance(rgb));
     }
 
     bool isFinite(std::size_t voxel) const {
@@ -141,32 +144,23 @@ std::unique_ptr<LeafT> buildLeaf(const Values& values, const DenseVolume& volume
     return leaf->isEmpty() ? nullptr : std::move(leaf);
 }
 
-/// Builds leaves in parallel, one z-slab of leaves per task, then links them serially.
+/// Every leaf of the volume's box, made in parallel.
 template <typename GridT, typename Values>
 typename GridT::Ptr buildSparseGrid(const Values& values, const DenseVolume& volume, double cut,
                                     const typename GridT::ValueType& background,
                                     const ProgressFn& progress) {
     using LeafT = typename GridT::TreeType::LeafNodeType;
     const int dim = LeafT::DIM;
-    const int blocks[3] = {int((volume.dims[0] + dim - 1) / dim), int((volume.dims[1] + dim - 1) / dim),
-                           int((volume.dims[2] + dim - 1) / dim)};
-    std::vector<std::unique_ptr<LeafT>> leaves(std::size_t(blocks[0]) * blocks[1] * blocks[2]);
-    ProgressCounter counter(progress, std::size_t(blocks[2]));
-    tbb::parallel_for(0, blocks[2], [&](int bz) {
-        for (int by = 0; by < blocks[1]; ++by) {
-            for (int bx = 0; bx < blocks[0]; ++bx) {
-                const std::size_t index = (std::size_t(bz) * blocks[1] + by) * blocks[0] + bx;
-                leaves[index] = buildLeaf<LeafT>(values, volume, Coord(bx * dim, by * dim, bz * dim), cut,
-                                                 background);
-            }
+    std::vector<Coord> origins;
+    for (int z = 0; z < volume.dims[2]; z += dim) {
+        for (int y = 0; y < volume.dims[1]; y += dim) {
+            for (int x = 0; x < volume.dims[0]; x += dim) origins.emplace_back(x, y, z);
         }
-        counter.advance();
-    });
-    typename GridT::Ptr grid = GridT::create(background);
-    for (auto& leaf : leaves) {
-        if (leaf) grid->tree().addLeaf(leaf.release());
     }
-    return grid;
+    return assembleGrid<GridT>(
+        origins, background,
+        [&](const Coord& origin) { return buildLeaf<LeafT>(values, volume, origin, cut, background); },
+        progress);
 }
 
 openvdb::math::Transform::Ptr transformOf(const DenseVolume& volume, const std::string& file) {
@@ -217,9 +211,7 @@ openvdb::GridBase::Ptr buildTyped(const DenseVolume& volume, const GridBuildSett
     metadata.spacingMm = axisSpacing(volume.worldFromIndex);
     metadata.valueMin = range.min;
     metadata.valueMax = range.max;
-    metadata.background = volume.channels == 1
-                              ? background[0]
-                              : 0.2126 * background[0] + 0.7152 * background[1] + 0.0722 * background[2];
+    metadata.background = volume.channels == 1 ? background[0] : luminance(background);
     metadata.threshold = settings.threshold;
     writeVolumeMetadata(metadata, *grid);
     return grid;

@@ -46,6 +46,9 @@ DenseVolume readMetaImage(const std::string& path, const ReadOptions& options);
 DenseVolume readMgh(const std::string& path, const ReadOptions& options);
 DenseVolume readVdb(const std::string& path, const ReadOptions& options);
 
+/// True for the image extensions that stacks are made of (.png, .tif, .exr, ...).
+bool isImageFile(const std::string& path);
+
 /// Picks the reader for @a input: a file, a folder (DICOM series or image stack) or a
 /// glob pattern of images, and applies it.
 DenseVolume readVolume(const std::string& input, const ReadOptions& options);

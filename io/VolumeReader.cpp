@@ -28,13 +28,6 @@ bool endsWith(const std::string& text, const std::string& suffix) {
            text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-bool isImageFile(const std::string& path) {
-    const std::string name = lowerCase(path);
-    for (const char* extension : {".png", ".tif", ".tiff", ".jpg", ".jpeg", ".bmp", ".exr"}) {
-        if (endsWith(name, extension)) return true;
-    }
-    return false;
-}
 
 /// "10.png" after "2.png": digit runs compare as numbers, everything else as text.
 bool naturalLess(const std::string& a, const std::string& b) {
@@ -116,6 +109,14 @@ DenseVolume readFile(const std::string& path, const ReadOptions& options) {
 }
 
 }  // namespace
+
+bool isImageFile(const std::string& path) {
+    const std::string name = lowerCase(path);
+    for (const char* extension : {".png", ".tif", ".tiff", ".jpg", ".jpeg", ".bmp", ".exr"}) {
+        if (endsWith(name, extension)) return true;
+    }
+    return false;
+}
 
 void setGivenSpacing(const ReadOptions& options, DenseVolume& volume) {
     if (!options.spacingMm) {

@@ -46,6 +46,21 @@ bool collectContaining(RTCPointQueryFunctionArguments* args) {
     return false;  // the query radius stays 0
 }
 
+struct OverlapState {
+    const std::vector<Box>* boxes;
+    const float* lower;
+    const float* upper;
+    std::vector<std::uint32_t>* hits;
+};
+
+/// The query sphere encloses the box, so Embree visits a superset; the exact
+/// box test keeps the rest.
+bool collectOverlapping(RTCPointQueryFunctionArguments* args) {
+    auto* state = static_cast<OverlapState*>(args->userPtr);
+    if ((*state->boxes)[args->primID].overlaps(state->lower, state->upper)) state->hits->push_back(args->primID);
+    return false;
+}
+
 struct NearestState {
     const std::vector<Box>* boxes;
     std::size_t k;
@@ -117,6 +132,23 @@ void GaussianBvh::query(const float x[3], std::vector<std::uint32_t>& hits) cons
     rtcInitPointQueryContext(&context);
     QueryState state{&mBoxes, x, &hits};
     rtcPointQuery(mScene, &query, &context, collectContaining, &state);
+}
+
+void GaussianBvh::overlapping(const float lower[3], const float upper[3], std::vector<std::uint32_t>& hits) const {
+    hits.clear();
+    if (!mScene) return;
+    RTCPointQuery query;
+    query.x = 0.5f * (lower[0] + upper[0]);
+    query.y = 0.5f * (lower[1] + upper[1]);
+    query.z = 0.5f * (lower[2] + upper[2]);
+    query.time = 0.0f;
+    const float half[3] = {0.5f * (upper[0] - lower[0]), 0.5f * (upper[1] - lower[1]), 0.5f * (upper[2] - lower[2])};
+    // Rounded up a little so that float error never shrinks the sphere inside the box.
+    query.radius = 1.0001f * std::sqrt(half[0] * half[0] + half[1] * half[1] + half[2] * half[2]) + 1e-6f;
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    OverlapState state{&mBoxes, lower, upper, &hits};
+    rtcPointQuery(mScene, &query, &context, collectOverlapping, &state);
 }
 
 void GaussianBvh::nearestCentres(const float x[3], std::size_t k, std::uint32_t exclude,

@@ -21,6 +21,12 @@ struct Box {
         return x[0] >= lower[0] && x[0] <= upper[0] && x[1] >= lower[1] && x[1] <= upper[1] &&
                x[2] >= lower[2] && x[2] <= upper[2];
     }
+    bool overlaps(const float otherLower[3], const float otherUpper[3]) const {
+        for (int a = 0; a < 3; ++a) {
+            if (otherUpper[a] < lower[a] || otherLower[a] > upper[a]) return false;
+        }
+        return true;
+    }
 };
 
 class GaussianBvh {
@@ -37,6 +43,10 @@ public:
     /// Replaces @a hits with the indices of the boxes that contain @a x, in the
     /// traversal's order: sort what you sum over if the result must not depend on it.
     void query(const float x[3], std::vector<std::uint32_t>& hits) const;
+
+    /// Replaces @a hits with the indices of the boxes that overlap the box from
+    /// @a lower to @a upper, in the traversal's order.
+    void overlapping(const float lower[3], const float upper[3], std::vector<std::uint32_t>& hits) const;
 
     /// Replaces @a nearest with up to @a k (distance, index) pairs: the boxes whose
     /// centres are closest to @a x, nearest first, leaving out box @a exclude.

@@ -1,6 +1,7 @@
 #include "VolumeTarget.h"
 
 #include "Error.h"
+#include "Luminance.h"
 #include "VolumeMetadata.h"
 
 #include <cmath>
@@ -19,7 +20,7 @@ Range luminanceRange(const GridT& grid) {
     for (auto value = grid.cbeginValueOn(); value; ++value) {
         double v;
         if constexpr (std::is_same_v<typename GridT::ValueType, openvdb::Vec3s>) {
-            v = 0.2126 * (*value)[0] + 0.7152 * (*value)[1] + 0.0722 * (*value)[2];
+            v = luminance(*value);
         } else {
             v = *value;
         }
@@ -113,7 +114,7 @@ float VolumeTarget::gradientMagnitude(const openvdb::Coord& ijk) const {
     const auto scalar = [&](const openvdb::Coord& at) {
         float v[3];
         valueAt(at, v);
-        return mChannels == 1 ? v[0] : 0.2126f * v[0] + 0.7152f * v[1] + 0.0722f * v[2];
+        return mChannels == 1 ? v[0] : float(luminance(v));
     };
     float squared = 0.0f;
     for (int axis = 0; axis < 3; ++axis) {

@@ -1,0 +1,29 @@
+#include "Report.h"
+
+#include <sys/resource.h>
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace gvr {
+
+std::string formatDb(double db) {
+    if (std::isinf(db)) return db > 0 ? "inf" : "-inf";
+    std::ostringstream out;
+    out << std::fixed << std::setprecision(2) << db;
+    return out.str();
+}
+
+nlohmann::json jsonNumber(double value) {
+    if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+    return value;
+}
+
+double peakRssMiB() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_maxrss / 1024.0;
+}
+
+}  // namespace gvr

@@ -1,0 +1,85 @@
+#include "AssetExport.h"
+
+#include "Error.h"
+#include "FloatVolume.h"
+#include "GridFile.h"
+#include "Luminance.h"
+
+namespace gvr {
+
+namespace {
+
+openvdb::Vec3d axisLengths(const openvdb::math::Mat4d& worldFromIndex) {
+    openvdb::Vec3d lengths;
+    for (int axis = 0; axis < 3; ++axis) {
+        lengths[axis] = openvdb::Vec3d(worldFromIndex(axis, 0), worldFromIndex(axis, 1), worldFromIndex(axis, 2)).length();
+    }
+    return lengths;
+}
+
+/// A float fog volume with the colour grid's active voxels, each voxel's density
+/// taken from its physical colour.
+openvdb::FloatGrid::Ptr derivedDensity(const openvdb::Vec3SGrid& colour, const GaussianAsset& asset,
+                                       const ExportSettings& settings) {
+    const double backgroundLuminance = luminance(asset.mapping.offset);
+    auto density = openvdb::FloatGrid::create(0.0f);
+    density->setTree(std::make_shared<openvdb::FloatTree>(colour.tree(), 0.0f, openvdb::TopologyCopy()));
+    density->setTransform(colour.transform().copy());
+    auto accessor = density->getAccessor();
+    for (auto voxel = colour.cbeginValueOn(); voxel; ++voxel) {
+        const double lum = luminance(*voxel);
+        const float value = settings.densityFrom ? (*settings.densityFrom)(lum)[3]
+                                                 : float(std::max(0.0, (lum - backgroundLuminance) / asset.mapping.scale));
+        accessor.setValueOnly(voxel.getCoord(), value);
+    }
+    return density;
+}
+
+void describe(openvdb::GridBase& grid, const GaussianAsset& asset, const ExportResult& result,
+              const std::string& assetPath) {
+    VolumeMetadata metadata = asset.source;
+    metadata.dims = openvdb::Vec3i(result.lattice.box.dim().asVec3i());
+    metadata.spacingMm = axisLengths(result.lattice.worldFromIndex);
+    metadata.threshold = result.threshold;
+    writeVolumeMetadata(metadata, grid);
+    grid.insertMeta("gvr_exported_from", openvdb::StringMetadata(assetPath));
+}
+
+}  // namespace
+
+ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& settings, const ProgressFn& progress) {
+    if (settings.densityFrom && asset.params.channels != 3) {
+        throw InputError("--density-from", "applies to RGB assets only; this asset is grey");
+    }
+    const openvdb::Vec3i dims = asset.source.dims;
+    ExportResult result;
+    result.lattice = settings.lattice.value_or(sourceLattice(asset.worldFromIndex, dims));
+    result.threshold = settings.threshold.value_or(asset.source.threshold.value_or(asset.source.valueMin));
+    const GaussianField field(asset.params, asset.cutoffSigmas);
+    const FieldToGridSettings sampling{asset.mapping, result.threshold};
+    openvdb::GridBase::Ptr values = fieldToGrid(field, asset.worldFromIndex, result.lattice, sampling, progress);
+    result.grids.push_back(values);
+    if (auto colour = openvdb::GridBase::grid<openvdb::Vec3SGrid>(values)) {
+        if (settings.naming == GridNaming::Houdini) colour->setName("Cd");
+        auto density = derivedDensity(*colour, asset, settings);
+        density->setName("density");
+        result.grids.push_back(density);
+    }
+    for (auto& grid : result.grids) {
+        if (grid->getName() == "density") grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+        describe(*grid, asset, result, settings.assetPath);
+    }
+    return result;
+}
+
+Lattice latticeLike(const std::string& path) {
+    const openvdb::GridBase::Ptr grid = chooseVolumeGrid(*readGridFile(path), path);
+    const openvdb::CoordBBox box = volumeBox(*grid);
+    if (box.empty()) throw InputError(path, "grid '" + grid->getName() + "' has no voxels to take a lattice from");
+    openvdb::math::Mat4d shift = openvdb::math::Mat4d::identity();
+    shift.setTranslation(box.min().asVec3d());
+    const openvdb::math::Mat4d worldFromIndex = grid->transform().baseMap()->getAffineMap()->getMat4();
+    return {shift * worldFromIndex, openvdb::CoordBBox(openvdb::Coord(0), box.dim() - openvdb::Coord(1))};
+}
+
+}  // namespace gvr

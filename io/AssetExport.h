@@ -1,0 +1,49 @@
+/// @file AssetExport.h
+/// @brief A Gaussian asset back to grids that Blender, Houdini and medical tools open.
+#pragma once
+
+#include "FieldToGrid.h"
+#include "GaussianAsset.h"
+#include "TransferFunction.h"
+
+#include <openvdb/openvdb.h>
+
+#include <optional>
+#include <string>
+
+namespace gvr {
+
+/// Colour grid names: Blender reads "color", Houdini "Cd". Both read "density".
+enum class GridNaming { Blender, Houdini };
+
+struct ExportSettings {
+    std::optional<Lattice> lattice;  ///< unset: the source's own grid
+    /// Physical units (luminance for RGB); voxels at or below stay inactive.
+    /// Unset: the source's ingest threshold, else the source's minimum.
+    std::optional<double> threshold;
+    GridNaming naming = GridNaming::Blender;
+    /// RGB only: density = this function's opacity at each voxel's luminance.
+    /// Unset: the luminance, normalised to the source's range (0 at the background).
+    std::optional<TransferFunction> densityFrom;
+    std::string assetPath;  ///< recorded in the grids' metadata
+};
+
+struct ExportResult {
+    openvdb::GridPtrVec grids;  ///< the value grid first, then a derived density for RGB
+    Lattice lattice;
+    double threshold = 0.0;
+};
+
+/// Evaluates the asset's field at the lattice's voxel centres (see fieldToGrid),
+/// with its own cutoff. Grey data gives a float fog volume "density" in physical
+/// units; RGB a Vec3s "color" (or "Cd") plus a float fog volume "density". Every
+/// grid carries the source's metadata, with the lattice's dimensions and spacing.
+ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& settings,
+                         const ProgressFn& progress = {});
+
+/// The lattice of the volume grid in the .vdb file @a path (its gvr dimensions, or
+/// its active voxels), moved so that its first voxel has index (0, 0, 0).
+/// @throw InputError naming @a path when it holds no volume grid or no voxels.
+Lattice latticeLike(const std::string& path);
+
+}  // namespace gvr

@@ -1,0 +1,23 @@
+/// @file ComparisonInput.h
+/// @brief What `gvr eval` compares: a volume (a .vdb, or anything ingest reads) or
+/// a single 2D image, as dense float samples.
+#pragma once
+
+#include "FloatVolume.h"
+#include "Ingest.h"
+
+#include <string>
+
+namespace gvr {
+
+struct ComparisonInput {
+    FloatVolume volume;  ///< physical units; images in OpenImageIO's 0..1 scale
+    /// The data range: the one gvr recorded at ingest, else max - min of the samples.
+    double dataRange = 0.0;
+    bool isImage = false;  ///< a single 2D image (PNG, EXR, ...), depth 1, every channel kept
+};
+
+/// @throw InputError naming @a path when it cannot be read.
+ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions& options);
+
+}  // namespace gvr

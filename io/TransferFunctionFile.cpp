@@ -1,0 +1,34 @@
+#include "TransferFunctionFile.h"
+
+#include "Error.h"
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+
+namespace gvr {
+
+TransferFunction readTransferFunction(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path, "cannot open the transfer function file");
+    const nlohmann::json file = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    if (file.is_discarded()) throw InputError(path, "not valid JSON");
+    if (!file.is_object() || !file.contains("points") || !file["points"].is_array()) {
+        throw InputError(path, "expected {\"points\": [[value, r, g, b, a], ...]}");
+    }
+    std::vector<TransferPoint> points;
+    for (const nlohmann::json& entry : file["points"]) {
+        if (!entry.is_array() || entry.size() != 5 ||
+            !std::all_of(entry.begin(), entry.end(), [](const nlohmann::json& v) { return v.is_number(); })) {
+            throw InputError(path, "point " + std::to_string(points.size()) +
+                                       " is not [value, r, g, b, a] with five numbers");
+        }
+        TransferPoint point;
+        point.value = entry[0].get<double>();
+        for (int c = 0; c < 4; ++c) point.rgba[c] = entry[c + 1].get<float>();
+        points.push_back(point);
+    }
+    return TransferFunction(std::move(points), path);
+}
+
+}  // namespace gvr
