@@ -2,6 +2,10 @@
 
 #include "GridBuilder.h"
 
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -54,6 +58,54 @@ openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<flo
     GridBuildSettings settings;
     settings.sourceFile = "synthetic";
     return buildGrid(volume, settings);
+}
+
+CommandResult runGvr(const std::string& arguments, const TempDir& dir) {
+    const std::string outPath = dir.path("stdout.txt"), errPath = dir.path("stderr.txt");
+    const std::string command = std::string("'") + GVR_EXECUTABLE + "' " + arguments + " >'" + outPath + "' 2>'" +
+                                errPath + "' </dev/null";
+    const int status = std::system(command.c_str());
+    CommandResult run;
+    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    run.out = readBytes(outPath);
+    run.err = readBytes(errPath);
+    std::filesystem::remove(outPath);
+    std::filesystem::remove(errPath);
+    return run;
+}
+
+std::size_t lineCount(const std::string& text) { return std::size_t(std::count(text.begin(), text.end(), '\n')); }
+
+std::string smallGrid(const TempDir& dir, bool empty) {
+    std::string bytes;
+    for (int k = 0; k < 16; ++k) {
+        for (int j = 0; j < 20; ++j) {
+            for (int i = 0; i < 24; ++i) {
+                const double d2 = (i - 8) * (i - 8) + (j - 10) * (j - 10) + (k - 8) * (k - 8);
+                bytes.push_back(empty ? 0 : char(std::lround(200.0 * std::exp(-d2 / 20.0))));
+            }
+        }
+    }
+    writeBytes(dir.path("small.raw"), bytes);
+    const std::string grid = dir.path(empty ? "empty.vdb" : "small.vdb");
+    const CommandResult run = runGvr("ingest -q '" + dir.path("small.raw") + "' -o '" + grid +
+                                         "' --raw-dims 24,20,16 --raw-type uint8 --spacing 1,1,1", dir);
+    EXPECT_EQ(run.exitCode, 0) << run.err;
+    return grid;
+}
+
+GaussianParameters randomGaussians(std::size_t count, int channels, float extent, unsigned seed) {
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f), place(0.0f, extent);
+    GaussianParameters params(count, channels);
+    for (std::size_t g = 0; g < count; ++g) {
+        for (int a = 0; a < 3; ++a) params.at(kMeans, g)[a] = place(random);
+        for (int k = 0; k < 4; ++k) params.at(kRotations, g)[k] = unit(random);
+        for (int a = 0; a < 3; ++a) params.at(kLogScales, g)[a] = 0.8f + 0.7f * unit(random);
+        *params.at(kOpacityLogits, g) = unit(random);
+        for (int c = 0; c < channels; ++c) params.at(kColours, g)[c] = 0.5f + 0.5f * unit(random);
+    }
+    return params;
 }
 
 }  // namespace gvr::test

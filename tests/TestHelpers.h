@@ -3,6 +3,7 @@
 #pragma once
 
 #include "DenseVolume.h"
+#include "GaussianParameters.h"
 
 #include <openvdb/openvdb.h>
 
@@ -56,6 +57,25 @@ DenseVolume makeVolume(std::array<std::int64_t, 3> dims, const std::vector<T>& v
 /// with spacing @a spacingMm.
 openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<float(int, int, int)>& value,
                                 openvdb::Vec3d spacingMm = openvdb::Vec3d(1.0));
+
+struct CommandResult {
+    int exitCode = -1;
+    std::string out, err;
+};
+
+/// Runs the gvr executable with @a arguments (already shell-quoted where needed),
+/// capturing its output through files in @a dir.
+CommandResult runGvr(const std::string& arguments, const TempDir& dir);
+
+std::size_t lineCount(const std::string& text);
+
+/// A small ingested grid in @a dir: two soft blobs in a 24 x 20 x 16 uint8 raw
+/// volume (all zero when @a empty). @return its path.
+std::string smallGrid(const TempDir& dir, bool empty = false);
+
+/// @a count Gaussians of assorted shapes (standard deviations about 1 to 4.5
+/// voxels) with means spread over [0, extent)^3 in index space.
+GaussianParameters randomGaussians(std::size_t count, int channels, float extent, unsigned seed);
 
 }  // namespace gvr::test
 

@@ -4,8 +4,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <sys/wait.h>
-
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -13,39 +11,16 @@
 namespace gvr {
 namespace {
 
-struct CommandResult {
-    int exitCode = -1;
-    std::string out, err;
-};
-
-/// Runs gvr with @a arguments (already shell-quoted where needed).
-CommandResult runGvr(const std::string& arguments, const test::TempDir& dir) {
-    const std::string outPath = dir.path("stdout.txt"), errPath = dir.path("stderr.txt");
-    const std::string command = std::string("'") + GVR_EXECUTABLE + "' " + arguments + " >'" +
-                                outPath + "' 2>'" + errPath + "' </dev/null";
-    const int status = std::system(command.c_str());
-    CommandResult run;
-    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    run.out = test::readBytes(outPath);
-    run.err = test::readBytes(errPath);
-    std::filesystem::remove(outPath);
-    std::filesystem::remove(errPath);
-    return run;
-}
-
-std::size_t lineCount(const std::string& text) {
-    return std::size_t(std::count(text.begin(), text.end(), '\n'));
-}
-
 TEST(Cli, HelpOnEveryCommand) {
     test::TempDir dir;
-    for (const char* command : {"--help", "ingest --help", "info --help", "fit --help"}) {
-        const CommandResult run = runGvr(command, dir);
+    for (const char* command : {"--help", "ingest --help", "info --help", "fit --help", "export --help", "eval --help",
+                                "probe --help"}) {
+        const test::CommandResult run = test::runGvr(command, dir);
         EXPECT_EQ(run.exitCode, 0) << command;
         EXPECT_NE(run.out.find("Usage"), std::string::npos) << command;
     }
-    EXPECT_NE(runGvr("ingest --help", dir).out.find("--threshold"), std::string::npos);
-    const std::string fitHelp = runGvr("fit --help", dir).out;
+    EXPECT_NE(test::runGvr("ingest --help", dir).out.find("--threshold"), std::string::npos);
+    const std::string fitHelp = test::runGvr("fit --help", dir).out;
     for (const char* ablation : {"full", "A1", "A2", "A3", "A4", "A5"}) {
         EXPECT_NE(fitHelp.find(ablation), std::string::npos) << ablation;
     }
@@ -57,17 +32,17 @@ TEST(Cli, BadInputGivesOneLineExitTwoAndNoOutput) {
     const std::string cut = dir.path("cut.nii.gz");
     test::copyTruncated(test::sharedData("mri-colin27-aal/ch2.nii.gz"), cut, 50000);
     std::filesystem::create_directory(dir.path("out"));
-    const CommandResult run = runGvr("ingest '" + cut + "' -o '" + dir.path("out/x.vdb") + "'", dir);
+    const test::CommandResult run = test::runGvr("ingest '" + cut + "' -o '" + dir.path("out/x.vdb") + "'", dir);
     EXPECT_EQ(run.exitCode, 2);
-    EXPECT_EQ(lineCount(run.err), 1u) << run.err;
+    EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
     EXPECT_EQ(run.err.rfind("gvr: error: " + cut + ": ", 0), 0u) << run.err;
     EXPECT_TRUE(std::filesystem::is_empty(dir.path("out")));
 }
 
 TEST(Cli, UnknownFlagsAndBadSpacingAreUsageErrors) {
     test::TempDir dir;
-    EXPECT_EQ(runGvr("ingest x.nii -o y.vdb --no-such-flag", dir).exitCode, 2);
-    const CommandResult run = runGvr("ingest x.raw -o y.vdb --raw-dims 2,2,2 --raw-type uint8 --spacing 1,0,1", dir);
+    EXPECT_EQ(test::runGvr("ingest x.nii -o y.vdb --no-such-flag", dir).exitCode, 2);
+    const test::CommandResult run = test::runGvr("ingest x.raw -o y.vdb --raw-dims 2,2,2 --raw-type uint8 --spacing 1,0,1", dir);
     EXPECT_EQ(run.exitCode, 2);
     EXPECT_NE(run.err.find("--spacing"), std::string::npos) << run.err;
 }
@@ -76,12 +51,12 @@ TEST(Cli, IngestThenInfoAsJson) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
     const std::string output = dir.path("ch2.vdb");
-    const CommandResult ingested = runGvr("ingest '" + test::sharedData("mri-colin27-aal/ch2.nii.gz") +
+    const test::CommandResult ingested = test::runGvr("ingest '" + test::sharedData("mri-colin27-aal/ch2.nii.gz") +
                                     "' -o '" + output + "' --threshold 20 --json", dir);
     ASSERT_EQ(ingested.exitCode, 0) << ingested.err;
     EXPECT_EQ(nlohmann::json::parse(ingested.out)["output"], output);
 
-    const CommandResult info = runGvr("info --json '" + output + "'", dir);
+    const test::CommandResult info = test::runGvr("info --json '" + output + "'", dir);
     ASSERT_EQ(info.exitCode, 0) << info.err;
     const nlohmann::json report = nlohmann::json::parse(info.out);
     EXPECT_EQ(report["kind"], "vdb");
@@ -92,42 +67,23 @@ TEST(Cli, IngestThenInfoAsJson) {
     EXPECT_EQ(grid["metadata"]["gvr_threshold"], "20");
     EXPECT_EQ(grid["metadata"]["gvr_source_type"], "uint8");
 
-    const CommandResult source = runGvr("info '" + test::sharedData("ct-gantry-tilt-shear/shear.nii.gz") + "'", dir);
+    const test::CommandResult source = test::runGvr("info '" + test::sharedData("ct-gantry-tilt-shear/shear.nii.gz") + "'", dir);
     ASSERT_EQ(source.exitCode, 0) << source.err;
     EXPECT_NE(source.out.find("gvr ingest would write"), std::string::npos);
     EXPECT_NE(source.out.find("306 x"), std::string::npos) << source.out;
 }
 
-/// A small ingested grid: two soft blobs in a 24 x 20 x 16 uint8 raw volume.
-std::string smallGrid(const test::TempDir& dir, bool empty = false) {
-    std::string bytes;
-    for (int k = 0; k < 16; ++k) {
-        for (int j = 0; j < 20; ++j) {
-            for (int i = 0; i < 24; ++i) {
-                const double d2 = (i - 8) * (i - 8) + (j - 10) * (j - 10) + (k - 8) * (k - 8);
-                bytes.push_back(empty ? 0 : char(std::lround(200.0 * std::exp(-d2 / 20.0))));
-            }
-        }
-    }
-    test::writeBytes(dir.path("small.raw"), bytes);
-    const std::string grid = dir.path(empty ? "empty.vdb" : "small.vdb");
-    const CommandResult run = runGvr("ingest -q '" + dir.path("small.raw") + "' -o '" + grid +
-                                         "' --raw-dims 24,20,16 --raw-type uint8 --spacing 1,1,1", dir);
-    EXPECT_EQ(run.exitCode, 0) << run.err;
-    return grid;
-}
-
 TEST(Cli, FitIsReproducibleByteForByteWhateverTheThreads) {
     test::TempDir dir;
-    const std::string grid = smallGrid(dir);
+    const std::string grid = test::smallGrid(dir);
     const std::string common = "fit -q '" + grid + "' --gaussians 120 --iterations 40 --seed 3 --batch 2048 ";
-    ASSERT_EQ(runGvr(common + "-o '" + dir.path("a.asset") + "'", dir).exitCode, 0);
-    ASSERT_EQ(runGvr(common + "-o '" + dir.path("b.asset") + "' --threads 1", dir).exitCode, 0);
+    ASSERT_EQ(test::runGvr(common + "-o '" + dir.path("a.asset") + "'", dir).exitCode, 0);
+    ASSERT_EQ(test::runGvr(common + "-o '" + dir.path("b.asset") + "' --threads 1", dir).exitCode, 0);
     const std::string a = test::readBytes(dir.path("a.asset")), b = test::readBytes(dir.path("b.asset"));
     EXPECT_FALSE(a.empty());
     EXPECT_EQ(a, b);
 
-    const CommandResult info = runGvr("info --json '" + dir.path("a.asset") + "'", dir);
+    const test::CommandResult info = test::runGvr("info --json '" + dir.path("a.asset") + "'", dir);
     ASSERT_EQ(info.exitCode, 0) << info.err;
     const nlohmann::json report = nlohmann::json::parse(info.out);
     EXPECT_EQ(report["gaussians"], 120);
@@ -136,8 +92,8 @@ TEST(Cli, FitIsReproducibleByteForByteWhateverTheThreads) {
 
 TEST(Cli, FitRespectsTheRatioAndLogsErrorAgainstTime) {
     test::TempDir dir;
-    const std::string grid = smallGrid(dir);
-    const CommandResult run = runGvr("fit -q '" + grid + "' -o '" + dir.path("r.asset") +
+    const std::string grid = test::smallGrid(dir);
+    const test::CommandResult run = test::runGvr("fit -q '" + grid + "' -o '" + dir.path("r.asset") +
                                          "' --ratio 4 --iterations 60 --log-every 20 --log '" +
                                          dir.path("fit.csv") + "' --json", dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
@@ -147,25 +103,25 @@ TEST(Cli, FitRespectsTheRatioAndLogsErrorAgainstTime) {
     const std::string log = test::readBytes(dir.path("fit.csv"));
     EXPECT_NE(log.find("peak = 1"), std::string::npos) << log;
     EXPECT_NE(log.find("iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib"), std::string::npos);
-    EXPECT_EQ(lineCount(log), 2u + 3u);
+    EXPECT_EQ(test::lineCount(log), 2u + 3u);
 }
 
 TEST(Cli, FittingAnEmptyVolumeWarnsAndWritesAnEmptyAsset) {
     test::TempDir dir;
-    const std::string grid = smallGrid(dir, /*empty=*/true);
-    const CommandResult run = runGvr("fit -q '" + grid + "' -o '" + dir.path("e.asset") + "' --iterations 5", dir);
+    const std::string grid = test::smallGrid(dir, /*empty=*/true);
+    const test::CommandResult run = test::runGvr("fit -q '" + grid + "' -o '" + dir.path("e.asset") + "' --iterations 5", dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
     EXPECT_NE(run.err.find("no active voxels"), std::string::npos) << run.err;
-    const CommandResult info = runGvr("info --json '" + dir.path("e.asset") + "'", dir);
+    const test::CommandResult info = test::runGvr("info --json '" + dir.path("e.asset") + "'", dir);
     EXPECT_EQ(nlohmann::json::parse(info.out)["gaussians"], 0);
 }
 
 TEST(Cli, CorruptAssetIsAOneLineError) {
     test::TempDir dir;
     test::writeBytes(dir.path("bad.asset"), std::string("GVRASSET") + std::string(40, '\1'));
-    const CommandResult run = runGvr("info '" + dir.path("bad.asset") + "'", dir);
+    const test::CommandResult run = test::runGvr("info '" + dir.path("bad.asset") + "'", dir);
     EXPECT_EQ(run.exitCode, 2);
-    EXPECT_EQ(lineCount(run.err), 1u) << run.err;
+    EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
 }
 
 }  // namespace

@@ -44,6 +44,29 @@ TEST(GaussianBvh, ContainmentQueriesMatchBruteForce) {
     }
 }
 
+TEST(GaussianBvh, OverlapQueriesMatchBruteForce) {
+    std::mt19937 random(3);
+    std::uniform_real_distribution<float> position(-5.0f, 60.0f), size(0.0f, 12.0f);
+    const std::vector<Box> boxes = randomBoxes(random, 3000);
+    GaussianBvh bvh;
+    bvh.build(boxes);
+    std::vector<std::uint32_t> hits;
+    for (int q = 0; q < 1000; ++q) {
+        float lower[3], upper[3];
+        for (int a = 0; a < 3; ++a) {
+            lower[a] = position(random);
+            upper[a] = lower[a] + (q % 10 == 0 ? 0.0f : size(random));  // points too
+        }
+        bvh.overlapping(lower, upper, hits);
+        std::sort(hits.begin(), hits.end());
+        std::vector<std::uint32_t> expected;
+        for (std::uint32_t i = 0; i < boxes.size(); ++i) {
+            if (boxes[i].overlaps(lower, upper)) expected.push_back(i);
+        }
+        ASSERT_EQ(hits, expected) << "query " << q;
+    }
+}
+
 TEST(GaussianBvh, NearestCentresMatchBruteForce) {
     std::mt19937 random(7);
     std::vector<Box> points(3000);

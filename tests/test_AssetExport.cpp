@@ -1,0 +1,161 @@
+// Export as the DCC tools and medical readers expect it: grid names, classes,
+// metadata, derived densities, NIfTI geometry, transfer function files.
+
+#include "AssetExport.h"
+#include "Error.h"
+#include "GridFile.h"
+#include "NiftiWriter.h"
+#include "Readers.h"
+#include "TestHelpers.h"
+#include "TransferFunctionFile.h"
+
+#include <gtest/gtest.h>
+
+namespace gvr {
+namespace {
+
+GaussianAsset smallAsset(int channels) {
+    GaussianAsset asset;
+    asset.params = test::randomGaussians(120, channels, 20.0f, 9);
+    asset.worldFromIndex.setToScale(openvdb::Vec3d(0.5, 0.5, 3.0));
+    asset.worldFromIndex(0, 1) = 0.1;  // oblique
+    asset.worldFromIndex.setTranslation(openvdb::Vec3d(-5.0, 2.0, 30.0));
+    asset.mapping.offset = {-1024.0, -1024.0, -1024.0};
+    asset.mapping.scale = 3000.0;
+    asset.source.channels = channels;
+    asset.source.dims = openvdb::Vec3i(22, 21, 20);
+    asset.source.valueMin = -1024.0;
+    asset.source.valueMax = 1976.0;
+    asset.source.sourceType = "int16";
+    return asset;
+}
+
+TEST(AssetExport, GreyBecomesADensityFogVolumeOnTheSourceGrid) {
+    initializeOpenVdb();
+    const GaussianAsset asset = smallAsset(1);
+    const ExportResult result = exportAsset(asset, ExportSettings{});
+    ASSERT_EQ(result.grids.size(), 1u);
+    const auto& grid = *result.grids[0];
+    EXPECT_EQ(grid.getName(), "density");
+    EXPECT_EQ(grid.getGridClass(), openvdb::GRID_FOG_VOLUME);
+    EXPECT_TRUE(grid.transform().baseMap()->getAffineMap()->getMat4().eq(asset.worldFromIndex));
+    EXPECT_EQ(result.lattice.box.dim(), openvdb::Coord(22, 21, 20));
+    EXPECT_EQ(result.threshold, -1024.0);  // no ingest threshold: the source minimum
+    const auto metadata = readVolumeMetadata(grid);
+    ASSERT_TRUE(metadata);
+    EXPECT_EQ(metadata->dims, openvdb::Vec3i(22, 21, 20));
+    EXPECT_EQ(metadata->sourceType, "int16");
+    EXPECT_GT(grid.activeVoxelCount(), 0u);
+}
+
+TEST(AssetExport, RgbGetsColourAndADerivedDensity) {
+    initializeOpenVdb();
+    const GaussianAsset asset = smallAsset(3);
+    ExportSettings settings;
+    settings.naming = GridNaming::Houdini;
+    const ExportResult result = exportAsset(asset, settings);
+    ASSERT_EQ(result.grids.size(), 2u);
+    EXPECT_EQ(result.grids[0]->getName(), "Cd");
+    EXPECT_EQ(result.grids[1]->getName(), "density");
+    EXPECT_EQ(result.grids[1]->getGridClass(), openvdb::GRID_FOG_VOLUME);
+    const auto colour = openvdb::gridConstPtrCast<openvdb::Vec3SGrid>(result.grids[0]);
+    const auto density = openvdb::gridConstPtrCast<openvdb::FloatGrid>(result.grids[1]);
+    ASSERT_TRUE(colour && density);
+    EXPECT_EQ(colour->activeVoxelCount(), density->activeVoxelCount());
+    for (auto voxel = colour->cbeginValueOn(); voxel; ++voxel) {
+        const double lum = 0.2126 * (*voxel)[0] + 0.7152 * (*voxel)[1] + 0.0722 * (*voxel)[2];
+        ASSERT_NEAR(density->tree().getValue(voxel.getCoord()), std::max(0.0, (lum + 1024.0) / 3000.0), 1e-5);
+    }
+    // With a transfer function, density is its opacity at the luminance.
+    settings.densityFrom = TransferFunction({{-1024.0, {0, 0, 0, 0}}, {1976.0, {1, 1, 1, 0.5f}}}, "test");
+    const auto ramp = openvdb::gridConstPtrCast<openvdb::FloatGrid>(exportAsset(asset, settings).grids[1]);
+    for (auto voxel = ramp->cbeginValueOn(); voxel; ++voxel) {
+        // The function holds its last value beyond its last point.
+        ASSERT_NEAR(*voxel, 0.5 * std::min(1.0f, density->tree().getValue(voxel.getCoord())), 1e-5);
+    }
+}
+
+TEST(AssetExport, DensityFromIsRefusedForGreyAssets) {
+    ExportSettings settings;
+    settings.densityFrom = TransferFunction({{0.0, {0, 0, 0, 1}}}, "test");
+    EXPECT_THROW(exportAsset(smallAsset(1), settings), InputError);
+}
+
+TEST(AssetExport, LatticeLikeAnotherGridStartsAtZero) {
+    initializeOpenVdb();
+    test::TempDir dir;
+    auto other = openvdb::FloatGrid::create(0.0f);
+    other->setName("density");
+    other->setTransform(openvdb::math::Transform::createLinearTransform(2.0));
+    other->tree().setValue(openvdb::Coord(10, 20, 30), 1.0f);
+    other->tree().setValue(openvdb::Coord(13, 21, 35), 1.0f);
+    writeGridFile(dir.path("other.vdb"), {other});
+    const Lattice lattice = latticeLike(dir.path("other.vdb"));
+    EXPECT_EQ(lattice.box, openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(3, 1, 5)));
+    EXPECT_TRUE(lattice.worldFromIndex.transform(openvdb::Vec3d(0.0)).eq(openvdb::Vec3d(20.0, 40.0, 60.0)));
+}
+
+TEST(NiftiWriter, RoundTripsValuesAndAnObliqueAffine) {
+    test::TempDir dir;
+    FloatVolume volume(openvdb::Coord(5, 4, 3), 1);
+    for (std::size_t n = 0; n < volume.values.size(); ++n) volume.values[n] = float(n) * 1.5f - 20.0f;
+    volume.worldFromIndex = smallAsset(1).worldFromIndex;
+    const std::string path = dir.path("out.nii.gz");
+    writeNifti(path, volume);
+    const DenseVolume back = readNifti(path, ReadOptions{});
+    ASSERT_EQ(back.dims, (std::array<std::int64_t, 3>{5, 4, 3}));
+    ASSERT_EQ(back.type, SampleType::Float32);
+    for (std::size_t n = 0; n < volume.values.size(); ++n) ASSERT_EQ(back.data<float>()[n], volume.values[n]);
+    EXPECT_TRUE(back.worldFromIndex.eq(volume.worldFromIndex, 1e-6));
+    // Only the file itself is left in the folder: no temporary.
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.root()), {}), 1);
+}
+
+TEST(NiftiWriter, RgbBecomesRgb24) {
+    test::TempDir dir;
+    FloatVolume volume(openvdb::Coord(3, 2, 2), 3);
+    for (std::size_t n = 0; n < volume.values.size(); ++n) volume.values[n] = float(n * 23) - 10.0f;
+    writeNifti(dir.path("rgb.nii"), volume);
+    const DenseVolume back = readNifti(dir.path("rgb.nii"), ReadOptions{});
+    ASSERT_EQ(back.channels, 3);
+    for (std::size_t n = 0; n < volume.values.size(); ++n) {
+        ASSERT_EQ(back.data<std::uint8_t>()[n], std::clamp(std::lround(volume.values[n]), 0L, 255L));
+    }
+}
+
+TEST(NiftiWriter, AMissingFolderLeavesNothing) {
+    test::TempDir dir;
+    EXPECT_THROW(writeNifti(dir.path("missing/out.nii.gz"), FloatVolume(openvdb::Coord(2), 1)), InputError);
+    EXPECT_FALSE(std::filesystem::exists(dir.path("missing")));
+}
+
+TEST(TransferFunctionFile, ReadsPointsAndRejectsBadOnes) {
+    test::TempDir dir;
+    test::writeBytes(dir.path("ok.json"), R"({"points": [[-100, 0, 0, 0, 0], [100, 1, 0.5, 0.25, 1]]})");
+    const TransferFunction tf = readTransferFunction(dir.path("ok.json"));
+    const auto middle = tf(0.0);
+    EXPECT_FLOAT_EQ(middle[0], 0.5f);
+    EXPECT_FLOAT_EQ(middle[1], 0.25f);
+    EXPECT_FLOAT_EQ(middle[3], 0.5f);
+    EXPECT_EQ(tf(-1e9)[3], 0.0f);
+    EXPECT_EQ(tf(1e9)[3], 1.0f);
+    const std::pair<const char*, const char*> bad[] = {
+        {"notjson.json", "{points"},
+        {"empty.json", R"({"points": []})"},
+        {"short.json", R"({"points": [[0, 1, 1, 1]]})"},
+        {"order.json", R"({"points": [[5, 0, 0, 0, 0], [5, 1, 1, 1, 1]]})"},
+        {"range.json", R"({"points": [[0, 0, 0, 0, 1.5]]})"},
+    };
+    for (const auto& [name, text] : bad) {
+        test::writeBytes(dir.path(name), text);
+        try {
+            readTransferFunction(dir.path(name));
+            ADD_FAILURE() << name << " was accepted";
+        } catch (const InputError& error) {
+            EXPECT_NE(std::string(error.what()).find(name), std::string::npos) << error.what();
+        }
+    }
+}
+
+}  // namespace
+}  // namespace gvr

@@ -1,0 +1,128 @@
+// gvr export, eval and probe as a user meets them.
+
+#include "TestHelpers.h"
+
+#include <nlohmann/json.hpp>
+
+namespace gvr {
+namespace {
+
+using test::runGvr;
+
+/// A small fitted asset in @a dir, with the fit's own JSON report.
+std::string smallAsset(const test::TempDir& dir, nlohmann::json* fitReport = nullptr) {
+    const std::string grid = test::smallGrid(dir), asset = dir.path("small.asset");
+    const test::CommandResult fit =
+        runGvr("fit -q '" + grid + "' -o '" + asset + "' --gaussians 150 --iterations 80 --json", dir);
+    EXPECT_EQ(fit.exitCode, 0) << fit.err;
+    if (fitReport) *fitReport = nlohmann::json::parse(fit.out);
+    return asset;
+}
+
+TEST(CliExport, ExportThenEvalAgreesWithTheFit) {
+    test::TempDir dir;
+    nlohmann::json fit;
+    const std::string asset = smallAsset(dir, &fit);
+    const std::string output = dir.path("rec.vdb");
+    const test::CommandResult exported = runGvr("export -q '" + asset + "' -o '" + output + "' --json", dir);
+    ASSERT_EQ(exported.exitCode, 0) << exported.err;
+    const nlohmann::json report = nlohmann::json::parse(exported.out);
+    EXPECT_EQ(report["dims"], nlohmann::json({24, 20, 16}));
+    EXPECT_EQ(report["grids"][0]["name"], "density");
+
+    const test::CommandResult eval = runGvr("eval --json '" + dir.path("small.vdb") + "' '" + output + "'", dir);
+    ASSERT_EQ(eval.exitCode, 0) << eval.err;
+    const nlohmann::json metrics = nlohmann::json::parse(eval.out);
+    for (const char* key : {"mse", "psnr", "fg_psnr", "ssim", "ms_ssim", "peak"}) {
+        EXPECT_TRUE(metrics.contains(key)) << key;
+    }
+    // The same field on the same voxels: only the export threshold (values at or
+    // below the minimum become background) may move it, and only closer.
+    const double fitPsnr = fit["psnr_db"].get<double>(), evalPsnr = metrics["psnr"].get<double>();
+    EXPECT_GE(evalPsnr, fitPsnr - 0.01);
+    EXPECT_LT(evalPsnr, fitPsnr + 1.0);
+    EXPECT_GT(metrics["ssim"].get<double>(), 0.5);
+    EXPECT_EQ(metrics["ms_ssim_scales"], 1);  // 16 voxels deep: too small for more
+}
+
+TEST(CliExport, NiftiAndResizedGrids) {
+    test::TempDir dir;
+    const std::string asset = smallAsset(dir);
+    const test::CommandResult run = runGvr("export -q '" + asset + "' -o '" + dir.path("fine.vdb") +
+                                               "' --voxel-size 0.5 --format nifti --json", dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const nlohmann::json report = nlohmann::json::parse(run.out);
+    EXPECT_EQ(report["dims"], nlohmann::json({48, 40, 32}));
+    EXPECT_EQ(report["nifti"], dir.path("fine.nii.gz"));
+    EXPECT_TRUE(std::filesystem::exists(dir.path("fine.nii.gz")));
+    const test::CommandResult info = runGvr("info --json '" + dir.path("fine.nii.gz") + "'", dir);
+    ASSERT_EQ(info.exitCode, 0) << info.err;
+    EXPECT_NE(info.out.find("48"), std::string::npos);
+
+    const test::CommandResult coarse =
+        runGvr("export -q '" + asset + "' -o '" + dir.path("coarse.vdb") + "' --resolution 12 --json", dir);
+    ASSERT_EQ(coarse.exitCode, 0) << coarse.err;
+    EXPECT_EQ(nlohmann::json::parse(coarse.out)["dims"], nlohmann::json({12, 10, 8}));
+}
+
+TEST(CliExport, BadInputLeavesNoFiles) {
+    test::TempDir dir;
+    const std::string asset = smallAsset(dir);
+    std::filesystem::create_directory(dir.path("out"));
+    const std::string out = "' -o '" + dir.path("out/x.vdb") + "'";
+    test::writeBytes(dir.path("bad.asset"), std::string("GVRASSET") + std::string(40, '\1'));
+    for (const std::string& arguments :
+         {"export '" + dir.path("bad.asset") + out, "export '" + asset + out + " --voxel-size 0",
+          "export '" + asset + out + " --voxel-size 1e-7 --format nifti",
+          "export '" + asset + out + " --density-from '" + dir.path("missing.json") + "'",
+          "export '" + asset + out + " --like '" + dir.path("bad.asset") + "'"}) {
+        const test::CommandResult run = runGvr(arguments, dir);
+        EXPECT_EQ(run.exitCode, 2) << arguments << "\n" << run.err;
+        EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
+        EXPECT_TRUE(std::filesystem::is_empty(dir.path("out"))) << arguments;
+    }
+}
+
+TEST(CliEval, IdenticalInputsPrintInfinity) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    const test::CommandResult text = runGvr("eval '" + grid + "' '" + grid + "'", dir);
+    ASSERT_EQ(text.exitCode, 0) << text.err;
+    EXPECT_NE(text.out.find("PSNR     inf dB"), std::string::npos) << text.out;
+    const nlohmann::json metrics = nlohmann::json::parse(runGvr("eval --json '" + grid + "' '" + grid + "'", dir).out);
+    EXPECT_EQ(metrics["psnr"], "inf");
+    EXPECT_EQ(metrics["mse"], 0.0);
+    EXPECT_DOUBLE_EQ(metrics["ssim"].get<double>(), 1.0);
+    EXPECT_DOUBLE_EQ(metrics["ms_ssim"].get<double>(), 1.0);
+    EXPECT_EQ(metrics["peak"], 200.0);  // the raw volume's range, 0..200
+}
+
+TEST(CliEval, MismatchedGridsNeedResample) {
+    test::TempDir dir;
+    const std::string asset = smallAsset(dir);
+    ASSERT_EQ(runGvr("export -q '" + asset + "' -o '" + dir.path("fine.vdb") + "' --voxel-size 0.5", dir).exitCode, 0);
+    const std::string pair = " '" + dir.path("small.vdb") + "' '" + dir.path("fine.vdb") + "'";
+    const test::CommandResult refused = runGvr("eval" + pair, dir);
+    EXPECT_EQ(refused.exitCode, 2);
+    EXPECT_EQ(test::lineCount(refused.err), 1u) << refused.err;
+    EXPECT_NE(refused.err.find("--resample"), std::string::npos) << refused.err;
+    const test::CommandResult resampled = runGvr("eval --json --resample" + pair, dir);
+    ASSERT_EQ(resampled.exitCode, 0) << resampled.err;
+    EXPECT_GT(nlohmann::json::parse(resampled.out)["psnr"].get<double>(), 20.0);
+}
+
+TEST(CliProbe, ValuesMatchTheExportedGrid) {
+    test::TempDir dir;
+    const std::string asset = smallAsset(dir);
+    ASSERT_EQ(runGvr("export -q '" + asset + "' -o '" + dir.path("rec.vdb") + "'", dir).exitCode, 0);
+    const test::CommandResult probe = runGvr("probe --json '" + asset + "' --index 8,10,8 --index 0,0,0", dir);
+    ASSERT_EQ(probe.exitCode, 0) << probe.err;
+    const nlohmann::json points = nlohmann::json::parse(probe.out)["points"];
+    ASSERT_EQ(points.size(), 2u);
+    EXPECT_GT(points[0]["value"][0].get<double>(), 100.0);  // the blob's centre holds 200
+    EXPECT_GT(points[0]["gaussians"].get<int>(), 0);
+    EXPECT_EQ(runGvr("probe '" + asset + "' --index 1,2", dir).exitCode, 2);
+}
+
+}  // namespace
+}  // namespace gvr

@@ -1,0 +1,122 @@
+// The metrics on cases with known answers. Agreement with scikit-image is checked
+// by metrics_vs_skimage.py.
+
+#include "Fitter.h"
+#include "QualityMetrics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace gvr {
+namespace {
+
+/// A smooth volume with structure at several scales, in 0..1000.
+FloatVolume smoothVolume(openvdb::Coord dims, int channels = 1) {
+    FloatVolume v(dims, channels);
+    for (int k = 0; k < dims.z(); ++k) {
+        for (int j = 0; j < dims.y(); ++j) {
+            for (int i = 0; i < dims.x(); ++i) {
+                for (int c = 0; c < channels; ++c) {
+                    v.at(i, j, k)[c] = float(500 + 300 * std::sin(0.21 * i + c) * std::cos(0.13 * j) +
+                                             150 * std::sin(0.4 * k + 0.05 * i * j / (1 + k)));
+                }
+            }
+        }
+    }
+    return v;
+}
+
+FloatVolume withNoise(const FloatVolume& v, double sigma, unsigned seed) {
+    FloatVolume out = v;
+    std::mt19937 random(seed);
+    std::normal_distribution<double> noise(0.0, sigma);
+    for (float& x : out.values) x = float(x + noise(random));
+    return out;
+}
+
+TEST(QualityMetrics, IdenticalInputsArePerfect) {
+    const FloatVolume v = smoothVolume({40, 36, 30});
+    SsimSettings settings;
+    settings.dataRange = 1000.0;
+    EXPECT_EQ(meanSquaredError(v, v), 0.0);
+    EXPECT_TRUE(std::isinf(psnrFromMse(meanSquaredError(v, v), 1000.0)));
+    EXPECT_NEAR(ssim(v, v, settings), 1.0, 1e-12);
+    EXPECT_NEAR(msSsim(v, v, settings).value, 1.0, 1e-12);
+}
+
+TEST(QualityMetrics, ConstantOffsetGivesExactMse) {
+    const FloatVolume v = smoothVolume({20, 18, 16}, 3);
+    FloatVolume shifted = v;
+    for (float& x : shifted.values) x += 2.5f;
+    EXPECT_NEAR(meanSquaredError(v, shifted), 6.25, 1e-4);
+    // A mask restricts the average to its voxels.
+    std::vector<std::uint8_t> mask(v.voxelCount(), 0);
+    FloatVolume partly = v;
+    for (std::size_t n = 0; n < mask.size(); n += 3) {
+        mask[n] = 1;
+        for (int c = 0; c < 3; ++c) partly.values[n * 3 + c] += 4.0f;
+    }
+    EXPECT_NEAR(meanSquaredError(v, partly, mask), 16.0, 1e-3);
+}
+
+TEST(QualityMetrics, GaussianNoiseGivesTheExpectedPsnr) {
+    const FloatVolume v = smoothVolume({64, 64, 48});
+    const double peak = 1000.0;
+    for (double sigma : {1.0, 10.0, 50.0}) {
+        const double psnr = psnrFromMse(meanSquaredError(v, withNoise(v, sigma, 11)), peak);
+        EXPECT_NEAR(psnr, 20.0 * std::log10(peak / sigma), 0.1) << "sigma " << sigma;
+    }
+}
+
+TEST(QualityMetrics, SsimFallsWithNoiseAndIsSymmetric) {
+    const FloatVolume v = smoothVolume({48, 48, 24});
+    SsimSettings settings;
+    settings.dataRange = 1000.0;
+    const FloatVolume slightly = withNoise(v, 5.0, 1), badly = withNoise(v, 80.0, 2);
+    const double good = ssim(v, slightly, settings), bad = ssim(v, badly, settings);
+    EXPECT_GT(good, bad);
+    EXPECT_LT(good, 1.0);
+    EXPECT_GT(bad, 0.0);
+    EXPECT_NEAR(ssim(slightly, v, settings), good, 1e-12);
+}
+
+TEST(QualityMetrics, ScalesFallBackForSmallVolumes) {
+    SsimSettings settings;
+    EXPECT_EQ(msSsimScales({181, 217, 181}, settings), 5);
+    EXPECT_EQ(msSsimScales({256, 240, 1}, settings), 5);     // an image: z is not smoothed
+    EXPECT_EQ(msSsimScales({64, 64, 1}, settings), 3);       // 64 -> 32 -> 16 (-> 8 < 11)
+    EXPECT_EQ(msSsimScales({256, 286, 15}, settings), 1);    // 15 slices: only the first scale
+    EXPECT_EQ(msSsimScales({8, 8, 8}, settings), 1);         // nothing to smooth at all
+    const FloatVolume v = smoothVolume({64, 64, 1});
+    settings.dataRange = 1000.0;
+    const MsSsim small = msSsim(v, withNoise(v, 20.0, 3), settings);
+    EXPECT_EQ(small.scales, 3);
+    EXPECT_GT(small.value, 0.0);
+    EXPECT_LT(small.value, 1.0);
+}
+
+TEST(QualityMetrics, TinyVolumesStillGiveFiniteValues) {
+    const FloatVolume v = smoothVolume({5, 4, 3});
+    SsimSettings settings;
+    settings.dataRange = 1000.0;
+    const FloatVolume noisy = withNoise(v, 30.0, 4);
+    EXPECT_TRUE(std::isfinite(ssim(v, noisy, settings)));
+    EXPECT_TRUE(std::isfinite(msSsim(v, noisy, settings).value));
+}
+
+TEST(QualityMetrics, ResamplingOntoTheSameLatticeIsExact) {
+    FloatVolume v = smoothVolume({12, 10, 8});
+    v.worldFromIndex.setToScale(openvdb::Vec3d(0.5, 0.5, 2.0));
+    const FloatVolume same = resampleTrilinear(v, v.dims, v.worldFromIndex);
+    EXPECT_EQ(meanSquaredError(v, same), 0.0);
+    // Half-voxel shifts along x average neighbours.
+    openvdb::math::Mat4d shifted = v.worldFromIndex;
+    shifted.setTranslation(openvdb::Vec3d(0.25, 0.0, 0.0));
+    const FloatVolume half = resampleTrilinear(v, v.dims, shifted);
+    EXPECT_NEAR(half.at(3, 4, 5)[0], 0.5f * (v.at(3, 4, 5)[0] + v.at(4, 4, 5)[0]), 1e-3);
+}
+
+}  // namespace
+}  // namespace gvr
