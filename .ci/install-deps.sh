@@ -9,5 +9,6 @@ apt-get install -y -qq --no-install-recommends \
   libopenimageio-dev libembree-dev libgtest-dev libnifti2-dev libgdcm-dev libcli11-dev \
   nlohmann-json3-dev libzfp-dev libvolpack1-dev \
   mricron-data \
-  python3 python3-openvdb python3-numpy python3-nibabel \
+  python3 python3-openvdb python3-numpy python3-nibabel python3-skimage python3-pil \
+  blender \
   > /dev/null

@@ -14,12 +14,9 @@ Run from the project root after .ci/build.sh; needs ../shared/data.
 import csv
 import json
 import os
-import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-GVR = os.path.join(ROOT, "build", "cli", "gvr")
-DATA = os.path.join(ROOT, "..", "shared", "data")
+from benchlib import DATA, ROOT, baseline_rss_mib, run, volume_mib
 
 # name, input, ingest flags, ratio, seconds, target dB, reference quoted by the issue
 CASES = [
@@ -28,18 +25,6 @@ CASES = [
     ("brainmaps54", "rgb-brainmaps54-cryosection", ["--spacing", "1,1,3.5"], 10, 600, 36.0,
      "ZFP: 43.0 dB at 9.7:1"),
 ]
-
-
-def baseline_rss_mib():
-    """Peak RSS of gvr doing nothing: the shared libraries it maps at start."""
-    probe = ("import resource, subprocess, sys; subprocess.run([sys.argv[1], '--version'], "
-             "capture_output=True); print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)")
-    kib = subprocess.run([sys.executable, "-c", probe, GVR], capture_output=True, text=True, check=True).stdout
-    return int(kib) / 1024
-
-
-def run(arguments):
-    return subprocess.run([GVR] + arguments, check=True, capture_output=True, text=True).stdout
 
 
 def curve(log_path, points=10):
@@ -55,10 +40,7 @@ def curve(log_path, points=10):
 def bench(name, source, ingest_flags, ratio, seconds, target_db, reference, out, baseline_mib):
     grid = os.path.join(out, name + ".vdb")
     run(["ingest", "-q", os.path.join(DATA, source), "-o", grid] + ingest_flags)
-    info = json.loads(run(["info", "--json", grid]))["grids"][0]
-    dims = json.loads(info["metadata"]["gvr_dims"])
-    channels = int(info["metadata"]["gvr_channels"])
-    float32_mib = dims[0] * dims[1] * dims[2] * channels * 4 / 2**20
+    float32_mib, _ = volume_mib(grid)
     log = os.path.join(out, name + ".csv")
     result = json.loads(run(["fit", "-q", grid, "-o", os.path.join(out, name + ".gvr"), "--ratio", str(ratio),
                              "--time", str(seconds), "--log", log, "--json"]))

@@ -195,6 +195,7 @@ openvdb::GridBase::Ptr buildTyped(const DenseVolume& volume, const GridBuildSett
     if (volume.channels == 1) {
         grid = buildSparseGrid<openvdb::FloatGrid>(values, volume, cut, float(background[0]), progress);
         grid->setName("density");
+        grid->setGridClass(openvdb::GRID_FOG_VOLUME);  // what Blender and Houdini expect of density
     } else {
         grid = buildSparseGrid<openvdb::Vec3SGrid>(values, volume, cut, openvdb::Vec3s(background),
                                                    progress);

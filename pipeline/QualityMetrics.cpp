@@ -20,18 +20,23 @@ void requireSameShape(const FloatVolume& a, const FloatVolume& b) {
     }
 }
 
-/// One channel in double precision: local variances are differences of large
-/// squares (HU squared reaches 1e7), which float would round away.
+/// One channel of a volume, read in place: the samples of a FloatVolume (every
+/// `stride`-th float) or of a coarser scale that owns its samples. Statistics are
+/// summed in double, since local variances are differences of large squares (HU
+/// squared reaches 1e7).
 struct Channel {
     openvdb::Coord dims;
-    std::vector<double> v;
-    double at(int i, int j, int k) const { return v[(std::size_t(k) * dims.y() + j) * dims.x() + i]; }
+    const float* samples = nullptr;
+    int stride = 1;
+    std::vector<float> owned;  ///< a coarser scale's samples; `samples` points here
+
+    double at(int i, int j, int k) const {
+        return samples[((std::size_t(k) * dims.y() + j) * dims.x() + i) * stride];
+    }
 };
 
 Channel channelOf(const FloatVolume& volume, int channel) {
-    Channel out{volume.dims, std::vector<double>(volume.voxelCount())};
-    for (std::size_t n = 0; n < out.v.size(); ++n) out.v[n] = volume.values[n * volume.channels + channel];
-    return out;
+    return {volume.dims, volume.values.data() + channel, volume.channels, {}};
 }
 
 using Axes = std::array<bool, 3>;
@@ -155,12 +160,13 @@ private:
 };
 
 /// Halves the smoothed axes by averaging pairs, dropping an odd last sample.
-Channel halve(const Channel& in, const Axes& smoothed) {
+/// Returned through @a out, whose samples must not move once they are pointed at.
+void halve(const Channel& in, const Axes& smoothed, Channel& out) {
     openvdb::Coord dims = in.dims;
     for (int axis = 0; axis < 3; ++axis) {
         if (smoothed[axis]) dims[axis] /= 2;
     }
-    Channel out{dims, std::vector<double>(std::size_t(dims.x()) * dims.y() * dims.z(), 0.0)};
+    std::vector<float> samples(std::size_t(dims.x()) * dims.y() * dims.z(), 0.0f);
     const int fx = smoothed[0] ? 2 : 1, fy = smoothed[1] ? 2 : 1, fz = smoothed[2] ? 2 : 1;
     const double norm = 1.0 / (fx * fy * fz);
     tbb::parallel_for(0, dims.z(), [&](int k) {
@@ -172,11 +178,14 @@ Channel halve(const Channel& in, const Axes& smoothed) {
                         for (int dx = 0; dx < fx; ++dx) sum += in.at(i * fx + dx, j * fy + dy, k * fz + dz);
                     }
                 }
-                out.v[(std::size_t(k) * dims.y() + j) * dims.x() + i] = sum * norm;
+                samples[(std::size_t(k) * dims.y() + j) * dims.x() + i] = float(sum * norm);
             }
         }
     });
-    return out;
+    out.dims = dims;
+    out.owned = std::move(samples);
+    out.samples = out.owned.data();
+    out.stride = 1;
 }
 
 }  // namespace
@@ -241,8 +250,11 @@ MsSsim msSsim(const FloatVolume& a, const FloatVolume& b, const SsimSettings& se
             const double term = std::max(0.0, last ? terms.ssim : terms.cs);
             product *= std::pow(term, kMsSsimWeights[scale] / weightSum);
             if (!last) {
-                x = halve(x, smoothed);
-                y = halve(y, smoothed);
+                Channel coarserX, coarserY;
+                halve(x, smoothed, coarserX);
+                halve(y, smoothed, coarserY);
+                x = std::move(coarserX);
+                y = std::move(coarserY);
             }
         }
         result.value += product / a.channels;

@@ -10,12 +10,12 @@ writes a 65535-maxval PNM whose samples are byte-swapped 8-bit values.)
 
 Checks, with a fixed PSNR/SSIM peak P (--peak):
   - SSIM == skimage.metrics.structural_similarity(gaussian_weights=True, sigma=1.5,
-    use_sample_covariance=False, data_range=P) (channel_axis=-1 for RGB), |diff| < 1e-3;
+    use_sample_covariance=False, data_range=P) (channel_axis=-1 for RGB), |diff| < 1e-5;
   - MS-SSIM == a reference written here (5 scales, weights 0.0448 0.2856 0.3001 0.2363
     0.1333; Gaussian stats sigma 1.5 truncate 3.5; cs at scales < M, SSIM at scale M;
     maps averaged over the interior after cropping 5 pixels like skimage; 2x2 average
     downsampling after dropping an odd last row/column; fewer scales, with the weights
-    renormalised, when the smallest side at scale M would be < 11), |diff| < 1e-3, and
+    renormalised, when the smallest side at scale M would be < 11), |diff| < 1e-5, and
     ms_ssim_scales == the reference's scale count;
   - the reference's own single-scale SSIM equals skimage's to 1e-9;
   - identical inputs: psnr == "inf", ssim == 1, ms_ssim == 1 (1e-9).
@@ -39,7 +39,7 @@ WEIGHTS = np.array([0.0448, 0.2856, 0.3001, 0.2363, 0.1333])
 SIGMA, TRUNCATE = 1.5, 3.5
 WIN = 2 * int(TRUNCATE * SIGMA + 0.5) + 1  # 11, as skimage derives it
 PAD = (WIN - 1) // 2  # 5
-TOL = 1e-3
+TOL = 1e-5  # the issue asks for 1e-3; gvr agrees to about 1e-8
 PEAK = 1.0
 
 failures = []
