@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job (the README's first command): install, build, then run the pipeline
 # on the embedded default volume, Debian's Colin27 T1 MRI, and say where each output is.
-# Export and rendering join this job when they land.
+# Rendering joins this job when it lands.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash .ci/install-deps.sh
@@ -19,7 +19,15 @@ echo
 echo "== gvr info out/ch2.gvr"
 $gvr info out/ch2.gvr
 echo
+echo "== gvr export out/ch2.gvr -o out/ch2-reconstruction.vdb --format nifti"
+$gvr export out/ch2.gvr -o out/ch2-reconstruction.vdb --format nifti
+echo
+echo "== gvr eval out/ch2.vdb out/ch2-reconstruction.vdb"
+$gvr eval out/ch2.vdb out/ch2-reconstruction.vdb
+echo
 echo "Outputs:"
-echo "  sparse grid:         $(pwd)/out/ch2.vdb      (Blender/Houdini; gvr info out/ch2.vdb)"
-echo "  Gaussian asset:      $(pwd)/out/ch2.gvr      (gvr info out/ch2.gvr)"
+echo "  sparse grid:         $(pwd)/out/ch2.vdb                  (Blender/Houdini; gvr info out/ch2.vdb)"
+echo "  Gaussian asset:      $(pwd)/out/ch2.gvr                  (gvr info out/ch2.gvr)"
 echo "  error against time:  $(pwd)/out/ch2-fit.csv"
+echo "  reconstruction:      $(pwd)/out/ch2-reconstruction.vdb   (open in Blender or Houdini)"
+echo "  reconstruction NIfTI: $(pwd)/out/ch2-reconstruction.nii.gz"
