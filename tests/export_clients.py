@@ -29,30 +29,20 @@ matrix_object (Blender's index->object transform) against the nibabel affine.
 """
 import json
 import os
-import shutil
 import subprocess
 import sys
-import tempfile
 import textwrap
 import time
-import traceback
 
 import nibabel
 import numpy as np
+
+import checks
+from checks import check
 import pyopenvdb as vdb
 
 BLENDER = "/usr/bin/blender"
 LEAF = 8  # openvdb leaf node edge, in voxels
-
-failures = []
-
-
-def check(name, ok, detail=""):
-    print(f"{'PASS' if ok else 'FAIL'} {name}" + (f": {detail}" if detail else ""), flush=True)
-    if not ok:
-        failures.append(name)
-    return ok
-
 
 def run(args, **kwargs):
     started = time.time()
@@ -421,27 +411,10 @@ def rgb_case(gvr, shared, tmp):
     check_blender_geometry("RGB", result, grids_default["color"], expected_affine, dims)
 
 
-def main():
-    if len(sys.argv) < 4:
-        print(__doc__)
-        return 2
-    gvr, shared, work = sys.argv[1:4]
-    gvr = os.path.abspath(gvr)
-    os.makedirs(work, exist_ok=True)
-    tmp = tempfile.mkdtemp(prefix="export_clients_", dir=work)
-    started = time.time()
-    try:
-        grey_case(gvr, shared, tmp)
-        rgb_case(gvr, shared, tmp)
-    except Exception:
-        traceback.print_exc()
-        failures.append("exception")
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    print(f"{'FAILED' if failures else 'OK'}: {len(failures)} failed check(s) in {time.time() - started:.1f} s"
-          + (f": {failures}" if failures else ""))
-    return 1 if failures else 0
+def both_cases(gvr, shared, scratch):
+    grey_case(gvr, shared, scratch)
+    rgb_case(gvr, shared, scratch)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(checks.run(both_cases, __doc__))
