@@ -1,0 +1,176 @@
+#include "LatticeSampler.h"
+
+#include "Error.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace gvr {
+
+using openvdb::Coord;
+using openvdb::CoordBBox;
+using openvdb::Vec3d;
+using openvdb::math::Mat4d;
+
+namespace {
+
+/// A lattice this large would need more than 128 MiB just to mark occupied leaves.
+constexpr double kMaxLatticeVoxels = 68719476736.0;  // 2^36
+
+double axisLength(const Mat4d& worldFromIndex, int axis) {
+    return Vec3d(worldFromIndex(axis, 0), worldFromIndex(axis, 1), worldFromIndex(axis, 2)).length();
+}
+
+int toIndex(double v) { return int(std::clamp(v, -1073741824.0, 1073741824.0)); }
+
+/// The lattice voxels whose centres may lie inside the field-space box [lower, upper].
+CoordBBox latticeVoxelsIn(const float lower[3], const float upper[3], const Mat4d& latticeFromField) {
+    Vec3d lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (int corner = 0; corner < 8; ++corner) {
+        const Vec3d p = latticeFromField.transform(Vec3d(corner & 1 ? upper[0] : lower[0],
+                                                         corner & 2 ? upper[1] : lower[1],
+                                                         corner & 4 ? upper[2] : lower[2]));
+        lo = openvdb::math::minComponent(lo, p);
+        hi = openvdb::math::maxComponent(hi, p);
+    }
+    return CoordBBox(Coord(toIndex(std::ceil(lo[0])), toIndex(std::ceil(lo[1])), toIndex(std::ceil(lo[2]))),
+                     Coord(toIndex(std::floor(hi[0])), toIndex(std::floor(hi[1])), toIndex(std::floor(hi[2]))));
+}
+
+/// Field-space bounds of a box of lattice voxel centres, widened by a float ulp's worth.
+void fieldBoundsOf(const CoordBBox& voxels, const Mat4d& fieldFromLattice, float lower[3], float upper[3]) {
+    Vec3d lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (int corner = 0; corner < 8; ++corner) {
+        const Coord c(corner & 1 ? voxels.max().x() : voxels.min().x(), corner & 2 ? voxels.max().y() : voxels.min().y(),
+                      corner & 4 ? voxels.max().z() : voxels.min().z());
+        const Vec3d p = fieldFromLattice.transform(c.asVec3d());
+        lo = openvdb::math::minComponent(lo, p);
+        hi = openvdb::math::maxComponent(hi, p);
+    }
+    for (int a = 0; a < 3; ++a) {
+        const double pad = 1e-5 * (1.0 + std::max(std::abs(lo[a]), std::abs(hi[a])));
+        lower[a] = float(lo[a] - pad);
+        upper[a] = float(hi[a] + pad);
+    }
+}
+
+/// What each Gaussian can reach, as a box of lattice voxels.
+std::vector<CoordBBox> latticeReach(const GaussianField& field, const Mat4d& latticeFromField,
+                                    const CoordBBox& latticeBox) {
+    const std::vector<Box>& boxes = field.bvh().boxes();
+    std::vector<CoordBBox> reach(boxes.size());
+    tbb::parallel_for(std::size_t(0), boxes.size(), [&](std::size_t g) {
+        reach[g] = latticeVoxelsIn(boxes[g].lower.data(), boxes[g].upper.data(), latticeFromField);
+        reach[g].intersect(latticeBox);
+    });
+    return reach;
+}
+
+/// Origins of the leaves that at least one Gaussian reaches.
+std::vector<Coord> occupiedLeaves(const std::vector<CoordBBox>& reach, const CoordBBox& latticeBox, int leafDim) {
+    const int shift = int(std::log2(leafDim));
+    const Coord first(latticeBox.min().x() >> shift, latticeBox.min().y() >> shift, latticeBox.min().z() >> shift);
+    const Coord last(latticeBox.max().x() >> shift, latticeBox.max().y() >> shift, latticeBox.max().z() >> shift);
+    const Coord blocks = last - first + Coord(1);
+    std::vector<std::uint8_t> occupied(std::size_t(blocks.x()) * blocks.y() * blocks.z(), 0);
+    for (const CoordBBox& box : reach) {
+        if (box.empty()) continue;
+        for (int z = (box.min().z() >> shift); z <= (box.max().z() >> shift); ++z) {
+            for (int y = (box.min().y() >> shift); y <= (box.max().y() >> shift); ++y) {
+                for (int x = (box.min().x() >> shift); x <= (box.max().x() >> shift); ++x) {
+                    const Coord b = Coord(x, y, z) - first;
+                    occupied[(std::size_t(b.z()) * blocks.y() + b.y()) * blocks.x() + b.x()] = 1;
+                }
+            }
+        }
+    }
+    std::vector<Coord> origins;
+    for (int z = 0; z < blocks.z(); ++z) {
+        for (int y = 0; y < blocks.y(); ++y) {
+            for (int x = 0; x < blocks.x(); ++x) {
+                if (occupied[(std::size_t(z) * blocks.y() + y) * blocks.x() + x]) {
+                    origins.emplace_back((first.x() + x) << shift, (first.y() + y) << shift, (first.z() + z) << shift);
+                }
+            }
+        }
+    }
+    return origins;
+}
+
+}  // namespace
+
+Lattice sourceLattice(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims) {
+    return {worldFromIndex, CoordBBox(Coord(0), Coord(dims) - Coord(1))};
+}
+
+Lattice resizedLattice(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims, double voxelSizeMm) {
+    if (!(voxelSizeMm > 0.0) || !std::isfinite(voxelSizeMm)) {
+        throw InputError("--voxel-size", "must be a positive number of mm");
+    }
+    Mat4d sourceFromResized = Mat4d::identity();
+    Coord size;
+    double total = 1.0;
+    for (int axis = 0; axis < 3; ++axis) {
+        // One new voxel spans `step` source voxels; the cells start at the source's corner, -0.5.
+        const double step = voxelSizeMm / axisLength(worldFromIndex, axis);
+        const double count = std::max(1.0, std::ceil(dims[axis] / step - 1e-9));
+        total *= count;
+        if (count > 2147483647.0 || total > kMaxLatticeVoxels) {
+            throw InputError("--voxel-size", std::to_string(voxelSizeMm) + " mm would need more than 2^36 voxels");
+        }
+        size[axis] = int(count);
+        sourceFromResized(axis, axis) = step;
+        sourceFromResized(3, axis) = 0.5 * step - 0.5;
+    }
+    return {sourceFromResized * worldFromIndex, CoordBBox(Coord(0), size - Coord(1))};
+}
+
+double voxelSizeForResolution(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims, int samples) {
+    if (samples < 1) throw InputError("--resolution", "must be at least 1 voxel");
+    double longest = 0.0;
+    for (int axis = 0; axis < 3; ++axis) longest = std::max(longest, dims[axis] * axisLength(worldFromIndex, axis));
+    return longest / samples;
+}
+
+LatticeSampler::LatticeSampler(const GaussianField& field, const Mat4d& fieldWorldFromIndex, const Lattice& lattice)
+    : mField(field), mLattice(lattice), mFieldFromLattice(lattice.worldFromIndex * fieldWorldFromIndex.inverse()) {
+    mReach = latticeReach(field, fieldWorldFromIndex * lattice.worldFromIndex.inverse(), lattice.box);
+}
+
+std::vector<Coord> LatticeSampler::occupiedBlocks() const { return occupiedLeaves(mReach, mLattice.box, kBlockDim); }
+
+CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums) const {
+    CoordBBox voxels(origin, origin + Coord(kBlockDim - 1));
+    voxels.intersect(mLattice.box);
+    if (voxels.empty()) return voxels;
+    float points[kBlockVoxels][3];
+    for (auto ijk = voxels.begin(); ijk; ++ijk) {
+        const Vec3d p = mFieldFromLattice.transform((*ijk).asVec3d());
+        float* point = points[blockOffset(*ijk)];
+        for (int a = 0; a < 3; ++a) point[a] = float(p[a]);
+    }
+    // Each reaching Gaussian in index order: the order GaussianField::evaluate sums
+    // in, so both give the same float at the same point.
+    float lower[3], upper[3];
+    fieldBoundsOf(voxels, mFieldFromLattice, lower, upper);
+    std::vector<std::uint32_t> hits;
+    mField.bvh().overlapping(lower, upper, hits);
+    std::sort(hits.begin(), hits.end());
+    const int channels = mField.channels();
+    for (std::uint32_t index : hits) {
+        CoordBBox reached = mReach[index];
+        reached.intersect(voxels);
+        if (reached.empty()) continue;
+        const ActiveGaussian& g = mField.gaussians()[index];
+        for (auto ijk = reached.begin(); ijk; ++ijk) {
+            const int offset = blockOffset(*ijk);
+            accumulateValue(g, points[offset], mField.cutoff2(), channels, sums + offset * channels);
+        }
+    }
+    return voxels;
+}
+
+}  // namespace gvr

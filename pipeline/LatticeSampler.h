@@ -1,0 +1,74 @@
+/// @file LatticeSampler.h
+/// @brief The Gaussian field at the voxel centres of any lattice, one 8^3 block at a
+/// time: what export (onto grids) and the renderer (onto slice stacks) share.
+#pragma once
+
+#include "GaussianField.h"
+
+#include <openvdb/openvdb.h>
+
+#include <vector>
+
+namespace gvr {
+
+/// Where to sample: the voxel centres of @a box, placed in the world (mm) by
+/// @a worldFromIndex (OpenVDB's row-vector convention).
+struct Lattice {
+    openvdb::math::Mat4d worldFromIndex = openvdb::math::Mat4d::identity();
+    openvdb::CoordBBox box;
+};
+
+/// The source's own lattice: voxels (0, 0, 0) to dims - 1.
+Lattice sourceLattice(const openvdb::math::Mat4d& worldFromIndex, const openvdb::Vec3i& dims);
+
+/// The source's extent (its voxel cells, edge to edge) covered by voxels of
+/// @a voxelSizeMm along each of the source's index axes, starting at its corner.
+/// Axes keep their direction, so oblique and sheared volumes stay aligned.
+/// @throw InputError when the voxel size is not positive or would need more than
+///        2^31 voxels along an axis.
+Lattice resizedLattice(const openvdb::math::Mat4d& worldFromIndex, const openvdb::Vec3i& dims,
+                       double voxelSizeMm);
+
+/// The voxel size that puts @a samples voxels along the source's longest axis (in mm).
+double voxelSizeForResolution(const openvdb::math::Mat4d& worldFromIndex, const openvdb::Vec3i& dims,
+                              int samples);
+
+/// Blocks are 8^3 voxels, aligned like OpenVDB leaf nodes, with the same voxel order.
+constexpr int kBlockDim = 8;
+constexpr int kBlockVoxels = kBlockDim * kBlockDim * kBlockDim;
+
+/// Offset of @a ijk inside its block: z fastest, as openvdb::tree::LeafNode numbers voxels.
+inline int blockOffset(const openvdb::Coord& ijk) {
+    return ((ijk.x() & (kBlockDim - 1)) * kBlockDim + (ijk.y() & (kBlockDim - 1))) * kBlockDim + (ijk.z() & (kBlockDim - 1));
+}
+
+/// Evaluates @a field, which lives in the index space that @a fieldWorldFromIndex
+/// places in the world, at the voxel centres of a lattice. Each block asks the
+/// field's BVH once for the Gaussians whose truncated bounds reach it, then adds
+/// them up voxel by voxel in index order, so a voxel holds exactly what
+/// GaussianField::evaluate gives at the same point. Build once, then sample blocks
+/// from many threads.
+class LatticeSampler {
+public:
+    LatticeSampler(const GaussianField& field, const openvdb::math::Mat4d& fieldWorldFromIndex, const Lattice& lattice);
+
+    /// Origins of the blocks that at least one Gaussian reaches, in z, y, x order.
+    std::vector<openvdb::Coord> occupiedBlocks() const;
+
+    /// Adds the field (normalised units, channels() floats per voxel) into @a sums at
+    /// blockOffset() of each voxel of the block at @a origin that lies in the
+    /// lattice; voxels no Gaussian reaches are left as they were.
+    /// @return the block's voxels inside the lattice (empty if none).
+    openvdb::CoordBBox sampleBlock(const openvdb::Coord& origin, float* sums) const;
+
+    int channels() const { return mField.channels(); }
+    const Lattice& lattice() const { return mLattice; }
+
+private:
+    const GaussianField& mField;
+    Lattice mLattice;
+    openvdb::math::Mat4d mFieldFromLattice;
+    std::vector<openvdb::CoordBBox> mReach;  ///< lattice voxels each Gaussian can reach
+};
+
+}  // namespace gvr
