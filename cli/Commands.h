@@ -12,5 +12,6 @@ void addFitCommand(CLI::App& app);
 void addExportCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addProbeCommand(CLI::App& app);
+void addRenderCommand(CLI::App& app);
 
 }  // namespace gvr

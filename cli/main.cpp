@@ -9,7 +9,7 @@
 
 int main(int argc, char** argv) {
     CLI::App app{"gvr: turn medical volumes into sparse OpenVDB grids and compact Gaussian assets, "
-                 "and evaluate reconstructions"};
+                 "evaluate and render them"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "gvr 0.1.0");
     gvr::addIngestCommand(app);
@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     gvr::addExportCommand(app);
     gvr::addEvalCommand(app);
     gvr::addProbeCommand(app);
+    gvr::addRenderCommand(app);
     try {
         app.parse(argc, argv);
         return 0;

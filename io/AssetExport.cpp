@@ -56,7 +56,7 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     result.lattice = settings.lattice.value_or(sourceLattice(asset.worldFromIndex, dims));
     result.threshold = settings.threshold.value_or(asset.source.threshold.value_or(asset.source.valueMin));
     const GaussianField field(asset.params, asset.cutoffSigmas);
-    const FieldToGridSettings sampling{asset.mapping, result.threshold};
+    const FieldToGridSettings sampling{asset.mapping, result.threshold, sourceLattice(asset.worldFromIndex, dims).box};
     openvdb::GridBase::Ptr values = fieldToGrid(field, asset.worldFromIndex, result.lattice, sampling, progress);
     result.grids.push_back(values);
     if (auto colour = openvdb::GridBase::grid<openvdb::Vec3SGrid>(values)) {

@@ -70,7 +70,7 @@ typename GridT::Ptr sampleInto(const LatticeSampler& sampler, const FieldToGridS
 openvdb::GridBase::Ptr fieldToGrid(const GaussianField& field, const openvdb::math::Mat4d& fieldWorldFromIndex,
                                    const Lattice& lattice, const FieldToGridSettings& settings,
                                    const ProgressFn& progress) {
-    const LatticeSampler sampler(field, fieldWorldFromIndex, lattice);
+    const LatticeSampler sampler(field, fieldWorldFromIndex, lattice, settings.fieldBox);
     openvdb::GridBase::Ptr grid;
     if (field.channels() == 1) {
         grid = sampleInto<openvdb::FloatGrid>(sampler, settings, progress);

@@ -135,9 +135,15 @@ double voxelSizeForResolution(const Mat4d& worldFromIndex, const openvdb::Vec3i&
     return longest / samples;
 }
 
-LatticeSampler::LatticeSampler(const GaussianField& field, const Mat4d& fieldWorldFromIndex, const Lattice& lattice)
-    : mField(field), mLattice(lattice), mFieldFromLattice(lattice.worldFromIndex * fieldWorldFromIndex.inverse()) {
+LatticeSampler::LatticeSampler(const GaussianField& field, const Mat4d& fieldWorldFromIndex, const Lattice& lattice,
+                               const CoordBBox& fieldBox)
+    : mField(field), mLattice(lattice), mFieldFromLattice(lattice.worldFromIndex * fieldWorldFromIndex.inverse()),
+      mFieldCells(fieldBox.min().asVec3d() - Vec3d(0.5), fieldBox.max().asVec3d() + Vec3d(0.5)) {
     mReach = latticeReach(field, fieldWorldFromIndex * lattice.worldFromIndex.inverse(), lattice.box);
+}
+
+std::size_t LatticeSampler::reachingGaussians() const {
+    return std::size_t(std::count_if(mReach.begin(), mReach.end(), [](const CoordBBox& box) { return !box.empty(); }));
 }
 
 std::vector<Coord> LatticeSampler::occupiedBlocks() const { return occupiedLeaves(mReach, mLattice.box, kBlockDim); }
@@ -147,10 +153,12 @@ CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums) const {
     voxels.intersect(mLattice.box);
     if (voxels.empty()) return voxels;
     float points[kBlockVoxels][3];
+    bool outside[kBlockVoxels];
     for (auto ijk = voxels.begin(); ijk; ++ijk) {
         const Vec3d p = mFieldFromLattice.transform((*ijk).asVec3d());
-        float* point = points[blockOffset(*ijk)];
-        for (int a = 0; a < 3; ++a) point[a] = float(p[a]);
+        const int offset = blockOffset(*ijk);
+        for (int a = 0; a < 3; ++a) points[offset][a] = float(p[a]);
+        outside[offset] = !mFieldCells.isInside(p);
     }
     // Each reaching Gaussian in index order: the order GaussianField::evaluate sums
     // in, so both give the same float at the same point.
@@ -167,6 +175,7 @@ CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums) const {
         const ActiveGaussian& g = mField.gaussians()[index];
         for (auto ijk = reached.begin(); ijk; ++ijk) {
             const int offset = blockOffset(*ijk);
+            if (outside[offset]) continue;
             accumulateValue(g, points[offset], mField.cutoff2(), channels, sums + offset * channels);
         }
     }

@@ -50,7 +50,10 @@ inline int blockOffset(const openvdb::Coord& ijk) {
 /// from many threads.
 class LatticeSampler {
 public:
-    LatticeSampler(const GaussianField& field, const openvdb::math::Mat4d& fieldWorldFromIndex, const Lattice& lattice);
+    /// @param fieldBox  the voxels the field stands for (its source volume): lattice
+    ///                  points outside their cells get nothing, as outside the volume
+    LatticeSampler(const GaussianField& field, const openvdb::math::Mat4d& fieldWorldFromIndex, const Lattice& lattice,
+                   const openvdb::CoordBBox& fieldBox);
 
     /// Origins of the blocks that at least one Gaussian reaches, in z, y, x order.
     std::vector<openvdb::Coord> occupiedBlocks() const;
@@ -63,11 +66,14 @@ public:
 
     int channels() const { return mField.channels(); }
     const Lattice& lattice() const { return mLattice; }
+    /// How many Gaussians reach the lattice at all.
+    std::size_t reachingGaussians() const;
 
 private:
     const GaussianField& mField;
     Lattice mLattice;
     openvdb::math::Mat4d mFieldFromLattice;
+    openvdb::BBoxd mFieldCells;  ///< fieldBox grown by half a voxel: its cells, edge to edge
     std::vector<openvdb::CoordBBox> mReach;  ///< lattice voxels each Gaussian can reach
 };
 

@@ -140,6 +140,28 @@ TEST(FieldToGrid, TwiceTheResolutionIsSeamlessAcrossLeaves) {
     EXPECT_LE(worstBorder, worstInside * 1.01f) << "a seam: leaf borders bend more than leaf interiors";
 }
 
+TEST(FieldToGrid, NothingOutsideTheFieldsOwnVoxels) {
+    const GaussianField field(test::randomGaussians(100, 1, 20.0f, 6), 3.0f);
+    FieldToGridSettings settings;
+    settings.fieldBox = openvdb::CoordBBox(Coord(0), Coord(9, 19, 19));  // the source stopped at i = 9
+    const Lattice wide = sourceLattice(Mat4d::identity(), openvdb::Vec3i(20, 20, 20));
+    const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(fieldToGrid(field, Mat4d::identity(), wide, settings));
+    std::vector<std::uint32_t> hits;
+    std::size_t inside = 0;
+    for (auto ijk = wide.box.begin(); ijk; ++ijk) {
+        if ((*ijk).x() > 9) {
+            ASSERT_FALSE(grid->tree().isValueOn(*ijk)) << *ijk;
+            continue;
+        }
+        const float x[3] = {float((*ijk).x()), float((*ijk).y()), float((*ijk).z())};
+        float value;
+        field.evaluate(x, &value, hits);
+        ASSERT_EQ(grid->tree().getValue(*ijk), value) << *ijk;
+        inside += grid->tree().isValueOn(*ijk);
+    }
+    EXPECT_GT(inside, 100u);
+}
+
 TEST(FieldToGrid, NoGaussiansGiveAnEmptyGrid) {
     const GaussianField field(GaussianParameters(0, 1), 3.0f);
     const auto grid = fieldToGrid(field, Mat4d::identity(), sourceLattice(Mat4d::identity(), openvdb::Vec3i(9, 9, 9)),

@@ -1,0 +1,177 @@
+// gvr render INPUT -o frame.png: shear-warp (or ray-marched) images of an asset or grid.
+
+#include "AtomicFile.h"
+#include "Commands.h"
+#include "Error.h"
+#include "FieldToGrid.h"
+#include "GaussianAsset.h"
+#include "ImageFile.h"
+#include "ProgressBar.h"
+#include "RayMarcher.h"
+#include "ShearWarp.h"
+#include "SourceOptions.h"
+#include "TransferFunctionFile.h"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace gvr {
+
+namespace {
+
+struct RenderFlags {
+    std::string input, output, size = "512x512", tf, renderer = "shear-warp", statsPath;
+    double azimuth = 30.0, elevation = 15.0, stepVoxels = 0.5;
+    std::optional<double> minScale;
+    int orbit = 0;
+    bool json = false, quiet = false;
+    ShearWarpSettings shearWarp;
+    SourceFlags source;
+};
+
+std::pair<int, int> parseSize(const std::string& text) {
+    int width = 0, height = 0;
+    char x = 0;
+    std::istringstream in(text);
+    if (!(in >> width >> x >> height) || x != 'x' || !(in >> std::ws).eof()) {
+        throw InputError("--size", "'" + text + "' is not WIDTHxHEIGHT, e.g. 512x512");
+    }
+    return {width, height};
+}
+
+/// The asset's field, or a grid; the ray marcher always gets a grid.
+std::unique_ptr<RenderVolume> loadVolume(const RenderFlags& flags) {
+    if (isAssetFile(flags.input)) {
+        const GaussianAsset asset = readAsset(flags.input);
+        if (flags.renderer == "raymarch") {  // march the asset's field exported onto its source grid
+            const GaussianField field(asset.params, asset.cutoffSigmas);
+            const Lattice lattice = sourceLattice(asset.worldFromIndex, asset.source.dims);
+            return std::make_unique<GridRenderVolume>(fieldToGrid(field, asset.worldFromIndex, lattice,
+                                                                  {asset.mapping, std::nullopt, lattice.box}));
+        }
+        return std::make_unique<GaussianRenderVolume>(asset.params, asset.cutoffSigmas, asset.worldFromIndex,
+                                                      asset.source.dims, asset.mapping, asset.source.valueMax,
+                                                      asset.source.threshold.value_or(asset.source.valueMin),
+                                                      float(flags.minScale.value_or(0.5 * flags.shearWarp.sliceSpacingVoxels)));
+    }
+    return std::make_unique<GridRenderVolume>(loadOrIngest(flags.input, toIngestOptions(flags.source)).grid);
+}
+
+Classifier classifierFor(const RenderFlags& flags, const RenderVolume& volume) {
+    const bool isFile = !flags.tf.empty() && std::filesystem::is_regular_file(flags.tf);
+    TransferFunction tf = isFile ? readTransferFunction(flags.tf)
+                                 : presetTransferFunction(flags.tf.empty() ? defaultPreset(volume.channels(), volume.statistics())
+                                                                           : flags.tf,
+                                                          volume.statistics());
+    return Classifier(std::move(tf), volume.channels(), 1.0 / volume.valueMax());
+}
+
+/// frame.png -> frame_0007.png for frame 7 of an orbit.
+std::string framePath(const std::string& output, int index, int count) {
+    if (count <= 1) return output;
+    const std::filesystem::path path(output);
+    std::ostringstream name;
+    name << path.stem().string() << "_" << std::setw(4) << std::setfill('0') << index << path.extension().string();
+    return (path.parent_path() / name.str()).string();
+}
+
+nlohmann::json toJson(const FrameStats& s) {
+    return {{"index", s.index}, {"reused", s.reused}, {"build_ms", s.buildMs}, {"composite_ms", s.compositeMs},
+            {"warp_ms", s.warpMs}, {"total_ms", s.totalMs}, {"gaussians_touched", s.gaussiansTouched}};
+}
+
+void writeStats(const std::string& path, const nlohmann::json& frames) {
+    writeAtomically(path, [&](const std::string& temporary) {
+        std::ofstream out(temporary);
+        out << nlohmann::json{{"frames", frames}}.dump(2) << "\n";
+        if (!out) throw InputError(path, "cannot write the statistics");
+    });
+}
+
+void runRender(RenderFlags& flags) {
+    const std::string problem = flags.shearWarp.validate();
+    if (!problem.empty()) throw InputError("gvr render", problem);
+    if (!(flags.stepVoxels > 0.0 && flags.stepVoxels <= 0.5)) throw InputError("--step", "must be in (0, 0.5] voxels");
+    if (flags.orbit < 0 || flags.orbit > 3600) throw InputError("--orbit", "must be between 1 and 3600 frames");
+    const auto [width, height] = parseSize(flags.size);
+    const std::unique_ptr<RenderVolume> volume = loadVolume(flags);
+    const Classifier classifier = classifierFor(flags, *volume);
+    const auto corners = worldCorners(volume->worldFromIndex(), volume->box());
+    ShearWarpRenderer shearWarp(*volume, classifier, flags.shearWarp);
+    const int frames = std::max(1, flags.orbit);
+    nlohmann::json stats = nlohmann::json::array();
+    ProgressBar bar("rendering", !flags.quiet && frames > 1);
+    for (int f = 0; f < frames; ++f) {
+        const View view{flags.azimuth + 360.0 * f / frames, flags.elevation};
+        const OrthoCamera camera = makeCamera(view, corners, width, height);
+        FrameStats frame;
+        Framebuffer image;
+        if (flags.renderer == "raymarch") {
+            const auto start = std::chrono::steady_clock::now();
+            image = rayMarch(static_cast<const GridRenderVolume&>(*volume), classifier, camera, {flags.stepVoxels, flags.shearWarp.terminationOpacity});
+            frame.index = f;
+            frame.totalMs = frame.compositeMs =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        } else {
+            image = shearWarp.render(camera, &frame);
+        }
+        const std::string path = framePath(flags.output, f, frames);
+        writeImage(path, image.width, image.height, image.rgba.data());
+        stats.push_back(toJson(frame));
+        stats.back()["file"] = path;
+        bar.update(double(f + 1) / frames, "frame " + std::to_string(f + 1) + "/" + std::to_string(frames));
+    }
+    if (!flags.statsPath.empty()) writeStats(flags.statsPath, stats);
+    if (flags.json) {
+        std::cout << nlohmann::json{{"frames", stats}}.dump(2) << "\n";
+        return;
+    }
+    for (const auto& s : stats) {
+        std::cout << "wrote " << s["file"].get<std::string>() << ": " << std::fixed << std::setprecision(1)
+                  << s["total_ms"].get<double>() << " ms"
+                  << (flags.renderer == "raymarch" ? " (ray marched)"
+                                                   : (s["reused"].get<bool>() ? " (stack reused)"
+                                                                              : " (stack built in " +
+                                                                                    std::to_string(int(s["build_ms"].get<double>())) + " ms)"))
+                  << "\n";
+    }
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app) {
+    auto flags = std::make_shared<RenderFlags>();
+    CLI::App* command = app.add_subcommand(
+        "render", "Render a Gaussian asset or a grid with the shear-warp renderer (or the ray-marching "
+                  "reference) to PNG or EXR; orthographic views around the volume's centre");
+    command->add_option("input", flags->input, "Gaussian asset, .vdb grid, or any volume ingest reads")->required();
+    command->add_option("-o,--output", flags->output, "Image to write: .png (8-bit) or .exr (float)")->required();
+    command->add_option("--azimuth", flags->azimuth, "Degrees about the superior axis; 0 looks at the face")->capture_default_str();
+    command->add_option("--elevation", flags->elevation, "Degrees above the axial plane")->capture_default_str();
+    command->add_option("--orbit", flags->orbit, "Render N frames of a turntable, OUT_0000.png ...");
+    command->add_option("--size", flags->size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
+    command->add_option("--tf", flags->tf, "Transfer function: ct, ct-bone, mri, rgb, or a JSON file "
+                                           "(default: rgb for colour, ct for HU, else mri)");
+    command->add_option("--renderer", flags->renderer, "shear-warp, or raymarch (the reference)")
+        ->check(CLI::IsMember({"shear-warp", "raymarch"}))->capture_default_str();
+    command->add_option("--reuse-angle", flags->shearWarp.reuseAngleDeg,
+                        "Reuse the slice stack while the view is within this many degrees")->capture_default_str();
+    command->add_option("--slice-spacing", flags->shearWarp.sliceSpacingVoxels, "Slice spacing in voxels")->capture_default_str();
+    command->add_option("--termination", flags->shearWarp.terminationOpacity,
+                        "Early ray termination at this opacity")->capture_default_str();
+    command->add_option("--step", flags->stepVoxels, "Ray-march step in voxels (at most 0.5)")->capture_default_str();
+    command->add_option("--min-scale", flags->minScale,
+                        "Widen Gaussians thinner than this many voxels, keeping their mass, so that they "
+                        "cannot fall between slices (default: half the slice spacing; 0: off)");
+    command->add_option("--stats", flags->statsPath, "Write per-frame timings as JSON");
+    addSourceFlags(*command, flags->source);
+    command->add_flag("--json", flags->json, "Print the per-frame timings as JSON");
+    command->add_flag("-q,--quiet", flags->quiet, "No progress bar");
+    command->callback([flags] { runRender(*flags); });
+}
+
+}  // namespace gvr

@@ -1,0 +1,58 @@
+#include "ImageFile.h"
+
+#include "AtomicFile.h"
+#include "Error.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <vector>
+
+namespace gvr {
+
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+    std::string extension = std::filesystem::path(path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    return extension;
+}
+
+std::vector<std::uint8_t> straightBytes(int width, int height, const float* rgba) {
+    std::vector<std::uint8_t> bytes(std::size_t(width) * height * 4);
+    for (std::size_t p = 0; p < std::size_t(width) * height; ++p) {
+        const float alpha = rgba[p * 4 + 3];
+        for (int c = 0; c < 4; ++c) {
+            const float v = c == 3 ? alpha : (alpha > 0.0f ? rgba[p * 4 + c] / alpha : 0.0f);
+            bytes[p * 4 + c] = std::uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+        }
+    }
+    return bytes;
+}
+
+}  // namespace
+
+void writeImage(const std::string& path, int width, int height, const float* premultipliedRgba) {
+    const std::string extension = lowerExtension(path);
+    if (extension != ".png" && extension != ".exr") {
+        throw InputError(path, "unknown image format '" + extension + "'; write .png (8-bit) or .exr (float)");
+    }
+    writeAtomically(path, [&](const std::string& temporary) {
+        auto out = OIIO::ImageOutput::create(path);
+        if (!out) throw InputError(path, "OpenImageIO cannot write this format: " + OIIO::geterror());
+        const bool png = extension == ".png";
+        OIIO::ImageSpec spec(width, height, 4, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
+        spec.attribute("oiio:UnassociatedAlpha", png ? 1 : 0);
+        const std::vector<std::uint8_t> bytes = png ? straightBytes(width, height, premultipliedRgba)
+                                                    : std::vector<std::uint8_t>();
+        const bool written = out->open(temporary, spec) &&
+                             (png ? out->write_image(OIIO::TypeDesc::UINT8, bytes.data())
+                                  : out->write_image(OIIO::TypeDesc::FLOAT, premultipliedRgba)) &&
+                             out->close();
+        if (!written) throw InputError(path, "writing the image failed: " + out->geterror());
+    });
+}
+
+}  // namespace gvr

@@ -1,0 +1,72 @@
+#include "RayMarcher.h"
+
+#include <openvdb/tools/RayIntersector.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+namespace gvr {
+
+using openvdb::Vec3d;
+
+namespace {
+
+template <typename GridT>
+void marchGrid(const GridT& grid, const RenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
+               const RayMarchSettings& settings, Framebuffer& image) {
+    using Ray = openvdb::math::Ray<double>;
+    if (grid.activeVoxelCount() == 0) return;
+    // The intersector wants uniform voxels; rays here are in index space, so a
+    // shallow copy of the grid with a unit transform serves any voxel shape.
+    typename GridT::ConstPtr indexGrid = grid.copy();
+    std::const_pointer_cast<GridT>(indexGrid)->setTransform(openvdb::math::Transform::createLinearTransform(1.0));
+    // One voxel of dilation: trilinear samples reach a voxel beyond the active ones.
+    const openvdb::tools::VolumeRayIntersector<GridT, 0> master(*indexGrid, /*dilationCount=*/1);
+
+    const openvdb::math::Mat4d indexFromWorld = volume.worldFromIndex().inverse();
+    const Vec3d indexDirection = indexFromWorld.transform3x3(camera.direction);
+    const double indexPerMm = indexDirection.length();
+    const Vec3d unitDirection = indexDirection / indexPerMm;
+    const double stepMm = settings.stepVoxels * volume.voxelMm();
+    const double step = stepMm * indexPerMm;  // in index-space length along the ray
+    const double lengthRatio = settings.stepVoxels;
+    double reach = 0.0;  // how far behind the image plane rays must start
+    for (const Vec3d& c : worldCorners(volume.worldFromIndex(), volume.box())) reach = std::max(reach, (c - camera.centre).length());
+
+    tbb::parallel_for(0, camera.height, [&](int y) {
+        openvdb::tools::VolumeRayIntersector<GridT, 0> intersector(master);
+        auto accessor = grid.getConstAccessor();
+        for (int x = 0; x < camera.width; ++x) {
+            const Vec3d eye = indexFromWorld.transform(camera.pixelPoint(x, y) - camera.direction * reach);
+            if (!intersector.setIndexRay(Ray(eye, unitDirection))) continue;
+            float* pixel = image.pixel(x, y);
+            double t0 = 0.0, t1 = 0.0;
+            while (pixel[3] < settings.terminationOpacity && intersector.march(t0, t1)) {
+                // Samples sit on one comb along the whole ray, so intervals never shift them.
+                for (double t = std::ceil(t0 / step - 0.5) * step + 0.5 * step; t < t1; t += step) {
+                    float value[3];
+                    GridRenderVolume::trilinear(accessor, eye + unitDirection * t, value);
+                    const std::array<float, 4> rgba = classifier(value);
+                    const float alpha = opacityOverLength(rgba[3], lengthRatio);
+                    if (alpha <= 0.0f) continue;
+                    const float transmit = 1.0f - pixel[3];
+                    for (int c = 0; c < 3; ++c) pixel[c] += transmit * alpha * rgba[c];
+                    pixel[3] += transmit * alpha;
+                    if (pixel[3] >= settings.terminationOpacity) break;
+                }
+            }
+        }
+    });
+}
+
+}  // namespace
+
+Framebuffer rayMarch(const GridRenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
+                     const RayMarchSettings& settings) {
+    Framebuffer image(camera.width, camera.height);
+    if (volume.floatGrid()) marchGrid(*volume.floatGrid(), volume, classifier, camera, settings, image);
+    else marchGrid(*volume.colourGrid(), volume, classifier, camera, settings, image);
+    return image;
+}
+
+}  // namespace gvr

@@ -1,0 +1,24 @@
+/// @file RayMarcher.h
+/// @brief The reference renderer: rays marched through a grid, sampled trilinearly
+/// at most half a voxel apart, with the same classification and compositing as
+/// shear-warp. Empty space is skipped where the VDB tree has no active leaf or
+/// tile (so the transfer function should make the background transparent; gvr's
+/// presets do).
+#pragma once
+
+#include "Camera.h"
+#include "Classifier.h"
+#include "Framebuffer.h"
+#include "RenderVolume.h"
+
+namespace gvr {
+
+struct RayMarchSettings {
+    double stepVoxels = 0.5;           ///< step along the ray, in voxels (the smallest edge); (0, 0.5]
+    float terminationOpacity = 0.98f;  ///< a ray stops at this opacity
+};
+
+Framebuffer rayMarch(const GridRenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
+                     const RayMarchSettings& settings);
+
+}  // namespace gvr

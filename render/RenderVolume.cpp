@@ -1,0 +1,222 @@
+#include "RenderVolume.h"
+
+#include "Error.h"
+#include "FloatVolume.h"
+#include "Luminance.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gvr {
+
+using openvdb::Coord;
+using openvdb::CoordBBox;
+using openvdb::math::Mat4d;
+
+namespace {
+
+/// Enough values for stable percentiles, few enough to gather in milliseconds.
+constexpr std::size_t kStatisticsSamples = 50000;
+
+float keyOf(const float* value, int channels) { return channels == 1 ? value[0] : float(luminance(value)); }
+
+class GaussianBlocks : public BlockSource {
+public:
+    GaussianBlocks(const GaussianField& field, const Mat4d& worldFromIndex, const Lattice& lattice,
+                   const CoordBBox& fieldBox, const ValueMapping& mapping)
+        : mSampler(field, worldFromIndex, lattice, fieldBox), mMapping(mapping) {}
+
+    std::vector<Coord> occupiedBlocks() const override { return mSampler.occupiedBlocks(); }
+    std::size_t gaussiansReaching() const override { return mSampler.reachingGaussians(); }
+
+    CoordBBox sampleBlock(const Coord& origin, float* values) const override {
+        const int channels = mSampler.channels();
+        std::fill(values, values + kBlockVoxels * channels, 0.0f);
+        const CoordBBox voxels = mSampler.sampleBlock(origin, values);
+        for (int n = 0; n < kBlockVoxels * channels; ++n) {
+            values[n] = float(mMapping.toPhysical(values[n], n % channels));
+        }
+        return voxels;
+    }
+
+private:
+    LatticeSampler mSampler;
+    ValueMapping mMapping;
+};
+
+template <typename GridT>
+class GridBlocks : public BlockSource {
+public:
+    GridBlocks(const GridT& grid, const Lattice& lattice)
+        : mGrid(grid), mLattice(lattice),
+          mGridFromLattice(lattice.worldFromIndex * grid.transform().baseMap()->getAffineMap()->getMat4().inverse()) {
+        mActive = grid.evalActiveVoxelBoundingBox();
+        mActive.expand(1);  // trilinear samples reach one voxel out
+    }
+
+    std::vector<Coord> occupiedBlocks() const override {
+        std::vector<Coord> origins;
+        if (mGrid.activeVoxelCount() == 0) return origins;
+        const CoordBBox& box = mLattice.box;
+        for (int z = box.min().z() & ~(kBlockDim - 1); z <= box.max().z(); z += kBlockDim) {
+            for (int y = box.min().y() & ~(kBlockDim - 1); y <= box.max().y(); y += kBlockDim) {
+                for (int x = box.min().x() & ~(kBlockDim - 1); x <= box.max().x(); x += kBlockDim) {
+                    if (reachesActive(Coord(x, y, z))) origins.emplace_back(x, y, z);
+                }
+            }
+        }
+        return origins;
+    }
+
+    CoordBBox sampleBlock(const Coord& origin, float* values) const override {
+        CoordBBox voxels(origin, origin + Coord(kBlockDim - 1));
+        voxels.intersect(mLattice.box);
+        auto accessor = mGrid.getConstAccessor();
+        constexpr int channels = std::is_same_v<typename GridT::ValueType, openvdb::Vec3s> ? 3 : 1;
+        for (auto ijk = voxels.begin(); ijk; ++ijk) {
+            GridRenderVolume::trilinear(accessor, mGridFromLattice.transform((*ijk).asVec3d()),
+                                        values + blockOffset(*ijk) * channels);
+        }
+        return voxels;
+    }
+
+private:
+    bool reachesActive(const Coord& origin) const {
+        openvdb::Vec3d lo(1e300), hi(-1e300);
+        for (int c = 0; c < 8; ++c) {
+            const Coord corner = origin + Coord(c & 1 ? kBlockDim - 1 : 0, c & 2 ? kBlockDim - 1 : 0, c & 4 ? kBlockDim - 1 : 0);
+            const openvdb::Vec3d p = mGridFromLattice.transform(corner.asVec3d());
+            lo = openvdb::math::minComponent(lo, p);
+            hi = openvdb::math::maxComponent(hi, p);
+        }
+        for (int a = 0; a < 3; ++a) {
+            if (hi[a] < mActive.min()[a] || lo[a] > mActive.max()[a]) return false;
+        }
+        return true;
+    }
+
+    const GridT& mGrid;
+    Lattice mLattice;
+    Mat4d mGridFromLattice;
+    CoordBBox mActive;
+};
+
+/// Raises every log-scale to log(minScale), scaling the colour by the volume ratio
+/// so that amplitude times the product of the scales, the integral, is unchanged.
+GaussianParameters withMinimumFootprint(GaussianParameters params, float minScaleVoxels) {
+    if (!(minScaleVoxels > 0.0f)) return params;
+    const float floor = std::log(minScaleVoxels);
+    for (std::size_t g = 0; g < params.count(); ++g) {
+        float* logScale = params.at(kLogScales, g);
+        float shrink = 0.0f;
+        for (int a = 0; a < 3; ++a) {
+            if (logScale[a] < floor) {
+                shrink += logScale[a] - floor;
+                logScale[a] = floor;
+            }
+        }
+        float* colour = params.at(kColours, g);
+        for (int c = 0; c < params.channels; ++c) colour[c] *= std::exp(shrink);
+    }
+    return params;
+}
+
+}  // namespace
+
+double RenderVolume::voxelMm() const {
+    double smallest = INFINITY;
+    for (int axis = 0; axis < 3; ++axis) {
+        const openvdb::Vec3d row(mWorldFromIndex(axis, 0), mWorldFromIndex(axis, 1), mWorldFromIndex(axis, 2));
+        smallest = std::min(smallest, row.length());
+    }
+    return smallest;
+}
+
+GaussianRenderVolume::GaussianRenderVolume(const GaussianParameters& params, float cutoffSigmas,
+                                           const Mat4d& worldFromIndex, const openvdb::Vec3i& dims,
+                                           const ValueMapping& mapping, double valueMax, double foregroundAbove,
+                                           float minScaleVoxels)
+    : mField(withMinimumFootprint(params, minScaleVoxels), cutoffSigmas), mMapping(mapping),
+      mForegroundAbove(foregroundAbove) {
+    mWorldFromIndex = worldFromIndex;
+    mBox = CoordBBox(Coord(0), Coord(dims) - Coord(1));
+    mValueMax = valueMax;
+}
+
+std::unique_ptr<BlockSource> GaussianRenderVolume::blocksOn(const Lattice& lattice) const {
+    return std::make_unique<GaussianBlocks>(mField, mWorldFromIndex, lattice, mBox, mMapping);
+}
+
+VolumeStatistics GaussianRenderVolume::statistics() const {
+    VolumeStatistics stats;
+    const int channels = mField.channels();
+    float background[3];
+    for (int c = 0; c < channels; ++c) background[c] = float(mMapping.toPhysical(0.0, c));
+    stats.background = keyOf(background, channels);
+    // Voxel centres spread evenly over the box, kept where the field is content.
+    const std::uint64_t voxels = mBox.volume();
+    const std::uint64_t stride = std::max<std::uint64_t>(1, voxels / (4 * kStatisticsSamples));
+    const Coord dims = mBox.dim();
+    std::vector<std::uint32_t> hits;
+    for (std::uint64_t n = 0; n < voxels; n += stride) {
+        const float x[3] = {float(n % dims.x()), float(n / dims.x() % dims.y()), float(n / dims.x() / dims.y())};
+        float value[3];
+        mField.evaluate(x, value, hits);
+        for (int c = 0; c < channels; ++c) value[c] = float(mMapping.toPhysical(value[c], c));
+        if (keyOf(value, channels) > mForegroundAbove) stats.values.push_back(keyOf(value, channels));
+    }
+    const bool anyBelow = std::any_of(stats.values.begin(), stats.values.end(), [](float v) { return v < -500.0f; });
+    stats.hounsfield = anyBelow || stats.background < -500.0;
+    return stats;
+}
+
+GridRenderVolume::GridRenderVolume(openvdb::GridBase::ConstPtr grid) : mGrid(std::move(grid)) {
+    mFloat = openvdb::GridBase::constGrid<openvdb::FloatGrid>(mGrid);
+    mColour = openvdb::GridBase::constGrid<openvdb::Vec3SGrid>(mGrid);
+    if (!mFloat && !mColour) {
+        throw InputError("grid '" + mGrid->getName() + "'", "holds " + mGrid->valueType() +
+                                                               "; gvr renders float or vec3s grids");
+    }
+    mWorldFromIndex = mGrid->transform().baseMap()->getAffineMap()->getMat4();
+    mBox = volumeBox(*mGrid);
+    const VolumeStatistics stats = statistics();
+    mValueMax = stats.values.empty() ? 1.0 : *std::max_element(stats.values.begin(), stats.values.end());
+    if (mColour) {  // colours scale by the brightest channel, not the luminance
+        mValueMax = 0.0;
+        for (auto v = mColour->cbeginValueOn(); v; ++v) mValueMax = std::max<double>({mValueMax, (*v)[0], (*v)[1], (*v)[2]});
+    }
+    if (!(mValueMax > 0.0)) mValueMax = 1.0;
+}
+
+std::unique_ptr<BlockSource> GridRenderVolume::blocksOn(const Lattice& lattice) const {
+    if (mFloat) return std::make_unique<GridBlocks<openvdb::FloatGrid>>(*mFloat, lattice);
+    return std::make_unique<GridBlocks<openvdb::Vec3SGrid>>(*mColour, lattice);
+}
+
+VolumeStatistics GridRenderVolume::statistics() const {
+    VolumeStatistics stats;
+    const auto gather = [&](const auto& grid) {
+        const std::size_t stride = std::max<std::uint64_t>(1, grid.activeVoxelCount() / kStatisticsSamples);
+        std::size_t n = 0;
+        for (auto v = grid.cbeginValueOn(); v; ++v, ++n) {
+            if (n % stride != 0) continue;
+            if constexpr (std::is_same_v<typename std::decay_t<decltype(grid)>::ValueType, openvdb::Vec3s>) {
+                stats.values.push_back(float(luminance(*v)));
+            } else {
+                stats.values.push_back(*v);
+            }
+        }
+    };
+    if (mFloat) {
+        gather(*mFloat);
+        stats.background = mFloat->background();
+    } else {
+        gather(*mColour);
+        stats.background = luminance(mColour->background());
+    }
+    const bool anyBelow = std::any_of(stats.values.begin(), stats.values.end(), [](float v) { return v < -500.0f; });
+    stats.hounsfield = anyBelow || stats.background < -500.0;
+    return stats;
+}
+
+}  // namespace gvr

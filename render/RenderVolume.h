@@ -1,0 +1,118 @@
+/// @file RenderVolume.h
+/// @brief What the renderers draw: a Gaussian field or a VDB grid, in physical units.
+#pragma once
+
+#include "GaussianField.h"
+#include "LatticeSampler.h"
+#include "TransferPresets.h"
+#include "ValueMapping.h"
+
+#include <openvdb/openvdb.h>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+namespace gvr {
+
+/// Samples one volume at the voxel centres of one lattice, block by block.
+class BlockSource {
+public:
+    virtual ~BlockSource() = default;
+    /// Origins of the 8^3 blocks that may hold anything but background.
+    virtual std::vector<openvdb::Coord> occupiedBlocks() const = 0;
+    /// Writes physical values (channels per voxel, at blockOffset()) for the lattice
+    /// voxels of the block at @a origin. Thread-safe.
+    /// @return the voxels written: the block's part of the lattice.
+    virtual openvdb::CoordBBox sampleBlock(const openvdb::Coord& origin, float* values) const = 0;
+    /// Gaussians that reach the lattice (0 for grids).
+    virtual std::size_t gaussiansReaching() const { return 0; }
+};
+
+class RenderVolume {
+public:
+    virtual ~RenderVolume() = default;
+
+    virtual int channels() const = 0;
+    virtual std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice) const = 0;
+    /// A sample of the content's values (luminance for RGB), for percentile windows.
+    virtual VolumeStatistics statistics() const = 0;
+
+    const openvdb::math::Mat4d& worldFromIndex() const { return mWorldFromIndex; }
+    const openvdb::CoordBBox& box() const { return mBox; }  ///< the volume's voxels, index space
+    /// The shortest voxel edge in mm: one voxel of slice spacing and of opacity.
+    double voxelMm() const;
+    /// The largest sample value of any channel, to scale RGB data into colours.
+    double valueMax() const { return mValueMax; }
+
+protected:
+    openvdb::math::Mat4d mWorldFromIndex = openvdb::math::Mat4d::identity();
+    openvdb::CoordBBox mBox;
+    double mValueMax = 1.0;
+};
+
+/// A fitted Gaussian field. Gaussians thinner than @a minScaleVoxels along an
+/// axis are widened to it with their amplitude lowered so that their integral
+/// (their rendered mass) stays: needles and sheets thinner than the slice spacing
+/// then neither vanish between slices nor flicker as the view turns.
+class GaussianRenderVolume : public RenderVolume {
+public:
+    /// @param foregroundAbove  values (luminance for RGB) above this are content, as
+    ///                         the source's active voxels were: what statistics() samples
+    GaussianRenderVolume(const GaussianParameters& params, float cutoffSigmas, const openvdb::math::Mat4d& worldFromIndex,
+                         const openvdb::Vec3i& dims, const ValueMapping& mapping, double valueMax,
+                         double foregroundAbove, float minScaleVoxels = 0.5f);
+
+    int channels() const override { return mField.channels(); }
+    std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice) const override;
+    VolumeStatistics statistics() const override;
+
+private:
+    GaussianField mField;
+    ValueMapping mMapping;
+    double mForegroundAbove;
+};
+
+/// A float (grey) or Vec3s (RGB) grid, sampled trilinearly between voxel centres.
+class GridRenderVolume : public RenderVolume {
+public:
+    /// @throw InputError naming the grid for other value types.
+    explicit GridRenderVolume(openvdb::GridBase::ConstPtr grid);
+
+    int channels() const override { return mColour ? 3 : 1; }
+    std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice) const override;
+    VolumeStatistics statistics() const override;
+
+    const openvdb::FloatGrid* floatGrid() const { return mFloat.get(); }
+    const openvdb::Vec3SGrid* colourGrid() const { return mColour.get(); }
+    /// Trilinear value at index-space point @a x into out[0..channels).
+    template <typename Accessor>
+    static void trilinear(const Accessor& accessor, const openvdb::Vec3d& x, float* out);
+
+private:
+    openvdb::GridBase::ConstPtr mGrid;
+    openvdb::FloatGrid::ConstPtr mFloat;
+    openvdb::Vec3SGrid::ConstPtr mColour;
+};
+
+template <typename Accessor>
+void GridRenderVolume::trilinear(const Accessor& accessor, const openvdb::Vec3d& x, float* out) {
+    using ValueT = typename Accessor::ValueType;
+    constexpr int channels = std::is_same_v<ValueT, openvdb::Vec3s> ? 3 : 1;
+    const openvdb::Coord base(int(std::floor(x[0])), int(std::floor(x[1])), int(std::floor(x[2])));
+    const double t[3] = {x[0] - base.x(), x[1] - base.y(), x[2] - base.z()};
+    double sum[3] = {0, 0, 0};
+    for (int corner = 0; corner < 8; ++corner) {
+        const int di = corner & 1, dj = (corner >> 1) & 1, dk = corner >> 2;
+        const double w = (di ? t[0] : 1 - t[0]) * (dj ? t[1] : 1 - t[1]) * (dk ? t[2] : 1 - t[2]);
+        const ValueT v = accessor.getValue(base.offsetBy(di, dj, dk));
+        if constexpr (channels == 3) {
+            for (int c = 0; c < 3; ++c) sum[c] += w * v[c];
+        } else {
+            sum[0] += w * v;
+        }
+    }
+    for (int c = 0; c < channels; ++c) out[c] = float(sum[c]);
+}
+
+}  // namespace gvr

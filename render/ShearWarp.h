@@ -1,0 +1,59 @@
+/// @file ShearWarp.h
+/// @brief Shear-warp rendering (Lacroute and Levoy; the paper's section 3.4): one
+/// stack of slices, sheared and composited front to back into an intermediate
+/// image, then warped to the final image. The stack is reused while the view stays
+/// within a cone around the direction it was built for, and rebuilt beyond.
+#pragma once
+
+#include "Camera.h"
+#include "Framebuffer.h"
+#include "SliceStack.h"
+
+#include <memory>
+
+namespace gvr {
+
+struct ShearWarpSettings {
+    double sliceSpacingVoxels = 1.0;   ///< slice spacing in voxels (the smallest voxel edge); > 0
+    double reuseAngleDeg = 15.0;       ///< keep the stack while the view is within this; [0, 60]
+    float terminationOpacity = 0.98f;  ///< a pixel stops accumulating at this opacity; (0, 1]
+    /// @return an empty string, or what is wrong, naming the flag.
+    std::string validate() const;
+};
+
+/// What one frame cost, as `gvr render --stats` writes it.
+struct FrameStats {
+    int index = 0;
+    bool reused = false;  ///< the stack was kept from an earlier frame
+    double buildMs = 0, compositeMs = 0, warpMs = 0, totalMs = 0;
+    std::size_t gaussiansTouched = 0;  ///< Gaussians evaluated to build the stack (0 when reused)
+};
+
+class ShearWarpRenderer {
+public:
+    ShearWarpRenderer(const RenderVolume& volume, const Classifier& classifier, const ShearWarpSettings& settings);
+
+    /// Renders @a camera's view; builds a stack first when there is none or the view
+    /// is more than reuseAngleDeg from the stack's direction.
+    Framebuffer render(const OrthoCamera& camera, FrameStats* stats = nullptr);
+
+    const SliceStack* stack() const { return mStack.get(); }
+
+private:
+    const RenderVolume& mVolume;
+    Classifier mClassifier;
+    ShearWarpSettings mSettings;
+    std::unique_ptr<SliceStack> mStack;
+    int mFrames = 0;
+};
+
+/// The intermediate image: the slices sheared for @a direction and composited front
+/// to back, in the stack's plane. Exposed for tests; render() calls it.
+struct Intermediate {
+    int width = 0, height = 0;
+    int originX = 0, originY = 0;  ///< stack sample coordinates of pixel (0, 0)
+    std::vector<float> rgba;       ///< premultiplied
+};
+Intermediate compositeSlices(const SliceStack& stack, const openvdb::Vec3d& direction, float terminationOpacity);
+
+}  // namespace gvr

@@ -1,0 +1,124 @@
+#include "SliceStack.h"
+
+#include "Camera.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace gvr {
+
+using openvdb::Coord;
+using openvdb::Vec3d;
+
+namespace {
+
+std::uint16_t quantise(float v) { return std::uint16_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 65535.0f)); }
+
+/// Any unit vector not parallel to @a normal, for the slices' in-plane axes.
+Vec3d helperAxis(const Vec3d& normal) {
+    return std::abs(normal.z()) < 0.9 ? Vec3d(0, 0, 1) : Vec3d(0, 1, 0);
+}
+
+/// Eight slices of samples, dense, while they are filled block by block.
+struct Slab {
+    int width, height;
+    std::vector<StackSample> samples;  ///< [slice][row][column]
+    Slab(int w, int h) : width(w), height(h), samples(std::size_t(w) * h * kBlockDim) {}
+    StackSample& at(int i, int j, int k) { return samples[(std::size_t(k) * height + j) * width + i]; }
+};
+
+/// Keeps the run between the first and last visible sample of every row.
+Slice compress(const Slab& slab, int k) {
+    Slice slice;
+    slice.rows.resize(slab.height);
+    const StackSample* plane = slab.samples.data() + std::size_t(k) * slab.height * slab.width;
+    std::uint32_t offset = 0;
+    for (int j = 0; j < slab.height; ++j) {
+        const StackSample* row = plane + std::size_t(j) * slab.width;
+        int first = 0, last = slab.width;
+        while (first < slab.width && row[first].a == 0) ++first;
+        while (last > first && row[last - 1].a == 0) --last;
+        slice.rows[j] = {std::uint32_t(first), std::uint32_t(std::max(first, last)), offset};
+        offset += std::uint32_t(std::max(0, last - first));
+    }
+    slice.samples.resize(offset);
+    for (int j = 0; j < slab.height; ++j) {
+        const RowRun& run = slice.rows[j];
+        std::copy(plane + std::size_t(j) * slab.width + run.begin, plane + std::size_t(j) * slab.width + run.end,
+                  slice.samples.begin() + run.offset);
+    }
+    return slice;
+}
+
+}  // namespace
+
+Lattice StackGeometry::lattice() const {
+    openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
+    const Vec3d rows[4] = {e1 * pixelMm, e2 * pixelMm, normal * sliceMm, origin};
+    for (int r = 0; r < 4; ++r) {
+        for (int c = 0; c < 3; ++c) m(r, c) = rows[r][c];
+    }
+    return {m, openvdb::CoordBBox(Coord(0), Coord(width - 1, height - 1, slices - 1))};
+}
+
+StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& direction, double sliceSpacingVoxels) {
+    StackGeometry g;
+    g.normal = direction.unit();
+    g.e1 = helperAxis(g.normal).cross(g.normal).unit();
+    g.e2 = g.normal.cross(g.e1).unit();
+    g.pixelMm = volume.voxelMm();
+    g.sliceMm = volume.voxelMm() * sliceSpacingVoxels;
+    Vec3d lo(1e300), hi(-1e300);
+    for (const Vec3d& corner : worldCorners(volume.worldFromIndex(), volume.box())) {
+        const Vec3d p(corner.dot(g.e1), corner.dot(g.e2), corner.dot(g.normal));
+        lo = openvdb::math::minComponent(lo, p);
+        hi = openvdb::math::maxComponent(hi, p);
+    }
+    g.width = int(std::ceil((hi[0] - lo[0]) / g.pixelMm)) + 1;
+    g.height = int(std::ceil((hi[1] - lo[1]) / g.pixelMm)) + 1;
+    g.slices = int(std::ceil((hi[2] - lo[2]) / g.sliceMm)) + 1;
+    g.origin = g.e1 * lo[0] + g.e2 * lo[1] + g.normal * lo[2];
+    return g;
+}
+
+SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier, const Vec3d& direction,
+                       double sliceSpacingVoxels, const ProgressFn& progress)
+    : mGeometry(stackGeometryFor(volume, direction, sliceSpacingVoxels)), mSlices(mGeometry.slices) {
+    for (Slice& slice : mSlices) slice.rows.assign(mGeometry.height, RowRun{});
+    const auto source = volume.blocksOn(mGeometry.lattice());
+    std::map<int, std::vector<Coord>> slabs;  // block origins by their first slice
+    for (const Coord& origin : source->occupiedBlocks()) slabs[origin.z()].push_back(origin);
+    const double lengthRatio = sliceSpacingVoxels;
+    const int channels = volume.channels();
+    ProgressCounter counter(progress, slabs.size());
+    Slab slab(mGeometry.width, mGeometry.height);
+    for (const auto& [firstSlice, origins] : slabs) {
+        std::fill(slab.samples.begin(), slab.samples.end(), StackSample{});
+        tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) {
+            float values[kBlockVoxels * 3];
+            const openvdb::CoordBBox voxels = source->sampleBlock(origins[n], values);
+            for (auto ijk = voxels.begin(); ijk; ++ijk) {
+                const std::array<float, 4> rgba = classifier(values + blockOffset(*ijk) * channels);
+                const float alpha = opacityOverLength(rgba[3], lengthRatio);
+                if (alpha <= 0.0f) continue;
+                StackSample& sample = slab.at((*ijk).x(), (*ijk).y(), (*ijk).z() - firstSlice);
+                sample = {quantise(rgba[0] * alpha), quantise(rgba[1] * alpha), quantise(rgba[2] * alpha), quantise(alpha)};
+            }
+        });
+        const int count = std::min(kBlockDim, mGeometry.slices - firstSlice);
+        tbb::parallel_for(0, count, [&](int k) { mSlices[firstSlice + k] = compress(slab, k); });
+        counter.advance();
+    }
+    mGaussiansTouched = source->gaussiansReaching();
+}
+
+std::size_t SliceStack::storedSamples() const {
+    std::size_t total = 0;
+    for (const Slice& slice : mSlices) total += slice.samples.size();
+    return total;
+}
+
+}  // namespace gvr

@@ -1,0 +1,69 @@
+/// @file SliceStack.h
+/// @brief One stack of classified slices through a volume, perpendicular to a
+/// stack direction: what shear-warp builds once and composites for many views.
+///
+/// Slices are sampled on a lattice in world space (pixelMm across, sliceMm apart),
+/// so any stack direction works, not only the volume's axes. Each sample holds
+/// premultiplied colour and the opacity of one slice spacing, 16 bits each; each
+/// slice row keeps only the run between its first and last visible sample, which
+/// is how compositing skips empty space.
+#pragma once
+
+#include "Classifier.h"
+#include "Progress.h"
+#include "RenderVolume.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace gvr {
+
+struct StackGeometry {
+    openvdb::Vec3d normal, e1, e2;  ///< unit, world; slices are perpendicular to normal
+    openvdb::Vec3d origin;          ///< world position of sample (0, 0) of slice 0, the front
+    double pixelMm = 1.0, sliceMm = 1.0;
+    int width = 0, height = 0, slices = 0;
+
+    /// The sample lattice: index (i, j, k) is sample (i, j) of slice k.
+    Lattice lattice() const;
+};
+
+/// The lattice of slices perpendicular to @a direction that covers the volume,
+/// one voxel across (the volume's smallest voxel edge) and @a sliceSpacingVoxels apart.
+StackGeometry stackGeometryFor(const RenderVolume& volume, const openvdb::Vec3d& direction, double sliceSpacingVoxels);
+
+struct StackSample {
+    std::uint16_t r = 0, g = 0, b = 0, a = 0;  ///< premultiplied colour and opacity, x 65535
+};
+
+struct RowRun {
+    std::uint32_t begin = 0, end = 0;  ///< samples [begin, end) of the row are stored
+    std::uint32_t offset = 0;          ///< where sample `begin` sits in Slice::samples
+};
+
+struct Slice {
+    std::vector<RowRun> rows;  ///< one per row
+    std::vector<StackSample> samples;
+};
+
+class SliceStack {
+public:
+    /// Samples @a volume on the stack's lattice (in parallel over 8^3 blocks, only
+    /// where the volume has content) and classifies every sample, with the opacity
+    /// corrected from one voxel to one slice spacing: 1 - (1 - alpha)^(sliceMm / voxelMm).
+    SliceStack(const RenderVolume& volume, const Classifier& classifier, const openvdb::Vec3d& direction,
+               double sliceSpacingVoxels, const ProgressFn& progress = {});
+
+    const StackGeometry& geometry() const { return mGeometry; }
+    const std::vector<Slice>& slices() const { return mSlices; }
+    /// Gaussians the build evaluated (0 for grids).
+    std::size_t gaussiansTouched() const { return mGaussiansTouched; }
+    std::size_t storedSamples() const;
+
+private:
+    StackGeometry mGeometry;
+    std::vector<Slice> mSlices;
+    std::size_t mGaussiansTouched = 0;
+};
+
+}  // namespace gvr
