@@ -1,7 +1,6 @@
 #!/usr/bin/env bash
 # The main job (the README's first command): install, build, then run the pipeline
 # on the embedded default volume, Debian's Colin27 T1 MRI, and say where each output is.
-# Rendering joins this job when it lands.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash .ci/install-deps.sh
@@ -25,9 +24,14 @@ echo
 echo "== gvr eval out/ch2.vdb out/ch2-reconstruction.vdb"
 $gvr eval out/ch2.vdb out/ch2-reconstruction.vdb
 echo
+echo "== gvr render out/ch2.gvr -o out/ch2-render.png --stats out/ch2-render.json"
+$gvr render out/ch2.gvr -o out/ch2-render.png --stats out/ch2-render.json
+echo
 echo "Outputs:"
 echo "  sparse grid:         $(pwd)/out/ch2.vdb                  (Blender/Houdini; gvr info out/ch2.vdb)"
 echo "  Gaussian asset:      $(pwd)/out/ch2.gvr                  (gvr info out/ch2.gvr)"
 echo "  error against time:  $(pwd)/out/ch2-fit.csv"
 echo "  reconstruction:      $(pwd)/out/ch2-reconstruction.vdb   (open in Blender or Houdini)"
 echo "  reconstruction NIfTI: $(pwd)/out/ch2-reconstruction.nii.gz"
+echo "  rendered view:       $(pwd)/out/ch2-render.png           (shear-warp from the Gaussians)"
+echo "  render timings:      $(pwd)/out/ch2-render.json"

@@ -2,6 +2,8 @@
 /// @brief What the renderers return: premultiplied RGBA floats, rows top to bottom.
 #pragma once
 
+#include "FloatVolume.h"
+
 #include <vector>
 
 namespace gvr {
@@ -15,5 +17,12 @@ struct Framebuffer {
     float* pixel(int x, int y) { return rgba.data() + (std::size_t(y) * width + x) * 4; }
     const float* pixel(int x, int y) const { return rgba.data() + (std::size_t(y) * width + x) * 4; }
 };
+
+/// The image as a one-sample-deep volume of 4 channels, for the quality metrics.
+inline FloatVolume asVolume(const Framebuffer& image) {
+    FloatVolume volume(openvdb::Coord(image.width, image.height, 1), 4);
+    volume.values = image.rgba;
+    return volume;
+}
 
 }  // namespace gvr

@@ -32,10 +32,7 @@ Classifier rampClassifier(double top = 1000.0, float opacity = 0.08f) {
 }
 
 double imagePsnr(const Framebuffer& a, const Framebuffer& b) {
-    FloatVolume va(openvdb::Coord(a.width, a.height, 1), 4), vb(openvdb::Coord(b.width, b.height, 1), 4);
-    va.values = a.rgba;
-    vb.values = b.rgba;
-    return psnrFromMse(meanSquaredError(va, vb), 1.0);
+    return psnrFromMse(meanSquaredError(asVolume(a), asVolume(b)), 1.0);
 }
 
 double alphaSum(const Framebuffer& image) {
