@@ -27,8 +27,10 @@ struct VolPackResult {
 
 /// Renders with VolPack at width x height, orthographic, for `frames` views turning azimuth from 0
 /// by `stepDeg` degrees about the volume's z axis (elevation fixed at `elevationDeg`),
-/// single-threaded (VolPack has no threads). The volume's z axis points up in the image and the
-/// whole volume stays inside the image at every azimuth.
+/// single-threaded (VolPack has no threads). The camera follows gvr's OrthoCamera in the volume's
+/// index axes: azimuth 0 looks from +y, azimuth turns towards +x, z is up in the image, and each
+/// view's window fits the volume's projected corners with a 2 % margin. Spacing scales the model
+/// matrix; VolPack's normals and gradient magnitudes stay in voxel units.
 ///
 /// Classification: scalar opacity ramp from 0 at value 0 to 1 at value 24 (of 255), multiplied by
 /// a gradient-magnitude ramp (VolPack's gradient-weighted classification, as in its examples),

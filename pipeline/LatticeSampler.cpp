@@ -142,13 +142,33 @@ LatticeSampler::LatticeSampler(const GaussianField& field, const Mat4d& fieldWor
     mReach = latticeReach(field, fieldWorldFromIndex * lattice.worldFromIndex.inverse(), lattice.box);
 }
 
+float LatticeSampler::reachCeiling(const std::vector<std::uint32_t>& hits, const float lower[3], const float upper[3],
+                                   int channels) const {
+    // Over the block a Gaussian is at most its peak times exp(-d^2 / (2 sigma_max^2)),
+    // d the distance from its mean to the block: q >= |x - mean|^2 / sigma_max^2.
+    float ceiling = 0.0f;
+    for (std::uint32_t index : hits) {
+        const ActiveGaussian& g = mField.gaussians()[index];
+        float d2 = 0.0f;
+        for (int a = 0; a < 3; ++a) {
+            const float gap = std::max({lower[a] - g.mean[a], 0.0f, g.mean[a] - upper[a]});
+            d2 += gap * gap;
+        }
+        const float widest = std::max({g.scale[0], g.scale[1], g.scale[2]});
+        float peak = 0.0f;
+        for (int c = 0; c < channels; ++c) peak = std::max(peak, std::abs(g.amplitude[c]));
+        ceiling += peak * std::exp(-0.5f * d2 / (widest * widest));
+    }
+    return ceiling;
+}
+
 std::size_t LatticeSampler::reachingGaussians() const {
     return std::size_t(std::count_if(mReach.begin(), mReach.end(), [](const CoordBBox& box) { return !box.empty(); }));
 }
 
 std::vector<Coord> LatticeSampler::occupiedBlocks() const { return occupiedLeaves(mReach, mLattice.box, kBlockDim); }
 
-CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums) const {
+CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums, float skipUpTo) const {
     CoordBBox voxels(origin, origin + Coord(kBlockDim - 1));
     voxels.intersect(mLattice.box);
     if (voxels.empty()) return voxels;
@@ -168,6 +188,7 @@ CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums) const {
     mField.bvh().overlapping(lower, upper, hits);
     std::sort(hits.begin(), hits.end());
     const int channels = mField.channels();
+    if (skipUpTo >= 0.0f && reachCeiling(hits, lower, upper, channels) <= skipUpTo) return CoordBBox();
     for (std::uint32_t index : hits) {
         CoordBBox reached = mReach[index];
         reached.intersect(voxels);

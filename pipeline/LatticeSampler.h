@@ -61,8 +61,12 @@ public:
     /// Adds the field (normalised units, channels() floats per voxel) into @a sums at
     /// blockOffset() of each voxel of the block at @a origin that lies in the
     /// lattice; voxels no Gaussian reaches are left as they were.
-    /// @return the block's voxels inside the lattice (empty if none).
-    openvdb::CoordBBox sampleBlock(const openvdb::Coord& origin, float* sums) const;
+    /// When the Gaussians reaching the block could add up to at most @a skipUpTo
+    /// (the sum of their peak |amplitude|, normalised units) anywhere in it, nothing
+    /// is added and the block counts as empty: a caller that cannot see such values
+    /// (a transfer function transparent there) skips the work.
+    /// @return the block's voxels inside the lattice (empty if none, or skipped).
+    openvdb::CoordBBox sampleBlock(const openvdb::Coord& origin, float* sums, float skipUpTo = -1.0f) const;
 
     int channels() const { return mField.channels(); }
     const Lattice& lattice() const { return mLattice; }
@@ -70,6 +74,11 @@ public:
     std::size_t reachingGaussians() const;
 
 private:
+    /// The most the Gaussians @a hits can add up to at any point of the field-space
+    /// box [lower, upper], in any channel.
+    float reachCeiling(const std::vector<std::uint32_t>& hits, const float lower[3], const float upper[3],
+                       int channels) const;
+
     const GaussianField& mField;
     Lattice mLattice;
     openvdb::math::Mat4d mFieldFromLattice;

@@ -26,6 +26,13 @@ TransferFunction::TransferFunction(std::vector<TransferPoint> points, const std:
     }
 }
 
+double TransferFunction::transparentUpTo() const {
+    if (mPoints.front().rgba[3] > 0.0f) return -INFINITY;
+    std::size_t last = 0;
+    while (last + 1 < mPoints.size() && mPoints[last + 1].rgba[3] == 0.0f) ++last;
+    return last + 1 == mPoints.size() ? INFINITY : mPoints[last].value;
+}
+
 std::array<float, 4> TransferFunction::operator()(double value) const {
     if (!(value > mPoints.front().value)) return mPoints.front().rgba;
     if (value >= mPoints.back().value) return mPoints.back().rgba;

@@ -25,6 +25,10 @@ public:
 
     const std::vector<TransferPoint>& points() const { return mPoints; }
 
+    /// The largest value up to which the opacity is 0 everywhere (-infinity when it
+    /// is not 0 even far below the first point): renderers skip what stays below it.
+    double transparentUpTo() const;
+
 private:
     std::vector<TransferPoint> mPoints;
 };

@@ -22,9 +22,10 @@ float keyOf(const float* value, int channels) { return channels == 1 ? value[0] 
 
 class GaussianBlocks : public BlockSource {
 public:
+    /// @param skipUpTo  blocks whose field cannot exceed this (normalised) stay empty
     GaussianBlocks(const GaussianField& field, const Mat4d& worldFromIndex, const Lattice& lattice,
-                   const CoordBBox& fieldBox, const ValueMapping& mapping)
-        : mSampler(field, worldFromIndex, lattice, fieldBox), mMapping(mapping) {}
+                   const CoordBBox& fieldBox, const ValueMapping& mapping, float skipUpTo)
+        : mSampler(field, worldFromIndex, lattice, fieldBox), mMapping(mapping), mSkipUpTo(skipUpTo) {}
 
     std::vector<Coord> occupiedBlocks() const override { return mSampler.occupiedBlocks(); }
     std::size_t gaussiansReaching() const override { return mSampler.reachingGaussians(); }
@@ -32,7 +33,7 @@ public:
     CoordBBox sampleBlock(const Coord& origin, float* values) const override {
         const int channels = mSampler.channels();
         std::fill(values, values + kBlockVoxels * channels, 0.0f);
-        const CoordBBox voxels = mSampler.sampleBlock(origin, values);
+        const CoordBBox voxels = mSampler.sampleBlock(origin, values, mSkipUpTo);
         for (int n = 0; n < kBlockVoxels * channels; ++n) {
             values[n] = float(mMapping.toPhysical(values[n], n % channels));
         }
@@ -42,6 +43,7 @@ public:
 private:
     LatticeSampler mSampler;
     ValueMapping mMapping;
+    float mSkipUpTo;
 };
 
 template <typename GridT>
@@ -143,8 +145,13 @@ GaussianRenderVolume::GaussianRenderVolume(const GaussianParameters& params, flo
     mValueMax = valueMax;
 }
 
-std::unique_ptr<BlockSource> GaussianRenderVolume::blocksOn(const Lattice& lattice) const {
-    return std::make_unique<GaussianBlocks>(mField, mWorldFromIndex, lattice, mBox, mMapping);
+std::unique_ptr<BlockSource> GaussianRenderVolume::blocksOn(const Lattice& lattice, double invisibleUpTo) const {
+    // Luminance and value alike lie within scale * (sum of peaks) of the background's.
+    float background[3];
+    for (int c = 0; c < channels(); ++c) background[c] = float(mMapping.toPhysical(0.0, c));
+    const double headroom = (invisibleUpTo - keyOf(background, channels())) / mMapping.scale;
+    const float skipUpTo = std::isfinite(headroom) && headroom > 0.0 ? float(headroom) : -1.0f;
+    return std::make_unique<GaussianBlocks>(mField, mWorldFromIndex, lattice, mBox, mMapping, skipUpTo);
 }
 
 VolumeStatistics GaussianRenderVolume::statistics() const {
@@ -188,7 +195,7 @@ GridRenderVolume::GridRenderVolume(openvdb::GridBase::ConstPtr grid) : mGrid(std
     if (!(mValueMax > 0.0)) mValueMax = 1.0;
 }
 
-std::unique_ptr<BlockSource> GridRenderVolume::blocksOn(const Lattice& lattice) const {
+std::unique_ptr<BlockSource> GridRenderVolume::blocksOn(const Lattice& lattice, double) const {
     if (mFloat) return std::make_unique<GridBlocks<openvdb::FloatGrid>>(*mFloat, lattice);
     return std::make_unique<GridBlocks<openvdb::Vec3SGrid>>(*mColour, lattice);
 }

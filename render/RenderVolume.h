@@ -34,7 +34,9 @@ public:
     virtual ~RenderVolume() = default;
 
     virtual int channels() const = 0;
-    virtual std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice) const = 0;
+    /// @param invisibleUpTo  values (luminance for RGB) up to this are transparent:
+    ///                       a source may leave blocks that stay below it empty
+    virtual std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const = 0;
     /// A sample of the content's values (luminance for RGB), for percentile windows.
     virtual VolumeStatistics statistics() const = 0;
 
@@ -64,7 +66,7 @@ public:
                          double foregroundAbove, float minScaleVoxels = 0.5f);
 
     int channels() const override { return mField.channels(); }
-    std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice) const override;
+    std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override;
     VolumeStatistics statistics() const override;
 
 private:
@@ -80,7 +82,7 @@ public:
     explicit GridRenderVolume(openvdb::GridBase::ConstPtr grid);
 
     int channels() const override { return mColour ? 3 : 1; }
-    std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice) const override;
+    std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override;
     VolumeStatistics statistics() const override;
 
     const openvdb::FloatGrid* floatGrid() const { return mFloat.get(); }

@@ -122,7 +122,9 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
     frame.index = mFrames++;
     frame.reused = mStack && angleBetweenDeg(camera.direction, mStack->geometry().normal) <= mSettings.reuseAngleDeg;
     if (!frame.reused) {
-        mStack = std::make_unique<SliceStack>(mVolume, mClassifier, camera.direction, mSettings.sliceSpacingVoxels);
+        // Samples finer than the image's pixels would only be averaged away by the warp.
+        mStack = std::make_unique<SliceStack>(mVolume, mClassifier, camera.direction, mSettings.sliceSpacingVoxels,
+                                              camera.pixelMm);
         frame.buildMs = millisecondsSince(start);
         frame.gaussiansTouched = mStack->gaussiansTouched();
     }

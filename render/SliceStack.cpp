@@ -64,12 +64,13 @@ Lattice StackGeometry::lattice() const {
     return {m, openvdb::CoordBBox(Coord(0), Coord(width - 1, height - 1, slices - 1))};
 }
 
-StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& direction, double sliceSpacingVoxels) {
+StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& direction, double sliceSpacingVoxels,
+                               double pixelMm) {
     StackGeometry g;
     g.normal = direction.unit();
     g.e1 = helperAxis(g.normal).cross(g.normal).unit();
     g.e2 = g.normal.cross(g.e1).unit();
-    g.pixelMm = volume.voxelMm();
+    g.pixelMm = std::max(volume.voxelMm(), pixelMm);
     g.sliceMm = volume.voxelMm() * sliceSpacingVoxels;
     Vec3d lo(1e300), hi(-1e300);
     for (const Vec3d& corner : worldCorners(volume.worldFromIndex(), volume.box())) {
@@ -85,10 +86,10 @@ StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& directio
 }
 
 SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier, const Vec3d& direction,
-                       double sliceSpacingVoxels, const ProgressFn& progress)
-    : mGeometry(stackGeometryFor(volume, direction, sliceSpacingVoxels)), mSlices(mGeometry.slices) {
+                       double sliceSpacingVoxels, double pixelMm, const ProgressFn& progress)
+    : mGeometry(stackGeometryFor(volume, direction, sliceSpacingVoxels, pixelMm)), mSlices(mGeometry.slices) {
     for (Slice& slice : mSlices) slice.rows.assign(mGeometry.height, RowRun{});
-    const auto source = volume.blocksOn(mGeometry.lattice());
+    const auto source = volume.blocksOn(mGeometry.lattice(), classifier.transferFunction().transparentUpTo());
     std::map<int, std::vector<Coord>> slabs;  // block origins by their first slice
     for (const Coord& origin : source->occupiedBlocks()) slabs[origin.z()].push_back(origin);
     const double lengthRatio = sliceSpacingVoxels;

@@ -29,8 +29,10 @@ struct StackGeometry {
 };
 
 /// The lattice of slices perpendicular to @a direction that covers the volume,
-/// one voxel across (the volume's smallest voxel edge) and @a sliceSpacingVoxels apart.
-StackGeometry stackGeometryFor(const RenderVolume& volume, const openvdb::Vec3d& direction, double sliceSpacingVoxels);
+/// @a sliceSpacingVoxels apart (a voxel is the volume's smallest voxel edge) and
+/// @a pixelMm across, but never finer than one voxel.
+StackGeometry stackGeometryFor(const RenderVolume& volume, const openvdb::Vec3d& direction, double sliceSpacingVoxels,
+                               double pixelMm);
 
 struct StackSample {
     std::uint16_t r = 0, g = 0, b = 0, a = 0;  ///< premultiplied colour and opacity, x 65535
@@ -52,7 +54,7 @@ public:
     /// where the volume has content) and classifies every sample, with the opacity
     /// corrected from one voxel to one slice spacing: 1 - (1 - alpha)^(sliceMm / voxelMm).
     SliceStack(const RenderVolume& volume, const Classifier& classifier, const openvdb::Vec3d& direction,
-               double sliceSpacingVoxels, const ProgressFn& progress = {});
+               double sliceSpacingVoxels, double pixelMm, const ProgressFn& progress = {});
 
     const StackGeometry& geometry() const { return mGeometry; }
     const std::vector<Slice>& slices() const { return mSlices; }
