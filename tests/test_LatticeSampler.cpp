@@ -1,0 +1,42 @@
+// Block sampling on arbitrary lattices: the skip bound never hides a value above it.
+
+#include "LatticeSampler.h"
+#include "TestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+namespace gvr {
+namespace {
+
+TEST(LatticeSampler, SkippedBlocksNeverHoldValuesAboveTheBound) {
+    GaussianParameters params = test::randomGaussians(300, 1, 40.0f, 21);
+    const GaussianField field(params, 3.0f);
+    // An oblique lattice, 0.7 voxels apart, over the field and beyond it.
+    openvdb::math::Mat4d worldFromLattice = openvdb::math::Mat4d::identity();
+    worldFromLattice.setToRotation(openvdb::Vec3d(1, 2, 3).unit(), 0.6);
+    worldFromLattice.preScale(openvdb::Vec3d(0.7));
+    worldFromLattice.setTranslation(openvdb::Vec3d(-5.0));
+    const Lattice lattice{worldFromLattice, openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(71))};
+    const LatticeSampler sampler(field, openvdb::math::Mat4d::identity(), lattice, openvdb::CoordBBox::inf());
+    std::size_t skipped = 0, kept = 0;
+    for (const float bound : {0.05f, 0.2f, 0.5f}) {
+        for (const openvdb::Coord& origin : sampler.occupiedBlocks()) {
+            float exact[kBlockVoxels] = {}, maybe[kBlockVoxels] = {};
+            const openvdb::CoordBBox voxels = sampler.sampleBlock(origin, exact);
+            if (!sampler.sampleBlock(origin, maybe, bound).empty()) {
+                ++kept;
+                ASSERT_TRUE(std::equal(exact, exact + kBlockVoxels, maybe));  // sampled blocks are exact
+                continue;
+            }
+            ++skipped;
+            for (auto ijk = voxels.begin(); ijk; ++ijk) ASSERT_LE(exact[blockOffset(*ijk)], bound) << *ijk;
+        }
+    }
+    EXPECT_GT(skipped, 10u);  // the bound is tight enough to matter
+    EXPECT_GT(kept, 10u);
+}
+
+}  // namespace
+}  // namespace gvr
