@@ -62,12 +62,12 @@ std::unique_ptr<RenderVolume> loadVolume(const RenderFlags& flags) {
 }
 
 Classifier classifierFor(const RenderFlags& flags, const RenderVolume& volume) {
-    const bool isFile = !flags.tf.empty() && std::filesystem::is_regular_file(flags.tf);
-    TransferFunction tf = isFile ? readTransferFunction(flags.tf)
-                                 : presetTransferFunction(flags.tf.empty() ? defaultPreset(volume.channels(), volume.statistics())
-                                                                           : flags.tf,
-                                                          volume.statistics());
-    return Classifier(std::move(tf), volume.channels(), 1.0 / volume.valueMax());
+    if (!flags.tf.empty() && std::filesystem::is_regular_file(flags.tf)) {
+        return Classifier(readTransferFunction(flags.tf), volume.channels(), 1.0 / volume.valueMax());
+    }
+    const VolumeStatistics statistics = volume.statistics();
+    const std::string preset = flags.tf.empty() ? defaultPreset(volume.channels(), statistics) : flags.tf;
+    return Classifier(presetTransferFunction(preset, statistics), volume.channels(), 1.0 / volume.valueMax());
 }
 
 /// frame.png -> frame_0007.png for frame 7 of an orbit.

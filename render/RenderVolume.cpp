@@ -186,13 +186,11 @@ GridRenderVolume::GridRenderVolume(openvdb::GridBase::ConstPtr grid) : mGrid(std
     }
     mWorldFromIndex = mGrid->transform().baseMap()->getAffineMap()->getMat4();
     mBox = volumeBox(*mGrid);
-    const VolumeStatistics stats = statistics();
-    mValueMax = stats.values.empty() ? 1.0 : *std::max_element(stats.values.begin(), stats.values.end());
     if (mColour) {  // colours scale by the brightest channel, not the luminance
-        mValueMax = 0.0;
-        for (auto v = mColour->cbeginValueOn(); v; ++v) mValueMax = std::max<double>({mValueMax, (*v)[0], (*v)[1], (*v)[2]});
+        double brightest = 0.0;
+        for (auto v = mColour->cbeginValueOn(); v; ++v) brightest = std::max<double>({brightest, (*v)[0], (*v)[1], (*v)[2]});
+        if (brightest > 0.0) mValueMax = brightest;
     }
-    if (!(mValueMax > 0.0)) mValueMax = 1.0;
 }
 
 std::unique_ptr<BlockSource> GridRenderVolume::blocksOn(const Lattice& lattice, double) const {

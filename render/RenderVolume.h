@@ -44,7 +44,7 @@ public:
     const openvdb::CoordBBox& box() const { return mBox; }  ///< the volume's voxels, index space
     /// The shortest voxel edge in mm: one voxel of slice spacing and of opacity.
     double voxelMm() const;
-    /// The largest sample value of any channel, to scale RGB data into colours.
+    /// What RGB data divide by to become colours in [0, 1]: the brightest channel value.
     double valueMax() const { return mValueMax; }
 
 protected:
