@@ -30,6 +30,8 @@ void marchGrid(const GridT& grid, const RenderVolume& volume, const Classifier& 
     const double stepMm = settings.stepVoxels * volume.voxelMm();
     const double step = stepMm * indexPerMm;  // in index-space length along the ray
     const double lengthRatio = settings.stepVoxels;
+    // Rays sample only inside the volume's cells: nothing exists outside them.
+    const openvdb::BBoxd cells(volume.box().min().asVec3d() - Vec3d(0.5), volume.box().max().asVec3d() + Vec3d(0.5));
     double reach = 0.0;  // how far behind the image plane rays must start
     for (const Vec3d& c : worldCorners(volume.worldFromIndex(), volume.box())) reach = std::max(reach, (c - camera.centre).length());
 
@@ -38,10 +40,14 @@ void marchGrid(const GridT& grid, const RenderVolume& volume, const Classifier& 
         auto accessor = grid.getConstAccessor();
         for (int x = 0; x < camera.width; ++x) {
             const Vec3d eye = indexFromWorld.transform(camera.pixelPoint(x, y) - camera.direction * reach);
-            if (!intersector.setIndexRay(Ray(eye, unitDirection))) continue;
+            Ray ray(eye, unitDirection);
+            if (!ray.clip(cells) || !intersector.setIndexRay(ray)) continue;
+            const double enter = ray.t0(), exit = ray.t1();
             float* pixel = image.pixel(x, y);
             double t0 = 0.0, t1 = 0.0;
             while (pixel[3] < settings.terminationOpacity && intersector.march(t0, t1)) {
+                t0 = std::max(t0, enter);
+                t1 = std::min(t1, exit);
                 // Samples sit on one comb along the whole ray, so intervals never shift them.
                 for (double t = std::ceil(t0 / step - 0.5) * step + 0.5 * step; t < t1; t += step) {
                     float value[3];

@@ -103,6 +103,32 @@ private:
     CoordBBox mActive;
 };
 
+/// The median of @a key(ijk) over voxels on the faces of @a box: what surrounds the
+/// subject. For photographed sections that is the paper or the embedding medium,
+/// however bright, rather than the dark minimum that ingest made background.
+template <typename Key>
+double borderMedian(const CoordBBox& box, const Key& key) {
+    std::vector<double> values;
+    for (int axis = 0; axis < 3; ++axis) {
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        const int stepU = std::max(1, box.dim()[u] / 64), stepV = std::max(1, box.dim()[v] / 64);
+        for (const int side : {box.min()[axis], box.max()[axis]}) {
+            for (int a = box.min()[u]; a <= box.max()[u]; a += stepU) {
+                for (int b = box.min()[v]; b <= box.max()[v]; b += stepV) {
+                    Coord ijk;
+                    ijk[axis] = side;
+                    ijk[u] = a;
+                    ijk[v] = b;
+                    values.push_back(key(ijk));
+                }
+            }
+        }
+    }
+    if (values.empty()) return 0.0;
+    std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(values.size() / 2), values.end());
+    return values[values.size() / 2];
+}
+
 /// Raises every log-scale to log(minScale), scaling the colour by the volume ratio
 /// so that amplitude times the product of the scales, the integral, is unchanged.
 GaussianParameters withMinimumFootprint(GaussianParameters params, float minScaleVoxels) {
@@ -157,20 +183,22 @@ std::unique_ptr<BlockSource> GaussianRenderVolume::blocksOn(const Lattice& latti
 VolumeStatistics GaussianRenderVolume::statistics() const {
     VolumeStatistics stats;
     const int channels = mField.channels();
-    float background[3];
-    for (int c = 0; c < channels; ++c) background[c] = float(mMapping.toPhysical(0.0, c));
-    stats.background = keyOf(background, channels);
+    std::vector<std::uint32_t> hits;
+    const auto keyAt = [&](const Coord& ijk) {
+        const float x[3] = {float(ijk.x()), float(ijk.y()), float(ijk.z())};
+        float value[3];
+        mField.evaluate(x, value, hits);
+        for (int c = 0; c < channels; ++c) value[c] = float(mMapping.toPhysical(value[c], c));
+        return double(keyOf(value, channels));
+    };
+    stats.background = borderMedian(mBox, keyAt);
     // Voxel centres spread evenly over the box, kept where the field is content.
     const std::uint64_t voxels = mBox.volume();
     const std::uint64_t stride = std::max<std::uint64_t>(1, voxels / (4 * kStatisticsSamples));
     const Coord dims = mBox.dim();
-    std::vector<std::uint32_t> hits;
     for (std::uint64_t n = 0; n < voxels; n += stride) {
-        const float x[3] = {float(n % dims.x()), float(n / dims.x() % dims.y()), float(n / dims.x() / dims.y())};
-        float value[3];
-        mField.evaluate(x, value, hits);
-        for (int c = 0; c < channels; ++c) value[c] = float(mMapping.toPhysical(value[c], c));
-        if (keyOf(value, channels) > mForegroundAbove) stats.values.push_back(keyOf(value, channels));
+        const double key = keyAt(Coord(int(n % dims.x()), int(n / dims.x() % dims.y()), int(n / dims.x() / dims.y())));
+        if (key > mForegroundAbove) stats.values.push_back(float(key));
     }
     const bool anyBelow = std::any_of(stats.values.begin(), stats.values.end(), [](float v) { return v < -500.0f; });
     stats.hounsfield = anyBelow || stats.background < -500.0;
@@ -214,10 +242,12 @@ VolumeStatistics GridRenderVolume::statistics() const {
     };
     if (mFloat) {
         gather(*mFloat);
-        stats.background = mFloat->background();
+        const auto accessor = mFloat->getConstAccessor();
+        stats.background = borderMedian(mBox, [&](const Coord& ijk) { return double(accessor.getValue(ijk)); });
     } else {
         gather(*mColour);
-        stats.background = luminance(mColour->background());
+        const auto accessor = mColour->getConstAccessor();
+        stats.background = borderMedian(mBox, [&](const Coord& ijk) { return luminance(accessor.getValue(ijk)); });
     }
     const bool anyBelow = std::any_of(stats.values.begin(), stats.values.end(), [](float v) { return v < -500.0f; });
     stats.hounsfield = anyBelow || stats.background < -500.0;

@@ -94,6 +94,10 @@ SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier,
     for (const Coord& origin : source->occupiedBlocks()) slabs[origin.z()].push_back(origin);
     const double lengthRatio = sliceSpacingVoxels;
     const int channels = volume.channels();
+    // Nothing exists outside the volume's cells, whatever a transfer function makes
+    // of the background value a source returns there.
+    const openvdb::math::Mat4d volumeFromLattice = mGeometry.lattice().worldFromIndex * volume.worldFromIndex().inverse();
+    const openvdb::BBoxd cells(volume.box().min().asVec3d() - Vec3d(0.5), volume.box().max().asVec3d() + Vec3d(0.5));
     ProgressCounter counter(progress, slabs.size());
     Slab slab(mGeometry.width, mGeometry.height);
     for (const auto& [firstSlice, origins] : slabs) {
@@ -102,6 +106,7 @@ SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier,
             float values[kBlockVoxels * 3];
             const openvdb::CoordBBox voxels = source->sampleBlock(origins[n], values);
             for (auto ijk = voxels.begin(); ijk; ++ijk) {
+                if (!cells.isInside(volumeFromLattice.transform((*ijk).asVec3d()))) continue;
                 const std::array<float, 4> rgba = classifier(values + blockOffset(*ijk) * channels);
                 const float alpha = opacityOverLength(rgba[3], lengthRatio);
                 if (alpha <= 0.0f) continue;
