@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <utility>
 
 namespace gvr {
 
@@ -12,7 +13,7 @@ using openvdb::Vec3d;
 namespace {
 
 template <typename GridT>
-void marchGrid(const GridT& grid, const RenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
+void marchGrid(const GridT& grid, const GridRenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
                const RayMarchSettings& settings, Framebuffer& image) {
     using Ray = openvdb::math::Ray<double>;
     if (grid.activeVoxelCount() == 0) return;
@@ -30,6 +31,9 @@ void marchGrid(const GridT& grid, const RenderVolume& volume, const Classifier& 
     const double stepMm = settings.stepVoxels * volume.voxelMm();
     const double step = stepMm * indexPerMm;  // in index-space length along the ray
     const double lengthRatio = settings.stepVoxels;
+    // Inactive space holds the background: skip it only where the classification
+    // makes the background transparent, as shear-warp does.
+    const bool skipEmpty = classifier.transferFunction()(volume.backgroundKey())[3] == 0.0f;
     // Rays sample only inside the volume's cells: nothing exists outside them.
     const openvdb::BBoxd cells(volume.box().min().asVec3d() - Vec3d(0.5), volume.box().max().asVec3d() + Vec3d(0.5));
     double reach = 0.0;  // how far behind the image plane rays must start
@@ -41,11 +45,13 @@ void marchGrid(const GridT& grid, const RenderVolume& volume, const Classifier& 
         for (int x = 0; x < camera.width; ++x) {
             const Vec3d eye = indexFromWorld.transform(camera.pixelPoint(x, y) - camera.direction * reach);
             Ray ray(eye, unitDirection);
-            if (!ray.clip(cells) || !intersector.setIndexRay(ray)) continue;
+            if (!ray.clip(cells)) continue;
             const double enter = ray.t0(), exit = ray.t1();
+            if (skipEmpty && !intersector.setIndexRay(ray)) continue;
             float* pixel = image.pixel(x, y);
-            double t0 = 0.0, t1 = 0.0;
-            while (pixel[3] < settings.terminationOpacity && intersector.march(t0, t1)) {
+            double t0 = enter, t1 = exit;
+            bool whole = !skipEmpty;  // one interval, the whole crossing, when nothing may be skipped
+            while (pixel[3] < settings.terminationOpacity && (std::exchange(whole, false) || (skipEmpty && intersector.march(t0, t1)))) {
                 t0 = std::max(t0, enter);
                 t1 = std::min(t1, exit);
                 // Samples sit on one comb along the whole ray, so intervals never shift them.

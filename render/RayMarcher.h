@@ -1,9 +1,9 @@
 /// @file RayMarcher.h
 /// @brief The reference renderer: rays marched through a grid, sampled trilinearly
 /// at most half a voxel apart, with the same classification and compositing as
-/// shear-warp. Empty space is skipped where the VDB tree has no active leaf or
-/// tile (so the transfer function should make the background transparent; gvr's
-/// presets do).
+/// shear-warp. Where the classification makes the background transparent, empty
+/// space is skipped where the VDB tree has no active leaf or tile; otherwise every
+/// sample inside the volume's cells is taken.
 #pragma once
 
 #include "Camera.h"

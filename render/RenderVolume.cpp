@@ -20,14 +20,29 @@ constexpr std::size_t kStatisticsSamples = 50000;
 
 float keyOf(const float* value, int channels) { return channels == 1 ? value[0] : float(luminance(value)); }
 
+/// Origins of every block of a lattice box.
+std::vector<Coord> allBlocks(const CoordBBox& box) {
+    std::vector<Coord> origins;
+    for (int z = box.min().z() & ~(kBlockDim - 1); z <= box.max().z(); z += kBlockDim) {
+        for (int y = box.min().y() & ~(kBlockDim - 1); y <= box.max().y(); y += kBlockDim) {
+            for (int x = box.min().x() & ~(kBlockDim - 1); x <= box.max().x(); x += kBlockDim) origins.emplace_back(x, y, z);
+        }
+    }
+    return origins;
+}
+
 class GaussianBlocks : public BlockSource {
 public:
     /// @param skipUpTo  blocks whose field cannot exceed this (normalised) stay empty
+    /// @param everyBlock  the background is visible: unreached blocks count too
     GaussianBlocks(const GaussianField& field, const Mat4d& worldFromIndex, const Lattice& lattice,
-                   const CoordBBox& fieldBox, const ValueMapping& mapping, float skipUpTo)
-        : mSampler(field, worldFromIndex, lattice, fieldBox), mMapping(mapping), mSkipUpTo(skipUpTo) {}
+                   const CoordBBox& fieldBox, const ValueMapping& mapping, float skipUpTo, bool everyBlock)
+        : mSampler(field, worldFromIndex, lattice, fieldBox), mMapping(mapping), mSkipUpTo(skipUpTo),
+          mEveryBlock(everyBlock) {}
 
-    std::vector<Coord> occupiedBlocks() const override { return mSampler.occupiedBlocks(); }
+    std::vector<Coord> occupiedBlocks() const override {
+        return mEveryBlock ? allBlocks(mSampler.lattice().box) : mSampler.occupiedBlocks();
+    }
     std::size_t gaussiansReaching() const override { return mSampler.reachingGaussians(); }
 
     CoordBBox sampleBlock(const Coord& origin, float* values) const override {
@@ -44,29 +59,25 @@ private:
     LatticeSampler mSampler;
     ValueMapping mMapping;
     float mSkipUpTo;
+    bool mEveryBlock;
 };
 
 template <typename GridT>
 class GridBlocks : public BlockSource {
 public:
-    GridBlocks(const GridT& grid, const Lattice& lattice)
-        : mGrid(grid), mLattice(lattice),
+    /// @param everyBlock  the background is visible: blocks away from active voxels count too
+    GridBlocks(const GridT& grid, const Lattice& lattice, bool everyBlock)
+        : mGrid(grid), mLattice(lattice), mEveryBlock(everyBlock),
           mGridFromLattice(lattice.worldFromIndex * grid.transform().baseMap()->getAffineMap()->getMat4().inverse()) {
         mActive = grid.evalActiveVoxelBoundingBox();
         mActive.expand(1);  // trilinear samples reach one voxel out
     }
 
     std::vector<Coord> occupiedBlocks() const override {
-        std::vector<Coord> origins;
-        if (mGrid.activeVoxelCount() == 0) return origins;
-        const CoordBBox& box = mLattice.box;
-        for (int z = box.min().z() & ~(kBlockDim - 1); z <= box.max().z(); z += kBlockDim) {
-            for (int y = box.min().y() & ~(kBlockDim - 1); y <= box.max().y(); y += kBlockDim) {
-                for (int x = box.min().x() & ~(kBlockDim - 1); x <= box.max().x(); x += kBlockDim) {
-                    if (reachesActive(Coord(x, y, z))) origins.emplace_back(x, y, z);
-                }
-            }
-        }
+        std::vector<Coord> origins = allBlocks(mLattice.box);
+        if (mEveryBlock) return origins;
+        origins.erase(std::remove_if(origins.begin(), origins.end(), [&](const Coord& o) { return !reachesActive(o); }),
+                      origins.end());
         return origins;
     }
 
@@ -91,6 +102,7 @@ private:
             lo = openvdb::math::minComponent(lo, p);
             hi = openvdb::math::maxComponent(hi, p);
         }
+        if (mActive.empty()) return false;
         for (int a = 0; a < 3; ++a) {
             if (hi[a] < mActive.min()[a] || lo[a] > mActive.max()[a]) return false;
         }
@@ -99,6 +111,7 @@ private:
 
     const GridT& mGrid;
     Lattice mLattice;
+    bool mEveryBlock;
     Mat4d mGridFromLattice;
     CoordBBox mActive;
 };
@@ -177,7 +190,8 @@ std::unique_ptr<BlockSource> GaussianRenderVolume::blocksOn(const Lattice& latti
     for (int c = 0; c < channels(); ++c) background[c] = float(mMapping.toPhysical(0.0, c));
     const double headroom = (invisibleUpTo - keyOf(background, channels())) / mMapping.scale;
     const float skipUpTo = std::isfinite(headroom) && headroom > 0.0 ? float(headroom) : -1.0f;
-    return std::make_unique<GaussianBlocks>(mField, mWorldFromIndex, lattice, mBox, mMapping, skipUpTo);
+    return std::make_unique<GaussianBlocks>(mField, mWorldFromIndex, lattice, mBox, mMapping, skipUpTo,
+                                            /*everyBlock=*/headroom < 0.0);
 }
 
 VolumeStatistics GaussianRenderVolume::statistics() const {
@@ -221,9 +235,14 @@ GridRenderVolume::GridRenderVolume(openvdb::GridBase::ConstPtr grid) : mGrid(std
     }
 }
 
-std::unique_ptr<BlockSource> GridRenderVolume::blocksOn(const Lattice& lattice, double) const {
-    if (mFloat) return std::make_unique<GridBlocks<openvdb::FloatGrid>>(*mFloat, lattice);
-    return std::make_unique<GridBlocks<openvdb::Vec3SGrid>>(*mColour, lattice);
+std::unique_ptr<BlockSource> GridRenderVolume::blocksOn(const Lattice& lattice, double invisibleUpTo) const {
+    const bool backgroundVisible = backgroundKey() > invisibleUpTo;
+    if (mFloat) return std::make_unique<GridBlocks<openvdb::FloatGrid>>(*mFloat, lattice, backgroundVisible);
+    return std::make_unique<GridBlocks<openvdb::Vec3SGrid>>(*mColour, lattice, backgroundVisible);
+}
+
+double GridRenderVolume::backgroundKey() const {
+    return mFloat ? double(mFloat->background()) : luminance(mColour->background());
 }
 
 VolumeStatistics GridRenderVolume::statistics() const {

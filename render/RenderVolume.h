@@ -85,6 +85,8 @@ public:
     std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override;
     VolumeStatistics statistics() const override;
 
+    /// What inactive voxels hold (its luminance for RGB): the value of empty space.
+    double backgroundKey() const;
     const openvdb::FloatGrid* floatGrid() const { return mFloat.get(); }
     const openvdb::Vec3SGrid* colourGrid() const { return mColour.get(); }
     /// Trilinear value at index-space point @a x into out[0..channels).

@@ -10,7 +10,7 @@
 /// from the background.
 /// - rgb: colour from the data; opacity from the luminance, rising away from the
 ///   background's luminance (dark tissue on white paper and bright tissue on black
-///   both work), between the 2nd and 98th percentiles.
+///   both work), between the 2nd and 98th percentiles of the content.
 /// Opacities are per voxel of path.
 #pragma once
 

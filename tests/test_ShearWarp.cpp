@@ -95,14 +95,32 @@ TEST(ShearWarp, HalvingTheSliceSpacingKeepsTheImage) {
 }
 
 TEST(ShearWarp, EmptyVolumesGiveTransparentImages) {
+    // Empty: nothing above the background, which the classification leaves transparent.
     const GridRenderVolume emptyGrid(test::makeGrid({16, 16, 16}, [](int, int, int) { return 0.0f; }));
-    const Classifier classifier(TransferFunction({{-1.0, {1, 1, 1, 0}}, {1.0, {1, 1, 1, 0.5f}}}, "test"), 1);
+    const Classifier classifier(TransferFunction({{0.0, {1, 1, 1, 0}}, {1.0, {1, 1, 1, 0.5f}}}, "test"), 1);
     const OrthoCamera camera = cameraFor(emptyGrid, 20, 10, 32);
     EXPECT_EQ(alphaSum(ShearWarpRenderer(emptyGrid, classifier, {}).render(camera)), 0.0);
     EXPECT_EQ(alphaSum(rayMarch(emptyGrid, classifier, camera, {})), 0.0);
     const GaussianRenderVolume noGaussians(GaussianParameters(0, 1), 3.0f, openvdb::math::Mat4d::identity(),
                                            openvdb::Vec3i(16, 16, 16), ValueMapping{}, 1.0, 0.0);
     EXPECT_EQ(alphaSum(ShearWarpRenderer(noGaussians, classifier, {}).render(camera)), 0.0);
+}
+
+TEST(ShearWarp, NothingExistsOutsideTheVolume) {
+    // Every value is visible here, the background too: only the volume's own box may show,
+    // inactive voxels included (empty space is skipped only when it is invisible).
+    const GridRenderVolume slab(test::makeGrid({24, 16, 8}, [](int i, int, int) { return i < 6 ? 0.0f : 25.0f * i; }));
+    const Classifier opaque(TransferFunction({{0.0, {0.2f, 0.2f, 0.9f, 0.3f}}, {500.0, {1, 1, 1, 0.3f}}}, "test"), 1);
+    const OrthoCamera camera = cameraFor(slab, 35, 25, 64);
+    const Framebuffer shearWarp = ShearWarpRenderer(slab, opaque, {}).render(camera);
+    const Framebuffer reference = rayMarch(slab, opaque, camera, {});
+    // A shell around the box, one voxel thick, would add over 15 % of coverage.
+    EXPECT_NEAR(alphaSum(shearWarp) / alphaSum(reference), 1.0, 0.03);
+    for (const Framebuffer* image : {&shearWarp, &reference}) {
+        EXPECT_EQ(image->pixel(0, 0)[3], 0.0f);  // corners miss the box
+        EXPECT_EQ(image->pixel(63, 63)[3], 0.0f);
+        EXPECT_GT(image->pixel(32, 32)[3], 0.9f);  // the centre crosses it
+    }
 }
 
 /// One Gaussian at the centre of a 40^3 volume with scales (sx, sy, sz) voxels.
