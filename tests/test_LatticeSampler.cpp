@@ -10,15 +10,39 @@
 namespace gvr {
 namespace {
 
-TEST(LatticeSampler, SkippedBlocksNeverHoldValuesAboveTheBound) {
-    GaussianParameters params = test::randomGaussians(300, 1, 40.0f, 21);
-    const GaussianField field(params, 3.0f);
-    // An oblique lattice, 0.7 voxels apart, over the field and beyond it.
+/// An oblique lattice, 0.7 voxels apart, over the field and beyond it.
+Lattice obliqueLattice() {
     openvdb::math::Mat4d worldFromLattice = openvdb::math::Mat4d::identity();
     worldFromLattice.setToRotation(openvdb::Vec3d(1, 2, 3).unit(), 0.6);
     worldFromLattice.preScale(openvdb::Vec3d(0.7));
     worldFromLattice.setTranslation(openvdb::Vec3d(-5.0));
-    const Lattice lattice{worldFromLattice, openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(71))};
+    return {worldFromLattice, openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(71))};
+}
+
+TEST(LatticeSampler, ObliqueLatticesHoldExactlyThePointEvaluation) {
+    const GaussianField field(test::randomGaussians(300, 1, 40.0f, 22), 3.0f);
+    const Lattice lattice = obliqueLattice();
+    const LatticeSampler sampler(field, openvdb::math::Mat4d::identity(), lattice, openvdb::CoordBBox::inf());
+    std::vector<std::uint32_t> hits;
+    std::size_t nonZero = 0;
+    for (const openvdb::Coord& origin : sampler.occupiedBlocks()) {
+        float sums[kBlockVoxels] = {};
+        const openvdb::CoordBBox voxels = sampler.sampleBlock(origin, sums);
+        for (auto ijk = voxels.begin(); ijk; ++ijk) {
+            const openvdb::Vec3d p = lattice.worldFromIndex.transform((*ijk).asVec3d());
+            const float x[3] = {float(p[0]), float(p[1]), float(p[2])};
+            float expected;
+            field.evaluate(x, &expected, hits);
+            ASSERT_EQ(sums[blockOffset(*ijk)], expected) << *ijk;
+            nonZero += expected != 0.0f;
+        }
+    }
+    EXPECT_GT(nonZero, 10000u);
+}
+
+TEST(LatticeSampler, SkippedBlocksNeverHoldValuesAboveTheBound) {
+    const GaussianField field(test::randomGaussians(300, 1, 40.0f, 21), 3.0f);
+    const Lattice lattice = obliqueLattice();
     const LatticeSampler sampler(field, openvdb::math::Mat4d::identity(), lattice, openvdb::CoordBBox::inf());
     std::size_t skipped = 0, kept = 0;
     for (const float bound : {0.05f, 0.2f, 0.5f}) {
