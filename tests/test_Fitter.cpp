@@ -108,6 +108,9 @@ struct HardVolume {
     openvdb::Vec3d spacing;
 };
 
+/// ctest lists the case by name rather than as raw bytes.
+void PrintTo(const HardVolume& volume, std::ostream* out) { *out << volume.name; }
+
 class HardVolumes : public ::testing::TestWithParam<HardVolume> {};
 
 TEST_P(HardVolumes, GiveFiniteParameters) {

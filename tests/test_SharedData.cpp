@@ -17,6 +17,9 @@ struct Expected {
     std::string sourceType;
 };
 
+/// ctest lists the case by its input rather than as raw bytes.
+void PrintTo(const Expected& expected, std::ostream* out) { *out << expected.input; }
+
 class SharedDataIngest : public ::testing::TestWithParam<Expected> {};
 
 std::string testName(const ::testing::TestParamInfo<Expected>& info) {
