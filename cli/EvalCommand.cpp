@@ -158,7 +158,7 @@ void addEvalCommand(CLI::App& app) {
         "eval", "Compare a test volume or image with a reference: MSE, PSNR, foreground PSNR, SSIM and "
                 "MS-SSIM (3D for volumes, 2D for images; RGB per channel, averaged)");
     command->add_option("reference", flags->reference, "Reference: .vdb, any volume ingest reads, or a 2D image")->required();
-    command->add_option("test", flags->test, "Volume or image to compare with it")->required();
+    command->add_option("test", flags->test, "Volume, Gaussian asset (as exported) or image to compare with it")->required();
     command->add_option("--mask", flags->mask, "Foreground = the non-zero voxels of this volume");
     command->add_option("--threshold", flags->threshold,
                         "Foreground = reference voxels above this (physical units; luminance for RGB). "

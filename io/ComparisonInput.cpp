@@ -1,5 +1,7 @@
 #include "ComparisonInput.h"
 
+#include "AssetExport.h"
+
 #include "Error.h"
 #include "Readers.h"
 #include "VolumeMetadata.h"
@@ -7,6 +9,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 namespace gvr {
@@ -26,10 +29,17 @@ std::unique_ptr<OIIO::ImageInput> openSingleImage(const std::string& path) {
 FloatVolume readImage(OIIO::ImageInput& input, const std::string& path) {
     const OIIO::ImageSpec& spec = input.spec();
     if (spec.depth > 1) throw InputError(path, "is a volume image; gvr eval compares 2D images or volumes");
+    if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 ||
+        std::uint64_t(spec.width) * spec.height * spec.nchannels > (std::uint64_t(1) << 30)) {
+        throw InputError(path, "image of " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
+                                   std::to_string(spec.nchannels) + " samples is empty or too large to compare");
+    }
     FloatVolume image(openvdb::Coord(spec.width, spec.height, 1), spec.nchannels);
     if (!input.read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.values.data())) {
         throw InputError(path, "cannot decode the image: " + input.geterror());
     }
+    const auto nonFinite = std::count_if(image.values.begin(), image.values.end(), [](float v) { return !std::isfinite(v); });
+    if (nonFinite > 0) throw InputError(path, std::to_string(nonFinite) + " samples are NaN or Inf");
     return image;
 }
 
@@ -49,9 +59,11 @@ ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions
         input.dataRange = sampleRange(input.volume);
         return input;
     }
-    const IngestResult loaded = loadOrIngest(path, options);
-    input.volume = sampleGrid(*loaded.grid, volumeBox(*loaded.grid));
-    const auto metadata = readVolumeMetadata(*loaded.grid);
+    // A Gaussian asset is compared as what it exports onto its source grid.
+    const openvdb::GridBase::Ptr grid = isAssetFile(path) ? exportAsset(readAsset(path), ExportSettings{}).grids.front()
+                                                          : loadOrIngest(path, options).grid;
+    input.volume = sampleGrid(*grid, volumeBox(*grid));
+    const auto metadata = readVolumeMetadata(*grid);
     input.dataRange = metadata ? metadata->valueMax - metadata->valueMin : sampleRange(input.volume);
     return input;
 }

@@ -1,6 +1,7 @@
 /// @file ComparisonInput.h
-/// @brief What `gvr eval` compares: a volume (a .vdb, or anything ingest reads) or
-/// a single 2D image, as dense float samples.
+/// @brief What `gvr eval` compares: a volume (a .vdb, a Gaussian asset as exported
+/// onto its source grid, or anything ingest reads) or a single 2D image, as dense
+/// float samples.
 #pragma once
 
 #include "FloatVolume.h"

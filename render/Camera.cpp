@@ -8,8 +8,8 @@
 namespace gvr {
 
 OrthoCamera makeCamera(const View& view, const std::array<openvdb::Vec3d, 8>& corners, int width, int height) {
-    if (width < 1 || height < 1 || width > 16384 || height > 16384) {
-        throw InputError("--size", "must be between 1x1 and 16384x16384 pixels");
+    if (width < 1 || height < 1 || width > 8192 || height > 8192) {
+        throw InputError("--size", "must be between 1x1 and 8192x8192 pixels");
     }
     if (!std::isfinite(view.azimuthDeg) || !std::isfinite(view.elevationDeg)) {
         throw InputError("--azimuth/--elevation", "angles must be finite numbers of degrees");

@@ -1,8 +1,11 @@
 // gvr export, eval and probe as a user meets them.
 
+#include "ImageFile.h"
 #include "TestHelpers.h"
 
 #include <nlohmann/json.hpp>
+
+#include <cmath>
 
 namespace gvr {
 namespace {
@@ -43,6 +46,11 @@ TEST(CliExport, ExportThenEvalAgreesWithTheFit) {
     EXPECT_LT(evalPsnr, fitPsnr + 1.0);
     EXPECT_GT(metrics["ssim"].get<double>(), 0.5);
     EXPECT_EQ(metrics["ms_ssim_scales"], 1);  // 16 voxels deep: too small for more
+
+    // An asset compares as its export, without writing one.
+    const test::CommandResult direct = runGvr("eval --json '" + dir.path("small.vdb") + "' '" + asset + "'", dir);
+    ASSERT_EQ(direct.exitCode, 0) << direct.err;
+    EXPECT_EQ(nlohmann::json::parse(direct.out)["psnr"], metrics["psnr"]);
 }
 
 TEST(CliExport, NiftiAndResizedGrids) {
@@ -95,6 +103,18 @@ TEST(CliEval, IdenticalInputsPrintInfinity) {
     EXPECT_DOUBLE_EQ(metrics["ssim"].get<double>(), 1.0);
     EXPECT_DOUBLE_EQ(metrics["ms_ssim"].get<double>(), 1.0);
     EXPECT_EQ(metrics["peak"], 200.0);  // the raw volume's range, 0..200
+}
+
+TEST(CliEval, ImagesWithNanAreRefused) {
+    test::TempDir dir;
+    std::vector<float> pixels(4 * 4 * 4, 0.5f);
+    writeImage(dir.path("good.exr"), 4, 4, pixels.data());
+    pixels[5] = NAN;
+    writeImage(dir.path("nan.exr"), 4, 4, pixels.data());
+    const test::CommandResult run = runGvr("eval '" + dir.path("good.exr") + "' '" + dir.path("nan.exr") + "'", dir);
+    EXPECT_EQ(run.exitCode, 2);
+    EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
+    EXPECT_NE(run.err.find("1 samples are NaN or Inf"), std::string::npos) << run.err;
 }
 
 TEST(CliEval, MismatchedGridsNeedResample) {
