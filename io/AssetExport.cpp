@@ -4,6 +4,7 @@
 #include "FloatVolume.h"
 #include "GridFile.h"
 #include "Luminance.h"
+#include "VolumeBorder.h"
 
 namespace gvr {
 
@@ -18,10 +19,13 @@ openvdb::Vec3d axisLengths(const openvdb::math::Mat4d& worldFromIndex) {
 }
 
 /// A float fog volume with the colour grid's active voxels, each voxel's density
-/// taken from its physical colour.
-openvdb::FloatGrid::Ptr derivedDensity(const openvdb::Vec3SGrid& colour, const GaussianAsset& asset,
-                                       const ExportSettings& settings) {
-    const double backgroundLuminance = luminance(asset.mapping.offset);
+/// taken from its physical colour: by default how far its luminance lies from what
+/// surrounds the subject (white paper or black medium alike), in the source's range.
+openvdb::FloatGrid::Ptr derivedDensity(const openvdb::Vec3SGrid& colour, const openvdb::CoordBBox& box,
+                                       const GaussianAsset& asset, const ExportSettings& settings) {
+    const auto colours = colour.getConstAccessor();
+    const double backgroundLuminance =
+        borderMedian(box, [&](const openvdb::Coord& ijk) { return luminance(colours.getValue(ijk)); });
     auto density = openvdb::FloatGrid::create(0.0f);
     density->setTree(std::make_shared<openvdb::FloatTree>(colour.tree(), 0.0f, openvdb::TopologyCopy()));
     density->setTransform(colour.transform().copy());
@@ -29,7 +33,7 @@ openvdb::FloatGrid::Ptr derivedDensity(const openvdb::Vec3SGrid& colour, const G
     for (auto voxel = colour.cbeginValueOn(); voxel; ++voxel) {
         const double lum = luminance(*voxel);
         const float value = settings.densityFrom ? (*settings.densityFrom)(lum)[3]
-                                                 : float(std::max(0.0, (lum - backgroundLuminance) / asset.mapping.scale));
+                                                 : float(std::abs(lum - backgroundLuminance) / asset.mapping.scale);
         accessor.setValueOnly(voxel.getCoord(), value);
     }
     return density;
@@ -61,7 +65,7 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     result.grids.push_back(values);
     if (auto colour = openvdb::GridBase::grid<openvdb::Vec3SGrid>(values)) {
         if (settings.naming == GridNaming::Houdini) colour->setName("Cd");
-        auto density = derivedDensity(*colour, asset, settings);
+        auto density = derivedDensity(*colour, result.lattice.box, asset, settings);
         density->setName("density");
         result.grids.push_back(density);
     }

@@ -23,7 +23,9 @@ struct ExportSettings {
     std::optional<double> threshold;
     GridNaming naming = GridNaming::Blender;
     /// RGB only: density = this function's opacity at each voxel's luminance.
-    /// Unset: the luminance, normalised to the source's range (0 at the background).
+    /// Unset: how far the luminance lies from what surrounds the subject (the median
+    /// luminance on the grid's faces: white paper or black medium), in units of the
+    /// source's luminance range.
     std::optional<TransferFunction> densityFrom;
     std::string assetPath;  ///< recorded in the grids' metadata
 };

@@ -3,6 +3,7 @@
 #include "Error.h"
 #include "FloatVolume.h"
 #include "Luminance.h"
+#include "VolumeBorder.h"
 
 #include <algorithm>
 #include <cmath>
@@ -115,32 +116,6 @@ private:
     Mat4d mGridFromLattice;
     CoordBBox mActive;
 };
-
-/// The median of @a key(ijk) over voxels on the faces of @a box: what surrounds the
-/// subject. For photographed sections that is the paper or the embedding medium,
-/// however bright, rather than the dark minimum that ingest made background.
-template <typename Key>
-double borderMedian(const CoordBBox& box, const Key& key) {
-    std::vector<double> values;
-    for (int axis = 0; axis < 3; ++axis) {
-        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-        const int stepU = std::max(1, box.dim()[u] / 64), stepV = std::max(1, box.dim()[v] / 64);
-        for (const int side : {box.min()[axis], box.max()[axis]}) {
-            for (int a = box.min()[u]; a <= box.max()[u]; a += stepU) {
-                for (int b = box.min()[v]; b <= box.max()[v]; b += stepV) {
-                    Coord ijk;
-                    ijk[axis] = side;
-                    ijk[u] = a;
-                    ijk[v] = b;
-                    values.push_back(key(ijk));
-                }
-            }
-        }
-    }
-    if (values.empty()) return 0.0;
-    std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(values.size() / 2), values.end());
-    return values[values.size() / 2];
-}
 
 /// Raises every log-scale to log(minScale), scaling the colour by the volume ratio
 /// so that amplitude times the product of the scales, the integral, is unchanged.

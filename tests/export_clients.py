@@ -391,13 +391,25 @@ def rgb_case(gvr, shared, tmp):
         if active and d_value > 1e-3:
             lum.append(0.2126 * value[0] + 0.7152 * value[1] + 0.0722 * value[2])
             dens.append(d_value)
-    # density = (luminance(Cd) - background luminance) / scale: affine in the luminance.
+    # density = |luminance(Cd) - b| / scale, b the luminance around the specimen: a line on
+    # each side of b, with opposite slopes.
     if check("RGB enough voxels with density > 0 to test density vs luminance", len(dens) >= 3, f"{len(dens)}"):
-        a = np.column_stack([np.array(dens), np.ones(len(dens))])
-        coef, *_ = np.linalg.lstsq(a, np.array(lum), rcond=None)
-        residual = float(np.abs(a @ coef - np.array(lum)).max())
-        check("RGB density is an affine function of the Cd luminance", coef[0] > 0 and residual < 1e-4 * max(lum),
-              f"lum = {coef[0]:.4f} * density + {coef[1]:.4f}, max residual {residual:.2e}")
+        lum, dens = np.array(lum), np.array(dens)
+        pivot = lum[np.argmin(dens)]
+        slopes = []
+        for side in (lum < pivot, lum > pivot):
+            if side.sum() < 3:
+                continue
+            a = np.column_stack([lum[side], np.ones(side.sum())])
+            coef, *_ = np.linalg.lstsq(a, dens[side], rcond=None)
+            residual = float(np.abs(a @ coef - dens[side]).max())
+            check("RGB density is affine in the luminance on one side of the surround", residual < 1e-4 * dens.max(),
+                  f"density = {coef[0]:.5f} * lum + {coef[1]:.4f}, max residual {residual:.2e}")
+            slopes.append(coef[0])
+        if len(slopes) == 2:
+            check("RGB density slopes are opposite: distance from the surround", abs(slopes[0] + slopes[1]) < 1e-3 * abs(slopes[1]),
+                  f"{slopes}")
+        check("RGB density fits on at least one side", len(slopes) >= 1, f"{len(slopes)}")
 
     run([gvr, "export", asset, "-o", default, "-q"])
     result = blender(tmp, default)

@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace gvr {
 namespace {
 
@@ -48,9 +50,24 @@ TEST(AssetExport, GreyBecomesADensityFogVolumeOnTheSourceGrid) {
     EXPECT_GT(grid.activeVoxelCount(), 0u);
 }
 
+/// A cryosection in miniature: bright paper everywhere, a dark specimen in the middle.
+GaussianAsset paperAndSpecimen() {
+    GaussianAsset asset = smallAsset(3);
+    asset.params = GaussianParameters(2, 3);
+    const float means[2] = {10.0f, 10.0f}, scales[2] = {40.0f, 3.0f}, colours[2] = {0.8f, -0.6f};
+    for (std::size_t g = 0; g < 2; ++g) {
+        for (int a = 0; a < 3; ++a) asset.params.at(kMeans, g)[a] = means[g];
+        asset.params.at(kRotations, g)[0] = 1.0f;
+        for (int a = 0; a < 3; ++a) asset.params.at(kLogScales, g)[a] = std::log(scales[g]);
+        *asset.params.at(kOpacityLogits, g) = 12.0f;
+        for (int c = 0; c < 3; ++c) asset.params.at(kColours, g)[c] = colours[g];
+    }
+    return asset;
+}
+
 TEST(AssetExport, RgbGetsColourAndADerivedDensity) {
     initializeOpenVdb();
-    const GaussianAsset asset = smallAsset(3);
+    const GaussianAsset asset = paperAndSpecimen();
     ExportSettings settings;
     settings.naming = GridNaming::Houdini;
     const ExportResult result = exportAsset(asset, settings);
@@ -62,16 +79,17 @@ TEST(AssetExport, RgbGetsColourAndADerivedDensity) {
     const auto density = openvdb::gridConstPtrCast<openvdb::FloatGrid>(result.grids[1]);
     ASSERT_TRUE(colour && density);
     EXPECT_EQ(colour->activeVoxelCount(), density->activeVoxelCount());
+    // The paper is what surrounds the specimen: it is thin, the specimen dense.
+    const float paper = density->tree().getValue(openvdb::Coord(0, 0, 0));
+    const float specimen = density->tree().getValue(openvdb::Coord(10, 10, 10));
+    EXPECT_LT(paper, 0.05f);
+    EXPECT_GT(specimen, 0.3f);
+    // With a transfer function, density is its opacity at the luminance.
+    settings.densityFrom = TransferFunction({{-1024.0, {0, 0, 0, 0.5f}}, {1976.0, {1, 1, 1, 0.0f}}}, "test");
+    const auto ramp = openvdb::gridConstPtrCast<openvdb::FloatGrid>(exportAsset(asset, settings).grids[1]);
     for (auto voxel = colour->cbeginValueOn(); voxel; ++voxel) {
         const double lum = 0.2126 * (*voxel)[0] + 0.7152 * (*voxel)[1] + 0.0722 * (*voxel)[2];
-        ASSERT_NEAR(density->tree().getValue(voxel.getCoord()), std::max(0.0, (lum + 1024.0) / 3000.0), 1e-5);
-    }
-    // With a transfer function, density is its opacity at the luminance.
-    settings.densityFrom = TransferFunction({{-1024.0, {0, 0, 0, 0}}, {1976.0, {1, 1, 1, 0.5f}}}, "test");
-    const auto ramp = openvdb::gridConstPtrCast<openvdb::FloatGrid>(exportAsset(asset, settings).grids[1]);
-    for (auto voxel = ramp->cbeginValueOn(); voxel; ++voxel) {
-        // The function holds its last value beyond its last point.
-        ASSERT_NEAR(*voxel, 0.5 * std::min(1.0f, density->tree().getValue(voxel.getCoord())), 1e-5);
+        ASSERT_NEAR(ramp->tree().getValue(voxel.getCoord()), (*settings.densityFrom)(lum)[3], 1e-6);
     }
 }
 
