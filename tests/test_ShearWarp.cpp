@@ -60,6 +60,27 @@ TEST(ShearWarp, MatchesRayMarchingFromAxesObliqueAnd45Degrees) {
     }
 }
 
+TEST(ShearWarp, MatchesRayMarchingOnShearedAnisotropicVoxels) {
+    // A gantry tilt: j leans into z, on 0.5 x 0.5 x 2.5 mm voxels.
+    openvdb::GridBase::Ptr grid = test::makeGrid({48, 40, 12}, [](int i, int j, int k) {
+        const double x = i - 24.0, y = j - 20.0, z = (k - 6.0) * 5.0;
+        return float(800.0 * std::exp(-(x * x + y * y + z * z) / 150.0));
+    });
+    openvdb::math::Mat4d worldFromIndex = openvdb::math::Mat4d::identity();
+    worldFromIndex.setToScale(openvdb::Vec3d(0.5, 0.5, 2.5));
+    worldFromIndex(1, 2) = 0.15;
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(worldFromIndex));
+    const GridRenderVolume sheared(grid);
+    const Classifier classifier = rampClassifier(800.0, 0.1f);
+    for (const View view : {View{0, 0}, View{0, 90}, View{60, 30}}) {
+        const OrthoCamera camera = cameraFor(sheared, view.azimuthDeg, view.elevationDeg);
+        const Framebuffer reference = rayMarch(sheared, classifier, camera, RayMarchSettings{});
+        EXPECT_GT(alphaSum(reference), 50.0);
+        EXPECT_GE(imagePsnr(ShearWarpRenderer(sheared, classifier, {}).render(camera), reference), 35.0)
+            << "azimuth " << view.azimuthDeg << ", elevation " << view.elevationDeg;
+    }
+}
+
 TEST(ShearWarp, ReusesTheStackInsideTheConeAndRebuildsOutside) {
     const auto volume = phantom();
     ShearWarpSettings settings;
