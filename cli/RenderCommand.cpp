@@ -1,9 +1,9 @@
 // gvr render INPUT -o frame.png: shear-warp (or ray-marched) images of an asset or grid.
 
+#include "AssetExport.h"
 #include "AtomicFile.h"
 #include "Commands.h"
 #include "Error.h"
-#include "FieldToGrid.h"
 #include "GaussianAsset.h"
 #include "ImageFile.h"
 #include "ProgressBar.h"
@@ -17,6 +17,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 namespace gvr {
@@ -47,11 +48,10 @@ std::pair<int, int> parseSize(const std::string& text) {
 std::unique_ptr<RenderVolume> loadVolume(const RenderFlags& flags) {
     if (isAssetFile(flags.input)) {
         const GaussianAsset asset = readAsset(flags.input);
-        if (flags.renderer == "raymarch") {  // march the asset's field exported onto its source grid
-            const GaussianField field(asset.params, asset.cutoffSigmas);
-            const Lattice lattice = sourceLattice(asset.worldFromIndex, asset.source.dims);
-            return std::make_unique<GridRenderVolume>(fieldToGrid(field, asset.worldFromIndex, lattice,
-                                                                  {asset.mapping, std::nullopt, lattice.box}));
+        if (flags.renderer == "raymarch") {  // march the asset's field exported onto its source grid, unthresholded
+            ExportSettings everything;
+            everything.threshold = -std::numeric_limits<double>::infinity();
+            return std::make_unique<GridRenderVolume>(exportAsset(asset, everything).grids.front());
         }
         return std::make_unique<GaussianRenderVolume>(asset.params, asset.cutoffSigmas, asset.worldFromIndex,
                                                       asset.source.dims, asset.mapping, asset.source.valueMax,

@@ -10,14 +10,6 @@ namespace gvr {
 
 namespace {
 
-openvdb::Vec3d axisLengths(const openvdb::math::Mat4d& worldFromIndex) {
-    openvdb::Vec3d lengths;
-    for (int axis = 0; axis < 3; ++axis) {
-        lengths[axis] = openvdb::Vec3d(worldFromIndex(axis, 0), worldFromIndex(axis, 1), worldFromIndex(axis, 2)).length();
-    }
-    return lengths;
-}
-
 /// A float fog volume with the colour grid's active voxels, each voxel's density
 /// taken from its physical colour: by default how far its luminance lies from what
 /// surrounds the subject (white paper or black medium alike), in the source's range.
@@ -43,7 +35,7 @@ void describe(openvdb::GridBase& grid, const GaussianAsset& asset, const ExportR
               const std::string& assetPath) {
     VolumeMetadata metadata = asset.source;
     metadata.dims = openvdb::Vec3i(result.lattice.box.dim().asVec3i());
-    metadata.spacingMm = axisLengths(result.lattice.worldFromIndex);
+    metadata.spacingMm = axisSpacing(result.lattice.worldFromIndex);
     metadata.threshold = result.threshold;
     writeVolumeMetadata(metadata, grid);
     grid.insertMeta("gvr_exported_from", openvdb::StringMetadata(assetPath));

@@ -18,14 +18,6 @@ openvdb::math::Mat4d worldFromSpacing(const openvdb::Vec3d& spacingMm) {
     return worldFromIndexRows(rows);
 }
 
-openvdb::Vec3d axisSpacing(const openvdb::math::Mat4d& worldFromIndex) {
-    openvdb::Vec3d spacing;
-    for (int axis = 0; axis < 3; ++axis) {
-        spacing[axis] = worldFromIndex.row(axis).getVec3().length();
-    }
-    return spacing;
-}
-
 void allocateSamples(DenseVolume& volume, const std::string& file) {
     checkVolumeFitsInMemory(file, volume.dims, volume.channels, bytesPerSample(volume.type));
     volume.samples.assign(volume.sampleBytes(), 0);

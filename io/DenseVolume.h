@@ -3,6 +3,7 @@
 #pragma once
 
 #include "SampleType.h"
+#include "VolumeMetadata.h"
 
 #include <openvdb/Types.h>
 #include <openvdb/math/Mat4.h>
@@ -46,9 +47,6 @@ openvdb::math::Mat4d worldFromIndexRows(const double rows[3][4]);
 
 /// Axis-aligned voxels of @a spacingMm, with index 0 at the world origin.
 openvdb::math::Mat4d worldFromSpacing(const openvdb::Vec3d& spacingMm);
-
-/// Length of each index axis in world units.
-openvdb::Vec3d axisSpacing(const openvdb::math::Mat4d& worldFromIndex);
 
 /// Checks @a volume's dimensions against the memory at hand, then sizes its sample
 /// buffer. Call it after dims, channels and type are known from a header.

@@ -1,6 +1,7 @@
 #include "GridBuilder.h"
 
 #include "Error.h"
+#include "LatticeSampler.h"
 #include "LeafAssembly.h"
 #include "Luminance.h"
 #include "VolumeMetadata.h"
@@ -150,13 +151,8 @@ typename GridT::Ptr buildSparseGrid(const Values& values, const DenseVolume& vol
                                     const typename GridT::ValueType& background,
                                     const ProgressFn& progress) {
     using LeafT = typename GridT::TreeType::LeafNodeType;
-    const int dim = LeafT::DIM;
-    std::vector<Coord> origins;
-    for (int z = 0; z < volume.dims[2]; z += dim) {
-        for (int y = 0; y < volume.dims[1]; y += dim) {
-            for (int x = 0; x < volume.dims[0]; x += dim) origins.emplace_back(x, y, z);
-        }
-    }
+    const std::vector<Coord> origins = blockOrigins(
+        openvdb::CoordBBox(Coord(0), Coord(int(volume.dims[0]), int(volume.dims[1]), int(volume.dims[2])) - Coord(1)));
     return assembleGrid<GridT>(
         origins, background,
         [&](const Coord& origin) { return buildLeaf<LeafT>(values, volume, origin, cut, background); },

@@ -1,6 +1,7 @@
 #include "LatticeSampler.h"
 
 #include "Error.h"
+#include "VolumeMetadata.h"
 
 #include <tbb/parallel_for.h>
 
@@ -19,10 +20,6 @@ namespace {
 
 /// A lattice this large would need more than 128 MiB just to mark occupied leaves.
 constexpr double kMaxLatticeVoxels = 68719476736.0;  // 2^36
-
-double axisLength(const Mat4d& worldFromIndex, int axis) {
-    return Vec3d(worldFromIndex(axis, 0), worldFromIndex(axis, 1), worldFromIndex(axis, 2)).length();
-}
 
 int toIndex(double v) { return int(std::clamp(v, -1073741824.0, 1073741824.0)); }
 
@@ -69,35 +66,27 @@ std::vector<CoordBBox> latticeReach(const GaussianField& field, const Mat4d& lat
     return reach;
 }
 
-/// Origins of the leaves that at least one Gaussian reaches.
-std::vector<Coord> occupiedLeaves(const std::vector<CoordBBox>& reach, const CoordBBox& latticeBox, int leafDim) {
-    const int shift = int(std::log2(leafDim));
-    const Coord first(latticeBox.min().x() >> shift, latticeBox.min().y() >> shift, latticeBox.min().z() >> shift);
-    const Coord last(latticeBox.max().x() >> shift, latticeBox.max().y() >> shift, latticeBox.max().z() >> shift);
-    const Coord blocks = last - first + Coord(1);
-    std::vector<std::uint8_t> occupied(std::size_t(blocks.x()) * blocks.y() * blocks.z(), 0);
+/// Origins of the blocks that at least one Gaussian reaches.
+std::vector<Coord> occupiedBlocksOf(const std::vector<CoordBBox>& reach, const CoordBBox& latticeBox) {
+    const std::vector<Coord> origins = blockOrigins(latticeBox);
+    if (origins.empty()) return {};
+    // Origins are listed z, y, x; a block's slot in that list follows from its offset.
+    const Coord first = origins.front(), last = origins.back();
+    const int countX = (last.x() - first.x()) / kBlockDim + 1, countY = (last.y() - first.y()) / kBlockDim + 1;
+    const auto slot = [&](const Coord& origin) {
+        return (std::size_t((origin.z() - first.z()) / kBlockDim) * countY + (origin.y() - first.y()) / kBlockDim) * countX +
+               (origin.x() - first.x()) / kBlockDim;
+    };
+    std::vector<std::uint8_t> occupied(origins.size(), 0);
     for (const CoordBBox& box : reach) {
         if (box.empty()) continue;
-        for (int z = (box.min().z() >> shift); z <= (box.max().z() >> shift); ++z) {
-            for (int y = (box.min().y() >> shift); y <= (box.max().y() >> shift); ++y) {
-                for (int x = (box.min().x() >> shift); x <= (box.max().x() >> shift); ++x) {
-                    const Coord b = Coord(x, y, z) - first;
-                    occupied[(std::size_t(b.z()) * blocks.y() + b.y()) * blocks.x() + b.x()] = 1;
-                }
-            }
-        }
+        for (const Coord& origin : blockOrigins(box)) occupied[slot(origin)] = 1;
     }
-    std::vector<Coord> origins;
-    for (int z = 0; z < blocks.z(); ++z) {
-        for (int y = 0; y < blocks.y(); ++y) {
-            for (int x = 0; x < blocks.x(); ++x) {
-                if (occupied[(std::size_t(z) * blocks.y() + y) * blocks.x() + x]) {
-                    origins.emplace_back((first.x() + x) << shift, (first.y() + y) << shift, (first.z() + z) << shift);
-                }
-            }
-        }
+    std::vector<Coord> reached;
+    for (const Coord& origin : origins) {
+        if (occupied[slot(origin)]) reached.push_back(origin);
     }
-    return origins;
+    return reached;
 }
 
 }  // namespace
@@ -115,7 +104,7 @@ Lattice resizedLattice(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims, 
     double total = 1.0;
     for (int axis = 0; axis < 3; ++axis) {
         // One new voxel spans `step` source voxels; the cells start at the source's corner, -0.5.
-        const double step = voxelSizeMm / axisLength(worldFromIndex, axis);
+        const double step = voxelSizeMm / axisSpacing(worldFromIndex)[axis];
         const double count = std::max(1.0, std::ceil(dims[axis] / step - 1e-9));
         total *= count;
         if (count > 2147483647.0 || total > kMaxLatticeVoxels) {
@@ -131,7 +120,7 @@ Lattice resizedLattice(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims, 
 double voxelSizeForResolution(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims, int samples) {
     if (samples < 1) throw InputError("--resolution", "must be at least 1 voxel");
     double longest = 0.0;
-    for (int axis = 0; axis < 3; ++axis) longest = std::max(longest, dims[axis] * axisLength(worldFromIndex, axis));
+    for (int axis = 0; axis < 3; ++axis) longest = std::max(longest, dims[axis] * axisSpacing(worldFromIndex)[axis]);
     return longest / samples;
 }
 
@@ -166,7 +155,19 @@ std::size_t LatticeSampler::reachingGaussians() const {
     return std::size_t(std::count_if(mReach.begin(), mReach.end(), [](const CoordBBox& box) { return !box.empty(); }));
 }
 
-std::vector<Coord> LatticeSampler::occupiedBlocks() const { return occupiedLeaves(mReach, mLattice.box, kBlockDim); }
+std::vector<Coord> blockOrigins(const CoordBBox& box) {
+    std::vector<Coord> origins;
+    if (box.empty()) return origins;
+    const int mask = ~(kBlockDim - 1);
+    for (int z = box.min().z() & mask; z <= box.max().z(); z += kBlockDim) {
+        for (int y = box.min().y() & mask; y <= box.max().y(); y += kBlockDim) {
+            for (int x = box.min().x() & mask; x <= box.max().x(); x += kBlockDim) origins.emplace_back(x, y, z);
+        }
+    }
+    return origins;
+}
+
+std::vector<Coord> LatticeSampler::occupiedBlocks() const { return occupiedBlocksOf(mReach, mLattice.box); }
 
 CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums, float skipUpTo) const {
     CoordBBox voxels(origin, origin + Coord(kBlockDim - 1));

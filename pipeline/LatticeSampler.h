@@ -37,6 +37,9 @@ double voxelSizeForResolution(const openvdb::math::Mat4d& worldFromIndex, const 
 constexpr int kBlockDim = 8;
 constexpr int kBlockVoxels = kBlockDim * kBlockDim * kBlockDim;
 
+/// Origins of every block that overlaps @a box, in z, y, x order.
+std::vector<openvdb::Coord> blockOrigins(const openvdb::CoordBBox& box);
+
 /// Offset of @a ijk inside its block: z fastest, as openvdb::tree::LeafNode numbers voxels.
 inline int blockOffset(const openvdb::Coord& ijk) {
     return ((ijk.x() & (kBlockDim - 1)) * kBlockDim + (ijk.y() & (kBlockDim - 1))) * kBlockDim + (ijk.z() & (kBlockDim - 1));

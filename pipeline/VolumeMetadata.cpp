@@ -20,6 +20,12 @@ std::uint64_t VolumeMetadata::rawSourceBytes() const {
     return voxels * channels * bytesPerSample(sampleTypeFromName(sourceType, sourceFile));
 }
 
+openvdb::Vec3d axisSpacing(const openvdb::math::Mat4d& worldFromIndex) {
+    openvdb::Vec3d spacing;
+    for (int axis = 0; axis < 3; ++axis) spacing[axis] = worldFromIndex.row(axis).getVec3().length();
+    return spacing;
+}
+
 void writeVolumeMetadata(const VolumeMetadata& m, openvdb::GridBase& grid) {
     grid.insertMeta("gvr_source_file", openvdb::StringMetadata(m.sourceFile));
     grid.insertMeta("gvr_modality", openvdb::StringMetadata(m.modality));

@@ -31,6 +31,9 @@ struct VolumeMetadata {
     std::uint64_t rawSourceBytes() const;
 };
 
+/// Length of each index axis in world units (OpenVDB's row-vector matrix).
+openvdb::Vec3d axisSpacing(const openvdb::math::Mat4d& worldFromIndex);
+
 void writeVolumeMetadata(const VolumeMetadata& metadata, openvdb::GridBase& grid);
 
 /// @return the metadata, or std::nullopt for a grid that gvr did not ingest.

@@ -3,6 +3,7 @@
 #include "Error.h"
 #include "FloatVolume.h"
 #include "Luminance.h"
+#include "VolumeMetadata.h"
 #include "VolumeBorder.h"
 
 #include <algorithm>
@@ -21,17 +22,6 @@ constexpr std::size_t kStatisticsSamples = 50000;
 
 float keyOf(const float* value, int channels) { return channels == 1 ? value[0] : float(luminance(value)); }
 
-/// Origins of every block of a lattice box.
-std::vector<Coord> allBlocks(const CoordBBox& box) {
-    std::vector<Coord> origins;
-    for (int z = box.min().z() & ~(kBlockDim - 1); z <= box.max().z(); z += kBlockDim) {
-        for (int y = box.min().y() & ~(kBlockDim - 1); y <= box.max().y(); y += kBlockDim) {
-            for (int x = box.min().x() & ~(kBlockDim - 1); x <= box.max().x(); x += kBlockDim) origins.emplace_back(x, y, z);
-        }
-    }
-    return origins;
-}
-
 class GaussianBlocks : public BlockSource {
 public:
     /// @param skipUpTo  blocks whose field cannot exceed this (normalised) stay empty
@@ -42,7 +32,7 @@ public:
           mEveryBlock(everyBlock) {}
 
     std::vector<Coord> occupiedBlocks() const override {
-        return mEveryBlock ? allBlocks(mSampler.lattice().box) : mSampler.occupiedBlocks();
+        return mEveryBlock ? blockOrigins(mSampler.lattice().box) : mSampler.occupiedBlocks();
     }
     std::size_t gaussiansReaching() const override { return mSampler.reachingGaussians(); }
 
@@ -75,7 +65,7 @@ public:
     }
 
     std::vector<Coord> occupiedBlocks() const override {
-        std::vector<Coord> origins = allBlocks(mLattice.box);
+        std::vector<Coord> origins = blockOrigins(mLattice.box);
         if (mEveryBlock) return origins;
         origins.erase(std::remove_if(origins.begin(), origins.end(), [&](const Coord& o) { return !reachesActive(o); }),
                       origins.end());
@@ -140,12 +130,8 @@ GaussianParameters withMinimumFootprint(GaussianParameters params, float minScal
 }  // namespace
 
 double RenderVolume::voxelMm() const {
-    double smallest = INFINITY;
-    for (int axis = 0; axis < 3; ++axis) {
-        const openvdb::Vec3d row(mWorldFromIndex(axis, 0), mWorldFromIndex(axis, 1), mWorldFromIndex(axis, 2));
-        smallest = std::min(smallest, row.length());
-    }
-    return smallest;
+    const openvdb::Vec3d spacing = axisSpacing(mWorldFromIndex);
+    return std::min({spacing[0], spacing[1], spacing[2]});
 }
 
 GaussianRenderVolume::GaussianRenderVolume(const GaussianParameters& params, float cutoffSigmas,

@@ -20,10 +20,16 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 struct ObliquityTable {
     std::vector<float> opacity, colourFactor;
     explicit ObliquityTable(double lengthRatio) : opacity(65536), colourFactor(65536, 1.0f) {
+        // ln(1 - alpha) per level never changes, so each frame needs one exp a level:
+        // 1 - (1 - alpha)^r = 1 - exp(r ln(1 - alpha)).
+        static const std::vector<double> logTransmittance = [] {
+            std::vector<double> table(65536);
+            for (int level = 0; level < 65536; ++level) table[level] = std::log1p(-level / 65535.0);
+            return table;
+        }();
         for (int level = 0; level < 65536; ++level) {
-            const float alpha = level / 65535.0f;
-            opacity[level] = opacityOverLength(alpha, lengthRatio);
-            if (level > 0) colourFactor[level] = opacity[level] / alpha;
+            opacity[level] = float(1.0 - std::exp(lengthRatio * logTransmittance[level]));
+            if (level > 0) colourFactor[level] = opacity[level] * 65535.0f / level;
         }
     }
 };
@@ -49,6 +55,14 @@ void addWeighted(const StackSample* s, float w, float* sum) {
     sum[3] += w * s->a;
 }
 
+/// The intermediate image: the slices sheared for a direction and composited front
+/// to back, in the stack's plane.
+struct Intermediate {
+    int width = 0, height = 0;
+    int originX = 0, originY = 0;  ///< stack sample coordinates of pixel (0, 0)
+    std::vector<float> rgba;       ///< premultiplied
+};
+
 }  // namespace
 
 std::string ShearWarpSettings::validate() const {
@@ -57,6 +71,8 @@ std::string ShearWarpSettings::validate() const {
     if (!(terminationOpacity > 0.0f && terminationOpacity <= 1.0f)) return "--termination must be in (0, 1]";
     return {};
 }
+
+namespace {
 
 Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, float terminationOpacity) {
     const StackGeometry& g = stack.geometry();
@@ -111,6 +127,8 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     });
     return out;
 }
+
+}  // namespace
 
 ShearWarpRenderer::ShearWarpRenderer(const RenderVolume& volume, const Classifier& classifier,
                                      const ShearWarpSettings& settings)

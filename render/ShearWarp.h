@@ -47,13 +47,4 @@ private:
     int mFrames = 0;
 };
 
-/// The intermediate image: the slices sheared for @a direction and composited front
-/// to back, in the stack's plane. Exposed for tests; render() calls it.
-struct Intermediate {
-    int width = 0, height = 0;
-    int originX = 0, originY = 0;  ///< stack sample coordinates of pixel (0, 0)
-    std::vector<float> rgba;       ///< premultiplied
-};
-Intermediate compositeSlices(const SliceStack& stack, const openvdb::Vec3d& direction, float terminationOpacity);
-
 }  // namespace gvr

@@ -53,17 +53,9 @@ Slice compress(const Slab& slab, int k) {
     return slice;
 }
 
-}  // namespace
-
-Lattice StackGeometry::lattice() const {
-    openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
-    const Vec3d rows[4] = {e1 * pixelMm, e2 * pixelMm, normal * sliceMm, origin};
-    for (int r = 0; r < 4; ++r) {
-        for (int c = 0; c < 3; ++c) m(r, c) = rows[r][c];
-    }
-    return {m, openvdb::CoordBBox(Coord(0), Coord(width - 1, height - 1, slices - 1))};
-}
-
+/// The lattice of slices perpendicular to @a direction that covers the volume,
+/// @a sliceSpacingVoxels apart (a voxel is the volume's smallest voxel edge) and
+/// @a pixelMm across, but never finer than one voxel.
 StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& direction, double sliceSpacingVoxels,
                                double pixelMm) {
     StackGeometry g;
@@ -83,6 +75,17 @@ StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& directio
     g.slices = int(std::ceil((hi[2] - lo[2]) / g.sliceMm)) + 1;
     g.origin = g.e1 * lo[0] + g.e2 * lo[1] + g.normal * lo[2];
     return g;
+}
+
+}  // namespace
+
+Lattice StackGeometry::lattice() const {
+    openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
+    const Vec3d rows[4] = {e1 * pixelMm, e2 * pixelMm, normal * sliceMm, origin};
+    for (int r = 0; r < 4; ++r) {
+        for (int c = 0; c < 3; ++c) m(r, c) = rows[r][c];
+    }
+    return {m, openvdb::CoordBBox(Coord(0), Coord(width - 1, height - 1, slices - 1))};
 }
 
 SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier, const Vec3d& direction,
@@ -119,12 +122,6 @@ SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier,
         counter.advance();
     }
     mGaussiansTouched = source->gaussiansReaching();
-}
-
-std::size_t SliceStack::storedSamples() const {
-    std::size_t total = 0;
-    for (const Slice& slice : mSlices) total += slice.samples.size();
-    return total;
 }
 
 }  // namespace gvr

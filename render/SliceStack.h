@@ -28,12 +28,6 @@ struct StackGeometry {
     Lattice lattice() const;
 };
 
-/// The lattice of slices perpendicular to @a direction that covers the volume,
-/// @a sliceSpacingVoxels apart (a voxel is the volume's smallest voxel edge) and
-/// @a pixelMm across, but never finer than one voxel.
-StackGeometry stackGeometryFor(const RenderVolume& volume, const openvdb::Vec3d& direction, double sliceSpacingVoxels,
-                               double pixelMm);
-
 struct StackSample {
     std::uint16_t r = 0, g = 0, b = 0, a = 0;  ///< premultiplied colour and opacity, x 65535
 };
@@ -60,7 +54,6 @@ public:
     const std::vector<Slice>& slices() const { return mSlices; }
     /// Gaussians the build evaluated (0 for grids).
     std::size_t gaussiansTouched() const { return mGaussiansTouched; }
-    std::size_t storedSamples() const;
 
 private:
     StackGeometry mGeometry;
