@@ -13,5 +13,6 @@ void addExportCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addProbeCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
+void addBenchCommand(CLI::App& app);
 
 }  // namespace gvr

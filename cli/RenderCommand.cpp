@@ -25,7 +25,7 @@ namespace gvr {
 namespace {
 
 struct RenderFlags {
-    std::string input, output, size = "512x512", tf, renderer = "shear-warp", statsPath;
+    std::string input, output, size = "512x512", tf, renderer = "shear-warp", statsPath, saveTf;
     double azimuth = 30.0, elevation = 15.0, stepVoxels = 0.5;
     std::optional<double> minScale;
     int orbit = 0;
@@ -100,6 +100,7 @@ void runRender(RenderFlags& flags) {
     const auto [width, height] = parseSize(flags.size);
     const std::unique_ptr<RenderVolume> volume = loadVolume(flags);
     const Classifier classifier = classifierFor(flags, *volume);
+    if (!flags.saveTf.empty()) writeTransferFunction(flags.saveTf, classifier.transferFunction());
     const auto corners = worldCorners(volume->worldFromIndex(), volume->box());
     ShearWarpRenderer shearWarp(*volume, classifier, flags.shearWarp);
     const int frames = std::max(1, flags.orbit);
@@ -156,6 +157,9 @@ void addRenderCommand(CLI::App& app) {
     command->add_option("--size", flags->size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
     command->add_option("--tf", flags->tf, "Transfer function: ct, ct-bone, mri, rgb, or a JSON file "
                                            "(default: rgb for colour, ct for HU, else mri)");
+    command->add_option("--save-tf", flags->saveTf,
+                        "Write the transfer function used (e.g. a preset fitted to this volume) as JSON, "
+                        "for rendering other volumes with exactly the same one through --tf");
     command->add_option("--renderer", flags->renderer, "shear-warp, or raymarch (the reference)")
         ->check(CLI::IsMember({"shear-warp", "raymarch"}))->capture_default_str();
     command->add_option("--reuse-angle", flags->shearWarp.reuseAngleDeg,

@@ -16,13 +16,15 @@ bool isVdbFile(const std::string& path) {
     return in && magic == openvdb::OPENVDB_MAGIC;
 }
 
-openvdb::GridPtrVecPtr readGridFile(const std::string& path) {
+namespace {
+
+openvdb::GridPtrVecPtr readGrids(const std::string& path, bool voxels) {
     initializeOpenVdb();
     if (!isVdbFile(path)) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
     try {
         openvdb::io::File file(path);
         file.open(/*delayLoad=*/false);
-        openvdb::GridPtrVecPtr grids = file.getGrids();
+        openvdb::GridPtrVecPtr grids = voxels ? file.getGrids() : file.readAllGridMetadata();
         file.close();
         return grids;
     } catch (const openvdb::Exception& error) {
@@ -31,6 +33,12 @@ openvdb::GridPtrVecPtr readGridFile(const std::string& path) {
         throw InputError(path, std::string("truncated VDB file: ") + error.what());
     }
 }
+
+}  // namespace
+
+openvdb::GridPtrVecPtr readGridFile(const std::string& path) { return readGrids(path, /*voxels=*/true); }
+
+openvdb::GridPtrVecPtr readGridMetadataFile(const std::string& path) { return readGrids(path, /*voxels=*/false); }
 
 openvdb::GridBase::Ptr chooseVolumeGrid(const openvdb::GridPtrVec& grids, const std::string& path) {
     for (const char* name : {"density", "color", "Cd"}) {

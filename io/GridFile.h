@@ -17,6 +17,10 @@ bool isVdbFile(const std::string& path);
 /// @throw InputError naming @a path when it is missing, truncated or not a VDB file.
 openvdb::GridPtrVecPtr readGridFile(const std::string& path);
 
+/// The grids of @a path with their metadata and transforms but no voxels: cheap
+/// however large the file. @throw InputError as readGridFile.
+openvdb::GridPtrVecPtr readGridMetadataFile(const std::string& path);
+
 /// The volume grid of a file: "density", "color" or "Cd" first, then the first
 /// float, double or Vec3s grid. @throw InputError naming @a path when there is none.
 openvdb::GridBase::Ptr chooseVolumeGrid(const openvdb::GridPtrVec& grids, const std::string& path);

@@ -1,5 +1,6 @@
 #include "TransferFunctionFile.h"
 
+#include "AtomicFile.h"
 #include "Error.h"
 
 #include <nlohmann/json.hpp>
@@ -29,6 +30,16 @@ TransferFunction readTransferFunction(const std::string& path) {
         points.push_back(point);
     }
     return TransferFunction(std::move(points), path);
+}
+
+void writeTransferFunction(const std::string& path, const TransferFunction& tf) {
+    nlohmann::json points = nlohmann::json::array();
+    for (const TransferPoint& p : tf.points()) points.push_back({p.value, p.rgba[0], p.rgba[1], p.rgba[2], p.rgba[3]});
+    writeAtomically(path, [&](const std::string& temporary) {
+        std::ofstream out(temporary);
+        out << nlohmann::json{{"points", points}}.dump() << "\n";
+        if (!out.flush()) throw InputError(path, "cannot write the transfer function");
+    });
 }
 
 }  // namespace gvr

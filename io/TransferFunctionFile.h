@@ -18,4 +18,8 @@ namespace gvr {
 /// @throw InputError naming @a path when it is missing, not JSON, or breaks the rules above.
 TransferFunction readTransferFunction(const std::string& path);
 
+/// Writes @a tf in the format above, atomically, so that a preset can be reused
+/// unchanged on other volumes (e.g. every method of a benchmark).
+void writeTransferFunction(const std::string& path, const TransferFunction& tf);
+
 }  // namespace gvr

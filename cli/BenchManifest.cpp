@@ -1,0 +1,239 @@
+#include "BenchManifest.h"
+
+#include "Error.h"
+
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace gvr {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const std::vector<std::string>& benchMethods() {
+    static const std::vector<std::string> methods = {"gvr",          "A1",       "A2",        "A3",
+                                                     "A4",           "A5",       "zfp-accuracy", "zfp-rate",
+                                                     "vdb-blosc",    "vdb-half", "down2",     "down3",
+                                                     "down4"};
+    return methods;
+}
+
+bool isRatioFree(const std::string& method) {
+    return method == "vdb-blosc" || method == "vdb-half" || method.rfind("down", 0) == 0;
+}
+
+bool isFitMethod(const std::string& method) {
+    return method == "gvr" || (method.size() == 2 && method[0] == 'A' && method[1] >= '1' && method[1] <= '5');
+}
+
+namespace {
+
+/// TOML manifests become the same JSON document, so there is one reader of keys.
+json parseDocument(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path, "cannot open the manifest");
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string extension = fs::path(path).extension().string();
+    if (extension == ".toml") {
+        try {
+            std::ostringstream asJson;
+            asJson << toml::json_formatter{toml::parse(text.str(), path)};
+            return json::parse(asJson.str());
+        } catch (const toml::parse_error& error) {
+            throw InputError(path, "not valid TOML at line " + std::to_string(error.source().begin.line) + ": " +
+                                       std::string(error.description()));
+        }
+    }
+    const json document = json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
+    if (document.is_discarded()) throw InputError(path, "not valid JSON (TOML manifests must end in .toml)");
+    return document;
+}
+
+class ManifestReader {
+public:
+    explicit ManifestReader(std::string path) : mPath(std::move(path)) {}
+
+    [[noreturn]] void fail(const std::string& where, const std::string& problem) const {
+        throw InputError(mPath, where + ": " + problem);
+    }
+
+    void onlyKeys(const json& object, const std::string& where, const std::set<std::string>& allowed) const {
+        if (!object.is_object()) fail(where, "must be a table/object");
+        for (const auto& [key, value] : object.items()) {
+            if (!allowed.count(key)) fail(where, "unknown key '" + key + "'");
+        }
+    }
+
+    std::string text(const json& value, const std::string& where) const {
+        if (!value.is_string()) fail(where, "must be a string");
+        return value.get<std::string>();
+    }
+
+    double positive(const json& value, const std::string& where) const {
+        if (!value.is_number() || !std::isfinite(value.get<double>()) || value.get<double>() <= 0) {
+            fail(where, "must be a positive number");
+        }
+        return value.get<double>();
+    }
+
+    std::vector<std::string> strings(const json& value, const std::string& where) const {
+        if (!value.is_array()) fail(where, "must be a list of strings");
+        std::vector<std::string> out;
+        for (const json& item : value) {
+            if (!item.is_string()) fail(where, "must be a list of strings");
+            out.push_back(item.get<std::string>());
+        }
+        return out;
+    }
+
+    std::vector<double> ratios(const json& value, const std::string& where) const {
+        if (!value.is_array() || value.empty()) fail(where, "must be a non-empty list of ratios");
+        std::vector<double> out;
+        for (const json& item : value) {
+            const double r = positive(item, where);
+            if (r <= 1.0) fail(where, "a target ratio must be above 1");
+            out.push_back(r);
+        }
+        return out;
+    }
+
+    FitBudget fit(const json& value, FitBudget budget, const std::string& where) const {
+        onlyKeys(value, where, {"seconds", "iterations", "args"});
+        if (value.contains("seconds")) budget.seconds = positive(value["seconds"], where + ".seconds");
+        if (value.contains("iterations")) {
+            budget.iterations = std::uint64_t(positive(value["iterations"], where + ".iterations"));
+        }
+        if (value.contains("args")) budget.args = strings(value["args"], where + ".args");
+        return budget;
+    }
+
+    RenderPlan render(const json& value) const {
+        onlyKeys(value, "render", {"size", "views", "elevation", "tf"});
+        RenderPlan plan;
+        if (value.contains("size")) plan.size = text(value["size"], "render.size");
+        if (value.contains("views")) plan.views = int(positive(value["views"], "render.views"));
+        if (value.contains("elevation")) {
+            if (!value["elevation"].is_number()) fail("render.elevation", "must be a number of degrees");
+            plan.elevation = value["elevation"].get<double>();
+        }
+        if (value.contains("tf")) {  // a preset name, or a JSON file beside the manifest
+            plan.tf = text(value["tf"], "render.tf");
+            if (fs::path(plan.tf).extension() == ".json") plan.tf = resolve(plan.tf);
+        }
+        if (plan.views > 360) fail("render.views", "at most 360");
+        return plan;
+    }
+
+    std::vector<std::string> methods(const json& value) const {
+        std::vector<std::string> out = strings(value, "methods");
+        const auto& known = benchMethods();
+        for (const std::string& m : out) {
+            if (std::find(known.begin(), known.end(), m) == known.end()) {
+                std::string list;
+                for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+                fail("methods", "unknown method '" + m + "'; known: " + list);
+            }
+        }
+        if (out.empty()) fail("methods", "must name at least one method");
+        return out;
+    }
+
+    BenchVolume volume(const json& value, std::size_t index, const std::vector<double>& ratios,
+                       const FitBudget& fitBudget) const {
+        const std::string where = "volumes[" + std::to_string(index) + "]";
+        onlyKeys(value, where, {"name", "input", "ingest", "ratios", "fit"});
+        if (!value.contains("input")) fail(where, "needs an \"input\" path");
+        BenchVolume v;
+        v.input = resolve(text(value["input"], where + ".input"));
+        v.name = value.contains("name") ? text(value["name"], where + ".name") : fs::path(v.input).stem().string();
+        if (v.name.empty() || v.name.find_first_of("/\\,\"\n") != std::string::npos) {
+            fail(where + ".name", "must be non-empty, without / \\ , \" or newlines");
+        }
+        if (value.contains("ingest")) v.ingestArgs = strings(value["ingest"], where + ".ingest");
+        v.ratios = value.contains("ratios") ? this->ratios(value["ratios"], where + ".ratios") : ratios;
+        v.fit = value.contains("fit") ? fit(value["fit"], fitBudget, where + ".fit") : fitBudget;
+        return v;
+    }
+
+    /// Relative paths are relative to the manifest. Missing files are left for ingest
+    /// to judge, so that a missing volume becomes a failed row, not a refused manifest.
+    std::string resolve(const std::string& given) const {
+        const fs::path p(given);
+        const fs::path full = p.is_absolute() ? p : fs::absolute(fs::path(mPath).parent_path() / p);
+        return full.lexically_normal().string();
+    }
+
+private:
+    std::string mPath;
+};
+
+}  // namespace
+
+BenchManifest readBenchManifest(const std::string& path) {
+    const json document = parseDocument(path);
+    const ManifestReader reader(path);
+    reader.onlyKeys(document, "top level", {"name", "ratios", "methods", "fit", "render", "volumes"});
+    BenchManifest manifest;
+    manifest.path = path;
+    manifest.methods = document.contains("methods") ? reader.methods(document["methods"]) : benchMethods();
+    const std::vector<double> ratios =
+        document.contains("ratios") ? reader.ratios(document["ratios"], "ratios") : std::vector<double>{10.0};
+    const FitBudget budget = document.contains("fit") ? reader.fit(document["fit"], FitBudget{}, "fit") : FitBudget{};
+    if (document.contains("render")) manifest.render = reader.render(document["render"]);
+    if (!document.contains("volumes") || !document["volumes"].is_array() || document["volumes"].empty()) {
+        reader.fail("volumes", "must list at least one volume");
+    }
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < document["volumes"].size(); ++i) {
+        manifest.volumes.push_back(reader.volume(document["volumes"][i], i, ratios, budget));
+        if (!names.insert(manifest.volumes.back().name).second) {
+            reader.fail("volumes[" + std::to_string(i) + "]", "duplicate name '" + manifest.volumes.back().name + "'");
+        }
+    }
+    return manifest;
+}
+
+std::vector<BenchUnit> benchUnits(const BenchManifest& manifest, int shard, int shards) {
+    // In benchMethods() order, whatever the manifest's: ZFP matches the size of gvr's asset, so gvr runs first.
+    std::vector<std::string> chosen;
+    for (const std::string& m : benchMethods()) {
+        if (std::find(manifest.methods.begin(), manifest.methods.end(), m) != manifest.methods.end()) chosen.push_back(m);
+    }
+    std::vector<BenchUnit> all;
+    for (std::size_t v = 0; v < manifest.volumes.size(); ++v) {
+        BenchUnit ratioFree{v, std::nullopt, {}};
+        for (const std::string& m : chosen) {
+            if (isRatioFree(m)) ratioFree.methods.push_back(m);
+        }
+        if (!ratioFree.methods.empty()) all.push_back(ratioFree);
+        for (double r : manifest.volumes[v].ratios) {
+            BenchUnit unit{v, r, {}};
+            for (const std::string& m : chosen) {
+                if (!isRatioFree(m)) unit.methods.push_back(m);
+            }
+            if (!unit.methods.empty()) all.push_back(unit);
+        }
+    }
+    std::vector<BenchUnit> mine;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        if (int(i % std::size_t(shards)) == shard) mine.push_back(all[i]);
+    }
+    return mine;
+}
+
+std::string ratioText(std::optional<double> ratio) {
+    if (!ratio) return "";
+    std::ostringstream out;
+    out << *ratio;
+    return out.str();
+}
+
+}  // namespace gvr

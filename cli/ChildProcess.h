@@ -1,0 +1,29 @@
+/// @file ChildProcess.h
+/// @brief Runs another program to completion and measures it: what the batch
+/// benchmark uses so that every run is isolated, timed and sized on its own.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace gvr {
+
+struct ChildResult {
+    int exitCode = -1;      ///< the program's exit code, or 128 + signal when killed
+    double seconds = 0.0;   ///< wall-clock time
+    double peakRssMiB = 0;  ///< the child's peak resident memory
+    std::string output;     ///< everything it wrote to stdout
+    std::string lastError;  ///< the last non-empty line it wrote to stderr
+
+    bool ok() const { return exitCode == 0; }
+};
+
+/// Runs @a argv (argv[0] is the executable's path), with stdout kept in memory and
+/// stderr appended to @a logPath. The child is killed if this process dies, so a
+/// killed benchmark leaves no orphan writing into its folders.
+ChildResult runChild(const std::vector<std::string>& argv, const std::string& logPath);
+
+/// The path of the running executable, for running gvr's own subcommands.
+std::string currentExecutable();
+
+}  // namespace gvr
