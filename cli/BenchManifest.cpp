@@ -57,6 +57,13 @@ json parseDocument(const std::string& path) {
     return document;
 }
 
+/// "scans/ch2.nii.gz" -> "ch2".
+std::string nameFromPath(const std::string& path) {
+    fs::path name = fs::path(path).filename();
+    if (name.extension() == ".gz") name = name.stem();
+    return name.stem().string();
+}
+
 class ManifestReader {
 public:
     explicit ManifestReader(std::string path) : mPath(std::move(path)) {}
@@ -153,7 +160,7 @@ public:
         if (!value.contains("input")) fail(where, "needs an \"input\" path");
         BenchVolume v;
         v.input = resolve(text(value["input"], where + ".input"));
-        v.name = value.contains("name") ? text(value["name"], where + ".name") : fs::path(v.input).stem().string();
+        v.name = value.contains("name") ? text(value["name"], where + ".name") : nameFromPath(v.input);
         if (v.name.empty() || v.name.find_first_of("/\\,\"\n") != std::string::npos) {
             fail(where + ".name", "must be non-empty, without / \\ , \" or newlines");
         }

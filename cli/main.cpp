@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     gvr::addEvalCommand(app);
     gvr::addProbeCommand(app);
     gvr::addRenderCommand(app);
+    gvr::addBaselineCommand(app);
     gvr::addBenchCommand(app);
     try {
         app.parse(argc, argv);

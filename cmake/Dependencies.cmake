@@ -19,6 +19,7 @@ find_package(embree 3 REQUIRED CONFIG)
 find_package(GDCM REQUIRED)
 find_package(CLI11 REQUIRED CONFIG)
 find_package(nlohmann_json 3 REQUIRED CONFIG)
+find_package(zfp REQUIRED CONFIG)  # needs the C language, enabled at the top level
 
 # Debian's NIFTIConfig.cmake points at the wrong library folder, so build the target by hand.
 # Only the nifti2 API is used: it reads NIfTI-1 as well, and the two APIs clash in one unit.

@@ -1,0 +1,137 @@
+// Benchmark manifests: JSON and TOML read alike, mistakes are named, shards partition the work.
+
+#include "BenchManifest.h"
+#include "Error.h"
+#include "TestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+
+using namespace gvr;
+
+namespace {
+
+std::string write(const test::TempDir& dir, const std::string& name, const std::string& text) {
+    std::ofstream(dir.path(name)) << text;
+    return dir.path(name);
+}
+
+std::string errorOf(const std::string& path) {
+    try {
+        readBenchManifest(path);
+    } catch (const InputError& error) {
+        return error.what();
+    }
+    return "";
+}
+
+const char* kJson = R"({
+  "ratios": [10, 40],
+  "methods": ["zfp-accuracy", "gvr", "vdb-half", "down3"],
+  "fit": {"seconds": 30, "args": ["--batch", "4096"]},
+  "render": {"size": "64x48", "views": 4, "elevation": 10},
+  "volumes": [
+    {"name": "head", "input": "data/head.nii.gz", "ingest": ["--spacing", "1,1,3.5"]},
+    {"input": "/abs/ch2.nii.gz", "ratios": [5], "fit": {"iterations": 200}}
+  ]
+})";
+
+const char* kToml = R"(
+ratios = [10, 40]
+methods = ["zfp-accuracy", "gvr", "vdb-half", "down3"]
+
+[fit]
+seconds = 30
+args = ["--batch", "4096"]
+
+[render]
+size = "64x48"
+views = 4
+elevation = 10
+
+[[volumes]]
+name = "head"
+input = "data/head.nii.gz"
+ingest = ["--spacing", "1,1,3.5"]
+
+[[volumes]]
+input = "/abs/ch2.nii.gz"
+ratios = [5]
+fit = { iterations = 200 }
+)";
+
+}  // namespace
+
+TEST(BenchManifest, JsonAndTomlGiveTheSameManifest) {
+    test::TempDir dir;
+    for (const std::string& path : {write(dir, "m.json", kJson), write(dir, "m.toml", kToml)}) {
+        SCOPED_TRACE(path);
+        const BenchManifest m = readBenchManifest(path);
+        ASSERT_EQ(m.volumes.size(), 2u);
+        EXPECT_EQ(m.volumes[0].name, "head");
+        EXPECT_EQ(m.volumes[0].input, dir.path("data/head.nii.gz"));  // relative to the manifest
+        EXPECT_EQ(m.volumes[0].ingestArgs, (std::vector<std::string>{"--spacing", "1,1,3.5"}));
+        EXPECT_EQ(m.volumes[0].ratios, (std::vector<double>{10, 40}));
+        EXPECT_EQ(m.volumes[0].fit.seconds, 30);
+        EXPECT_FALSE(m.volumes[0].fit.iterations);
+        EXPECT_EQ(m.volumes[1].name, "ch2");  // from the file name
+        EXPECT_EQ(m.volumes[1].ratios, (std::vector<double>{5}));
+        EXPECT_EQ(m.volumes[1].fit.iterations, std::optional<std::uint64_t>(200));
+        EXPECT_EQ(m.volumes[1].fit.args, (std::vector<std::string>{"--batch", "4096"}));  // inherited
+        EXPECT_EQ(m.render.size, "64x48");
+        EXPECT_EQ(m.render.views, 4);
+        EXPECT_EQ(m.render.elevation, 10);
+    }
+}
+
+TEST(BenchManifest, UnitsRunGvrBeforeZfpAndRatioFreeMethodsOnce) {
+    test::TempDir dir;
+    const std::vector<BenchUnit> units = benchUnits(readBenchManifest(write(dir, "m.json", kJson)));
+    // head: ratio-free, 10, 40; ch2: ratio-free, 5.
+    ASSERT_EQ(units.size(), 5u);
+    EXPECT_FALSE(units[0].ratio);
+    EXPECT_EQ(units[0].methods, (std::vector<std::string>{"vdb-half", "down3"}));
+    EXPECT_EQ(units[1].ratio, std::optional<double>(10));
+    EXPECT_EQ(units[1].methods, (std::vector<std::string>{"gvr", "zfp-accuracy"}));
+    EXPECT_EQ(units[4].volume, 1u);
+    EXPECT_EQ(units[4].ratio, std::optional<double>(5));
+}
+
+TEST(BenchManifest, ShardsCoverEveryUnitExactlyOnce) {
+    test::TempDir dir;
+    const BenchManifest m = readBenchManifest(write(dir, "m.json", kJson));
+    const std::size_t all = benchUnits(m).size();
+    for (int shards : {1, 2, 3, 7}) {
+        std::set<std::pair<std::size_t, double>> seen;
+        std::size_t total = 0;
+        for (int s = 0; s < shards; ++s) {
+            for (const BenchUnit& u : benchUnits(m, s, shards)) {
+                seen.insert({u.volume, u.ratio.value_or(-1)});
+                ++total;
+            }
+        }
+        EXPECT_EQ(total, all) << shards << " shards";
+        EXPECT_EQ(seen.size(), all) << shards << " shards";
+    }
+}
+
+TEST(BenchManifest, MistakesAreNamed) {
+    test::TempDir dir;
+    const auto volume = std::string(R"("volumes": [{"input": "a.nii"}])");
+    EXPECT_NE(errorOf(write(dir, "a.json", R"({"methods": ["gvr", "sz3"], )" + volume + "}")).find("unknown method 'sz3'; known: gvr, A1"),
+              std::string::npos);
+    EXPECT_NE(errorOf(write(dir, "b.json", R"({"ratio": [10], )" + volume + "}")).find("unknown key 'ratio'"),
+              std::string::npos);
+    EXPECT_NE(errorOf(write(dir, "c.json", R"({"ratios": [1], )" + volume + "}")).find("above 1"), std::string::npos);
+    EXPECT_NE(errorOf(write(dir, "d.json", R"({"volumes": [{"input": "a.nii"}, {"input": "x/a.nii"}]})"))
+                  .find("duplicate name 'a'"),
+              std::string::npos);
+    EXPECT_NE(errorOf(write(dir, "e.json", R"({"volumes": []})")).find("at least one volume"), std::string::npos);
+    EXPECT_NE(errorOf(write(dir, "f.json", "{not json")).find("not valid JSON"), std::string::npos);
+    EXPECT_NE(errorOf(write(dir, "g.toml", "ratios = [10\n")).find("not valid TOML"), std::string::npos);
+    EXPECT_NE(errorOf(write(dir, "h.json", R"({"render": {"size": 64}, )" + volume + "}")).find("render.size: must be a string"),
+              std::string::npos);
+    EXPECT_NE(errorOf(dir.path("missing.json")).find("cannot open"), std::string::npos);
+}

@@ -1,0 +1,171 @@
+// gvr bench end to end on a tiny manifest: every method gives a row, a missing
+// volume gives failed rows, a kill -9 followed by --resume ends with the same
+// table as an uninterrupted run, and shards merge into the whole.
+
+#include "BenchTable.h"
+#include "TestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+using namespace gvr;
+using test::runGvr;
+
+namespace {
+
+/// Reproducible: fits by iteration count, so quality and sizes repeat exactly.
+std::string writeManifest(const test::TempDir& dir, const std::string& grid) {
+    const std::string path = dir.path("bench.json");
+    std::ofstream(path) << R"({
+  "ratios": [8],
+  "methods": ["gvr", "A4", "zfp-accuracy", "zfp-rate", "vdb-blosc", "vdb-half", "down2"],
+  "fit": {"iterations": 40, "args": ["--batch", "2048", "--threads", "1"]},
+  "render": {"size": "32x32", "views": 2},
+  "volumes": [{"name": "blobs", "input": ")" + grid + R"("}, {"name": "lost", "input": "no/such.nii.gz"}]
+})";
+    return path;
+}
+
+/// What must not depend on timing, interruption or sharding.
+std::vector<std::string> outcome(const std::string& resultsCsv) {
+    std::vector<std::string> rows;
+    for (const BenchRow& row : readResultsCsv(resultsCsv)) {
+        std::string text;
+        for (const char* column : {"volume", "ratio", "method", "status", "bytes", "psnr", "fg_psnr", "ssim", "ms_ssim",
+                                   "render_psnr", "render_ssim", "detail"}) {
+            text += row.get(column) + "|";
+        }
+        rows.push_back(text);
+    }
+    std::sort(rows.begin(), rows.end());
+    return rows;
+}
+
+std::size_t rowsIn(const std::string& resultsCsv) {
+    std::ifstream in(resultsCsv);
+    return std::size_t(std::count(std::istreambuf_iterator<char>(in), {}, '\n'));
+}
+
+pid_t startBench(const std::string& manifest, const std::string& out) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+        freopen("/dev/null", "w", stdout);
+        freopen("/dev/null", "w", stderr);
+        execl(GVR_EXECUTABLE, GVR_EXECUTABLE, "bench", manifest.c_str(), "-o", out.c_str(), "-q", (char*)nullptr);
+        _exit(127);
+    }
+    return pid;
+}
+
+class CliBench : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        dir = new test::TempDir;
+        manifest = writeManifest(*dir, test::smallGrid(*dir));
+        complete = runGvr("bench '" + manifest + "' -o '" + dir->path("complete") + "' --json", *dir);
+    }
+    static void TearDownTestSuite() { delete dir; }
+
+    static test::TempDir* dir;
+    static std::string manifest;
+    static test::CommandResult complete;
+};
+
+test::TempDir* CliBench::dir = nullptr;
+std::string CliBench::manifest;
+test::CommandResult CliBench::complete;
+
+}  // namespace
+
+TEST_F(CliBench, EveryMethodGivesARowAndAMissingVolumeFailsWithoutStoppingTheRun) {
+    ASSERT_EQ(complete.exitCode, 0) << complete.err;
+    const std::vector<BenchRow> rows = readResultsCsv(dir->path("complete/results.csv"));
+    ASSERT_EQ(rows.size(), 14u);  // 7 methods x 2 volumes
+    for (const BenchRow& row : rows) {
+        SCOPED_TRACE(row.key() + ": " + row.get("message"));
+        if (row.get("volume") == "lost") {
+            EXPECT_EQ(row.get("status"), "failed");
+            EXPECT_NE(row.get("message").find("no/such.nii.gz"), std::string::npos);
+            continue;
+        }
+        ASSERT_EQ(row.get("status"), "ok");
+        EXPECT_GT(*row.number("bytes"), 0);
+        EXPECT_GT(*row.number("psnr"), 15.0);
+        EXPECT_GT(*row.number("render_psnr"), 15.0);
+        EXPECT_GT(*row.number("render_fps"), 0);
+        EXPECT_EQ(row.list("views").size(), 2u);
+        for (const std::string& view : row.list("views")) EXPECT_TRUE(std::filesystem::exists(dir->path("complete/" + view)));
+    }
+    const auto find = [&](const std::string& method) {
+        return *std::find_if(rows.begin(), rows.end(), [&](const BenchRow& r) { return r.key() == "blobs|8|" + method; });
+    };
+    EXPECT_FALSE(find("gvr").get("fit_log").empty());
+    // ZFP's tolerance search matched gvr's asset size within 5 %.
+    EXPECT_NEAR(*find("zfp-accuracy").number("bytes") / *find("gvr").number("bytes"), 1.0, 0.05);
+    const BenchRow lossless = *std::find_if(rows.begin(), rows.end(), [](const BenchRow& r) { return r.get("method") == "vdb-blosc"; });
+    EXPECT_EQ(lossless.get("psnr"), "inf");
+    EXPECT_TRUE(lossless.get("ratio").empty());
+
+    const std::string report = test::readBytes(dir->path("complete/report.md"));
+    for (const char* part : {"Table 1", "Table 2", "Table 3", "Verdicts", "Failed runs", "no/such.nii.gz"}) {
+        EXPECT_NE(report.find(part), std::string::npos) << part;
+    }
+    for (const char* plot : {"blobs_r8_psnr_vs_time.png", "blobs_rate_distortion.png", "blobs_r8_contact_sheet.png"}) {
+        EXPECT_TRUE(std::filesystem::exists(dir->path(std::string("complete/plots/") + plot))) << plot;
+    }
+}
+
+TEST_F(CliBench, KillNineThenResumeGivesTheSameTable) {
+    ASSERT_EQ(complete.exitCode, 0) << complete.err;
+    const std::string out = dir->path("killed"), csv = out + "/results.csv";
+    const pid_t pid = startBench(manifest, out);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(3);
+    while (rowsIn(csv) < 4 && std::chrono::steady_clock::now() < deadline) {  // header + 3 rows
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    const std::size_t rowsAtKill = rowsIn(csv) - 1;
+    ASSERT_GE(rowsAtKill, 3u);
+    ASSERT_LT(rowsAtKill, 14u) << "the run ended before it could be killed";
+    EXPECT_NE(runGvr("bench '" + manifest + "' -o '" + out + "' -q", *dir).exitCode, 0) << "needs --resume";
+    const test::CommandResult resumed = runGvr("bench '" + manifest + "' -o '" + out + "' --resume -q", *dir);
+    ASSERT_EQ(resumed.exitCode, 0) << resumed.err;
+    EXPECT_EQ(outcome(csv), outcome(dir->path("complete/results.csv")));
+}
+
+TEST_F(CliBench, ShardsMergeIntoTheWhole) {
+    ASSERT_EQ(complete.exitCode, 0) << complete.err;
+    for (int s = 0; s < 2; ++s) {
+        const std::string shard = std::to_string(s) + "/2";
+        const test::CommandResult run = runGvr("bench '" + manifest + "' -o '" + dir->path("shard" + std::to_string(s)) +
+                                                   "' --shard " + shard + " -q", *dir);
+        ASSERT_EQ(run.exitCode, 0) << run.err;
+        EXPECT_LT(readResultsCsv(dir->path("shard" + std::to_string(s) + "/results.csv")).size(), 14u);
+    }
+    const test::CommandResult merged = runGvr("bench --merge '" + dir->path("shard0") + "' '" + dir->path("shard1") +
+                                                  "' -o '" + dir->path("merged") + "' -q", *dir);
+    ASSERT_EQ(merged.exitCode, 0) << merged.err;
+    EXPECT_EQ(outcome(dir->path("merged/results.csv")), outcome(dir->path("complete/results.csv")));
+    for (const BenchRow& row : readResultsCsv(dir->path("merged/results.csv"))) {
+        for (const std::string& view : row.list("views")) EXPECT_TRUE(std::filesystem::exists(dir->path("merged/" + view))) << view;
+    }
+}
+
+TEST_F(CliBench, BadFlagsAreRefused) {
+    EXPECT_EQ(runGvr("bench '" + manifest + "' -o '" + dir->path("x") + "' --shard 2/2", *dir).exitCode, 2);
+    EXPECT_EQ(runGvr("bench -o '" + dir->path("y") + "'", *dir).exitCode, 2);
+    const test::CommandResult bad = runGvr("bench '" + dir->path("nope.json") + "' -o '" + dir->path("z") + "'", *dir);
+    EXPECT_EQ(bad.exitCode, 2);
+    EXPECT_EQ(test::lineCount(bad.err), 1u) << bad.err;
+    EXPECT_NE(bad.err.find("nope.json"), std::string::npos);
+    EXPECT_FALSE(std::filesystem::exists(dir->path("z/results.csv")));
+}
