@@ -31,7 +31,7 @@ struct BenchFlags {
     std::string manifest, output, shard = "0/1";
     std::vector<std::string> merge;
     unsigned jobs = 1;
-    bool resume = false, json = false, quiet = false;
+    bool resume = false, retryFailed = false, json = false, quiet = false;
 };
 
 std::pair<int, int> parseShard(const std::string& text) {
@@ -106,7 +106,8 @@ void runBench(const BenchFlags& flags) {
     const auto [shard, shards] = parseShard(flags.shard);
     if (flags.jobs < 1) throw InputError("--jobs", "must be at least 1");
     const std::string folder = fs::absolute(flags.output).lexically_normal().string();
-    ResultsTable table(folder, fs::absolute(flags.manifest).string(), flags.resume);
+    if (flags.retryFailed && !flags.resume) throw InputError("--retry-failed", "applies with --resume only");
+    ResultsTable table(folder, fs::absolute(flags.manifest).string(), flags.resume, flags.retryFailed);
     const std::vector<std::vector<BenchUnit>> groups = groupByVolume(benchUnits(manifest, shard, shards));
 
     std::size_t pending = 0;
@@ -200,6 +201,7 @@ void addBenchCommand(CLI::App& app) {
                                                      "fit budgets and views");
     command->add_option("-o,--output", flags->output, "Results folder")->required();
     command->add_flag("--resume", flags->resume, "Carry on in a results folder, skipping the runs it already has");
+    command->add_flag("--retry-failed", flags->retryFailed, "With --resume: run the failed rows again too");
     command->add_option("--shard", flags->shard,
                         "I/N: run only units I, I+N, I+2N, ... of the manifest (0 <= I < N), e.g. one per machine "
                         "or job-array task; join the folders afterwards with --merge")->capture_default_str();

@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -196,7 +197,8 @@ void writeResultsCsv(const std::string& path, const std::vector<BenchRow>& rows)
     writeText(path, text);
 }
 
-ResultsTable::ResultsTable(const std::string& folder, const std::string& manifestPath, bool resume)
+ResultsTable::ResultsTable(const std::string& folder, const std::string& manifestPath, bool resume,
+                           bool retryFailed)
     : mFolder(folder), mManifestPath(manifestPath) {
     fs::create_directories(folder);
     const bool exists = fs::exists(csvPath()) && fs::file_size(csvPath()) > 0;
@@ -209,6 +211,12 @@ ResultsTable::ResultsTable(const std::string& folder, const std::string& manifes
         std::size_t torn = 0;
         mRows = readResultsCsv(csvPath(), &torn);
         if (torn > 0) fs::resize_file(csvPath(), fs::file_size(csvPath()) - torn);
+        if (retryFailed) {
+            mRows.erase(std::remove_if(mRows.begin(), mRows.end(),
+                                       [](const BenchRow& row) { return row.get("status") != "ok"; }),
+                        mRows.end());
+            writeResultsCsv(csvPath(), mRows);
+        }
     }
     writeResultsJson(jsonPath(), mManifestPath, mRows);
 }

@@ -48,9 +48,10 @@ void writeResultsCsv(const std::string& path, const std::vector<BenchRow>& rows)
 /// The live table of a run: thread-safe appends that reach the disk before returning.
 class ResultsTable {
 public:
-    /// Without @a resume, a folder that already holds results is refused.
+    /// Without @a resume, a folder that already holds results is refused. With
+    /// @a retryFailed, its failed rows are dropped so that they run again.
     /// @throw InputError naming the folder.
-    ResultsTable(const std::string& folder, const std::string& manifestPath, bool resume);
+    ResultsTable(const std::string& folder, const std::string& manifestPath, bool resume, bool retryFailed = false);
 
     std::optional<BenchRow> find(const std::string& key) const;
     void append(const BenchRow& row);

@@ -2,6 +2,7 @@
 
 #include "AtomicFile.h"
 #include "Error.h"
+#include "VolumeMetadata.h"
 
 #include <fstream>
 
@@ -41,6 +42,10 @@ openvdb::GridPtrVecPtr readGridFile(const std::string& path) { return readGrids(
 openvdb::GridPtrVecPtr readGridMetadataFile(const std::string& path) { return readGrids(path, /*voxels=*/false); }
 
 openvdb::GridBase::Ptr chooseVolumeGrid(const openvdb::GridPtrVec& grids, const std::string& path) {
+    // gvr marks its volume with metadata, so an RGB export's colour wins over the density derived from it.
+    for (const auto& grid : grids) {
+        if (readVolumeMetadata(*grid)) return grid;
+    }
     for (const char* name : {"density", "color", "Cd"}) {
         for (const auto& grid : grids) {
             if (grid->getName() == name) return grid;

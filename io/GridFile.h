@@ -21,7 +21,8 @@ openvdb::GridPtrVecPtr readGridFile(const std::string& path);
 /// however large the file. @throw InputError as readGridFile.
 openvdb::GridPtrVecPtr readGridMetadataFile(const std::string& path);
 
-/// The volume grid of a file: "density", "color" or "Cd" first, then the first
+/// The volume grid of a file: the grid carrying gvr's VolumeMetadata (what ingest
+/// and export write), else "density", "color" or "Cd", then the first
 /// float, double or Vec3s grid. @throw InputError naming @a path when there is none.
 openvdb::GridBase::Ptr chooseVolumeGrid(const openvdb::GridPtrVec& grids, const std::string& path);
 

@@ -75,6 +75,21 @@ TEST(BenchTable, ResumeDropsATornLastRowAndRefusesWithoutResume) {
     EXPECT_EQ(readResultsCsv(dir.path("out/results.csv")).size(), 2u);
 }
 
+TEST(BenchTable, RetryFailedDropsOnlyFailedRows) {
+    test::TempDir dir;
+    {
+        ResultsTable table(dir.path("out"), "m.json", false);
+        table.append(sampleRow("gvr"));  // failed
+        BenchRow ok = sampleRow("A1");
+        ok.set("status", "ok");
+        table.append(ok);
+    }
+    ResultsTable retried(dir.path("out"), "m.json", /*resume=*/true, /*retryFailed=*/true);
+    EXPECT_FALSE(retried.find("ct head|10|gvr"));
+    EXPECT_TRUE(retried.find("ct head|10|A1"));
+    EXPECT_EQ(readResultsCsv(dir.path("out/results.csv")).size(), 1u);
+}
+
 TEST(BenchTable, ForeignCsvIsRefused) {
     test::TempDir dir;
     std::ofstream(dir.path("results.csv")) << "a,b,c\n1,2,3\n";
