@@ -66,15 +66,19 @@ std::string describeRow(const BenchRow& row) {
     return text.str();
 }
 
-/// Writes report.md and the plots, through the script that gvr carries inside it.
-/// The script is left beside the results, so plots can be redrawn without rerunning.
-void writeReport(const std::string& folder) {
+/// gvr carries the report script inside it and leaves a copy beside the results,
+/// so a long run's report can be drawn at any time, or redrawn without rerunning.
+std::string writeReportScript(const std::string& folder) {
     const std::string script = folder + "/bench_report.py";
-    {
-        std::ofstream out(script);
-        out << reinterpret_cast<const char*>(kBenchReportScript);
-        if (!out.flush()) throw InputError(script, "cannot write the report script");
-    }
+    std::ofstream out(script);
+    out << reinterpret_cast<const char*>(kBenchReportScript);
+    if (!out.flush()) throw InputError(script, "cannot write the report script");
+    return script;
+}
+
+/// Writes report.md and the plots.
+void writeReport(const std::string& folder) {
+    const std::string script = writeReportScript(folder);
     const std::string python = "/usr/bin/python3";
     if (!fs::exists(python)) throw InputError(python, "not found: install python3 and python3-matplotlib for the report");
     const ChildResult result = runChild({python, script, folder}, folder + "/report.log");
@@ -109,6 +113,7 @@ void runBench(const BenchFlags& flags) {
     if (flags.retryFailed && !flags.resume) throw InputError("--retry-failed", "applies with --resume only");
     ResultsTable table(folder, fs::absolute(flags.manifest).string(), flags.resume, flags.retryFailed);
     const std::vector<std::vector<BenchUnit>> groups = groupByVolume(benchUnits(manifest, shard, shards));
+    writeReportScript(folder);
 
     std::size_t pending = 0;
     for (const auto& group : groups) {
