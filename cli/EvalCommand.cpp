@@ -4,6 +4,10 @@
 #include "ComparisonInput.h"
 #include "Error.h"
 #include "Fitter.h"
+#include "GaussianAsset.h"
+#include "GridFile.h"
+#include "LabelGrid.h"
+#include "StructureQuality.h"
 #include "Luminance.h"
 #include "QualityMetrics.h"
 #include "Report.h"
@@ -18,7 +22,7 @@ namespace gvr {
 namespace {
 
 struct EvalFlags {
-    std::string reference, test, mask;
+    std::string reference, test, mask, labels, structures;
     std::optional<double> threshold, peak;
     bool resample = false, json = false;
     SourceFlags source;
@@ -29,6 +33,8 @@ struct Evaluation {
     std::size_t foregroundVoxels = 0;
     MsSsim msSsim;
     std::string foregroundRule;
+    std::vector<StructureQuality> structures;
+    LabelTable labelTable;
 };
 
 std::string dimsText(const FloatVolume& v) {
@@ -100,6 +106,39 @@ std::vector<std::uint8_t> foregroundMask(const EvalFlags& flags, const FloatVolu
     return mask;
 }
 
+/// The label of each reference voxel: the label grid's voxel at the same place.
+std::vector<int> labelsOnSamples(const FloatVolume& ref, const openvdb::Int32Grid& labels) {
+    std::vector<int> out(ref.voxelCount());
+    auto accessor = labels.getConstAccessor();
+    for (int k = 0; k < ref.dims.z(); ++k) {
+        for (int j = 0; j < ref.dims.y(); ++j) {
+            for (int i = 0; i < ref.dims.x(); ++i) {
+                const openvdb::Vec3d world = ref.worldFromIndex.transform(openvdb::Vec3d(i, j, k));
+                const openvdb::Coord at = openvdb::Coord::round(labels.transform().worldToIndex(world));
+                out[ref.indexOf(i, j, k)] = accessor.getValue(at);
+            }
+        }
+    }
+    return out;
+}
+
+/// Per-structure quality over the labels of --labels: the structures --structures
+/// names, else those of a labelled test asset, else all.
+void evaluateStructures(const EvalFlags& flags, const FloatVolume& ref, const FloatVolume& test, Evaluation& e) {
+    const openvdb::Int32Grid::Ptr labels = findLabelGrid(*readGridFile(flags.labels), flags.labels);
+    e.labelTable = labelTableOf(*labels);
+    std::string spec = flags.structures.empty() ? "all" : flags.structures;
+    if (flags.structures.empty() && isAssetFile(flags.test)) {
+        const GaussianAsset asset = readAsset(flags.test);
+        if (!asset.labelTable.names.empty()) {
+            spec.clear();
+            for (const auto& [id, name] : asset.labelTable.names) spec += (spec.empty() ? "" : ",") + std::to_string(id);
+        }
+    }
+    const std::vector<int> ids = selectLabels(e.labelTable, spec, flags.structures.empty() ? flags.labels : "--structures");
+    e.structures = structureQuality(ref, test, labelsOnSamples(ref, *labels), ids, e.peak);
+}
+
 Evaluation evaluate(const EvalFlags& flags) {
     const auto start = std::chrono::steady_clock::now();
     const IngestOptions options = toIngestOptions(flags.source);
@@ -122,19 +161,24 @@ Evaluation evaluate(const EvalFlags& flags) {
     ssimSettings.dataRange = e.peak;
     e.ssim = ssim(reference.volume, test.volume, ssimSettings);
     e.msSsim = msSsim(reference.volume, test.volume, ssimSettings);
+    if (!flags.labels.empty()) evaluateStructures(flags, reference.volume, test.volume, e);
     e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return e;
 }
 
 void printEvaluation(const EvalFlags& flags, const Evaluation& e) {
     if (flags.json) {
-        const nlohmann::json out = {{"reference", flags.reference}, {"test", flags.test},
+        nlohmann::json out = {{"reference", flags.reference}, {"test", flags.test},
                                     {"mse", e.mse}, {"psnr", jsonNumber(e.psnr)},
                                     {"fg_mse", e.foregroundMse}, {"fg_psnr", e.foregroundVoxels ? jsonNumber(e.foregroundPsnr) : nullptr},
                                     {"fg_voxels", e.foregroundVoxels}, {"fg_rule", e.foregroundRule},
                                     {"ssim", e.ssim}, {"ms_ssim", e.msSsim.value},
                                     {"ms_ssim_scales", e.msSsim.scales}, {"peak", e.peak},
                                     {"seconds", e.seconds}};
+        for (const StructureQuality& q : e.structures) {
+            out["structures"].push_back({{"id", q.id}, {"name", e.labelTable.nameOf(q.id)}, {"voxels", q.voxels},
+                                         {"mse", q.mse}, {"psnr", jsonNumber(q.psnr)}, {"ssim", q.ssim}});
+        }
         std::cout << out.dump(2) << "\n";
         return;
     }
@@ -148,6 +192,13 @@ void printEvaluation(const EvalFlags& flags, const Evaluation& e) {
               << "  MS-SSIM  " << e.msSsim.value << " (" << e.msSsim.scales << " scale"
               << (e.msSsim.scales == 1 ? "" : "s") << (e.msSsim.scales < 5 ? "; too small for 5" : "") << ")\n"
               << "  time     " << e.seconds << " s\n";
+    if (e.structures.empty()) return;
+    std::cout << "  per structure (PSNR over its voxels; SSIM of the structure cut out):\n";
+    for (const StructureQuality& q : e.structures) {
+        std::cout << "    " << std::setw(5) << q.id << "  " << std::left << std::setw(24) << e.labelTable.nameOf(q.id)
+                  << std::right << std::setw(9) << q.voxels << " voxels  PSNR " << std::setw(6) << formatDb(q.psnr)
+                  << " dB  SSIM " << std::fixed << std::setprecision(4) << q.ssim << std::defaultfloat << "\n";
+    }
 }
 
 }  // namespace
@@ -166,6 +217,10 @@ void addEvalCommand(CLI::App& app) {
     command->add_option("--peak", flags->peak, "PSNR peak (default: the reference's data range)");
     command->add_flag("--resample", flags->resample,
                       "Resample the test volume trilinearly onto the reference's grid when they differ");
+    command->add_option("--labels", flags->labels,
+                        "Also report PSNR and SSIM per structure, from the label grid in this .vdb (gvr ingest --labels)");
+    command->add_option("--structures", flags->structures,
+                        "With --labels: the structures to report, IDs or names (default: a labelled asset's own, else all)");
     addSourceFlags(*command, flags->source, /*withThreshold=*/false);
     command->add_flag("--json", flags->json, "Print the result as JSON");
     command->callback([flags] { printEvaluation(*flags, evaluate(*flags)); });

@@ -18,7 +18,7 @@ namespace gvr {
 namespace {
 
 struct ExportFlags {
-    std::string input, output, like, names = "blender", densityFrom, format = "vdb";
+    std::string input, output, like, names = "blender", densityFrom, format = "vdb", show, hide;
     std::optional<double> voxelSize, threshold;
     std::optional<int> resolution;
     bool json = false, quiet = false;
@@ -64,7 +64,7 @@ void printResult(const ExportFlags& flags, const ExportResult& result, const std
 
 void runExport(const ExportFlags& flags) {
     const auto start = std::chrono::steady_clock::now();
-    const GaussianAsset asset = readAsset(flags.input);
+    const GaussianAsset asset = selectStructures(readAsset(flags.input), flags.show, flags.hide, flags.input);
     ExportSettings settings;
     settings.lattice = chosenLattice(flags, asset);
     settings.threshold = flags.threshold;
@@ -111,6 +111,9 @@ void addExportCommand(CLI::App& app) {
     command->add_option("--threshold", flags->threshold,
                         "Voxels at or below this (physical units; luminance for RGB) stay inactive "
                         "(default: the source's ingest threshold, else its minimum)");
+    command->add_option("--show", flags->show,
+                        "Export only these structures of an asset fitted with --labels: IDs or names, comma-separated");
+    command->add_option("--hide", flags->hide, "Leave these structures out (after --show)");
     command->add_option("--names", flags->names, "Colour grid name: blender (color) or houdini (Cd)")
         ->check(CLI::IsMember({"blender", "houdini"}))->capture_default_str();
     command->add_option("--density-from", flags->densityFrom,

@@ -5,7 +5,11 @@
 #include "Fitter.h"
 #include "GaussianAsset.h"
 #include "GaussianField.h"
+#include "GridFile.h"
 #include "GridSummary.h"
+#include "LabelBudget.h"
+#include "LabelGrid.h"
+#include "LabelledFit.h"
 #include "ProgressBar.h"
 #include "Report.h"
 #include "SourceOptions.h"
@@ -13,6 +17,7 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -25,7 +30,7 @@ namespace gvr {
 namespace {
 
 struct FitFlags {
-    std::string input, output, logPath, ablation = "full";
+    std::string input, output, logPath, ablation = "full", labels;
     double ratio = 10.0;
     std::size_t gaussians = 0;
     std::size_t threads = 0;
@@ -103,6 +108,45 @@ std::size_t budgetedGaussians(const GaussianAsset& asset, const FitFlags& flags,
     return capacity;
 }
 
+/// Gaussians per structure: --gaussians split with a floor, or --ratio applied to
+/// each structure's own raw bytes.
+std::vector<std::size_t> structureBudgets(const FitFlags& flags, const GaussianAsset& asset,
+                                          const std::vector<std::uint64_t>& voxels) {
+    if (flags.gaussians > 0) return splitBudget(flags.gaussians, voxels);
+    if (!(flags.ratio >= 1.0) || !std::isfinite(flags.ratio)) throw InputError("--ratio", "must be at least 1");
+    const double sourceVoxels = double(asset.source.dims.x()) * asset.source.dims.y() * asset.source.dims.z();
+    const double rawBytesPerVoxel = double(asset.source.rawSourceBytes()) / sourceVoxels;
+    return proportionalBudgets(rawBytesPerVoxel / flags.ratio / double(assetBytesPerGaussian(asset.params.channels)),
+                               voxels);
+}
+
+/// Fits the structures that --labels names, from the label grid stored beside the image.
+std::vector<StructureFit> fitByLabel(const FitFlags& flags, const openvdb::GridBase& image, GaussianAsset& asset,
+                                     const FitObserver& observer, FitReport& total) {
+    if (!isVdbFile(flags.input)) throw InputError(flags.input, "--labels needs a .vdb from gvr ingest --labels");
+    const openvdb::Int32Grid::Ptr labels = findLabelGrid(*readGridFile(flags.input), flags.input);
+    const LabelTable table = labelTableOf(*labels);
+    const std::vector<int> ids = selectLabels(table, flags.labels, "--labels");
+    const std::vector<std::uint64_t> voxels = countLabelVoxels(*labels, ids);
+    const std::vector<std::size_t> budgets = structureBudgets(flags, asset, voxels);
+    std::vector<StructureFit> structures;
+    for (std::size_t s = 0; s < ids.size(); ++s) {
+        structures.push_back({ids[s], voxels[s], budgets[s], {}});
+        asset.labelTable.names[ids[s]] = table.nameOf(ids[s]);
+    }
+    LabelledFitResult result = fitStructures(image, *labels, structures, flags.settings, observer);
+    asset.params = std::move(result.params);
+    asset.labels = std::move(result.labels);
+    for (const StructureFit& s : result.structures) {
+        total.iterations += s.report.iterations;
+        total.seconds += s.report.seconds;
+        total.skippedSteps += s.report.skippedSteps;
+        total.pruned += s.report.pruned;
+        total.respawned += s.report.respawned;
+    }
+    return result.structures;
+}
+
 FitObserver progressObserver(ProgressBar& bar, FitLog& log) {
     return [&bar, &log, lastPsnr = std::string("-")](const FitProgress& p) mutable {
         if (p.heldOutEvaluated) lastPsnr = formatDb(p.heldOutPsnr);
@@ -112,8 +156,18 @@ FitObserver progressObserver(ProgressBar& bar, FitLog& log) {
     };
 }
 
+nlohmann::json structuresJson(const GaussianAsset& asset, const std::vector<StructureFit>& structures) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const StructureFit& s : structures) {
+        out.push_back({{"id", s.id}, {"name", asset.labelTable.nameOf(s.id)}, {"voxels", s.voxels},
+                       {"gaussians", std::count(asset.labels.begin(), asset.labels.end(), s.id)},
+                       {"budget", s.budget}, {"iterations", s.report.iterations}, {"seconds", s.report.seconds}});
+    }
+    return out;
+}
+
 void report(const FitFlags& flags, const GaussianAsset& asset, double peak, const FitReport& fit,
-            const VolumeError& error, std::size_t dropped) {
+            const VolumeError& error, std::size_t dropped, const std::vector<StructureFit>& structures) {
     const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
     const std::uint64_t rawBytes = asset.source.rawSourceBytes();
     const std::uint64_t floatBytes = std::uint64_t(asset.source.dims.x()) * asset.source.dims.y() *
@@ -128,6 +182,7 @@ void report(const FitFlags& flags, const GaussianAsset& asset, double peak, cons
                               {"peak", peak}, {"skipped_steps", fit.skippedSteps},
                               {"pruned", fit.pruned}, {"respawned", fit.respawned},
                               {"dropped_to_fit_budget", dropped}, {"peak_rss_mib", peakRssMiB()}};
+        if (!structures.empty()) out["structures"] = structuresJson(asset, structures);
         std::cout << out.dump(2) << "\n";
         return;
     }
@@ -143,6 +198,10 @@ void report(const FitFlags& flags, const GaussianAsset& asset, double peak, cons
               << formatDb(error.foregroundPsnr) << " dB foreground (" << error.foregroundVoxels
               << " voxels above the ingest threshold); peak = " << peak << " (normalised data range)\n"
               << "  peak memory:     " << std::setprecision(5) << peakRssMiB() << " MiB\n";
+    for (const nlohmann::json& st : structuresJson(asset, structures)) {
+        std::cout << "  structure " << st["id"] << " " << st["name"].get<std::string>() << ": " << st["voxels"]
+                  << " voxels, " << st["gaussians"] << " Gaussians\n";
+    }
 }
 
 void runFit(FitFlags& flags) {
@@ -165,16 +224,22 @@ void runFit(FitFlags& flags) {
     }
 
     FitReport fit;
+    std::vector<StructureFit> structures;
     {
         FitLog log(flags.logPath, target.peak());
         ProgressBar bar("fitting", !flags.quiet);
-        asset.params = fitGaussians(target, flags.settings, progressObserver(bar, log), &fit);
+        if (flags.labels.empty()) {
+            asset.params = fitGaussians(target, flags.settings, progressObserver(bar, log), &fit);
+        } else {
+            structures = fitByLabel(flags, *loaded.grid, asset, progressObserver(bar, log), fit);
+            maxBytes = 0;  // each structure's budget stands on its own (see proportionalBudgets)
+        }
     }
     const std::size_t dropped = writeAsset(flags.output, asset, maxBytes);
     ProgressBar measuring("measuring", !flags.quiet);
     const GaussianField saved(quantisedCopy(asset.params), asset.cutoffSigmas);
     const VolumeError error = measureVolumeError(saved, target, measuring.callback());
-    report(flags, asset, target.peak(), fit, error, dropped);
+    report(flags, asset, target.peak(), fit, error, dropped, structures);
 }
 
 void addTuningFlags(CLI::App& command, FitSettings& s) {
@@ -219,6 +284,11 @@ void addFitCommand(CLI::App& app) {
     command->add_option("--seed", flags->settings.seed, "Random seed")->capture_default_str();
     command->add_option("--ablation", flags->ablation, "full, A1, A2, A3, A4 or A5")->capture_default_str();
     command->add_option("--log", flags->logPath, "Write error against run time as CSV");
+    command->add_option("--labels", flags->labels,
+                        "Fit by structure from the label grid that ingest --labels stored: all, or IDs and names "
+                        "(comma-separated). Each structure gets Gaussians in proportion to its voxels (at least " +
+                            std::to_string(kStructureFloor) + "), its own samples and seed; other voxels are "
+                            "left out. --ratio then applies to each structure's own voxels");
     command->add_option("--threads", flags->threads, "Worker threads (default: all cores)");
     addTuningFlags(*command, flags->settings);
     addSourceFlags(*command, flags->source);

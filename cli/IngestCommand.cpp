@@ -3,6 +3,7 @@
 #include "Commands.h"
 #include "GridFile.h"
 #include "GridSummary.h"
+#include "LabelGrid.h"
 #include "ProgressBar.h"
 #include "SourceOptions.h"
 
@@ -16,6 +17,8 @@ namespace {
 struct IngestFlags {
     std::string input;
     std::string output;
+    std::string labels, labelNames;
+    bool resampleLabels = false;
     SourceFlags source;
     bool json = false;
     bool quiet = false;
@@ -39,7 +42,20 @@ void runIngest(const IngestFlags& flags) {
     if (result.grid->activeVoxelCount() == 0) {
         std::cerr << "gvr: warning: no voxel is above the threshold; the grid is empty\n";
     }
-    writeGridFile(flags.output, {result.grid});
+    openvdb::GridCPtrVec grids{result.grid};
+    LabelTable labelTable;
+    if (!flags.labels.empty()) {
+        LabelGridSettings settings;
+        if (!flags.labelNames.empty()) settings.names = readLabelNames(flags.labelNames);
+        settings.resample = flags.resampleLabels;
+        ReadOptions read = options.read;
+        read.volumeIndex = 0;
+        read.progress = {};
+        const openvdb::Int32Grid::Ptr labels = buildLabelGrid(flags.labels, read, *result.grid, settings);
+        labelTable = labelTableOf(*labels);
+        grids.push_back(labels);
+    }
+    writeGridFile(flags.output, grids);
     const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
     const GridSummary summary = summarizeGrid(*result.grid);
     if (flags.json) {
@@ -47,10 +63,18 @@ void runIngest(const IngestFlags& flags) {
                                  {"file_bytes", fileBytes},
                                  {"grid", toJson(summary)},
                                  {"warnings", result.warnings}};
+        if (!flags.labels.empty()) {
+            nlohmann::json names = nlohmann::json::object();
+            for (const auto& [id, name] : labelTable.names) names[std::to_string(id)] = name;
+            report["labels"] = names;
+        }
         std::cout << report.dump(2) << "\n";
     } else {
         std::cout << "wrote " << flags.output << " (" << formatBytes(fileBytes) << ")\n"
                   << toText(summary);
+        if (!flags.labels.empty()) {
+            std::cout << "labels: " << labelTable.names.size() << " structures from " << flags.labels << "\n";
+        }
     }
 }
 
@@ -67,6 +91,13 @@ void addIngestCommand(CLI::App& app) {
         ->required();
     command->add_option("-o,--output", flags->output, "Output .vdb file")->required();
     addSourceFlags(*command, flags->source);
+    command->add_option("--labels", flags->labels,
+                        "Integer label volume (atlas or segmentation) on the same grid: stored beside the image "
+                        "as an Int32 grid \"labels\" for fit --labels, render --show and eval --labels");
+    command->add_option("--label-names", flags->labelNames,
+                        "Label names, one \"ID NAME ...\" per line (AAL .txt, FreeSurfer LUT)");
+    command->add_flag("--resample-labels", flags->resampleLabels,
+                      "Resample labels on a different grid onto the image's (nearest neighbour) instead of refusing them");
     command->add_flag("--json", flags->json, "Print the result as JSON");
     command->add_flag("-q,--quiet", flags->quiet, "No progress bars");
     command->callback([flags] { runIngest(*flags); });

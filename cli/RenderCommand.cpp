@@ -25,7 +25,7 @@ namespace gvr {
 namespace {
 
 struct RenderFlags {
-    std::string input, output, size = "512x512", tf, renderer = "shear-warp", statsPath, saveTf;
+    std::string input, output, size = "512x512", tf, renderer = "shear-warp", statsPath, saveTf, show, hide;
     double azimuth = 30.0, elevation = 15.0, stepVoxels = 0.5;
     std::optional<double> minScale;
     int orbit = 0;
@@ -47,7 +47,7 @@ std::pair<int, int> parseSize(const std::string& text) {
 /// The asset's field, or a grid; the ray marcher always gets a grid.
 std::unique_ptr<RenderVolume> loadVolume(const RenderFlags& flags) {
     if (isAssetFile(flags.input)) {
-        const GaussianAsset asset = readAsset(flags.input);
+        const GaussianAsset asset = selectStructures(readAsset(flags.input), flags.show, flags.hide, flags.input);
         if (flags.renderer == "raymarch") {  // march the asset's field exported onto its source grid, unthresholded
             ExportSettings everything;
             everything.threshold = -std::numeric_limits<double>::infinity();
@@ -57,6 +57,9 @@ std::unique_ptr<RenderVolume> loadVolume(const RenderFlags& flags) {
                                                       asset.source.dims, asset.mapping, asset.source.valueMax,
                                                       asset.source.threshold.value_or(asset.source.valueMin),
                                                       float(flags.minScale.value_or(0.5 * flags.shearWarp.sliceSpacingVoxels)));
+    }
+    if (!flags.show.empty() || !flags.hide.empty()) {
+        throw InputError(flags.input, "--show and --hide select the structures of a Gaussian asset fitted with --labels");
     }
     return std::make_unique<GridRenderVolume>(loadOrIngest(flags.input, toIngestOptions(flags.source)).grid);
 }
@@ -172,6 +175,9 @@ void addRenderCommand(CLI::App& app) {
                         "Widen Gaussians thinner than this many voxels, keeping their mass, so that they "
                         "cannot fall between slices (default: half the slice spacing; 0: off)");
     command->add_option("--stats", flags->statsPath, "Write per-frame timings as JSON");
+    command->add_option("--show", flags->show,
+                        "Render only these structures of an asset fitted with --labels: IDs or names, comma-separated");
+    command->add_option("--hide", flags->hide, "Leave these structures out (after --show)");
     addSourceFlags(*command, flags->source);
     command->add_flag("--json", flags->json, "Print the per-frame timings as JSON");
     command->add_flag("-q,--quiet", flags->quiet, "No progress bar");

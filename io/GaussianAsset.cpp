@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <numeric>
+#include <set>
 
 namespace gvr {
 
@@ -188,6 +189,38 @@ VolumeMetadata sourceFromJson(const nlohmann::json& j) {
     return m;
 }
 
+/// The runs of equal labels, in order. @throw std::logic_error when a label comes
+/// back after another: the format stores groups, so they must be contiguous.
+nlohmann::json labelGroupsJson(const GaussianAsset& asset) {
+    if (asset.labels.size() != asset.params.count()) throw std::logic_error("one label per Gaussian is needed");
+    nlohmann::json groups = nlohmann::json::array();
+    std::set<int> seen;
+    for (std::size_t i = 0; i < asset.labels.size();) {
+        const int id = asset.labels[i];
+        if (!seen.insert(id).second) throw std::logic_error("the asset's labels are not grouped");
+        std::size_t end = i;
+        while (end < asset.labels.size() && asset.labels[end] == id) ++end;
+        groups.push_back({{"id", id}, {"name", asset.labelTable.nameOf(id)}, {"count", end - i}});
+        i = end;
+    }
+    for (const auto& [id, name] : asset.labelTable.names) {  // structures left with no Gaussian
+        if (!seen.count(id)) groups.push_back({{"id", id}, {"name", name}, {"count", 0}});
+    }
+    return groups;
+}
+
+/// Per-Gaussian labels and their names from the header's groups.
+void readLabelGroups(const nlohmann::json& groups, std::size_t count, GaussianAsset& asset) {
+    for (const nlohmann::json& group : groups) {
+        const int id = group.at("id").get<int>();
+        const std::size_t n = group.at("count").get<std::size_t>();
+        if (n > count - asset.labels.size()) throw std::runtime_error("label groups hold more Gaussians than the asset");
+        asset.labelTable.names[id] = group.at("name").get<std::string>();
+        asset.labels.insert(asset.labels.end(), n, id);
+    }
+    if (asset.labels.size() != count) throw std::runtime_error("label groups do not cover every Gaussian");
+}
+
 std::string headerJson(const GaussianAsset& asset, const QuantisationRanges& r) {
     const int channels = asset.params.channels;
     std::vector<double> matrix(16);
@@ -207,6 +240,7 @@ std::string headerJson(const GaussianAsset& asset, const QuantisationRanges& r) 
           {"colour_max", std::vector<float>(r.colourMax.begin(), r.colourMax.begin() + channels)}}},
         {"source", sourceJson(asset.source)},
         {"fit", asset.fitSettings}};
+    if (!asset.labels.empty()) header["labels"] = labelGroupsJson(asset);
     return header.dump();
 }
 
@@ -226,8 +260,20 @@ QuantisationRanges rangesFromJson(const nlohmann::json& q, int channels) {
     return r;
 }
 
+/// Keeps the Gaussians (and their labels) whose flag is set, in order.
+void keepOnly(GaussianAsset& asset, const std::vector<bool>& keep) {
+    asset.params.keepOnly(keep);
+    if (asset.labels.empty()) return;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < keep.size(); ++i) {
+        if (keep[i]) asset.labels[kept++] = asset.labels[i];
+    }
+    asset.labels.resize(kept);
+}
+
 /// Drops the Gaussians with the smallest peak amplitude, keeping @a keepCount.
-void keepStrongest(GaussianParameters& params, std::size_t keepCount) {
+void keepStrongest(GaussianAsset& asset, std::size_t keepCount) {
+    const GaussianParameters& params = asset.params;
     std::vector<float> peak(params.count());
     for (std::size_t i = 0; i < params.count(); ++i) {
         const float opacity = sigmoid(*params.at(kOpacityLogits, i));
@@ -240,7 +286,7 @@ void keepStrongest(GaussianParameters& params, std::size_t keepCount) {
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return peak[a] > peak[b]; });
     std::vector<bool> keep(params.count(), false);
     for (std::size_t k = 0; k < keepCount; ++k) keep[order[k]] = true;
-    params.keepOnly(keep);
+    keepOnly(asset, keep);
 }
 
 }  // namespace
@@ -260,6 +306,28 @@ std::size_t assetCapacity(const GaussianAsset& asset, std::uint64_t maxBytes) {
     return std::size_t((maxBytes - fixed) / assetBytesPerGaussian(asset.params.channels));
 }
 
+GaussianAsset withLabels(const GaussianAsset& asset, const std::vector<int>& shown) {
+    if (asset.labels.empty()) return asset;
+    GaussianAsset subset = asset;
+    std::vector<bool> keep(asset.labels.size());
+    for (std::size_t i = 0; i < keep.size(); ++i) {
+        keep[i] = std::binary_search(shown.begin(), shown.end(), asset.labels[i]);
+    }
+    keepOnly(subset, keep);
+    subset.labelTable.names.clear();
+    for (int id : shown) subset.labelTable.names[id] = asset.labelTable.nameOf(id);
+    return subset;
+}
+
+GaussianAsset selectStructures(const GaussianAsset& asset, const std::string& show, const std::string& hide,
+                               const std::string& path) {
+    if (show.empty() && hide.empty()) return asset;
+    if (asset.labelTable.names.empty()) {
+        throw InputError(path, "has no structures to show or hide; fit it with gvr fit --labels");
+    }
+    return withLabels(asset, shownLabels(asset.labelTable, show, hide));
+}
+
 GaussianParameters quantisedCopy(const GaussianParameters& params) {
     const QuantisationRanges ranges = rangesOf(params);
     const std::string body = encodeBody(params, ranges);
@@ -271,7 +339,7 @@ std::size_t writeAsset(const std::string& path, GaussianAsset& asset, std::uint6
     while (maxBytes > 0 && asset.params.count() > 0 && assetFileBytes(asset) > maxBytes) {
         const std::uint64_t excess = assetFileBytes(asset) - maxBytes;
         const std::size_t drop = std::size_t(excess / assetBytesPerGaussian(asset.params.channels)) + 1;
-        keepStrongest(asset.params, asset.params.count() - std::min(drop, asset.params.count()));
+        keepStrongest(asset, asset.params.count() - std::min(drop, asset.params.count()));
     }
     const QuantisationRanges ranges = rangesOf(asset.params);
     const std::string header = headerJson(asset, ranges);
@@ -334,6 +402,7 @@ GaussianAsset readAsset(const std::string& path) {
         ranges = rangesFromJson(header.at("quantisation"), channels);
         asset.source = sourceFromJson(header.at("source"));
         asset.fitSettings = header.at("fit");
+        if (header.contains("labels")) readLabelGroups(header.at("labels"), count, asset);
     } catch (const std::exception& error) {
         throw InputError(path, std::string("corrupt asset header: ") + error.what());
     }

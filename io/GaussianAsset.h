@@ -23,9 +23,15 @@
 /// quantisation ranges, the source's metadata (including raw_bytes) and the fit
 /// settings. Colours are stored after folding the opacity's rounding into them, so
 /// the product opacity * colour keeps the colour's precision.
+///
+/// An asset fitted by structure (`gvr fit --labels`) stores its Gaussians grouped
+/// by label, and the header's "labels" lists the groups in order:
+/// [{"id": 37, "name": "Hippocampus_L", "count": 412}, ...]. That costs no byte per
+/// Gaussian, and readers that ignore the key still read a valid asset.
 #pragma once
 
 #include "GaussianParameters.h"
+#include "LabelTable.h"
 #include "ValueMapping.h"
 #include "VolumeMetadata.h"
 
@@ -41,6 +47,9 @@ constexpr std::uint32_t kAssetVersion = 1;
 
 struct GaussianAsset {
     GaussianParameters params;
+    /// Empty, or one label per Gaussian, grouped (all of one label together).
+    std::vector<int> labels;
+    LabelTable labelTable;  ///< names of the labels in @a labels
     float cutoffSigmas = 3.0f;
     openvdb::math::Mat4d worldFromIndex = openvdb::math::Mat4d::identity();
     ValueMapping mapping;
@@ -68,6 +77,17 @@ bool isAssetFile(const std::string& path);
 /// @throw InputError naming @a path for a wrong magic, an unknown version,
 ///        a size that does not match the header, or a checksum mismatch.
 GaussianAsset readAsset(const std::string& path);
+
+/// The asset with only the Gaussians whose label is in @a shown (ascending), and
+/// their names; an unlabelled asset is returned whole.
+GaussianAsset withLabels(const GaussianAsset& asset, const std::vector<int>& shown);
+
+/// The structures that --show @a show (empty: all) and --hide @a hide leave, by id
+/// or name. Nothing is refitted: the other structures' Gaussians are left out.
+/// @throw InputError naming @a path when the asset has no labels, or naming the flag
+///        for an unknown structure (listing the valid ones).
+GaussianAsset selectStructures(const GaussianAsset& asset, const std::string& show, const std::string& hide,
+                               const std::string& path);
 
 /// The parameters as they come back from the file (quantised and restored).
 GaussianParameters quantisedCopy(const GaussianParameters& params);

@@ -32,7 +32,8 @@ Range luminanceRange(const GridT& grid) {
 
 }  // namespace
 
-VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& name)
+VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& name,
+                           const std::optional<openvdb::CoordBBox>& region)
     : mGrid(std::move(grid)) {
     mFloat = openvdb::GridBase::constGrid<openvdb::FloatGrid>(mGrid);
     mColour = openvdb::GridBase::constGrid<openvdb::Vec3SGrid>(mGrid);
@@ -50,6 +51,7 @@ VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& 
         mBox = mGrid->evalActiveVoxelBoundingBox();
         range = mFloat ? luminanceRange(*mFloat) : luminanceRange(*mColour);
     }
+    if (region) mBox.intersect(*region);
     if (mBox.empty()) throw InputError(name, "grid '" + mGrid->getName() + "' has no voxels");
     const openvdb::Vec3d background =
         mFloat ? openvdb::Vec3d(mFloat->background()) : openvdb::Vec3d(mColour->background());

@@ -7,6 +7,7 @@
 #include <openvdb/openvdb.h>
 
 #include <functional>
+#include <optional>
 
 namespace gvr {
 
@@ -15,11 +16,14 @@ namespace gvr {
 /// The sampled domain is the source's full box (inactive voxels read as background).
 class VolumeTarget {
 public:
+    /// @param region  if given, fit only these voxels (clipped to the source's box),
+    ///                e.g. one structure's bounding box
     /// @throw InputError naming @a name when the grid is neither float nor Vec3s.
-    VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& name);
+    VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& name,
+                 const std::optional<openvdb::CoordBBox>& region = std::nullopt);
 
     int channels() const { return mChannels; }
-    /// The voxels fitted: the source volume's box in index space.
+    /// The voxels fitted: the source volume's box in index space (or the region).
     const openvdb::CoordBBox& box() const { return mBox; }
     std::uint64_t voxelCount() const { return mBox.volume(); }
     const ValueMapping& mapping() const { return mMapping; }
