@@ -6,12 +6,14 @@
 #include "Error.h"
 #include "GaussianAsset.h"
 #include "ImageFile.h"
+#include "LabelStyleFile.h"
 #include "ProgressBar.h"
 #include "RayMarcher.h"
 #include "ShearWarp.h"
 #include "SourceOptions.h"
 #include "TransferFunctionFile.h"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -25,7 +27,7 @@ namespace gvr {
 namespace {
 
 struct RenderFlags {
-    std::string input, output, size = "512x512", tf, renderer = "shear-warp", statsPath, saveTf, show, hide;
+    std::string input, output, size = "512x512", tf, renderer = "shear-warp", statsPath, saveTf, show, hide, labelStyle;
     double azimuth = 30.0, elevation = 15.0, stepVoxels = 0.5;
     std::optional<double> minScale;
     int orbit = 0;
@@ -44,6 +46,13 @@ std::pair<int, int> parseSize(const std::string& text) {
     return {width, height};
 }
 
+std::unique_ptr<RenderVolume> gaussianVolume(const GaussianAsset& asset, const RenderFlags& flags) {
+    return std::make_unique<GaussianRenderVolume>(asset.params, asset.cutoffSigmas, asset.worldFromIndex,
+                                                  asset.source.dims, asset.mapping, asset.source.valueMax,
+                                                  asset.source.threshold.value_or(asset.source.valueMin),
+                                                  float(flags.minScale.value_or(0.5 * flags.shearWarp.sliceSpacingVoxels)));
+}
+
 /// The asset's field, or a grid; the ray marcher always gets a grid.
 std::unique_ptr<RenderVolume> loadVolume(const RenderFlags& flags) {
     if (isAssetFile(flags.input)) {
@@ -53,10 +62,7 @@ std::unique_ptr<RenderVolume> loadVolume(const RenderFlags& flags) {
             everything.threshold = -std::numeric_limits<double>::infinity();
             return std::make_unique<GridRenderVolume>(exportAsset(asset, everything).grids.front());
         }
-        return std::make_unique<GaussianRenderVolume>(asset.params, asset.cutoffSigmas, asset.worldFromIndex,
-                                                      asset.source.dims, asset.mapping, asset.source.valueMax,
-                                                      asset.source.threshold.value_or(asset.source.valueMin),
-                                                      float(flags.minScale.value_or(0.5 * flags.shearWarp.sliceSpacingVoxels)));
+        return gaussianVolume(asset, flags);
     }
     if (!flags.show.empty() || !flags.hide.empty()) {
         throw InputError(flags.input, "--show and --hide select the structures of a Gaussian asset fitted with --labels");
@@ -71,6 +77,37 @@ Classifier classifierFor(const RenderFlags& flags, const RenderVolume& volume) {
     const VolumeStatistics statistics = volume.statistics();
     const std::string preset = flags.tf.empty() ? defaultPreset(volume.channels(), statistics) : flags.tf;
     return Classifier(presetTransferFunction(preset, statistics), volume.channels(), 1.0 / volume.valueMax());
+}
+
+/// Layers for --label-style: each styled structure on its own with its style,
+/// then the other shown structures with @a base. Empty without --label-style.
+std::vector<StackLayer> styledLayers(const RenderFlags& flags, const Classifier& base,
+                                     std::vector<std::unique_ptr<RenderVolume>>& owned) {
+    if (flags.labelStyle.empty()) return {};
+    if (!isAssetFile(flags.input) || flags.renderer != "shear-warp") {
+        throw InputError("--label-style", "styles the structures of a Gaussian asset fitted with --labels (shear-warp)");
+    }
+    const GaussianAsset asset = selectStructures(readAsset(flags.input), flags.show, flags.hide, flags.input);
+    if (asset.labelTable.names.empty()) throw InputError(flags.input, "has no structures to style; fit it with --labels");
+    std::vector<StackLayer> layers;
+    std::vector<int> plain;
+    for (const auto& [id, name] : asset.labelTable.names) plain.push_back(id);
+    for (const auto& [key, style] : readLabelStyles(flags.labelStyle)) {
+        if (style.colour && base.channels() != 1) {
+            throw InputError(flags.labelStyle, "colours apply to grey assets; RGB structures keep their own (opacity applies)");
+        }
+        for (int id : selectLabels(asset.labelTable, key, flags.labelStyle)) {
+            plain.erase(std::remove(plain.begin(), plain.end(), id), plain.end());
+            owned.push_back(gaussianVolume(withLabels(asset, {id}), flags));
+            layers.push_back({owned.back().get(), Classifier(styledTransferFunction(base.transferFunction(), style),
+                                                             base.channels(), base.colourScale())});
+        }
+    }
+    if (!plain.empty()) {
+        owned.push_back(gaussianVolume(withLabels(asset, plain), flags));
+        layers.push_back({owned.back().get(), base});
+    }
+    return layers;
 }
 
 /// frame.png -> frame_0007.png for frame 7 of an orbit.
@@ -105,7 +142,10 @@ void runRender(RenderFlags& flags) {
     const Classifier classifier = classifierFor(flags, *volume);
     if (!flags.saveTf.empty()) writeTransferFunction(flags.saveTf, classifier.transferFunction());
     const auto corners = worldCorners(volume->worldFromIndex(), volume->box());
-    ShearWarpRenderer shearWarp(*volume, classifier, flags.shearWarp);
+    std::vector<std::unique_ptr<RenderVolume>> styledVolumes;
+    std::vector<StackLayer> layers = styledLayers(flags, classifier, styledVolumes);
+    if (layers.empty()) layers.push_back({volume.get(), classifier});
+    ShearWarpRenderer shearWarp(std::move(layers), flags.shearWarp);
     const int frames = std::max(1, flags.orbit);
     nlohmann::json stats = nlohmann::json::array();
     ProgressBar bar("rendering", !flags.quiet && frames > 1);
@@ -178,6 +218,9 @@ void addRenderCommand(CLI::App& app) {
     command->add_option("--show", flags->show,
                         "Render only these structures of an asset fitted with --labels: IDs or names, comma-separated");
     command->add_option("--hide", flags->hide, "Leave these structures out (after --show)");
+    command->add_option("--label-style", flags->labelStyle,
+                        "Per-structure colour and opacity: JSON {\"NAME or ID\": {\"color\": [r, g, b], "
+                        "\"opacity\": factor}, ...}; colours for grey assets");
     addSourceFlags(*command, flags->source);
     command->add_flag("--json", flags->json, "Print the per-frame timings as JSON");
     command->add_flag("-q,--quiet", flags->quiet, "No progress bar");

@@ -24,6 +24,7 @@ public:
 
     int channels() const { return mChannels; }
     const TransferFunction& transferFunction() const { return mTf; }
+    double colourScale() const { return mColourScale; }
 
 private:
     TransferFunction mTf;

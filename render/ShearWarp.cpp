@@ -132,7 +132,10 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
 
 ShearWarpRenderer::ShearWarpRenderer(const RenderVolume& volume, const Classifier& classifier,
                                      const ShearWarpSettings& settings)
-    : mVolume(volume), mClassifier(classifier), mSettings(settings) {}
+    : ShearWarpRenderer(std::vector<StackLayer>{{&volume, classifier}}, settings) {}
+
+ShearWarpRenderer::ShearWarpRenderer(std::vector<StackLayer> layers, const ShearWarpSettings& settings)
+    : mLayers(std::move(layers)), mSettings(settings) {}
 
 Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* stats) {
     const auto start = std::chrono::steady_clock::now();
@@ -141,8 +144,7 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
     frame.reused = mStack && angleBetweenDeg(camera.direction, mStack->geometry().normal) <= mSettings.reuseAngleDeg;
     if (!frame.reused) {
         // Samples finer than the image's pixels would only be averaged away by the warp.
-        mStack = std::make_unique<SliceStack>(mVolume, mClassifier, camera.direction, mSettings.sliceSpacingVoxels,
-                                              camera.pixelMm);
+        mStack = std::make_unique<SliceStack>(mLayers, camera.direction, mSettings.sliceSpacingVoxels, camera.pixelMm);
         frame.buildMs = millisecondsSince(start);
         frame.gaussiansTouched = mStack->gaussiansTouched();
     }

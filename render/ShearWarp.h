@@ -32,6 +32,8 @@ struct FrameStats {
 class ShearWarpRenderer {
 public:
     ShearWarpRenderer(const RenderVolume& volume, const Classifier& classifier, const ShearWarpSettings& settings);
+    /// Several layers in one stack (see SliceStack), e.g. structures with their own styles.
+    ShearWarpRenderer(std::vector<StackLayer> layers, const ShearWarpSettings& settings);
 
     /// Renders @a camera's view; builds a stack first when there is none or the view
     /// is more than reuseAngleDeg from the stack's direction.
@@ -40,8 +42,7 @@ public:
     const SliceStack* stack() const { return mStack.get(); }
 
 private:
-    const RenderVolume& mVolume;
-    Classifier mClassifier;
+    std::vector<StackLayer> mLayers;
     ShearWarpSettings mSettings;
     std::unique_ptr<SliceStack> mStack;
     int mFrames = 0;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 
 namespace gvr {
 
@@ -88,13 +89,51 @@ Lattice StackGeometry::lattice() const {
     return {m, openvdb::CoordBBox(Coord(0), Coord(width - 1, height - 1, slices - 1))};
 }
 
+namespace {
+
+/// The classified samples of all layers at one lattice voxel, combined.
+struct Combined {
+    float keep = 1.0f, r = 0.0f, g = 0.0f, b = 0.0f, alphaSum = 0.0f, single = 0.0f;
+    int layers = 0;
+
+    void add(const std::array<float, 4>& rgba, float alpha) {
+        keep *= 1.0f - alpha;
+        r += rgba[0] * alpha;
+        g += rgba[1] * alpha;
+        b += rgba[2] * alpha;
+        alphaSum += alpha;
+        single = alpha;
+        ++layers;
+    }
+
+    StackSample sample() const {
+        // One layer keeps its own numbers exactly; 1 - (1 - alpha) would round.
+        const float alpha = layers == 1 ? single : 1.0f - keep;
+        const float scale = layers == 1 ? 1.0f : alpha / alphaSum;
+        return {quantise(r * scale), quantise(g * scale), quantise(b * scale), quantise(alpha)};
+    }
+};
+
+}  // namespace
+
 SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier, const Vec3d& direction,
                        double sliceSpacingVoxels, double pixelMm, const ProgressFn& progress)
-    : mGeometry(stackGeometryFor(volume, direction, sliceSpacingVoxels, pixelMm)), mSlices(mGeometry.slices) {
+    : SliceStack(std::vector<StackLayer>{{&volume, classifier}}, direction, sliceSpacingVoxels, pixelMm, progress) {}
+
+SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direction, double sliceSpacingVoxels,
+                       double pixelMm, const ProgressFn& progress)
+    : mGeometry(stackGeometryFor(*layers.front().volume, direction, sliceSpacingVoxels, pixelMm)),
+      mSlices(mGeometry.slices) {
+    const RenderVolume& volume = *layers.front().volume;
     for (Slice& slice : mSlices) slice.rows.assign(mGeometry.height, RowRun{});
-    const auto source = volume.blocksOn(mGeometry.lattice(), classifier.transferFunction().transparentUpTo());
+    std::vector<std::unique_ptr<BlockSource>> sources;
+    std::set<Coord> occupied;
+    for (const StackLayer& layer : layers) {
+        sources.push_back(layer.volume->blocksOn(mGeometry.lattice(), layer.classifier.transferFunction().transparentUpTo()));
+        for (const Coord& origin : sources.back()->occupiedBlocks()) occupied.insert(origin);
+    }
     std::map<int, std::vector<Coord>> slabs;  // block origins by their first slice
-    for (const Coord& origin : source->occupiedBlocks()) slabs[origin.z()].push_back(origin);
+    for (const Coord& origin : occupied) slabs[origin.z()].push_back(origin);
     const double lengthRatio = sliceSpacingVoxels;
     const int channels = volume.channels();
     // Nothing exists outside the volume's cells, whatever a transfer function makes
@@ -106,22 +145,32 @@ SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier,
     for (const auto& [firstSlice, origins] : slabs) {
         std::fill(slab.samples.begin(), slab.samples.end(), StackSample{});
         tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) {
-            float values[kBlockVoxels * 3];
-            const openvdb::CoordBBox voxels = source->sampleBlock(origins[n], values);
+            std::vector<float> values(layers.size() * kBlockVoxels * 3);
+            std::vector<openvdb::CoordBBox> sampled(layers.size());
+            openvdb::CoordBBox voxels;
+            for (std::size_t l = 0; l < layers.size(); ++l) {
+                sampled[l] = sources[l]->sampleBlock(origins[n], values.data() + l * kBlockVoxels * 3);
+                if (!sampled[l].empty()) voxels.expand(sampled[l]);
+            }
             for (auto ijk = voxels.begin(); ijk; ++ijk) {
                 if (!cells.isInside(volumeFromLattice.transform((*ijk).asVec3d()))) continue;
-                const std::array<float, 4> rgba = classifier(values + blockOffset(*ijk) * channels);
-                const float alpha = opacityOverLength(rgba[3], lengthRatio);
-                if (alpha <= 0.0f) continue;
-                StackSample& sample = slab.at((*ijk).x(), (*ijk).y(), (*ijk).z() - firstSlice);
-                sample = {quantise(rgba[0] * alpha), quantise(rgba[1] * alpha), quantise(rgba[2] * alpha), quantise(alpha)};
+                Combined combined;
+                for (std::size_t l = 0; l < layers.size(); ++l) {
+                    if (!sampled[l].isInside(*ijk)) continue;
+                    const float* value = values.data() + l * kBlockVoxels * 3 + blockOffset(*ijk) * channels;
+                    const std::array<float, 4> rgba = layers[l].classifier(value);
+                    const float alpha = opacityOverLength(rgba[3], lengthRatio);
+                    if (alpha > 0.0f) combined.add(rgba, alpha);
+                }
+                if (combined.layers == 0) continue;
+                slab.at((*ijk).x(), (*ijk).y(), (*ijk).z() - firstSlice) = combined.sample();
             }
         });
         const int count = std::min(kBlockDim, mGeometry.slices - firstSlice);
         tbb::parallel_for(0, count, [&](int k) { mSlices[firstSlice + k] = compress(slab, k); });
         counter.advance();
     }
-    mGaussiansTouched = source->gaussiansReaching();
+    for (const auto& source : sources) mGaussiansTouched += source->gaussiansReaching();
 }
 
 }  // namespace gvr

@@ -42,6 +42,14 @@ struct Slice {
     std::vector<StackSample> samples;
 };
 
+/// One volume and how to classify it. A stack may hold several layers that share
+/// the first one's place in the world: the structures of one asset, each with its
+/// own style.
+struct StackLayer {
+    const RenderVolume* volume = nullptr;
+    Classifier classifier;
+};
+
 class SliceStack {
 public:
     /// Samples @a volume on the stack's lattice (in parallel over 8^3 blocks, only
@@ -49,6 +57,11 @@ public:
     /// corrected from one voxel to one slice spacing: 1 - (1 - alpha)^(sliceMm / voxelMm).
     SliceStack(const RenderVolume& volume, const Classifier& classifier, const openvdb::Vec3d& direction,
                double sliceSpacingVoxels, double pixelMm, const ProgressFn& progress = {});
+
+    /// The same for several layers: where layers meet, their opacities combine as
+    /// 1 - prod(1 - alpha) and their colours in proportion to their opacities.
+    SliceStack(const std::vector<StackLayer>& layers, const openvdb::Vec3d& direction, double sliceSpacingVoxels,
+               double pixelMm, const ProgressFn& progress = {});
 
     const StackGeometry& geometry() const { return mGeometry; }
     const std::vector<Slice>& slices() const { return mSlices; }

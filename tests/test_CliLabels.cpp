@@ -199,3 +199,37 @@ TEST_F(CliLabels, EvalReportsEachStructure) {
     ASSERT_EQ(self.exitCode, 0) << self.err;
     EXPECT_EQ(nlohmann::json::parse(self.out)["structures"][0]["psnr"], "inf");
 }
+
+TEST_F(CliLabels, LabelStylesRecolourAndFadeOneStructure) {
+    ASSERT_EQ(fit("all", "both.gvr").exitCode, 0);
+    const std::vector<float> everything = render("both.gvr", "", "all.png");
+    const std::vector<float> hidden = render("both.gvr", "--hide Right", "hidden.png");
+
+    std::ofstream(dir.path("faded.json")) << R"({"Right": {"opacity": 0}})";
+    EXPECT_EQ(maxDifference(render("both.gvr", "--label-style '" + dir.path("faded.json") + "'", "faded.png"), hidden), 0.0);
+
+    std::ofstream(dir.path("red.json")) << R"({"2": {"color": [1, 0, 0]}})";
+    const std::vector<float> red = render("both.gvr", "--label-style '" + dir.path("red.json") + "'", "red.png");
+    const std::vector<float> rightAlone = render("both.gvr", "--show Right", "right.png");
+    double redness = 0.0, untouched = 0.0;
+    int rightPixels = 0;
+    for (std::size_t p = 0; p < everything.size(); p += 4) {
+        const bool right = std::abs(everything[p + 3] - hidden[p + 3]) > 0.05f;
+        if (right) {
+            redness += red[p] - 0.5 * (red[p + 1] + red[p + 2]);
+            ++rightPixels;
+        } else if (rightAlone[p + 3] == 0.0f) {  // where the right blob shows nothing at all
+            for (int c = 0; c < 4; ++c) untouched = std::max(untouched, double(std::abs(red[p + c] - everything[p + c])));
+        }
+    }
+    ASSERT_GT(rightPixels, 20);
+    EXPECT_GT(redness / rightPixels, 0.1);  // the right blob is drawn red
+    EXPECT_LE(untouched, 2.01 / 255.0);     // the left one as before
+
+    std::ofstream(dir.path("bad.json")) << R"({"Middle": {"color": [1, 0, 0]}})";
+    const test::CommandResult bad = runGvr("render -q '" + dir.path("both.gvr") + "' -o '" + dir.path("bad.png") +
+                                               "' --label-style '" + dir.path("bad.json") + "'", dir);
+    EXPECT_EQ(bad.exitCode, 2);
+    EXPECT_NE(bad.err.find("no structure is named 'Middle'"), std::string::npos) << bad.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("bad.png")));
+}

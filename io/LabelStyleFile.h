@@ -1,0 +1,21 @@
+/// @file LabelStyleFile.h
+/// @brief Per-structure colour and opacity overrides as a small JSON file:
+///
+///     {"Hippocampus_L": {"color": [1, 0.2, 0.2]}, "77": {"opacity": 0.3}}
+///
+/// Keys are structure names or ids; "color" is RGB in [0, 1], "opacity" a factor
+/// (>= 0) on the transfer function's opacity.
+#pragma once
+
+#include "LabelStyle.h"
+
+#include <map>
+#include <string>
+
+namespace gvr {
+
+/// @return styles by the key as written (resolve names and ids with selectLabels).
+/// @throw InputError naming @a path for anything else.
+std::map<std::string, LabelStyle> readLabelStyles(const std::string& path);
+
+}  // namespace gvr
