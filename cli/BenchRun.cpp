@@ -200,7 +200,10 @@ private:
         } else {
             args.insert(args.end(), {"--time", std::to_string(budget.seconds)});
         }
-        if (mContext.fitThreads > 0) args.insert(args.end(), {"--threads", std::to_string(mContext.fitThreads)});
+        const bool threadsGiven = std::find(budget.args.begin(), budget.args.end(), "--threads") != budget.args.end();
+        if (mContext.fitThreads > 0 && !threadsGiven) {
+            args.insert(args.end(), {"--threads", std::to_string(mContext.fitThreads)});
+        }
         args.insert(args.end(), budget.args.begin(), budget.args.end());
         ChildResult fitRun, exportRun;
         const json fitted = gvr("fit", args, log, &fitRun);

@@ -160,6 +160,13 @@ TEST_F(CliBench, ShardsMergeIntoTheWhole) {
     }
 }
 
+TEST_F(CliBench, ConcurrentJobsGiveTheSameTable) {
+    ASSERT_EQ(complete.exitCode, 0) << complete.err;
+    const test::CommandResult run = runGvr("bench '" + manifest + "' -o '" + dir->path("jobs") + "' --jobs 2 -q", *dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    EXPECT_EQ(outcome(dir->path("jobs/results.csv")), outcome(dir->path("complete/results.csv")));
+}
+
 TEST_F(CliBench, BadFlagsAreRefused) {
     EXPECT_EQ(runGvr("bench '" + manifest + "' -o '" + dir->path("x") + "' --shard 2/2", *dir).exitCode, 2);
     EXPECT_EQ(runGvr("bench -o '" + dir->path("y") + "'", *dir).exitCode, 2);
