@@ -2,6 +2,7 @@
 
 #include "ChildProcess.h"
 #include "Error.h"
+#include "FramePath.h"
 #include "GridFile.h"
 #include "VolumeMetadata.h"
 
@@ -41,15 +42,10 @@ struct Reconstruction {
     std::string detail, fitLog;
 };
 
-/// Frame file names as `gvr render --orbit` writes them.
+/// The frames `gvr render -o folder/stem.png --orbit frames` writes.
 std::vector<std::string> framePaths(const std::string& folder, const std::string& stem, int frames) {
-    if (frames == 1) return {folder + "/" + stem + ".png"};
     std::vector<std::string> paths;
-    for (int f = 0; f < frames; ++f) {
-        std::ostringstream name;
-        name << folder << "/" << stem << "_" << std::setw(4) << std::setfill('0') << f << ".png";
-        paths.push_back(name.str());
-    }
+    for (int f = 0; f < frames; ++f) paths.push_back(framePath(folder + "/" + stem + ".png", f, frames));
     return paths;
 }
 

@@ -42,14 +42,6 @@ std::string dimsText(const FloatVolume& v) {
            " with " + std::to_string(v.channels) + " channel(s)";
 }
 
-bool sameGeometry(const openvdb::math::Mat4d& a, const openvdb::math::Mat4d& b) {
-    double scale = 0.0;
-    for (int r = 0; r < 4; ++r) {
-        for (int c = 0; c < 3; ++c) scale = std::max(scale, std::abs(a(r, c)));
-    }
-    return a.eq(b, 1e-5 * std::max(1.0, scale));
-}
-
 /// Brings @a test onto the reference's samples, or says why it cannot.
 void matchGeometry(const EvalFlags& flags, const ComparisonInput& reference, ComparisonInput& test) {
     const FloatVolume& ref = reference.volume;
@@ -62,7 +54,7 @@ void matchGeometry(const EvalFlags& flags, const ComparisonInput& reference, Com
                                          std::to_string(ref.channels));
     }
     const bool sameDims = ref.dims == other.dims;
-    const bool sameTransform = reference.isImage || sameGeometry(ref.worldFromIndex, other.worldFromIndex);
+    const bool sameTransform = reference.isImage || samePlacement(ref.worldFromIndex, other.worldFromIndex, 1e-5);
     if (sameDims && sameTransform) return;
     if (!flags.resample || reference.isImage) {
         throw InputError(flags.test, (sameDims ? std::string("is placed differently in the world than the reference")

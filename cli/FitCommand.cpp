@@ -121,20 +121,19 @@ std::vector<std::size_t> structureBudgets(const FitFlags& flags, const GaussianA
 }
 
 /// Fits the structures that --labels names, from the label grid stored beside the image.
-std::vector<StructureFit> fitByLabel(const FitFlags& flags, const openvdb::GridBase& image, GaussianAsset& asset,
+std::vector<StructureFit> fitByLabel(const FitFlags& flags, const openvdb::GridBase& image,
+                                     const openvdb::Int32Grid& labels, GaussianAsset& asset,
                                      const FitObserver& observer, FitReport& total) {
-    if (!isVdbFile(flags.input)) throw InputError(flags.input, "--labels needs a .vdb from gvr ingest --labels");
-    const openvdb::Int32Grid::Ptr labels = findLabelGrid(*readGridFile(flags.input), flags.input);
-    const LabelTable table = labelTableOf(*labels);
+    const LabelTable table = labelTableOf(labels);
     const std::vector<int> ids = selectLabels(table, flags.labels, "--labels");
-    const std::vector<std::uint64_t> voxels = countLabelVoxels(*labels, ids);
+    const std::vector<std::uint64_t> voxels = countLabelVoxels(labels, ids);
     const std::vector<std::size_t> budgets = structureBudgets(flags, asset, voxels);
     std::vector<StructureFit> structures;
     for (std::size_t s = 0; s < ids.size(); ++s) {
         structures.push_back({ids[s], voxels[s], budgets[s], {}});
         asset.labelTable.names[ids[s]] = table.nameOf(ids[s]);
     }
-    LabelledFitResult result = fitStructures(image, *labels, structures, flags.settings, observer);
+    LabelledFitResult result = fitStructures(image, labels, structures, flags.settings, observer);
     asset.params = std::move(result.params);
     asset.labels = std::move(result.labels);
     for (const StructureFit& s : result.structures) {
@@ -211,7 +210,16 @@ void runFit(FitFlags& flags) {
     const std::string problem = flags.settings.validate();
     if (!problem.empty()) throw InputError("gvr fit", problem);
 
-    const IngestResult loaded = loadOrIngest(flags.input, toIngestOptions(flags.source));
+    IngestResult loaded;
+    openvdb::Int32Grid::Ptr labels;
+    if (flags.labels.empty()) {
+        loaded = loadOrIngest(flags.input, toIngestOptions(flags.source));
+    } else {  // the image and its label grid, from one read of the file
+        if (!isVdbFile(flags.input)) throw InputError(flags.input, "--labels needs a .vdb from gvr ingest --labels");
+        const openvdb::GridPtrVecPtr grids = readGridFile(flags.input);
+        loaded.grid = chooseVolumeGrid(*grids, flags.input);
+        labels = findLabelGrid(*grids, flags.input);
+    }
     for (const std::string& warning : loaded.warnings) std::cerr << "gvr: warning: " << warning << "\n";
     const VolumeTarget target(loaded.grid, flags.input);
     GaussianAsset asset = assetSkeleton(*loaded.grid, target, flags, flags.input);
@@ -219,7 +227,7 @@ void runFit(FitFlags& flags) {
     if (target.activeVoxelCount() == 0) {
         std::cerr << "gvr: warning: " << flags.input << " has no active voxels; writing an empty asset\n";
         flags.settings.gaussians = 0;
-    } else {
+    } else if (!labels) {  // structures get their own budgets (structureBudgets)
         flags.settings.gaussians = budgetedGaussians(asset, flags, maxBytes);
     }
 
@@ -231,8 +239,7 @@ void runFit(FitFlags& flags) {
         if (flags.labels.empty()) {
             asset.params = fitGaussians(target, flags.settings, progressObserver(bar, log), &fit);
         } else {
-            structures = fitByLabel(flags, *loaded.grid, asset, progressObserver(bar, log), fit);
-            maxBytes = 0;  // each structure's budget stands on its own (see proportionalBudgets)
+            structures = fitByLabel(flags, *loaded.grid, *labels, asset, progressObserver(bar, log), fit);
         }
     }
     const std::size_t dropped = writeAsset(flags.output, asset, maxBytes);

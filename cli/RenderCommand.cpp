@@ -4,6 +4,7 @@
 #include "AtomicFile.h"
 #include "Commands.h"
 #include "Error.h"
+#include "FramePath.h"
 #include "GaussianAsset.h"
 #include "ImageFile.h"
 #include "LabelStyleFile.h"
@@ -20,6 +21,7 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace gvr {
@@ -53,10 +55,16 @@ std::unique_ptr<RenderVolume> gaussianVolume(const GaussianAsset& asset, const R
                                                   float(flags.minScale.value_or(0.5 * flags.shearWarp.sliceSpacingVoxels)));
 }
 
+/// The shown structures of the input, when it is a Gaussian asset.
+std::optional<GaussianAsset> loadAsset(const RenderFlags& flags) {
+    if (!isAssetFile(flags.input)) return std::nullopt;
+    return selectStructures(readAsset(flags.input), flags.show, flags.hide, flags.input);
+}
+
 /// The asset's field, or a grid; the ray marcher always gets a grid.
-std::unique_ptr<RenderVolume> loadVolume(const RenderFlags& flags) {
-    if (isAssetFile(flags.input)) {
-        const GaussianAsset asset = selectStructures(readAsset(flags.input), flags.show, flags.hide, flags.input);
+std::unique_ptr<RenderVolume> loadVolume(const RenderFlags& flags, const std::optional<GaussianAsset>& loaded) {
+    if (loaded) {
+        const GaussianAsset& asset = *loaded;
         if (flags.renderer == "raymarch") {  // march the asset's field exported onto its source grid, unthresholded
             ExportSettings everything;
             everything.threshold = -std::numeric_limits<double>::infinity();
@@ -81,13 +89,13 @@ Classifier classifierFor(const RenderFlags& flags, const RenderVolume& volume) {
 
 /// Layers for --label-style: each styled structure on its own with its style,
 /// then the other shown structures with @a base. Empty without --label-style.
-std::vector<StackLayer> styledLayers(const RenderFlags& flags, const Classifier& base,
-                                     std::vector<std::unique_ptr<RenderVolume>>& owned) {
+std::vector<StackLayer> styledLayers(const RenderFlags& flags, const std::optional<GaussianAsset>& loaded,
+                                     const Classifier& base, std::vector<std::unique_ptr<RenderVolume>>& owned) {
     if (flags.labelStyle.empty()) return {};
-    if (!isAssetFile(flags.input) || flags.renderer != "shear-warp") {
+    if (!loaded || flags.renderer != "shear-warp") {
         throw InputError("--label-style", "styles the structures of a Gaussian asset fitted with --labels (shear-warp)");
     }
-    const GaussianAsset asset = selectStructures(readAsset(flags.input), flags.show, flags.hide, flags.input);
+    const GaussianAsset& asset = *loaded;
     if (asset.labelTable.names.empty()) throw InputError(flags.input, "has no structures to style; fit it with --labels");
     std::vector<StackLayer> layers;
     std::vector<int> plain;
@@ -110,15 +118,6 @@ std::vector<StackLayer> styledLayers(const RenderFlags& flags, const Classifier&
     return layers;
 }
 
-/// frame.png -> frame_0007.png for frame 7 of an orbit.
-std::string framePath(const std::string& output, int index, int count) {
-    if (count <= 1) return output;
-    const std::filesystem::path path(output);
-    std::ostringstream name;
-    name << path.stem().string() << "_" << std::setw(4) << std::setfill('0') << index << path.extension().string();
-    return (path.parent_path() / name.str()).string();
-}
-
 nlohmann::json toJson(const FrameStats& s) {
     return {{"index", s.index}, {"reused", s.reused}, {"build_ms", s.buildMs}, {"composite_ms", s.compositeMs},
             {"warp_ms", s.warpMs}, {"total_ms", s.totalMs}, {"gaussians_touched", s.gaussiansTouched}};
@@ -138,12 +137,13 @@ void runRender(RenderFlags& flags) {
     if (!(flags.stepVoxels > 0.0 && flags.stepVoxels <= 0.5)) throw InputError("--step", "must be in (0, 0.5] voxels");
     if (flags.orbit < 0 || flags.orbit > 3600) throw InputError("--orbit", "must be between 1 and 3600 frames");
     const auto [width, height] = parseSize(flags.size);
-    const std::unique_ptr<RenderVolume> volume = loadVolume(flags);
+    const std::optional<GaussianAsset> asset = loadAsset(flags);
+    const std::unique_ptr<RenderVolume> volume = loadVolume(flags, asset);
     const Classifier classifier = classifierFor(flags, *volume);
     if (!flags.saveTf.empty()) writeTransferFunction(flags.saveTf, classifier.transferFunction());
     const auto corners = worldCorners(volume->worldFromIndex(), volume->box());
     std::vector<std::unique_ptr<RenderVolume>> styledVolumes;
-    std::vector<StackLayer> layers = styledLayers(flags, classifier, styledVolumes);
+    std::vector<StackLayer> layers = styledLayers(flags, asset, classifier, styledVolumes);
     if (layers.empty()) layers.push_back({volume.get(), classifier});
     ShearWarpRenderer shearWarp(std::move(layers), flags.shearWarp);
     const int frames = std::max(1, flags.orbit);

@@ -41,14 +41,6 @@ openvdb::math::Mat4d matrixOf(const openvdb::GridBase& grid) {
     return grid.transform().baseMap()->getAffineMap()->getMat4();
 }
 
-bool samePlacement(const openvdb::math::Mat4d& a, const openvdb::math::Mat4d& b) {
-    double scale = 0.0;
-    for (int r = 0; r < 4; ++r) {
-        for (int c = 0; c < 3; ++c) scale = std::max(scale, std::abs(a(r, c)));
-    }
-    return a.eq(b, 1e-4 * std::max(1.0, scale));
-}
-
 std::string describe(const std::array<std::int64_t, 3>& dims, const openvdb::math::Mat4d& m) {
     std::ostringstream text;
     text << dims[0] << "x" << dims[1] << "x" << dims[2] << " voxels of " << axisSpacing(m)
@@ -105,7 +97,7 @@ openvdb::Int32Grid::Ptr buildLabelGrid(const std::string& path, const ReadOption
     if (!metadata) throw InputError(path, "labels need an image grid written by gvr ingest");
     const std::array<std::int64_t, 3> imageDims{metadata->dims.x(), metadata->dims.y(), metadata->dims.z()};
     const openvdb::math::Mat4d imageMatrix = matrixOf(image);
-    const bool sameLattice = volume.dims == imageDims && samePlacement(volume.worldFromIndex, imageMatrix);
+    const bool sameLattice = volume.dims == imageDims && samePlacement(volume.worldFromIndex, imageMatrix, 1e-4);
     if (!sameLattice && !settings.resample) {
         throw InputError(path, "is " + describe(volume.dims, volume.worldFromIndex) + ", the image " +
                                    describe(imageDims, imageMatrix) +

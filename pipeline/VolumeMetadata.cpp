@@ -1,5 +1,8 @@
 #include "VolumeMetadata.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "Error.h"
 #include "SampleType.h"
 
@@ -18,6 +21,14 @@ std::optional<T> findMeta(const openvdb::GridBase& grid, const std::string& key)
 std::uint64_t VolumeMetadata::rawSourceBytes() const {
     const std::uint64_t voxels = std::uint64_t(dims.x()) * dims.y() * dims.z();
     return voxels * channels * bytesPerSample(sampleTypeFromName(sourceType, sourceFile));
+}
+
+bool samePlacement(const openvdb::math::Mat4d& a, const openvdb::math::Mat4d& b, double relativeTolerance) {
+    double scale = 0.0;
+    for (int r = 0; r < 4; ++r) {
+        for (int c = 0; c < 3; ++c) scale = std::max(scale, std::abs(a(r, c)));
+    }
+    return a.eq(b, relativeTolerance * std::max(1.0, scale));
 }
 
 openvdb::Vec3d axisSpacing(const openvdb::math::Mat4d& worldFromIndex) {

@@ -34,6 +34,10 @@ struct VolumeMetadata {
 /// Length of each index axis in world units (OpenVDB's row-vector matrix).
 openvdb::Vec3d axisSpacing(const openvdb::math::Mat4d& worldFromIndex);
 
+/// True when two index-to-world matrices agree to @a relativeTolerance of their
+/// largest linear entry (at least 1 mm): the same voxels in the same place.
+bool samePlacement(const openvdb::math::Mat4d& a, const openvdb::math::Mat4d& b, double relativeTolerance);
+
 void writeVolumeMetadata(const VolumeMetadata& metadata, openvdb::GridBase& grid);
 
 /// @return the metadata, or std::nullopt for a grid that gvr did not ingest.

@@ -145,8 +145,11 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     for (const auto& [firstSlice, origins] : slabs) {
         std::fill(slab.samples.begin(), slab.samples.end(), StackSample{});
         tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) {
-            std::vector<float> values(layers.size() * kBlockVoxels * 3);
-            std::vector<openvdb::CoordBBox> sampled(layers.size());
+            // Per thread, not per block: this loop is the stack build's hot path.
+            thread_local std::vector<float> values;
+            thread_local std::vector<openvdb::CoordBBox> sampled;
+            values.resize(layers.size() * kBlockVoxels * 3);
+            sampled.assign(layers.size(), openvdb::CoordBBox());
             openvdb::CoordBBox voxels;
             for (std::size_t l = 0; l < layers.size(); ++l) {
                 sampled[l] = sources[l]->sampleBlock(origins[n], values.data() + l * kBlockVoxels * 3);

@@ -233,3 +233,27 @@ TEST_F(CliLabels, LabelStylesRecolourAndFadeOneStructure) {
     EXPECT_NE(bad.err.find("no structure is named 'Middle'"), std::string::npos) << bad.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("bad.png")));
 }
+
+TEST_F(CliLabels, BadLabelInputsAreOneLineErrorsWithoutOutput) {
+    std::ofstream(dir.path("bad-names.txt")) << "1 Left\nseventeen Right\n";
+    const std::string out = dir.path("named.vdb");
+    const test::CommandResult names = runGvr("ingest -q '" + scene.image + "' -o '" + out + "' --labels '" + scene.labels +
+                                                 "' --label-names '" + dir.path("bad-names.txt") + "'", dir);
+    EXPECT_EQ(names.exitCode, 2);
+    EXPECT_EQ(test::lineCount(names.err), 1u) << names.err;
+    EXPECT_NE(names.err.find("bad-names.txt: line 2 is not \"ID NAME ...\""), std::string::npos) << names.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+
+    const std::string plain = dir.path("plain.vdb");
+    ASSERT_EQ(runGvr("ingest -q '" + scene.image + "' -o '" + plain + "'", dir).exitCode, 0);
+    const test::CommandResult unlabelled = runGvr("fit -q '" + plain + "' -o '" + dir.path("p.gvr") +
+                                                      "' --labels all --iterations 5", dir);
+    EXPECT_EQ(unlabelled.exitCode, 2);
+    EXPECT_EQ(test::lineCount(unlabelled.err), 1u) << unlabelled.err;
+    EXPECT_NE(unlabelled.err.find("holds no label grid; ingest the image with --labels"), std::string::npos);
+    EXPECT_FALSE(std::filesystem::exists(dir.path("p.gvr")));
+
+    const test::CommandResult evalNoLabels = runGvr("eval '" + plain + "' '" + plain + "' --labels '" + plain + "'", dir);
+    EXPECT_EQ(evalNoLabels.exitCode, 2);
+    EXPECT_EQ(test::lineCount(evalNoLabels.err), 1u) << evalNoLabels.err;
+}
