@@ -36,6 +36,7 @@ struct FitFlags {
     std::size_t threads = 0;
     bool json = false, quiet = false;
     FitSettings settings;
+    AssetEncoding encoding;
     SourceFlags source;
 };
 
@@ -46,7 +47,7 @@ public:
         if (path.empty()) return;
         mOut.open(path);
         if (!mOut) throw InputError(path, "cannot write the fit log");
-        mOut << "# gvr fit log; PSNR on fixed held-out voxels, peak = " << peak
+        mOut << "# gvr fit log; PSNR on fixed held-out voxels, excluded from training; peak = " << peak
              << " (the normalised data range)\n"
              << "iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib\n";
     }
@@ -70,7 +71,8 @@ nlohmann::json settingsJson(const FitFlags& flags) {
             {"slice_gamma", s.sliceGamma},       {"slice_beta", s.sliceBeta},
             {"lr", s.learningRate},              {"lr_final", s.finalRateFactor},
             {"gradient_share", s.gradientSeedShare}, {"uniform_share", s.uniformSeedShare},
-            {"prune_every", s.pruneEvery},       {"prune_amplitude", s.pruneAmplitude}};
+            {"prune_every", s.pruneEvery},       {"prune_amplitude", s.pruneAmplitude},
+            {"solve_iterations", s.amplitudeSolveIterations}, {"solve_share", s.amplitudeSolveShare}};
 }
 
 GaussianAsset assetSkeleton(const openvdb::GridBase& grid, const VolumeTarget& target, const FitFlags& flags,
@@ -90,6 +92,7 @@ GaussianAsset assetSkeleton(const openvdb::GridBase& grid, const VolumeTarget& t
         asset.source.spacingMm = grid.transform().voxelSize();
     }
     asset.fitSettings = settingsJson(flags);
+    asset.encoding = flags.encoding;
     return asset;
 }
 
@@ -116,7 +119,9 @@ std::vector<std::size_t> structureBudgets(const FitFlags& flags, const GaussianA
     if (!(flags.ratio >= 1.0) || !std::isfinite(flags.ratio)) throw InputError("--ratio", "must be at least 1");
     const double sourceVoxels = double(asset.source.dims.x()) * asset.source.dims.y() * asset.source.dims.z();
     const double rawBytesPerVoxel = double(asset.source.rawSourceBytes()) / sourceVoxels;
-    return proportionalBudgets(rawBytesPerVoxel / flags.ratio / double(assetBytesPerGaussian(asset.params.channels)),
+    const double wholeVolumeBytes = double(asset.source.rawSourceBytes()) / flags.ratio;
+    const double perGaussian = assetEstimatedBytesPerGaussian(asset, double(assetCapacity(asset, std::uint64_t(wholeVolumeBytes))));
+    return proportionalBudgets(rawBytesPerVoxel / flags.ratio / perGaussian,
                                voxels);
 }
 
@@ -142,6 +147,9 @@ std::vector<StructureFit> fitByLabel(const FitFlags& flags, const openvdb::GridB
         total.skippedSteps += s.report.skippedSteps;
         total.pruned += s.report.pruned;
         total.respawned += s.report.respawned;
+        // Per-structure errors cover overlapping boxes: only the work adds up.
+        total.amplitudeSolve.iterations += s.report.amplitudeSolve.iterations;
+        total.amplitudeSolve.seconds += s.report.amplitudeSolve.seconds;
     }
     return result.structures;
 }
@@ -180,6 +188,10 @@ void report(const FitFlags& flags, const GaussianAsset& asset, double peak, cons
                               {"psnr_db", jsonNumber(error.psnr)}, {"fg_psnr_db", jsonNumber(error.foregroundPsnr)},
                               {"peak", peak}, {"skipped_steps", fit.skippedSteps},
                               {"pruned", fit.pruned}, {"respawned", fit.respawned},
+                              {"amplitude_solve", {{"iterations", fit.amplitudeSolve.iterations},
+                                                   {"seconds", fit.amplitudeSolve.seconds},
+                                                   {"psnr_before_db", jsonNumber(psnrFromMse(fit.amplitudeSolve.mseBefore, peak))},
+                                                   {"psnr_after_db", jsonNumber(psnrFromMse(fit.amplitudeSolve.mseAfter, peak))}}},
                               {"dropped_to_fit_budget", dropped}, {"peak_rss_mib", peakRssMiB()}};
         if (!structures.empty()) out["structures"] = structuresJson(asset, structures);
         std::cout << out.dump(2) << "\n";
@@ -193,6 +205,13 @@ void report(const FitFlags& flags, const GaussianAsset& asset, double peak, cons
               << "  fit:             " << fit.iterations << " iterations in " << std::setprecision(4)
               << fit.seconds << " s; " << fit.skippedSteps << " steps skipped (non-finite), "
               << fit.pruned << " Gaussians pruned, " << fit.respawned << " respawned\n"
+              << "  amplitude solve: " << fit.amplitudeSolve.iterations << " CG iterations in "
+              << fit.amplitudeSolve.seconds << " s";
+    if (fit.amplitudeSolve.mseBefore > 0.0) {
+        std::cout << ", dense PSNR " << formatDb(psnrFromMse(fit.amplitudeSolve.mseBefore, peak)) << " -> "
+                  << formatDb(psnrFromMse(fit.amplitudeSolve.mseAfter, peak)) << " dB (before quantisation)";
+    }
+    std::cout << "\n"
               << "  PSNR (as saved): " << formatDb(error.psnr) << " dB whole volume, "
               << formatDb(error.foregroundPsnr) << " dB foreground (" << error.foregroundVoxels
               << " voxels above the ingest threshold); peak = " << peak << " (normalised data range)\n"
@@ -244,7 +263,7 @@ void runFit(FitFlags& flags) {
     }
     const std::size_t dropped = writeAsset(flags.output, asset, maxBytes);
     ProgressBar measuring("measuring", !flags.quiet);
-    const GaussianField saved(quantisedCopy(asset.params), asset.cutoffSigmas);
+    const GaussianField saved(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas);
     const VolumeError error = measureVolumeError(saved, target, measuring.callback());
     report(flags, asset, target.peak(), fit, error, dropped, structures);
 }
@@ -265,8 +284,21 @@ void addTuningFlags(CLI::App& command, FitSettings& s) {
     command.add_option("--cutoff", s.cutoffSigmas, "Truncation radius of every Gaussian, in standard deviations")->capture_default_str();
     command.add_option("--prune-every", s.pruneEvery, "Iterations between prune-and-respawn passes (0: never)")->capture_default_str();
     command.add_option("--prune-amplitude", s.pruneAmplitude, "Prune Gaussians whose peak |opacity*colour| is below this")->capture_default_str();
+    command.add_option("--solve-iterations", s.amplitudeSolveIterations, "Conjugate-gradient iterations of the final least-squares amplitude solve (0: none)")->capture_default_str();
+    command.add_option("--solve-share", s.amplitudeSolveShare, "Share of a --time budget kept for the amplitude solve")->capture_default_str();
     command.add_option("--held-out", s.heldOutVoxels, "Fixed voxels for the PSNR curve")->capture_default_str();
     command.add_option("--log-every", s.logEvery, "Iterations between PSNR evaluations")->capture_default_str();
+}
+
+void addEncodingFlags(CLI::App& command, AssetEncoding& e) {
+    command.add_option("--mean-step", e.meanStep, "Asset: lattice of the stored means, in voxels")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    command.add_option("--rotation-bits", e.rotationBits, "Asset: bits per stored quaternion component")
+        ->check(CLI::Range(2, 15))->capture_default_str();
+    command.add_option("--scale-bits", e.logScaleBits, "Asset: bits per log-scale")
+        ->check(CLI::Range(2, 16))->capture_default_str();
+    command.add_option("--amplitude-bits", e.amplitudeBits, "Asset: bits per amplitude (opacity x colour) channel")
+        ->check(CLI::Range(2, 16))->capture_default_str();
 }
 
 }  // namespace
@@ -298,6 +330,7 @@ void addFitCommand(CLI::App& app) {
                             "left out. --ratio then applies to each structure's own voxels");
     command->add_option("--threads", flags->threads, "Worker threads (default: all cores)");
     addTuningFlags(*command, flags->settings);
+    addEncodingFlags(*command, flags->encoding);
     addSourceFlags(*command, flags->source);
     command->add_flag("--json", flags->json, "Print the result as JSON");
     command->add_flag("-q,--quiet", flags->quiet, "No progress bars");

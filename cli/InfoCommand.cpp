@@ -40,14 +40,16 @@ void printAssetInfo(const InfoFlags& flags) {
         std::uint64_t(source.dims.x()) * source.dims.y() * source.dims.z() * source.channels * 4;
     const double vsRaw = double(rawBytes) / double(fileBytes);
     const double vsFloat = double(floatBytes) / double(fileBytes);
+    const double perGaussian = double(fileBytes) / double(std::max<std::size_t>(asset.params.count(), 1));
     if (flags.json) {
         const nlohmann::json report = {{"file", flags.input},
                                        {"kind", "gaussian asset"},
-                                       {"format_version", kAssetVersion},
+                                       {"format_version", asset.formatVersion},
                                        {"gaussians", asset.params.count()},
                                        {"channels", asset.params.channels},
                                        {"cutoff_sigmas", asset.cutoffSigmas},
                                        {"file_bytes", fileBytes},
+                                       {"bytes_per_gaussian", perGaussian},
                                        {"raw_source_bytes", rawBytes},
                                        {"ratio_vs_raw", vsRaw},
                                        {"ratio_vs_float32", vsFloat},
@@ -57,10 +59,11 @@ void printAssetInfo(const InfoFlags& flags) {
         std::cout << report.dump(2) << "\n";
         return;
     }
-    std::cout << flags.input << ": gvr Gaussian asset (format version " << kAssetVersion << ")\n"
+    std::cout << flags.input << ": gvr Gaussian asset (format version " << asset.formatVersion << ")\n"
               << "  gaussians:    " << asset.params.count() << " (" << asset.params.channels
               << (asset.params.channels == 1 ? " channel, grey" : " channels, RGB") << ")\n"
-              << "  file:         " << formatBytes(fileBytes) << " (" << fileBytes << " bytes)\n"
+              << "  file:         " << formatBytes(fileBytes) << " (" << fileBytes << " bytes, "
+              << perGaussian << " per Gaussian, header included)\n"
               << "  compression:  " << vsRaw << ":1 against the raw source (" << formatBytes(rawBytes)
               << " of " << source.sourceType << "), " << vsFloat << ":1 against float32\n"
               << "  source:       " << source.sourceFile << ", " << source.dims.x() << " x "

@@ -37,7 +37,7 @@ METHOD_COLUMNS = [("Bytes", "bytes", None), ("Ratio vs raw", "ratio_raw", 1), ("
 DATASET_COLUMNS = [("Achieved ratio", "ratio_raw", 1), ("PSNR dB", "psnr", 2), ("FG PSNR dB", "fg_psnr", 2),
                    ("SSIM", "ssim", 4), ("MS-SSIM", "ms_ssim", 4), ("Render PSNR dB", "render_psnr", 2),
                    ("Render SSIM", "render_ssim", 4), ("FPS", "render_fps", 1), ("Fit s", "compress_s", 1)]
-ABLATION_COLUMNS = [("PSNR dB", "psnr", 2), ("SSIM", "ssim", 4), ("MS-SSIM", "ms_ssim", 4),
+ABLATION_COLUMNS = [("PSNR dB", "psnr", 2), ("FG PSNR dB", "fg_psnr", 2), ("SSIM", "ssim", 4), ("MS-SSIM", "ms_ssim", 4),
                     ("Render PSNR dB", "render_psnr", 2)]
 
 
@@ -299,6 +299,43 @@ def ablation_table(sections):
     return md_table(["Volume", "Ratio", "Method"] + [c[0] for c in ABLATION_COLUMNS] + ["ΔPSNR vs gvr dB"], body)
 
 
+def crossover_rows(sections):
+    """Per volume: [(ratio, gvr row, zfp-accuracy row)] for the ratios where both ran."""
+    by_volume = {}
+    for volume, ratio, members in sections:
+        gvr, zfp = members.get("gvr"), members.get("zfp-accuracy")
+        if ratio is not None and gvr is not None and zfp is not None and is_ok(gvr) and is_ok(zfp):
+            by_volume.setdefault(volume, []).append((ratio, gvr, zfp))
+    return by_volume
+
+
+def crossover(points):
+    """The lowest ratio from which gvr beats ZFP fixed-accuracy at every measured ratio above it."""
+    lowest = None
+    for ratio, gvr, zfp in sorted(points, key=lambda p: p[0], reverse=True):
+        gap = psnr_gap(gvr, zfp)
+        if gap is None or gap <= 0:
+            break
+        lowest = ratio
+    return lowest
+
+
+def crossover_table(sections):
+    body = []
+    for volume, points in crossover_rows(sections).items():
+        lowest = crossover(points)
+        verdict = f"from {fmt_ratio(lowest)}:1" if lowest is not None else f"none up to {fmt_ratio(max(p[0] for p in points))}:1"
+        for ratio, gvr, zfp in sorted(points, key=lambda p: p[0]):
+            body.append([volume, fmt_ratio(ratio), fmt(gvr.get("bytes"), None), fmt(zfp.get("bytes"), None),
+                         fmt(gvr.get("psnr"), 2), fmt(zfp.get("psnr"), 2), fmt(psnr_gap(gvr, zfp), 2, signed=True),
+                         fmt(gvr.get("fg_psnr"), 2), fmt(zfp.get("fg_psnr"), 2), verdict])
+            verdict = ""
+    if not body:
+        return "_gvr and zfp-accuracy were not both run at any ratio._\n"
+    return md_table(["Volume", "Target ratio", "gvr bytes", "ZFP bytes", "gvr PSNR dB", "ZFP PSNR dB",
+                     "ΔPSNR dB", "gvr FG PSNR dB", "ZFP FG PSNR dB", "gvr beats ZFP"], body)
+
+
 def verdict_list(sections):
     verdicts = [verdict for v, r, m in sections for verdict in section_verdicts(section_title(v, r), m)]
     return "".join(f"- {verdict}\n" for verdict in verdicts) or "_No comparisons possible._\n"
@@ -318,6 +355,11 @@ def render_report(manifest, rows, sections, plots):
          "## Table 1 – gvr per dataset\n", dataset_table(sections),
          "## Table 2 – all methods\n", *method_sections(sections, plots),
          "## Table 3 – ablations\n", ablation_table(sections),
+         "## Table 4 – rate–distortion: gvr against ZFP fixed-accuracy at equal bytes\n",
+         "The crossover is the lowest target ratio from which gvr's PSNR beats ZFP's at that ratio and "
+         "at every higher one measured. Plots: PSNR against ratio, one per volume (the rate–distortion "
+         "links in Table 2).\n",
+         crossover_table(sections),
          "## Verdicts\n", verdict_list(sections),
          "## Failed runs\n", failed_table(rows)])
 

@@ -1,4 +1,5 @@
-# Every dependency comes from a Debian 12 package; see .ci/install-deps.sh.
+# Every dependency comes from a Debian 12 package; see .ci/packages.txt. All of them are
+# found here, at the top level, so that cmake/ImportedFiles.cmake sees every imported target.
 # The quirks worked around here are listed in ../shared/docs/build-notes.md.
 
 # TBB must be found in config mode before OpenVDB's find module runs its own FindTBB.
@@ -32,3 +33,9 @@ target_link_libraries(gvr_nifti INTERFACE ${NIFTI2_LIBRARY} ${ZNZ_LIBRARY} ZLIB:
 
 # Benchmark manifests may be TOML as well as JSON.
 find_package(tomlplusplus 3 REQUIRED CONFIG)
+
+# The asset's entropy coder. Debian 12's libzstd-dev ships no CMake config.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)
+
+find_package(GTest REQUIRED CONFIG)

@@ -1,5 +1,7 @@
 #include "GaussianAsset.h"
 
+#include "AssetBodyV1.h"
+
 #include "AtomicFile.h"
 #include "Error.h"
 #include "GaussianKernel.h"
@@ -22,83 +24,6 @@ constexpr std::size_t kPreambleBytes = 16;
 constexpr std::size_t kChecksumBytes = 4;
 constexpr std::size_t kMaxGaussians = std::size_t(1) << 31;
 
-/// Per-channel ranges that the linear quantisers map onto their integers.
-struct QuantisationRanges {
-    std::array<float, 3> meanMin{}, meanMax{}, logScaleMin{}, logScaleMax{};
-    std::array<float, 3> colourMin{}, colourMax{};
-};
-
-QuantisationRanges rangesOf(const GaussianParameters& params) {
-    QuantisationRanges r;
-    const auto span = [&](ParameterGroup group, int component, float& lo, float& hi) {
-        lo = INFINITY;
-        hi = -INFINITY;
-        for (std::size_t i = 0; i < params.count(); ++i) {
-            lo = std::min(lo, params.at(group, i)[component]);
-            hi = std::max(hi, params.at(group, i)[component]);
-        }
-        if (params.count() == 0) lo = hi = 0.0f;
-    };
-    for (int a = 0; a < 3; ++a) {
-        span(kMeans, a, r.meanMin[a], r.meanMax[a]);
-        span(kLogScales, a, r.logScaleMin[a], r.logScaleMax[a]);
-    }
-    for (int c = 0; c < params.channels; ++c) span(kColours, c, r.colourMin[c], r.colourMax[c]);
-    return r;
-}
-
-std::uint16_t quantise16(float value, float lo, float hi) {
-    if (!(hi > lo)) return 0;
-    const double t = (double(value) - lo) / (double(hi) - lo);
-    return std::uint16_t(std::lround(std::clamp(t, 0.0, 1.0) * 65535.0));
-}
-
-float dequantise16(std::uint16_t q, float lo, float hi) {
-    return float(lo + (double(hi) - lo) * (q / 65535.0));
-}
-
-/// Unit quaternion to 32 bits: the largest component is implied (made positive,
-/// since q and -q are the same rotation), the other three take 10 bits each.
-std::uint32_t packQuaternion(const float raw[4]) {
-    float q[4];
-    const float norm = std::sqrt(raw[0] * raw[0] + raw[1] * raw[1] + raw[2] * raw[2] + raw[3] * raw[3]);
-    for (int k = 0; k < 4; ++k) q[k] = norm > 0.0f ? raw[k] / norm : (k == 0 ? 1.0f : 0.0f);
-    int largest = 0;
-    for (int k = 1; k < 4; ++k) {
-        if (std::abs(q[k]) > std::abs(q[largest])) largest = k;
-    }
-    const float sign = q[largest] < 0.0f ? -1.0f : 1.0f;
-    std::uint32_t packed = std::uint32_t(largest) << 30;
-    int shift = 20;
-    for (int k = 0; k < 4; ++k) {
-        if (k == largest) continue;
-        const double t = (sign * q[k] * M_SQRT2 + 1.0) * 0.5;  // [-1/sqrt2, 1/sqrt2] -> [0, 1]
-        packed |= std::uint32_t(std::lround(std::clamp(t, 0.0, 1.0) * 1023.0)) << shift;
-        shift -= 10;
-    }
-    return packed;
-}
-
-void unpackQuaternion(std::uint32_t packed, float q[4]) {
-    const int largest = int(packed >> 30);
-    int shift = 20;
-    float sumSquares = 0.0f;
-    for (int k = 0; k < 4; ++k) {
-        if (k == largest) continue;
-        const float t = float((packed >> shift) & 1023u) / 1023.0f;
-        q[k] = float((2.0 * t - 1.0) / M_SQRT2);
-        sumSquares += q[k] * q[k];
-        shift -= 10;
-    }
-    q[largest] = std::sqrt(std::max(0.0f, 1.0f - sumSquares));
-}
-
-std::uint8_t quantiseOpacity(float logit) {
-    return std::uint8_t(std::clamp(std::floor(sigmoid(logit) * 256.0f), 0.0f, 255.0f));
-}
-
-float opacityOf(std::uint8_t q) { return (q + 0.5f) / 256.0f; }
-
 template <typename T>
 void append(std::string& bytes, T value) {
     bytes.append(reinterpret_cast<const char*>(&value), sizeof value);
@@ -110,55 +35,6 @@ T take(const unsigned char*& cursor) {
     std::memcpy(&value, cursor, sizeof value);
     cursor += sizeof value;
     return value;
-}
-
-std::string encodeBody(const GaussianParameters& params, const QuantisationRanges& r) {
-    const std::size_t n = params.count();
-    std::string bytes;
-    bytes.reserve(n * assetBytesPerGaussian(params.channels));
-    for (std::size_t i = 0; i < n; ++i) {
-        for (int a = 0; a < 3; ++a) append(bytes, quantise16(params.at(kMeans, i)[a], r.meanMin[a], r.meanMax[a]));
-    }
-    for (std::size_t i = 0; i < n; ++i) append(bytes, packQuaternion(params.at(kRotations, i)));
-    for (std::size_t i = 0; i < n; ++i) {
-        for (int a = 0; a < 3; ++a) {
-            append(bytes, quantise16(params.at(kLogScales, i)[a], r.logScaleMin[a], r.logScaleMax[a]));
-        }
-    }
-    for (std::size_t i = 0; i < n; ++i) append(bytes, quantiseOpacity(*params.at(kOpacityLogits, i)));
-    for (std::size_t i = 0; i < n; ++i) {
-        // Keep opacity * colour exact to the colour's precision despite the 8-bit opacity.
-        const float fold = sigmoid(*params.at(kOpacityLogits, i)) /
-                           opacityOf(quantiseOpacity(*params.at(kOpacityLogits, i)));
-        for (int c = 0; c < params.channels; ++c) {
-            append(bytes, quantise16(params.at(kColours, i)[c] * fold, r.colourMin[c], r.colourMax[c]));
-        }
-    }
-    return bytes;
-}
-
-GaussianParameters decodeBody(const unsigned char* cursor, std::size_t n, int channels,
-                              const QuantisationRanges& r) {
-    GaussianParameters params(n, channels);
-    for (std::size_t i = 0; i < n; ++i) {
-        for (int a = 0; a < 3; ++a) params.at(kMeans, i)[a] = dequantise16(take<std::uint16_t>(cursor), r.meanMin[a], r.meanMax[a]);
-    }
-    for (std::size_t i = 0; i < n; ++i) unpackQuaternion(take<std::uint32_t>(cursor), params.at(kRotations, i));
-    for (std::size_t i = 0; i < n; ++i) {
-        for (int a = 0; a < 3; ++a) {
-            params.at(kLogScales, i)[a] = dequantise16(take<std::uint16_t>(cursor), r.logScaleMin[a], r.logScaleMax[a]);
-        }
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-        const float opacity = opacityOf(take<std::uint8_t>(cursor));
-        *params.at(kOpacityLogits, i) = std::log(opacity / (1.0f - opacity));
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-        for (int c = 0; c < channels; ++c) {
-            params.at(kColours, i)[c] = dequantise16(take<std::uint16_t>(cursor), r.colourMin[c], r.colourMax[c]);
-        }
-    }
-    return params;
 }
 
 nlohmann::json sourceJson(const VolumeMetadata& m) {
@@ -221,43 +97,65 @@ void readLabelGroups(const nlohmann::json& groups, std::size_t count, GaussianAs
     if (asset.labels.size() != count) throw std::runtime_error("label groups do not cover every Gaussian");
 }
 
-std::string headerJson(const GaussianAsset& asset, const QuantisationRanges& r) {
-    const int channels = asset.params.channels;
+std::string headerJson(const GaussianAsset& asset, const nlohmann::json& quantisation) {
     std::vector<double> matrix(16);
     for (int k = 0; k < 16; ++k) matrix[k] = asset.worldFromIndex.asPointer()[k];
     nlohmann::json header = {
         {"format", "gvr-gaussians"},
         {"count", asset.params.count()},
-        {"channels", channels},
+        {"channels", asset.params.channels},
         {"cutoff_sigmas", asset.cutoffSigmas},
         {"world_from_index", matrix},
         {"value_offset", asset.mapping.offset},
         {"value_scale", asset.mapping.scale},
-        {"quantisation",
-         {{"mean_min", r.meanMin}, {"mean_max", r.meanMax},
-          {"log_scale_min", r.logScaleMin}, {"log_scale_max", r.logScaleMax},
-          {"colour_min", std::vector<float>(r.colourMin.begin(), r.colourMin.begin() + channels)},
-          {"colour_max", std::vector<float>(r.colourMax.begin(), r.colourMax.begin() + channels)}}},
+        {"quantisation", quantisation},
         {"source", sourceJson(asset.source)},
         {"fit", asset.fitSettings}};
     if (!asset.labels.empty()) header["labels"] = labelGroupsJson(asset);
     return header.dump();
 }
 
-QuantisationRanges rangesFromJson(const nlohmann::json& q, int channels) {
-    QuantisationRanges r;
-    r.meanMin = q.at("mean_min").get<std::array<float, 3>>();
-    r.meanMax = q.at("mean_max").get<std::array<float, 3>>();
-    r.logScaleMin = q.at("log_scale_min").get<std::array<float, 3>>();
-    r.logScaleMax = q.at("log_scale_max").get<std::array<float, 3>>();
-    const auto colourMin = q.at("colour_min").get<std::vector<float>>();
-    const auto colourMax = q.at("colour_max").get<std::vector<float>>();
-    if (int(colourMin.size()) != channels || int(colourMax.size()) != channels) {
-        throw std::runtime_error("colour ranges do not match the channel count");
+GaussianParameters permuted(const GaussianParameters& params, const std::vector<std::size_t>& order) {
+    GaussianParameters out(order.size(), params.channels);
+    for (int g = 0; g < kGroupCount; ++g) {
+        const auto group = ParameterGroup(g);
+        const int width = params.width(group);
+        for (std::size_t k = 0; k < order.size(); ++k) {
+            std::copy_n(params.at(group, order[k]), width, out.at(group, k));
+        }
     }
-    std::copy(colourMin.begin(), colourMin.end(), r.colourMin.begin());
-    std::copy(colourMax.begin(), colourMax.end(), r.colourMax.begin());
-    return r;
+    return out;
+}
+
+/// Label groups stay as they are; inside each, Morton order makes the position
+/// deltas small, which is what the entropy coder lives on.
+void sortForStorage(GaussianAsset& asset, const QuantisationV2& quantisation) {
+    const std::size_t n = asset.params.count();
+    std::vector<std::uint64_t> group(n, 0), code(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i > 0 && !asset.labels.empty()) group[i] = group[i - 1] + (asset.labels[i] != asset.labels[i - 1]);
+        code[i] = quantisation.mortonCode(asset.params.at(kMeans, i));
+    }
+    std::vector<std::size_t> order(n);
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return group[a] != group[b] ? group[a] < group[b] : code[a] < code[b];
+    });
+    asset.params = permuted(asset.params, order);
+}
+
+/// The whole file for @a asset, which is put into storage order first.
+std::string encodeAsset(GaussianAsset& asset) {
+    const QuantisationV2 quantisation(asset.params, asset.encoding);
+    sortForStorage(asset, quantisation);
+    const std::string header = headerJson(asset, quantisation.json());
+    std::string bytes(kMagic, sizeof kMagic);
+    append(bytes, kAssetVersion);
+    append(bytes, std::uint32_t(header.size()));
+    bytes += header;
+    bytes += encodeAssetBodyV2(asset.params, quantisation);
+    append(bytes, std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size()))));
+    return bytes;
 }
 
 /// Keeps the Gaussians (and their labels) whose flag is set, in order.
@@ -289,21 +187,43 @@ void keepStrongest(GaussianAsset& asset, std::size_t keepCount) {
     keepOnly(asset, keep);
 }
 
+/// Refuses a count that the file cannot hold, before anything is allocated for it.
+void checkCountAgainstSize(std::uint32_t version, std::size_t count, int channels, std::uint64_t bodyBytes) {
+    if (version == 1 && count * assetV1BytesPerGaussian(channels) != bodyBytes) {
+        throw std::runtime_error("the count implies " + std::to_string(count * assetV1BytesPerGaussian(channels)) +
+                                 " bytes of Gaussians, the file holds " + std::to_string(bodyBytes) +
+                                 " (truncated, or trailing bytes)");
+    }
+    // zstd packs a plane of equal bytes into very little, but not into nothing.
+    if (version == 2 && count > 64 * bodyBytes) {
+        throw std::runtime_error("the count is impossible for a body of " + std::to_string(bodyBytes) + " bytes");
+    }
+}
+
 }  // namespace
 
-std::size_t assetBytesPerGaussian(int channels) { return 17 + 2 * std::size_t(channels); }
+double assetEstimatedBytesPerGaussian(const GaussianAsset& asset, double count) {
+    const openvdb::Vec3i& dims = asset.source.dims;
+    const double voxels = double(dims.x()) * double(dims.y()) * double(dims.z());
+    return estimatedBytesPerGaussian(asset.encoding, asset.params.channels, voxels, count);
+}
 
 std::uint64_t assetFileBytes(const GaussianAsset& asset) {
-    return kPreambleBytes + headerJson(asset, rangesOf(asset.params)).size() +
-           asset.params.count() * assetBytesPerGaussian(asset.params.channels) + kChecksumBytes;
+    GaussianAsset copy = asset;
+    return encodeAsset(copy).size();
 }
 
 std::size_t assetCapacity(const GaussianAsset& asset, std::uint64_t maxBytes) {
-    // The header grows with the count's digits and the ranges; keep 256 bytes of slack.
-    const std::uint64_t fixed = kPreambleBytes + headerJson(asset, rangesOf(asset.params)).size() + 256 +
-                                kChecksumBytes;
+    // The header grows with the count's digits and the ranges, and every zstd frame
+    // has its own header: keep 512 bytes of slack.
+    const QuantisationV2 quantisation(asset.params, asset.encoding);
+    const std::uint64_t fixed = kPreambleBytes + headerJson(asset, quantisation.json()).size() + 512 + kChecksumBytes;
     if (maxBytes <= fixed) return 0;
-    return std::size_t((maxBytes - fixed) / assetBytesPerGaussian(asset.params.channels));
+    // Positions cost more per Gaussian when there are fewer: settle the count by iterating.
+    const double room = double(maxBytes - fixed);
+    double count = room / 8.0;
+    for (int k = 0; k < 8; ++k) count = room / assetEstimatedBytesPerGaussian(asset, count);
+    return std::size_t(count);
 }
 
 GaussianAsset withLabels(const GaussianAsset& asset, const std::vector<int>& shown) {
@@ -328,27 +248,20 @@ GaussianAsset selectStructures(const GaussianAsset& asset, const std::string& sh
     return withLabels(asset, shownLabels(asset.labelTable, show, hide));
 }
 
-GaussianParameters quantisedCopy(const GaussianParameters& params) {
-    const QuantisationRanges ranges = rangesOf(params);
-    const std::string body = encodeBody(params, ranges);
-    return decodeBody(reinterpret_cast<const unsigned char*>(body.data()), params.count(), params.channels, ranges);
+GaussianParameters quantisedCopy(const GaussianParameters& params, const AssetEncoding& encoding) {
+    const QuantisationV2 quantisation(params, encoding);
+    return decodeAssetBodyV2(encodeAssetBodyV2(params, quantisation), params.count(), quantisation);
 }
 
 std::size_t writeAsset(const std::string& path, GaussianAsset& asset, std::uint64_t maxBytes) {
     const std::size_t before = asset.params.count();
-    while (maxBytes > 0 && asset.params.count() > 0 && assetFileBytes(asset) > maxBytes) {
-        const std::uint64_t excess = assetFileBytes(asset) - maxBytes;
-        const std::size_t drop = std::size_t(excess / assetBytesPerGaussian(asset.params.channels)) + 1;
+    std::string bytes = encodeAsset(asset);
+    while (maxBytes > 0 && asset.params.count() > 0 && bytes.size() > maxBytes) {
+        const double perGaussian = double(bytes.size()) / double(asset.params.count());
+        const std::size_t drop = std::size_t(double(bytes.size() - maxBytes) / perGaussian) + 1;
         keepStrongest(asset, asset.params.count() - std::min(drop, asset.params.count()));
+        bytes = encodeAsset(asset);
     }
-    const QuantisationRanges ranges = rangesOf(asset.params);
-    const std::string header = headerJson(asset, ranges);
-    std::string bytes(kMagic, sizeof kMagic);
-    append(bytes, kAssetVersion);
-    append(bytes, std::uint32_t(header.size()));
-    bytes += header;
-    bytes += encodeBody(asset.params, ranges);
-    append(bytes, std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size()))));
     writeAtomically(path, [&](const std::string& temporary) {
         std::ofstream out(temporary, std::ios::binary);
         out.write(bytes.data(), std::streamsize(bytes.size()));
@@ -375,15 +288,16 @@ GaussianAsset readAsset(const std::string& path) {
     in.read(bytes.data(), std::streamsize(size));
     const auto* cursor = reinterpret_cast<const unsigned char*>(bytes.data()) + sizeof kMagic;
     const std::uint32_t version = take<std::uint32_t>(cursor);
-    if (version != kAssetVersion) {
+    if (version != 1 && version != kAssetVersion) {
         throw InputError(path, "unsupported asset version " + std::to_string(version) +
-                                   " (this gvr reads version " + std::to_string(kAssetVersion) + ")");
+                                   " (this gvr reads versions 1 and " + std::to_string(kAssetVersion) + ")");
     }
     const std::uint32_t headerBytes = take<std::uint32_t>(cursor);
     if (headerBytes > size - kPreambleBytes - kChecksumBytes) throw InputError(path, "truncated asset header");
 
     GaussianAsset asset;
-    QuantisationRanges ranges;
+    asset.formatVersion = version;
+    nlohmann::json quantisation;
     std::size_t count = 0;
     int channels = 1;
     try {
@@ -394,32 +308,35 @@ GaussianAsset readAsset(const std::string& path) {
         if ((channels != 1 && channels != 3) || count > kMaxGaussians) {
             throw std::runtime_error("impossible count or channels");
         }
+        checkCountAgainstSize(version, count, channels, size - kPreambleBytes - headerBytes - kChecksumBytes);
         asset.cutoffSigmas = header.at("cutoff_sigmas").get<float>();
         const auto matrix = header.at("world_from_index").get<std::array<double, 16>>();
         asset.worldFromIndex = openvdb::math::Mat4d(matrix.data());
         asset.mapping.offset = header.at("value_offset").get<std::array<double, 3>>();
         asset.mapping.scale = header.at("value_scale").get<double>();
-        ranges = rangesFromJson(header.at("quantisation"), channels);
+        quantisation = header.at("quantisation");
         asset.source = sourceFromJson(header.at("source"));
         asset.fitSettings = header.at("fit");
         if (header.contains("labels")) readLabelGroups(header.at("labels"), count, asset);
     } catch (const std::exception& error) {
         throw InputError(path, std::string("corrupt asset header: ") + error.what());
     }
-    const std::uint64_t expected =
-        kPreambleBytes + headerBytes + count * assetBytesPerGaussian(channels) + kChecksumBytes;
-    if (size != expected) {
-        throw InputError(path, (size < expected ? "truncated asset: " : "asset has trailing bytes: ") +
-                                   std::to_string(size) + " bytes, the header implies " +
-                                   std::to_string(expected));
-    }
     std::uint32_t stored;
     std::memcpy(&stored, bytes.data() + size - kChecksumBytes, sizeof stored);
     const auto computed = std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(size - kChecksumBytes)));
-    if (stored != computed) throw InputError(path, "corrupt asset: checksum mismatch");
+    if (stored != computed) throw InputError(path, "corrupt asset: checksum mismatch (truncated or damaged)");
 
-    asset.params = decodeBody(reinterpret_cast<const unsigned char*>(bytes.data()) + kPreambleBytes + headerBytes,
-                              count, channels, ranges);
+    const std::string_view body(bytes.data() + kPreambleBytes + headerBytes,
+                                size - kPreambleBytes - headerBytes - kChecksumBytes);
+    try {
+        if (version == 1) {
+            asset.params = decodeAssetBodyV1(body, count, channels, quantisation);
+        } else {
+            asset.params = decodeAssetBodyV2(body, count, QuantisationV2(quantisation, channels));
+        }
+    } catch (const std::exception& error) {
+        throw InputError(path, std::string("corrupt asset body: ") + error.what());
+    }
     if (!asset.params.allFinite() || !std::isfinite(asset.cutoffSigmas) || !(asset.mapping.scale != 0.0)) {
         throw InputError(path, "corrupt asset: non-finite values");
     }

@@ -1,28 +1,23 @@
 /// @file GaussianAsset.h
 /// @brief The Gaussian asset file: a fitted model that stands on its own.
 ///
-/// Format, version 1 (all integers little-endian):
+/// Format, version 2 (all integers little-endian):
 ///
-/// | offset | bytes      | field                                                        |
-/// |--------|------------|--------------------------------------------------------------|
-/// | 0      | 8          | magic "GVRASSET"                                             |
-/// | 8      | 4          | format version, uint32 (1)                                   |
-/// | 12     | 4          | header length H, uint32                                      |
-/// | 16     | H          | header, UTF-8 JSON (below)                                   |
-/// |        | 6 n        | means: 3 x uint16, linear over [mean_min, mean_max] per axis |
-/// |        | 4 n        | rotations: uint32 "smallest three" (2-bit index of the       |
-/// |        |            | largest component, then three 10-bit components in ±1/√2)    |
-/// |        | 6 n        | log-scales: 3 x uint16 over [log_scale_min, log_scale_max]   |
-/// |        | n          | opacity: uint8, opacity = (q + 0.5) / 256                    |
-/// |        | 2 C n      | colours: C x uint16 over [colour_min, colour_max] per channel|
-/// | end-4  | 4          | CRC-32 (zlib) of every byte before it                        |
+/// | offset | bytes | field                                                          |
+/// |--------|-------|----------------------------------------------------------------|
+/// | 0      | 8     | magic "GVRASSET"                                               |
+/// | 8      | 4     | format version, uint32 (2; version 1 files still load)         |
+/// | 12     | 4     | header length H, uint32                                        |
+/// | 16     | H     | header, UTF-8 JSON (below)                                     |
+/// |        | B     | body: the Gaussians, quantised and entropy-coded (AssetBodyV2.h)|
+/// | end-4  | 4     | CRC-32 (zlib) of every byte before it                          |
 ///
 /// The header holds: count n, channels C, cutoff_sigmas, world_from_index (16
 /// numbers, OpenVDB's row-vector convention, index space to world mm),
 /// value_offset / value_scale (physical = offset + scale * normalised), the
-/// quantisation ranges, the source's metadata (including raw_bytes) and the fit
-/// settings. Colours are stored after folding the opacity's rounding into them, so
-/// the product opacity * colour keeps the colour's precision.
+/// quantisation (ranges and bit depths), the source's metadata (including
+/// raw_bytes) and the fit settings. Version 1 (AssetBodyV1.h) stored the body as
+/// flat fixed-width arrays, 17 + 2C bytes per Gaussian.
 ///
 /// An asset fitted by structure (`gvr fit --labels`) stores its Gaussians grouped
 /// by label, and the header's "labels" lists the groups in order:
@@ -30,6 +25,7 @@
 /// Gaussian, and readers that ignore the key still read a valid asset.
 #pragma once
 
+#include "AssetBodyV2.h"
 #include "GaussianParameters.h"
 #include "LabelTable.h"
 #include "ValueMapping.h"
@@ -43,7 +39,7 @@
 
 namespace gvr {
 
-constexpr std::uint32_t kAssetVersion = 1;
+constexpr std::uint32_t kAssetVersion = 2;  ///< the version gvr writes
 
 struct GaussianAsset {
     GaussianParameters params;
@@ -55,19 +51,24 @@ struct GaussianAsset {
     ValueMapping mapping;
     VolumeMetadata source;
     nlohmann::json fitSettings = nlohmann::json::object();
+    AssetEncoding encoding;                   ///< bit depths for writing
+    std::uint32_t formatVersion = kAssetVersion;  ///< the version it was read from
 };
 
-/// Bytes per stored Gaussian: 17 + 2 * channels.
-std::size_t assetBytesPerGaussian(int channels);
+/// What a Gaussian costs in this asset's file, on average, when it holds @a count
+/// Gaussians over its source's voxels: for budgets before the fit, since the entropy
+/// coder decides the exact size (estimatedBytesPerGaussian).
+double assetEstimatedBytesPerGaussian(const GaussianAsset& asset, double count);
 
-/// How many Gaussians fit in @a maxBytes with this asset's header.
+/// About how many Gaussians fit in @a maxBytes with this asset's header.
 std::size_t assetCapacity(const GaussianAsset& asset, std::uint64_t maxBytes);
 
 /// The exact file size @a asset would have.
 std::uint64_t assetFileBytes(const GaussianAsset& asset);
 
-/// Writes atomically. With @a maxBytes > 0, the Gaussians with the smallest peak
-/// amplitude are dropped first until the file fits.
+/// Writes atomically, in the current version. The Gaussians are put into storage
+/// order (label groups kept, Morton order inside). With @a maxBytes > 0, the
+/// Gaussians with the smallest peak amplitude are dropped first until the file fits.
 /// @return the number of Gaussians dropped to fit.
 std::size_t writeAsset(const std::string& path, GaussianAsset& asset, std::uint64_t maxBytes = 0);
 
@@ -89,7 +90,8 @@ GaussianAsset withLabels(const GaussianAsset& asset, const std::vector<int>& sho
 GaussianAsset selectStructures(const GaussianAsset& asset, const std::string& show, const std::string& hide,
                                const std::string& path);
 
-/// The parameters as they come back from the file (quantised and restored).
-GaussianParameters quantisedCopy(const GaussianParameters& params);
+/// The parameters as they come back from a file written with @a encoding
+/// (quantised and restored, in the same order).
+GaussianParameters quantisedCopy(const GaussianParameters& params, const AssetEncoding& encoding = {});
 
 }  // namespace gvr

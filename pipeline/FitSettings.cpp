@@ -23,6 +23,7 @@ std::string FitSettings::validate() const {
     if (!(finalRateFactor > 0.0) || finalRateFactor > 1.0) return "--lr-final must lie in (0, 1]";
     if (!(cutoffSigmas >= 1.0f) || cutoffSigmas > 10.0f) return "--cutoff must lie in [1, 10] sigmas";
     if (pruneAmplitude < 0.0) return "--prune-amplitude must be >= 0";
+    if (amplitudeSolveShare < 0.0 || amplitudeSolveShare >= 1.0) return "--solve-share must lie in [0, 1)";
     if (heldOutVoxels == 0 || logEvery == 0) return "--held-out and --log-every must be positive";
     return "";
 }

@@ -53,6 +53,11 @@ struct FitSettings {
     std::size_t pruneEvery = 200;  ///< iterations between prune-and-respawn passes (0: never)
     double pruneAmplitude = 2e-3;  ///< Gaussians with |opacity * colour| below this are pruned
 
+    /// After Adam: conjugate-gradient iterations of the dense least-squares amplitude
+    /// solve (AmplitudeSolver.h; 0: none), and the share of a time budget kept for it.
+    std::size_t amplitudeSolveIterations = 10;
+    double amplitudeSolveShare = 0.1;
+
     std::size_t heldOutVoxels = 32768;  ///< fixed voxels for the PSNR curve
     std::size_t logEvery = 50;          ///< iterations between held-out PSNR evaluations
 

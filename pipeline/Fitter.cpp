@@ -64,10 +64,13 @@ SampleSet sliceSampleSet(const VolumeTarget& target, std::size_t pixels, std::ui
     return set;
 }
 
-SampleSet heldOutSet(const VolumeTarget& target, std::size_t count, std::uint64_t seed) {
+/// Fixed voxels for the PSNR curve, drawn uniformly: at most a tenth of the box, so
+/// that training keeps nearly every voxel.
+std::vector<VoxelSample> heldOutVoxels(const VolumeTarget& target, std::size_t count, std::uint64_t seed) {
     ImportanceSettings uniform;
     uniform.uniformShare = 1.0;
-    return voxelSampleSet(target, ImportanceSampler(target.box(), uniform).draw(count, seed));
+    count = std::min<std::size_t>(count, std::size_t(target.box().volume() / 10) + 1);
+    return ImportanceSampler(target.box(), uniform).draw(count, seed);
 }
 
 /// Where the residual of the last voxel batch is largest, one site per voxel.
@@ -131,10 +134,19 @@ private:
 
     double elapsed() const { return std::chrono::duration<double>(Clock::now() - mStart).count(); }
 
+    /// The part of a time budget for Adam; the amplitude solve gets the rest.
+    double adamSeconds() const {
+        const bool solve = mSettings.amplitudeSolveIterations > 0;
+        return mSettings.seconds * (solve ? 1.0 - mSettings.amplitudeSolveShare : 1.0);
+    }
+
+    void solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOutCoords, const SampleSet& heldOut,
+                                 std::size_t iteration, const FitObserver& observer);
+
     double fractionDone(std::size_t iteration) const {
         double fraction = 0.0;
         if (mSettings.iterations > 0) fraction = double(iteration) / double(mSettings.iterations);
-        if (mSettings.seconds > 0.0) fraction = std::max(fraction, elapsed() / mSettings.seconds);
+        if (mSettings.seconds > 0.0) fraction = std::max(fraction, elapsed() / adamSeconds());
         return std::min(fraction, 1.0);
     }
 
@@ -214,6 +226,27 @@ double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progre
     return loss;
 }
 
+void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOutCoords, const SampleSet& heldOut,
+                                      std::size_t iteration, const FitObserver& observer) {
+    AmplitudeSolveSettings solve;
+    solve.excluded = heldOutCoords;
+    solve.iterations = mSettings.amplitudeSolveIterations;
+    solve.cutoffSigmas = mSettings.cutoffSigmas;
+    if (mSettings.seconds > 0.0) solve.seconds = std::max(mSettings.seconds - elapsed(), 1e-9);
+    mReport.amplitudeSolve = solveAmplitudes(mParams, mTarget, solve);
+    if (!observer || mParams.count() == 0) return;
+    refreshField();
+    FitProgress progress;
+    progress.iteration = iteration;
+    progress.seconds = elapsed();
+    progress.fraction = 1.0;
+    progress.gaussians = mParams.count();
+    progress.skippedSteps = mReport.skippedSteps;
+    progress.heldOutEvaluated = true;
+    progress.heldOutPsnr = psnrFromMse(weightedSquaredError(mField, heldOut, 1.0) / mTarget.channels(), mTarget.peak());
+    observer(progress);
+}
+
 GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) {
     SeedSettings seeds;
     seeds.count = mSettings.gaussians;
@@ -222,7 +255,12 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
     seeds.seed = streamSeed(mSettings.seed, kSeeds, 0);
     mParams = initialiseGaussians(mTarget, seeds);
     mAdam = std::make_unique<Adam>(mParams.count(), mParams.channels);
-    const SampleSet heldOut = heldOutSet(mTarget, mSettings.heldOutVoxels, streamSeed(mSettings.seed, kHeldOut, 0));
+    const std::vector<VoxelSample> heldOutDraw =
+        heldOutVoxels(mTarget, mSettings.heldOutVoxels, streamSeed(mSettings.seed, kHeldOut, 0));
+    std::vector<openvdb::Coord> heldOutCoords;
+    for (const VoxelSample& sample : heldOutDraw) heldOutCoords.push_back(sample.ijk);
+    mSampler.exclude(heldOutCoords);  // an honest PSNR curve: training never sees them
+    const SampleSet heldOut = voxelSampleSet(mTarget, heldOutDraw);
 
     std::size_t iteration = 0;
     while (mParams.count() > 0) {
@@ -255,6 +293,7 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
         if (observer) observer(progress);
     }
     mReport.iterations = iteration;
+    if (mSettings.amplitudeSolveIterations > 0) solveAmplitudesAtTheEnd(heldOutCoords, heldOut, iteration, observer);
     mReport.seconds = elapsed();
     report = mReport;
     return std::move(mParams);

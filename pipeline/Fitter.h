@@ -3,6 +3,7 @@
 /// sampled Monte Carlo voxel loss plus a curriculum of random-slice losses.
 #pragma once
 
+#include "AmplitudeSolver.h"
 #include "FitSettings.h"
 #include "GaussianParameters.h"
 #include "VolumeTarget.h"
@@ -32,6 +33,7 @@ struct FitReport {
     std::size_t skippedSteps = 0;
     std::size_t pruned = 0;
     std::size_t respawned = 0;
+    AmplitudeSolveReport amplitudeSolve;
 };
 
 /// Fits settings.gaussians Gaussians to @a target (index space). Same settings,

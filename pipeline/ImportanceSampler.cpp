@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <random>
+#include <stdexcept>
 
 namespace gvr {
 
@@ -45,6 +46,13 @@ void ImportanceSampler::rebuildDistribution() {
         total += (mBlockError[b] + mSettings.epsilon) * mBlockVoxels[b];
         mCumulative[b] = total;
     }
+    mExcludedMass = 0.0;
+    const openvdb::Coord extent = mBox.dim();
+    for (std::uint64_t key : mExcluded) {
+        const std::uint64_t x = key % std::uint64_t(extent.x()), rest = key / std::uint64_t(extent.x());
+        const openvdb::Coord local(int(x), int(rest % std::uint64_t(extent.y())), int(rest / std::uint64_t(extent.y())));
+        mExcludedMass += probability(mBox.min() + local);
+    }
 }
 
 double ImportanceSampler::probability(const openvdb::Coord& ijk) const {
@@ -54,36 +62,59 @@ double ImportanceSampler::probability(const openvdb::Coord& ijk) const {
     return mSettings.uniformShare / n + (1.0 - mSettings.uniformShare) * importance;
 }
 
+openvdb::Coord ImportanceSampler::drawOne(std::mt19937_64& random) const {
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    openvdb::Coord origin = mBox.min(), upper = mBox.max();
+    if (unit(random) >= mSettings.uniformShare) {
+        const double target = unit(random) * mCumulative.back();
+        const std::size_t block = std::min<std::size_t>(
+            std::upper_bound(mCumulative.begin(), mCumulative.end(), target) - mCumulative.begin(),
+            mCumulative.size() - 1);
+        origin = blockOrigin(std::uint32_t(block));
+        upper = openvdb::Coord::minComponent(origin.offsetBy(kBlock - 1), mBox.max());
+    }
+    openvdb::Coord ijk;
+    for (int axis = 0; axis < 3; ++axis) {
+        const int span = upper[axis] - origin[axis] + 1;
+        ijk[axis] = origin[axis] + std::min(int(unit(random) * span), span - 1);
+    }
+    return ijk;
+}
+
 std::vector<VoxelSample> ImportanceSampler::draw(std::size_t count, std::uint64_t seed) const {
     std::mt19937_64 random(seed);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const openvdb::Coord extent = mBox.dim();
-    const double n = double(mBox.volume());
+    const double remaining = double(mBox.volume()) - double(mExcluded.size());
     std::vector<VoxelSample> samples(count);
     for (VoxelSample& sample : samples) {
-        openvdb::Coord ijk;
-        if (unit(random) < mSettings.uniformShare) {
-            for (int axis = 0; axis < 3; ++axis) {
-                ijk[axis] = mBox.min()[axis] + std::min(int(unit(random) * extent[axis]), extent[axis] - 1);
-            }
-        } else {
-            const double target = unit(random) * mCumulative.back();
-            const std::size_t block = std::min<std::size_t>(
-                std::upper_bound(mCumulative.begin(), mCumulative.end(), target) - mCumulative.begin(),
-                mCumulative.size() - 1);
-            const openvdb::Coord origin = blockOrigin(std::uint32_t(block));
-            const openvdb::Coord upper =
-                openvdb::Coord::minComponent(origin.offsetBy(kBlock - 1), mBox.max());
-            for (int axis = 0; axis < 3; ++axis) {
-                const int span = upper[axis] - origin[axis] + 1;
-                ijk[axis] = origin[axis] + std::min(int(unit(random) * span), span - 1);
-            }
-        }
+        openvdb::Coord ijk = drawOne(random);
+        while (isExcluded(ijk)) ijk = drawOne(random);  // at most half the box: ends quickly
         sample.ijk = ijk;
         sample.block = blockOf(ijk);
-        sample.weight = float(1.0 / (n * probability(ijk)));
+        sample.weight = float((1.0 - mExcludedMass) / (remaining * probability(ijk)));
     }
     return samples;
+}
+
+std::uint64_t ImportanceSampler::packed(const openvdb::Coord& ijk) const {
+    const openvdb::Coord local = ijk - mBox.min();
+    const openvdb::Coord extent = mBox.dim();
+    return (std::uint64_t(local.z()) * std::uint64_t(extent.y()) + std::uint64_t(local.y())) *
+               std::uint64_t(extent.x()) + std::uint64_t(local.x());
+}
+
+bool ImportanceSampler::isExcluded(const openvdb::Coord& ijk) const {
+    return !mExcluded.empty() && mExcluded.count(packed(ijk)) > 0;
+}
+
+void ImportanceSampler::exclude(const std::vector<openvdb::Coord>& voxels) {
+    for (const openvdb::Coord& ijk : voxels) {
+        if (!mBox.isInside(ijk)) throw std::invalid_argument("excluded voxel outside the sampled box");
+        mExcluded.insert(packed(ijk));
+    }
+    if (double(mExcluded.size()) > 0.5 * double(mBox.volume())) {
+        throw std::invalid_argument("at most half the voxels may be excluded from sampling");
+    }
+    rebuildDistribution();
 }
 
 void ImportanceSampler::recordErrors(const std::vector<VoxelSample>& samples,

@@ -64,5 +64,35 @@ TEST(ImportanceSampler, WeightedEstimateOfTheMseIsUnbiased) {
         << "mean of estimates " << mean << ", dense MSE " << dense << ", standard error " << standardError;
 }
 
+TEST(ImportanceSampler, ExcludedVoxelsAreNeverDrawnAndWeightsStayUnbiased) {
+    const openvdb::CoordBBox box(openvdb::Coord(-3, 0, 2), openvdb::Coord(12, 9, 11));
+    ImportanceSettings settings;
+    settings.uniformShare = 0.2;
+    ImportanceSampler sampler(box, settings);
+    for (std::uint32_t b = 0; b < sampler.blockCount(); ++b) sampler.setBlockError(b, b % 3 == 0 ? 1.0 : 0.01);
+    // Exclude every voxel of the first slab: a large, high-error share of p.
+    std::vector<openvdb::Coord> excluded;
+    for (auto ijk = box.begin(); ijk; ++ijk) {
+        if ((*ijk).z() <= 4) excluded.push_back(*ijk);
+    }
+    sampler.exclude(excluded);
+
+    // E[w] over the remaining voxels is 1 when the weights are right.
+    constexpr std::size_t kSamples = 200000;
+    double sum = 0.0, sumSquares = 0.0;
+    for (const VoxelSample& s : sampler.draw(kSamples, 7)) {
+        ASSERT_GT(s.ijk.z(), 4) << "an excluded voxel was drawn";
+        sum += s.weight;
+        sumSquares += double(s.weight) * s.weight;
+    }
+    const double mean = sum / kSamples;
+    const double standardError = std::sqrt((sumSquares / kSamples - mean * mean) / kSamples);
+    EXPECT_LT(std::abs(mean - 1.0), 4.0 * standardError) << "mean weight " << mean;
+
+    std::vector<openvdb::Coord> everything;
+    for (auto ijk = box.begin(); ijk; ++ijk) everything.push_back(*ijk);
+    EXPECT_THROW(sampler.exclude(everything), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace gvr

@@ -1,0 +1,217 @@
+#include "AmplitudeSolver.h"
+
+#include "GaussianField.h"
+#include "LatticeSampler.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+namespace gvr {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Blocks are split into this many fixed runs, each summed on its own and then in
+/// order, so that the result does not depend on the thread count.
+constexpr std::size_t kChunks = 16;
+
+/// One Gaussian's kernel value at one voxel of a block.
+struct Entry {
+    std::uint16_t voxel;  // offset inside the block's box, x fastest
+    std::uint32_t gaussian;
+    float e;
+};
+
+/// The products G v and G^T w over the target's box, one block at a time.
+class DesignMatrix {
+public:
+    DesignMatrix(const GaussianField& field, const VolumeTarget& target, const std::vector<openvdb::Coord>& excluded)
+        : mField(field), mTarget(target), mBlocks(blockOrigins(target.box())) {
+        for (const openvdb::Coord& ijk : excluded) {
+            if (!target.box().isInside(ijk)) continue;
+            const openvdb::Coord origin(ijk.x() & ~(kBlockDim - 1), ijk.y() & ~(kBlockDim - 1), ijk.z() & ~(kBlockDim - 1));
+            std::vector<openvdb::Coord>& list = mExcluded[origin];
+            if (std::find(list.begin(), list.end(), ijk) == list.end()) list.push_back(ijk);
+        }
+        mIncludedVoxels = target.box().volume();
+        for (const auto& [origin, list] : mExcluded) mIncludedVoxels -= list.size();
+    }
+
+    /// Returns G^T w with w = t - G v (@a residual) or w = G v, and in @a squared the
+    /// sum over voxels and channels of w^2.
+    std::vector<double> apply(const std::vector<double>& v, bool residual, double& squared) const {
+        const std::size_t width = mField.gaussians().size() * std::size_t(mField.channels());
+        std::array<std::vector<double>, kChunks> out;
+        std::array<double, kChunks> partial{};
+        tbb::parallel_for(std::size_t(0), kChunks, [&](std::size_t c) {
+            out[c].assign(width, 0.0);
+            std::vector<Entry> entries;
+            std::vector<std::uint32_t> hits;
+            for (std::size_t b = c * mBlocks.size() / kChunks; b < (c + 1) * mBlocks.size() / kChunks; ++b) {
+                partial[c] += applyBlock(mBlocks[b], v, residual, entries, hits, out[c]);
+            }
+        });
+        std::vector<double> sum(width, 0.0);
+        squared = 0.0;
+        for (std::size_t c = 0; c < kChunks; ++c) {
+            for (std::size_t k = 0; k < width; ++k) sum[k] += out[c][k];
+            squared += partial[c];
+        }
+        return sum;
+    }
+
+    std::uint64_t valueCount() const { return mIncludedVoxels * std::uint64_t(mField.channels()); }
+
+private:
+    /// Kernel values of the Gaussians reaching the block, in a fixed order.
+    void blockEntries(const openvdb::CoordBBox& box, std::vector<Entry>& entries,
+                      std::vector<std::uint32_t>& hits) const {
+        const float lower[3] = {float(box.min().x()), float(box.min().y()), float(box.min().z())};
+        const float upper[3] = {float(box.max().x()), float(box.max().y()), float(box.max().z())};
+        mField.bvh().overlapping(lower, upper, hits);
+        std::sort(hits.begin(), hits.end());
+        entries.clear();
+        const openvdb::Coord dim = box.dim();
+        for (std::uint32_t g : hits) {
+            const ActiveGaussian& gaussian = mField.gaussians()[g];
+            // Only the voxels inside the Gaussian's truncated bounds can be reached.
+            const Box& reach = mField.bvh().boxes()[g];
+            int from[3], to[3];
+            for (int a = 0; a < 3; ++a) {
+                from[a] = std::max(0, int(std::ceil(reach.lower[a] - lower[a])));
+                to[a] = std::min(dim[a] - 1, int(std::floor(reach.upper[a] - lower[a])));
+            }
+            for (int z = from[2]; z <= to[2]; ++z) {
+                for (int y = from[1]; y <= to[1]; ++y) {
+                    for (int x = from[0]; x <= to[0]; ++x) {
+                        const float point[3] = {lower[0] + x, lower[1] + y, lower[2] + z};
+                        float u[3];
+                        const float q = mahalanobis2(gaussian, point, u);
+                        if (q > mField.cutoff2()) continue;
+                        entries.push_back({std::uint16_t((z * dim.y() + y) * dim.x() + x), g, std::exp(-0.5f * q)});
+                    }
+                }
+            }
+        }
+    }
+
+    double applyBlock(const openvdb::Coord& origin, const std::vector<double>& v, bool residual,
+                      std::vector<Entry>& entries, std::vector<std::uint32_t>& hits, std::vector<double>& out) const {
+        openvdb::CoordBBox box(origin, origin.offsetBy(kBlockDim - 1));
+        box.intersect(mTarget.box());
+        blockEntries(box, entries, hits);
+        const int channels = mField.channels();
+        std::array<double, 3 * kBlockVoxels> w{};
+        for (const Entry& entry : entries) {
+            for (int c = 0; c < channels; ++c) w[entry.voxel * channels + c] += entry.e * v[entry.gaussian * channels + c];
+        }
+        const openvdb::Coord dim = box.dim();
+        const int voxels = dim.x() * dim.y() * dim.z();
+        if (residual) {
+            float expected[3];
+            for (int k = 0; k < voxels; ++k) {
+                const openvdb::Coord ijk = box.min().offsetBy(k % dim.x(), (k / dim.x()) % dim.y(), k / (dim.x() * dim.y()));
+                mTarget.valueAt(ijk, expected);
+                for (int c = 0; c < channels; ++c) w[k * channels + c] = expected[c] - w[k * channels + c];
+            }
+        }
+        if (const auto found = mExcluded.find(origin); found != mExcluded.end()) {
+            for (const openvdb::Coord& ijk : found->second) {
+                const openvdb::Coord local = ijk - box.min();
+                const int k = (local.z() * dim.y() + local.y()) * dim.x() + local.x();
+                for (int c = 0; c < channels; ++c) w[k * channels + c] = 0.0;
+            }
+        }
+        double squared = 0.0;
+        for (int k = 0; k < voxels * channels; ++k) squared += w[k] * w[k];
+        for (const Entry& entry : entries) {
+            for (int c = 0; c < channels; ++c) out[entry.gaussian * channels + c] += entry.e * w[entry.voxel * channels + c];
+        }
+        return squared;
+    }
+
+    const GaussianField& mField;
+    const VolumeTarget& mTarget;
+    std::vector<openvdb::Coord> mBlocks;
+    std::map<openvdb::Coord, std::vector<openvdb::Coord>> mExcluded;  // by block origin
+    std::uint64_t mIncludedVoxels = 0;
+};
+
+double dot(const std::vector<double>& a, const std::vector<double>& b) {
+    double sum = 0.0;
+    for (std::size_t k = 0; k < a.size(); ++k) sum += a[k] * b[k];
+    return sum;
+}
+
+std::vector<double> amplitudesOf(const GaussianParameters& params) {
+    std::vector<double> a(params.count() * std::size_t(params.channels));
+    for (std::size_t i = 0; i < params.count(); ++i) {
+        const float opacity = sigmoid(*params.at(kOpacityLogits, i));
+        for (int c = 0; c < params.channels; ++c) a[i * params.channels + c] = double(opacity) * params.at(kColours, i)[c];
+    }
+    return a;
+}
+
+void setAmplitudes(GaussianParameters& params, const std::vector<double>& a) {
+    for (std::size_t i = 0; i < params.count(); ++i) {
+        const double opacity = sigmoid(*params.at(kOpacityLogits, i));
+        for (int c = 0; c < params.channels; ++c) params.at(kColours, i)[c] = float(a[i * params.channels + c] / opacity);
+    }
+}
+
+}  // namespace
+
+AmplitudeSolveReport solveAmplitudes(GaussianParameters& params, const VolumeTarget& target,
+                                     const AmplitudeSolveSettings& settings) {
+    const Clock::time_point start = Clock::now();
+    const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    AmplitudeSolveReport report;
+    if (params.count() == 0 || target.box().empty()) return report;
+
+    const GaussianField field(params, settings.cutoffSigmas);
+    const DesignMatrix matrix(field, target, settings.excluded);
+    const double values = double(matrix.valueCount());
+    std::vector<double> a = amplitudesOf(params);
+    double squared = 0.0;
+    std::vector<double> r = matrix.apply(a, /*residual=*/true, squared);  // G^T (t - G a)
+    report.mseBefore = squared / values;
+    std::vector<double> p = r;
+    double rr = dot(r, r);
+    double passSeconds = elapsed();
+    while (report.iterations < settings.iterations && rr > 0.0) {
+        if (settings.seconds > 0.0 && elapsed() + passSeconds > settings.seconds) break;
+        const double before = elapsed();
+        double unused = 0.0;
+        const std::vector<double> ap = matrix.apply(p, /*residual=*/false, unused);  // G^T G p
+        const double pap = dot(p, ap);
+        if (!(pap > 0.0) || !std::isfinite(pap)) break;
+        const double alpha = rr / pap;
+        for (std::size_t k = 0; k < a.size(); ++k) {
+            a[k] += alpha * p[k];
+            r[k] -= alpha * ap[k];
+        }
+        const double next = dot(r, r);
+        const double beta = next / rr;
+        for (std::size_t k = 0; k < p.size(); ++k) p[k] = r[k] + beta * p[k];
+        rr = next;
+        ++report.iterations;
+        passSeconds = elapsed() - before;
+    }
+    matrix.apply(a, /*residual=*/true, squared);
+    report.mseAfter = squared / values;
+    if (report.mseAfter < report.mseBefore && std::all_of(a.begin(), a.end(), [](double v) { return std::isfinite(v); })) {
+        setAmplitudes(params, a);
+    } else {
+        report.mseAfter = report.mseBefore;
+    }
+    report.seconds = elapsed();
+    return report;
+}
+
+}  // namespace gvr
