@@ -1,5 +1,5 @@
-// Asset layout benchmark: the same Gaussians stored as gvr's flat quantised
-// format and as an OpenVDB PointDataGrid with comparable codecs (16-bit fixed-point
+// Asset layout benchmark: the same Gaussians stored as the gvr asset given (its own
+// version) and as an OpenVDB PointDataGrid with comparable codecs (16-bit fixed-point
 // positions, half-float attributes, Blosc), at several PointDataGrid voxel sizes.
 // Prints bytes per Gaussian for each, so the choice of layout rests on numbers.
 //
@@ -65,16 +65,16 @@ int main(int argc, char** argv) {
         openvdb::initialize();
         const gvr::GaussianAsset asset = gvr::readAsset(argv[1]);
         const double n = double(asset.params.count());
-        const std::uint64_t flat = std::filesystem::file_size(argv[1]);
+        const std::uint64_t own = std::filesystem::file_size(argv[1]);
         std::printf("%zu Gaussians, %d channel(s)\n", asset.params.count(), asset.params.channels);
-        std::printf("  flat gvr asset (16-bit positions/scales/colours, 32-bit rotations, 8-bit opacity): "
-                    "%llu bytes, %.2f B/Gaussian\n", (unsigned long long)flat, flat / n);
+        std::printf("  gvr asset, format version %u: %llu bytes, %.2f B/Gaussian\n", asset.formatVersion,
+                    (unsigned long long)own, own / n);
         const std::string scratch = (std::filesystem::temp_directory_path() / "gvr_layout_bench.vdb").string();
         for (double voxelSize : {1.0, 2.0, 4.0, 8.0}) {
             const std::uint64_t bytes = pointDataGridBytes(asset.params, voxelSize, scratch);
             std::printf("  PointDataGrid, voxel %.0f (16-bit fixed positions, half attributes, Blosc): "
-                        "%llu bytes, %.2f B/Gaussian, %.2fx the flat asset\n",
-                        voxelSize, (unsigned long long)bytes, bytes / n, double(bytes) / flat);
+                        "%llu bytes, %.2f B/Gaussian, %.2fx the gvr asset\n",
+                        voxelSize, (unsigned long long)bytes, bytes / n, double(bytes) / own);
         }
         std::filesystem::remove(scratch);
     } catch (const std::exception& error) {

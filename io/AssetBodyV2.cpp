@@ -223,7 +223,7 @@ std::uint64_t QuantisationV2::mortonCode(const float mean[3]) const {
 double estimatedBytesPerGaussian(const AssetEncoding& e, int channels, double voxels, double count) {
     const double cells = std::max(voxels, 1.0) / (double(e.meanStep) * e.meanStep * e.meanStep);
     const double positionBits = std::max(std::log2(cells / std::max(count, 1.0)), 0.0) + 2.5;
-    const double rotationBits = 2.0 + 3.0 * std::max(e.rotationBits - 3.0, 1.0);
+    const double rotationBits = 2.0 + 3.0 * std::max(e.rotationBits - 3.5, 1.0);
     const double scaleBits = 3.0 * std::max(e.logScaleBits - 0.7, 1.0);
     const double amplitudeBits = channels * std::max(e.amplitudeBits - 1.3, 1.0);
     return (positionBits + rotationBits + scaleBits + amplitudeBits) / 8.0;

@@ -7,6 +7,7 @@
 #include "Initialisation.h"
 
 #include <array>
+#include <functional>
 #include <string>
 
 namespace gvr {
@@ -57,6 +58,9 @@ struct FitSettings {
     /// solve (AmplitudeSolver.h; 0: none), and the share of a time budget kept for it.
     std::size_t amplitudeSolveIterations = 10;
     double amplitudeSolveShare = 0.1;
+    /// The parameters as storage will give them back (quantised), if known: the
+    /// amplitude solve then runs on the stored geometry and makes up for its rounding.
+    std::function<GaussianParameters(const GaussianParameters&)> storedGeometry;
 
     std::size_t heldOutVoxels = 32768;  ///< fixed voxels for the PSNR curve
     std::size_t logEvery = 50;          ///< iterations between held-out PSNR evaluations

@@ -233,6 +233,7 @@ void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOut
     solve.iterations = mSettings.amplitudeSolveIterations;
     solve.cutoffSigmas = mSettings.cutoffSigmas;
     if (mSettings.seconds > 0.0) solve.seconds = std::max(mSettings.seconds - elapsed(), 1e-9);
+    if (mSettings.storedGeometry) mParams = mSettings.storedGeometry(mParams);
     mReport.amplitudeSolve = solveAmplitudes(mParams, mTarget, solve);
     if (!observer || mParams.count() == 0) return;
     refreshField();

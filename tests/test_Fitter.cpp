@@ -48,6 +48,22 @@ TEST(Fitter, LearnsASmoothVolume) {
     EXPECT_GT(curve.back(), curve.front());
 }
 
+TEST(Fitter, TheAmplitudeSolveRunsOnTheStoredGeometry) {
+    const VolumeTarget target(test::makeGrid({32, 24, 24}, blob), "blobs");
+    FitSettings settings = quickSettings(60, 100);
+    // Storage that rounds means to half voxels, far coarser than the asset's.
+    settings.storedGeometry = [](const GaussianParameters& params) {
+        GaussianParameters stored = params;
+        for (float& m : stored.values[kMeans]) m = std::round(2.0f * m) / 2.0f;
+        return stored;
+    };
+    FitReport report;
+    const GaussianParameters params = fitGaussians(target, settings, {}, &report);
+    for (float m : params.values[kMeans]) EXPECT_EQ(m, std::round(2.0f * m) / 2.0f);
+    EXPECT_GT(report.amplitudeSolve.iterations, 0u);
+    EXPECT_LT(report.amplitudeSolve.mseAfter, report.amplitudeSolve.mseBefore);
+}
+
 TEST(Fitter, SameSeedSameResultWhateverTheThreadCount) {
     const VolumeTarget target(test::makeGrid({24, 20, 16}, blob), "blobs");
     const FitSettings settings = quickSettings(150, 60);
