@@ -248,10 +248,15 @@ void runFit(FitFlags& flags) {
         flags.settings.gaussians = 0;
     } else if (!labels) {  // structures get their own budgets (structureBudgets)
         flags.settings.gaussians = budgetedGaussians(asset, flags, maxBytes);
-        // The last amplitude solve then makes up for the file's rounding of the geometry.
-        // (Structures are quantised together, over ranges no single structure knows.)
+        // The last amplitude solve then makes up for what the file does to the geometry:
+        // its rounding, and the weakest Gaussians dropped if the budget's estimate of
+        // the file size was short. (Structures are stored together, over ranges and a
+        // budget that no single structure knows, so labelled fits skip this.)
         flags.settings.storedGeometry = [&](const GaussianParameters& params) {
-            return quantisedCopy(params, flags.encoding);
+            GaussianAsset stored = asset;
+            stored.params = params;
+            fitAssetInto(stored, maxBytes);
+            return quantisedCopy(stored.params, flags.encoding);
         };
     }
 
@@ -266,7 +271,9 @@ void runFit(FitFlags& flags) {
             structures = fitByLabel(flags, *loaded.grid, *labels, asset, progressObserver(bar, log), fit);
         }
     }
-    const std::size_t dropped = writeAsset(flags.output, asset, maxBytes);
+    std::size_t dropped = writeAsset(flags.output, asset, maxBytes);
+    // A whole-volume fit may already have dropped some before its amplitude solve.
+    if (!labels && flags.settings.gaussians > 0) dropped = flags.settings.gaussians - asset.params.count();
     ProgressBar measuring("measuring", !flags.quiet);
     const GaussianField saved(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas);
     const VolumeError error = measureVolumeError(saved, target, measuring.callback());

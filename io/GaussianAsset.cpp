@@ -253,8 +253,9 @@ GaussianParameters quantisedCopy(const GaussianParameters& params, const AssetEn
     return decodeAssetBodyV2(encodeAssetBodyV2(params, quantisation), params.count(), quantisation);
 }
 
-std::size_t writeAsset(const std::string& path, GaussianAsset& asset, std::uint64_t maxBytes) {
-    const std::size_t before = asset.params.count();
+/// The file bytes of @a asset, after dropping its weakest Gaussians until they fit
+/// in @a maxBytes (0: no limit).
+std::string encodeWithin(GaussianAsset& asset, std::uint64_t maxBytes) {
     std::string bytes = encodeAsset(asset);
     while (maxBytes > 0 && asset.params.count() > 0 && bytes.size() > maxBytes) {
         const double perGaussian = double(bytes.size()) / double(asset.params.count());
@@ -262,6 +263,18 @@ std::size_t writeAsset(const std::string& path, GaussianAsset& asset, std::uint6
         keepStrongest(asset, asset.params.count() - std::min(drop, asset.params.count()));
         bytes = encodeAsset(asset);
     }
+    return bytes;
+}
+
+std::size_t fitAssetInto(GaussianAsset& asset, std::uint64_t maxBytes) {
+    const std::size_t before = asset.params.count();
+    encodeWithin(asset, maxBytes);
+    return before - asset.params.count();
+}
+
+std::size_t writeAsset(const std::string& path, GaussianAsset& asset, std::uint64_t maxBytes) {
+    const std::size_t before = asset.params.count();
+    const std::string bytes = encodeWithin(asset, maxBytes);
     writeAtomically(path, [&](const std::string& temporary) {
         std::ofstream out(temporary, std::ios::binary);
         out.write(bytes.data(), std::streamsize(bytes.size()));

@@ -72,6 +72,11 @@ std::uint64_t assetFileBytes(const GaussianAsset& asset);
 /// @return the number of Gaussians dropped to fit.
 std::size_t writeAsset(const std::string& path, GaussianAsset& asset, std::uint64_t maxBytes = 0);
 
+/// What writeAsset() does to @a asset before writing: storage order, and the
+/// weakest Gaussians dropped until the file fits in @a maxBytes (0: no limit).
+/// @return the number of Gaussians dropped.
+std::size_t fitAssetInto(GaussianAsset& asset, std::uint64_t maxBytes);
+
 /// True when the file starts with the asset magic.
 bool isAssetFile(const std::string& path);
 

@@ -58,8 +58,9 @@ struct FitSettings {
     /// solve (AmplitudeSolver.h; 0: none), and the share of a time budget kept for it.
     std::size_t amplitudeSolveIterations = 10;
     double amplitudeSolveShare = 0.1;
-    /// The parameters as storage will give them back (quantised), if known: the
-    /// amplitude solve then runs on the stored geometry and makes up for its rounding.
+    /// The parameters as storage will give them back (quantised, perhaps fewer), if
+    /// known: the amplitude solve then runs on the stored geometry and makes up for
+    /// its rounding and for any Gaussians left out.
     std::function<GaussianParameters(const GaussianParameters&)> storedGeometry;
 
     std::size_t heldOutVoxels = 32768;  ///< fixed voxels for the PSNR curve
