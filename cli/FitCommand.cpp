@@ -243,6 +243,7 @@ void runFit(FitFlags& flags) {
     const VolumeTarget target(loaded.grid, flags.input);
     GaussianAsset asset = assetSkeleton(*loaded.grid, target, flags, flags.input);
     std::uint64_t maxBytes = 0;
+    std::size_t droppedBeforeSolve = 0;  // by the budget, before the final amplitude solve
     if (target.activeVoxelCount() == 0) {
         std::cerr << "gvr: warning: " << flags.input << " has no active voxels; writing an empty asset\n";
         flags.settings.gaussians = 0;
@@ -255,7 +256,7 @@ void runFit(FitFlags& flags) {
         flags.settings.storedGeometry = [&](const GaussianParameters& params) {
             GaussianAsset stored = asset;
             stored.params = params;
-            fitAssetInto(stored, maxBytes);
+            droppedBeforeSolve = fitAssetInto(stored, maxBytes);
             return quantisedCopy(stored.params, flags.encoding);
         };
     }
@@ -271,9 +272,7 @@ void runFit(FitFlags& flags) {
             structures = fitByLabel(flags, *loaded.grid, *labels, asset, progressObserver(bar, log), fit);
         }
     }
-    std::size_t dropped = writeAsset(flags.output, asset, maxBytes);
-    // A whole-volume fit may already have dropped some before its amplitude solve.
-    if (!labels && flags.settings.gaussians > 0) dropped = flags.settings.gaussians - asset.params.count();
+    const std::size_t dropped = droppedBeforeSolve + writeAsset(flags.output, asset, maxBytes);
     ProgressBar measuring("measuring", !flags.quiet);
     const GaussianField saved(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas);
     const VolumeError error = measureVolumeError(saved, target, measuring.callback());
