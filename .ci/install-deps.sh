@@ -1,9 +1,54 @@
 #!/usr/bin/env bash
-# Installs everything gvr needs to build, run and test: the Debian 12 packages named in
-# .ci/packages.txt, and nothing else. Run as root.
+# Installs everything gvr needs to build, test, run its main job and its benchmarks:
+# the Debian 12 packages below, and nothing else. Run as root. .ci/deps-audit reads
+# this list and fails CI when the build or the tests use a file from a package
+# outside its dependency closure.
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
-packages=$(grep -v '^\s*\(#\|$\)' "$(dirname "$0")/packages.txt")
+packages=(
+  # Toolchain and the tools CI itself runs.
+  cmake
+  ninja-build
+  g++
+  pkg-config
+  strace
+
+  # Libraries the build links.
+  libopenvdb-dev
+  # FindOpenVDB.cmake needs Boost iostreams although nothing declares it.
+  libboost-iostreams-dev
+  libtbb-dev
+  libblosc-dev
+  zlib1g-dev
+  libeigen3-dev
+  libopenimageio-dev
+  # OpenImageIOTargets.cmake refuses to load unless /usr/bin/iconvert and the other tools exist.
+  openimageio-tools
+  libembree-dev
+  libgtest-dev
+  # GTestConfig.cmake includes GMockTargets.cmake.
+  libgmock-dev
+  libnifti2-dev
+  libgdcm-dev
+  libcli11-dev
+  nlohmann-json3-dev
+  libtomlplusplus-dev
+  libzfp-dev
+  libzstd-dev
+  libvolpack1-dev
+
+  # The embedded default volume (Colin27 T1 MRI).
+  mricron-data
+
+  # Test clients and benchmark reports.
+  python3
+  python3-openvdb
+  python3-numpy
+  python3-nibabel
+  python3-skimage
+  python3-pil
+  python3-matplotlib
+  blender
+)
 apt-get update -qq
-# shellcheck disable=SC2086 # one package name per word
-apt-get install -y -qq --no-install-recommends $packages > /dev/null
+apt-get install -y -qq --no-install-recommends "${packages[@]}" > /dev/null

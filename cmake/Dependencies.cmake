@@ -1,4 +1,4 @@
-# Every dependency comes from a Debian 12 package; see .ci/packages.txt. All of them are
+# Every dependency comes from a Debian 12 package; see .ci/install-deps.sh. All of them are
 # found here, at the top level, so that cmake/ImportedFiles.cmake sees every imported target.
 # The quirks worked around here are listed in ../shared/docs/build-notes.md.
 

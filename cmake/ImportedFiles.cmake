@@ -1,7 +1,7 @@
 # Writes every file and folder that the imported targets point at (libraries, tools that
 # config modules check, include folders) to ${CMAKE_BINARY_DIR}/imported-files.txt, one
 # "target<TAB>property<TAB>path" a line. .ci/deps-audit maps them to Debian packages, so a
-# package that the build needs but .ci/packages.txt does not name fails CI on any machine.
+# package that the build needs but .ci/install-deps.sh does not name fails CI on any machine.
 
 set(_gvr_path_properties
   IMPORTED_LOCATION IMPORTED_IMPLIB INTERFACE_INCLUDE_DIRECTORIES
