@@ -303,7 +303,7 @@ void addTuningFlags(CLI::App& command, FitSettings& s) {
 
 void addEncodingFlags(CLI::App& command, AssetEncoding& e) {
     command.add_option("--mean-step", e.meanStep, "Asset: lattice of the stored means, in voxels")
-        ->check(CLI::PositiveNumber)->capture_default_str();
+        ->check(CLI::Range(1e-4, 8.0))->capture_default_str();
     command.add_option("--rotation-bits", e.rotationBits, "Asset: bits per stored quaternion component")
         ->check(CLI::Range(2, 15))->capture_default_str();
     command.add_option("--scale-bits", e.logScaleBits, "Asset: bits per log-scale")

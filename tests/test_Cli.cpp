@@ -108,6 +108,19 @@ TEST(Cli, FitRespectsTheRatioAndLogsErrorAgainstTime) {
     EXPECT_GT(result["amplitude_solve"]["iterations"].get<int>(), 0);
 }
 
+TEST(Cli, BadAssetEncodingAndSolveFlagsAreRefusedWithoutOutput) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    for (const std::string flag : {"--mean-step 0", "--rotation-bits 1", "--scale-bits 17", "--amplitude-bits 40",
+                                   "--solve-share 1.5"}) {
+        const test::CommandResult run = test::runGvr("fit -q '" + grid + "' -o '" + dir.path("bad.gvr") +
+                                                         "' --iterations 5 " + flag, dir);
+        EXPECT_EQ(run.exitCode, 2) << flag;
+        EXPECT_NE(run.err.find(flag.substr(0, flag.find(' '))), std::string::npos) << run.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.path("bad.gvr"))) << flag;
+    }
+}
+
 TEST(Cli, FittingAnEmptyVolumeWarnsAndWritesAnEmptyAsset) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir, /*empty=*/true);
