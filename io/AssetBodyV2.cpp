@@ -229,7 +229,8 @@ double estimatedBytesPerGaussian(const AssetEncoding& e, int channels, double vo
     return (positionBits + rotationBits + scaleBits + amplitudeBits) / 8.0;
 }
 
-std::string encodeAssetBodyV2(const GaussianParameters& params, const QuantisationV2& q, AttributeBytes* bytes) {
+/// The integers the body stores for @a params, one stream per attribute component.
+std::vector<Stream> quantiseStreams(const GaussianParameters& params, const QuantisationV2& q) {
     const std::size_t n = params.count();
     std::vector<Stream> streams = emptyStreams(q, n);
     const AssetEncoding& e = q.encoding;
@@ -252,24 +253,12 @@ std::string encodeAssetBodyV2(const GaussianParameters& params, const Quantisati
                                                 q.amplitudeMax[c], e.amplitudeBits);
         }
     }
-    std::string body;
-    AttributeBytes ignored;
-    AttributeBytes& sizes = bytes ? *bytes : ignored;
-    for (std::size_t s = 0; s < streams.size(); ++s) {
-        const std::size_t before = body.size();
-        appendPlanes(streams[s], e.zstdLevel, body);
-        std::size_t& attribute = s == 0 ? sizes.position : s < 5 ? sizes.rotation : s < 8 ? sizes.logScales : sizes.amplitudes;
-        attribute += body.size() - before;
-    }
-    return body;
+    return streams;
 }
 
-GaussianParameters decodeAssetBodyV2(std::string_view body, std::size_t count, const QuantisationV2& q) {
-    std::vector<Stream> streams = emptyStreams(q, 0);
-    std::size_t cursor = 0;
-    for (Stream& stream : streams) readPlanes(body, cursor, count, stream);
-    if (cursor != body.size()) throw std::runtime_error("the body has bytes after its last plane");
-
+/// The parameters that @a streams stand for. @throw std::runtime_error for an
+/// impossible rotation index.
+GaussianParameters dequantiseStreams(const std::vector<Stream>& streams, std::size_t count, const QuantisationV2& q) {
     const AssetEncoding& e = q.encoding;
     const std::uint64_t mask = (std::uint64_t(1) << (3 * q.meanBits)) - 1;
     GaussianParameters params(count, q.channels);
@@ -294,6 +283,34 @@ GaussianParameters decodeAssetBodyV2(std::string_view body, std::size_t count, c
         }
     }
     return params;
+}
+
+
+std::string encodeAssetBodyV2(const GaussianParameters& params, const QuantisationV2& q, AttributeBytes* bytes) {
+    const std::vector<Stream> streams = quantiseStreams(params, q);
+    std::string body;
+    AttributeBytes ignored;
+    AttributeBytes& sizes = bytes ? *bytes : ignored;
+    for (std::size_t s = 0; s < streams.size(); ++s) {
+        const std::size_t before = body.size();
+        appendPlanes(streams[s], q.encoding.zstdLevel, body);
+        std::size_t& attribute = s == 0 ? sizes.position : s < 5 ? sizes.rotation : s < 8 ? sizes.logScales : sizes.amplitudes;
+        attribute += body.size() - before;
+    }
+    return body;
+}
+
+
+GaussianParameters decodeAssetBodyV2(std::string_view body, std::size_t count, const QuantisationV2& q) {
+    std::vector<Stream> streams = emptyStreams(q, 0);
+    std::size_t cursor = 0;
+    for (Stream& stream : streams) readPlanes(body, cursor, count, stream);
+    if (cursor != body.size()) throw std::runtime_error("the body has bytes after its last plane");
+    return dequantiseStreams(streams, count, q);
+}
+
+GaussianParameters roundTripAssetBodyV2(const GaussianParameters& params, const QuantisationV2& q) {
+    return dequantiseStreams(quantiseStreams(params, q), params.count(), q);
 }
 
 }  // namespace gvr

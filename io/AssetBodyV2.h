@@ -77,6 +77,9 @@ struct AttributeBytes {
 std::string encodeAssetBodyV2(const GaussianParameters& params, const QuantisationV2& quantisation,
                               AttributeBytes* bytes = nullptr);
 
+/// What decodeAssetBodyV2(encodeAssetBodyV2(params)) gives, without compressing.
+GaussianParameters roundTripAssetBodyV2(const GaussianParameters& params, const QuantisationV2& quantisation);
+
 /// @throw std::runtime_error when @a body is not exactly @a count Gaussians' planes.
 GaussianParameters decodeAssetBodyV2(std::string_view body, std::size_t count, const QuantisationV2& quantisation);
 

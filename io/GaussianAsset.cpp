@@ -250,7 +250,7 @@ GaussianAsset selectStructures(const GaussianAsset& asset, const std::string& sh
 
 GaussianParameters quantisedCopy(const GaussianParameters& params, const AssetEncoding& encoding) {
     const QuantisationV2 quantisation(params, encoding);
-    return decodeAssetBodyV2(encodeAssetBodyV2(params, quantisation), params.count(), quantisation);
+    return roundTripAssetBodyV2(params, quantisation);
 }
 
 /// The file bytes of @a asset, after dropping its weakest Gaussians until they fit
