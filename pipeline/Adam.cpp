@@ -13,22 +13,22 @@ Adam::Adam(std::size_t count, int channels, const AdamSettings& settings)
 void Adam::step(GaussianParameters& params, const GaussianParameters& gradient,
                 const std::array<double, kGroupCount>& rates) {
     ++mSteps;
-    const double correction1 = 1.0 - std::pow(mSettings.beta1, double(mSteps));
-    const double correction2 = 1.0 - std::pow(mSettings.beta2, double(mSteps));
+    const float beta1 = float(mSettings.beta1), beta2 = float(mSettings.beta2);
+    const float epsilon = float(mSettings.epsilon);
+    const float inverseCorrection2 = float(1.0 / (1.0 - std::pow(mSettings.beta2, double(mSteps))));
     for (int g = 0; g < kGroupCount; ++g) {
-        std::vector<float>& values = params.values[g];
-        const std::vector<float>& grad = gradient.values[g];
-        std::vector<float>& m = mFirst.values[g];
-        std::vector<float>& v = mSecond.values[g];
-        const double rate = rates[g];
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, values.size(), 4096),
+        float* values = params.values[g].data();
+        const float* grad = gradient.values[g].data();
+        float* m = mFirst.values[g].data();
+        float* v = mSecond.values[g].data();
+        // The first moment's bias correction folds into the rate.
+        const float rate = float(rates[g] / (1.0 - std::pow(mSettings.beta1, double(mSteps))));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, params.values[g].size(), 16384),
                           [&](const tbb::blocked_range<std::size_t>& range) {
             for (std::size_t k = range.begin(); k != range.end(); ++k) {
-                m[k] = float(mSettings.beta1 * m[k] + (1.0 - mSettings.beta1) * grad[k]);
-                v[k] = float(mSettings.beta2 * v[k] + (1.0 - mSettings.beta2) * double(grad[k]) * grad[k]);
-                const double mHat = m[k] / correction1;
-                const double vHat = v[k] / correction2;
-                values[k] -= float(rate * mHat / (std::sqrt(vHat) + mSettings.epsilon));
+                m[k] = beta1 * m[k] + (1.0f - beta1) * grad[k];
+                v[k] = beta2 * v[k] + (1.0f - beta2) * grad[k] * grad[k];
+                values[k] -= rate * m[k] / (std::sqrt(v[k] * inverseCorrection2) + epsilon);
             }
         });
     }

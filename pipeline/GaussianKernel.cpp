@@ -78,41 +78,42 @@ void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float 
     float u[3];
     const float q = mahalanobis2(g, x, u);
     if (q > cutoff2) return;
-    accumulateGradient(g, index, x, u, std::exp(-0.5f * q), upstream, gradient);
+    GradientSums sums;
+    sums.add(g, gradient.channels, u, std::exp(-0.5f * q), upstream);
+    accumulateGradient(g, index, sums, gradient);
 }
 
-void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float x[3],
-                        const float u[3], float e, const float* upstream, GaussianParameters& gradient) {
+void accumulateGradient(const ActiveGaussian& g, std::size_t index, const GradientSums& sums,
+                        GaussianParameters& gradient) {
     const int channels = gradient.channels;
-
-    // f_c = opacity * colour_c * e
     float* dColour = gradient.at(kColours, index);
-    float upstreamDotColour = 0.0f, upstreamDotAmplitude = 0.0f;
+    float upstreamDotColour = 0.0f;
     for (int c = 0; c < channels; ++c) {
-        dColour[c] += upstream[c] * g.opacity * e;
-        upstreamDotColour += upstream[c] * g.colour[c];
-        upstreamDotAmplitude += upstream[c] * g.amplitude[c];
+        dColour[c] += g.opacity * sums.upstreamE[c];
+        upstreamDotColour += g.colour[c] * sums.upstreamE[c];
     }
-    *gradient.at(kOpacityLogits, index) += upstreamDotColour * e * g.opacity * (1.0f - g.opacity);
+    *gradient.at(kOpacityLogits, index) += upstreamDotColour * g.opacity * (1.0f - g.opacity);
 
-    // dL/dq = s * de/dq = -s e / 2, with s = sum_c upstream_c amplitude_c.
-    // q = sum_a u_a^2 / sigma_a^2, so dq/du_a = 2 u_a / sigma_a^2 and
-    // dq/dlogScale_a = -2 u_a^2 / sigma_a^2.
-    const float dLdq = -0.5f * upstreamDotAmplitude * e;
+    // Per point dU_a = 2 t u_a / sigma_a^2, so the sums give sum dU, and
+    // dL/dR_ba = sum d_b dU_a with d = R u, i.e. (R T)_ba scaled per column a.
+    const float tuu[3][3] = {{sums.tuu[0], sums.tuu[3], sums.tuu[4]},
+                             {sums.tuu[3], sums.tuu[1], sums.tuu[5]},
+                             {sums.tuu[4], sums.tuu[5], sums.tuu[2]}};
     float dU[3];
     float* dLogScale = gradient.at(kLogScales, index);
     for (int a = 0; a < 3; ++a) {
-        dU[a] = dLdq * 2.0f * u[a] * g.invVariance[a];
-        dLogScale[a] += dLdq * -2.0f * u[a] * u[a] * g.invVariance[a];
+        dU[a] = 2.0f * g.invVariance[a] * sums.tu[a];
+        dLogScale[a] += -2.0f * g.invVariance[a] * tuu[a][a];
     }
-    // u = R^T d, d = x - mean:  dL/dd = R dU,  dL/dmean = -dL/dd,  dL/dR_ba = d_b dU_a.
-    const float d[3] = {x[0] - g.mean[0], x[1] - g.mean[1], x[2] - g.mean[2]};
     float* dMean = gradient.at(kMeans, index);
     float dR[9];
     for (int b = 0; b < 3; ++b) {
-        dMean[b] -= g.rotation[3 * b] * dU[0] + g.rotation[3 * b + 1] * dU[1] +
-                    g.rotation[3 * b + 2] * dU[2];
-        for (int a = 0; a < 3; ++a) dR[3 * b + a] = d[b] * dU[a];
+        dMean[b] -= g.rotation[3 * b] * dU[0] + g.rotation[3 * b + 1] * dU[1] + g.rotation[3 * b + 2] * dU[2];
+        for (int a = 0; a < 3; ++a) {
+            float rt = 0.0f;
+            for (int c = 0; c < 3; ++c) rt += g.rotation[3 * b + c] * tuu[c][a];
+            dR[3 * b + a] = 2.0f * g.invVariance[a] * rt;
+        }
     }
     float dQuat[4];
     quaternionAdjoint(g, dR, dQuat);

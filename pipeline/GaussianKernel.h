@@ -70,10 +70,43 @@ inline void accumulateValue(const ActiveGaussian& g, const float x[3], float cut
 void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float x[3],
                         float cutoff2, const float* upstream, GaussianParameters& gradient);
 
-/// The same, reusing what the forward pass computed at x: u = R^T (x - mean) and
-/// e = exp(-q/2), for a point inside the cutoff.
-void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float x[3],
-                        const float u[3], float e, const float* upstream, GaussianParameters& gradient);
+/// One Gaussian's gradient summed over many points, gathered in its own frame so
+/// that the rotation and quaternion adjoints run once per Gaussian, not per point.
+/// With t = -e/2 sum_c upstream_c amplitude_c = dL/dq at a point:
+struct GradientSums {
+    float upstreamE[3] = {0, 0, 0};  ///< sum of upstream_c e, per channel
+    float tu[3] = {0, 0, 0};         ///< sum of t u_a
+    float tuu[6] = {0, 0, 0, 0, 0, 0};  ///< sum of t u_a u_b: xx, yy, zz, xy, xz, yz
+
+    /// Adds one point inside the cutoff: u = R^T (x - mean), e = exp(-q/2).
+    void add(const ActiveGaussian& g, int channels, const float u[3], float e, const float* upstream) {
+        float upstreamDotAmplitude = 0.0f;
+        for (int c = 0; c < channels; ++c) {
+            upstreamE[c] += upstream[c] * e;
+            upstreamDotAmplitude += upstream[c] * g.amplitude[c];
+        }
+        const float t = -0.5f * upstreamDotAmplitude * e;
+        for (int a = 0; a < 3; ++a) tu[a] += t * u[a];
+        tuu[0] += t * u[0] * u[0];
+        tuu[1] += t * u[1] * u[1];
+        tuu[2] += t * u[2] * u[2];
+        tuu[3] += t * u[0] * u[1];
+        tuu[4] += t * u[0] * u[2];
+        tuu[5] += t * u[1] * u[2];
+    }
+
+    GradientSums& operator+=(const GradientSums& other) {
+        for (int k = 0; k < 3; ++k) upstreamE[k] += other.upstreamE[k];
+        for (int k = 0; k < 3; ++k) tu[k] += other.tu[k];
+        for (int k = 0; k < 6; ++k) tuu[k] += other.tuu[k];
+        return *this;
+    }
+};
+
+/// Adds to @a gradient what the points gathered in @a sums give: the same as
+/// calling accumulateGradient() at each of them, up to rounding.
+void accumulateGradient(const ActiveGaussian& g, std::size_t index, const GradientSums& sums,
+                        GaussianParameters& gradient);
 
 /// Adjoint of rotationFromQuaternion followed by normalisation: dL/dR (row-major)
 /// to dL/d(raw quaternion).

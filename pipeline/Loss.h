@@ -12,11 +12,21 @@
 
 namespace gvr {
 
+/// Voxels of one cube, points[begin .. end) of a SampleSet, in any order.
+struct SampleBlock {
+    std::array<int, 3> lower, upper;  ///< inclusive voxel bounds, at most 8 apart
+    std::uint32_t begin, end;
+};
+
 /// Points where the field is compared with the volume.
 struct SampleSet {
     std::vector<std::array<float, 3>> points;  ///< index space
     std::vector<float> targets;                ///< channels per point, normalised units
     std::vector<float> weights;                ///< one per point
+    /// Optional: when the points are whole voxels grouped in cubes, each cube is
+    /// evaluated at once, with one BVH query and each Gaussian's gradient summed
+    /// over the cube before it is written, instead of point by point.
+    std::vector<SampleBlock> blocks;
     /// Optional, from findCandidates(): the Gaussians to try at point s are
     /// candidates[candidateStart[s] .. candidateStart[s + 1]). Empty: ask the BVH.
     std::vector<std::uint32_t> candidateStart, candidates;
@@ -28,19 +38,26 @@ struct SampleSet {
 /// GaussianField::update() succeeds, so the loss can skip the BVH until then.
 void findCandidates(const GaussianField& field, SampleSet& samples);
 
-/// One gradient buffer per chunk, reused across iterations.
+/// One gradient buffer per chunk, reused across iterations. A chunk keeps each
+/// Gaussian's GradientSums, so that the rotation and quaternion adjoints run once
+/// per Gaussian in sumInto(), and remembers which Gaussians it wrote, so that
+/// clearing costs what a pass touched.
 class GradientChunks {
 public:
     static constexpr std::size_t kChunks = 8;
 
-    /// Zeroes every buffer, sized for @a count Gaussians of @a channels.
-    void reset(std::size_t count, int channels);
-    GaussianParameters& chunk(std::size_t c) { return mChunks[c]; }
-    /// Sums the buffers in chunk order into @a gradient (overwritten).
-    void sumInto(GaussianParameters& gradient) const;
+    /// Zeroes every buffer, sized for @a count Gaussians.
+    void reset(std::size_t count);
+    /// Adds @a sums to Gaussian @a index in chunk @a c.
+    void add(std::size_t c, std::uint32_t index, const GradientSums& sums);
+    /// dL/dparams of every Gaussian of @a field into @a gradient (overwritten),
+    /// summing the chunks in chunk order.
+    void sumInto(const GaussianField& field, GaussianParameters& gradient) const;
 
 private:
-    std::array<GaussianParameters, kChunks> mChunks;
+    std::array<std::vector<GradientSums>, kChunks> mSums;
+    std::array<std::vector<std::uint32_t>, kChunks> mTouched;
+    std::array<std::vector<std::uint8_t>, kChunks> mWritten;
 };
 
 /// L = scale * sum_s w_s |f(x_s) - t_s|^2 over @a samples.

@@ -62,6 +62,34 @@ TEST_P(KernelGradient, MatchesCentralFiniteDifferences) {
 
 INSTANTIATE_TEST_SUITE_P(GreyAndRgb, KernelGradient, ::testing::Values(1, 3));
 
+TEST_P(KernelGradient, SumsOverManyPointsMatchPointByPoint) {
+    const int channels = GetParam();
+    std::mt19937 random(99 + channels);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    for (int trial = 0; trial < 20; ++trial) {
+        const GaussianParameters params = randomGaussian(random, channels);
+        const ActiveGaussian g = activate(params, 0);
+        GaussianParameters pointByPoint(1, channels), summed(1, channels);
+        GradientSums sums;
+        for (int p = 0; p < 7; ++p) {
+            const float x[3] = {g.mean[0] + 2 * unit(random), g.mean[1] + 2 * unit(random), g.mean[2] + 2 * unit(random)};
+            const float upstream[3] = {unit(random), unit(random), unit(random)};
+            accumulateGradient(g, 0, x, 1e6f, upstream, pointByPoint);
+            float u[3];
+            const float q = mahalanobis2(g, x, u);
+            sums.add(g, channels, u, std::exp(-0.5f * q), upstream);
+        }
+        accumulateGradient(g, 0, sums, summed);
+        for (int group = 0; group < kGroupCount; ++group) {
+            for (int k = 0; k < params.width(ParameterGroup(group)); ++k) {
+                const float expected = pointByPoint.at(ParameterGroup(group), 0)[k];
+                EXPECT_NEAR(summed.at(ParameterGroup(group), 0)[k], expected, 1e-5f + 1e-4f * std::abs(expected))
+                    << groupName(ParameterGroup(group)) << "[" << k << "], trial " << trial;
+            }
+        }
+    }
+}
+
 TEST(Kernel, TruncatesExactlyAtTheCutoff) {
     GaussianParameters params(1, 1);
     params.at(kRotations, 0)[0] = 1.0f;
