@@ -66,7 +66,6 @@ nlohmann::json settingsJson(const FitFlags& flags) {
     return {{"ablation", flags.ablation},        {"seed", s.seed},
             {"iterations", s.iterations},        {"seconds", s.seconds},
             {"batch", s.voxelBatch},             {"refresh_every", s.refreshEvery},
-            {"sample_block", s.sampleBlockEdge},
             {"mc_lambda", s.importance.uniformShare}, {"mc_epsilon", s.importance.epsilon},
             {"slice_pixels", s.slicePixels},     {"slice_max", s.sliceMax},
             {"slice_gamma", s.sliceGamma},       {"slice_beta", s.sliceBeta},
@@ -283,9 +282,6 @@ void runFit(FitFlags& flags) {
 void addTuningFlags(CLI::App& command, FitSettings& s) {
     command.add_option("--batch", s.voxelBatch, "Voxel samples per iteration")->capture_default_str();
     command.add_option("--refresh-every", s.refreshEvery, "K: redraw the voxel samples every K iterations")->capture_default_str();
-    command.add_option("--sample-block", s.sampleBlockEdge,
-                       "Draw voxels as whole cubes of this edge (1, 2, 4 or 8 voxels), evaluated cube by cube; 1 draws single voxels as the paper does")
-        ->capture_default_str();
     command.add_option("--mc-lambda", s.importance.uniformShare, "lambda: uniform share of p(x) = lambda/n + (1-lambda) p_imp(x)")->capture_default_str();
     command.add_option("--mc-epsilon", s.importance.epsilon, "epsilon added to each block's error in p_imp")->capture_default_str();
     command.add_option("--slice-pixels", s.slicePixels, "Pixels per random slice")->capture_default_str();

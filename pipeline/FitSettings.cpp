@@ -14,9 +14,6 @@ std::string FitSettings::validate() const {
     }
     if (voxelBatch == 0 && schedule != SliceSchedule::SlicesOnly) return "--batch must be positive";
     if (refreshEvery == 0) return "--refresh-every must be positive";
-    if (sampleBlockEdge != 1 && sampleBlockEdge != 2 && sampleBlockEdge != 4 && sampleBlockEdge != 8) {
-        return "--sample-block must be 1, 2, 4 or 8 voxels";
-    }
     if (importance.uniformShare < 0.0 || importance.uniformShare > 1.0) return "--mc-lambda must lie in [0, 1]";
     if (!(importance.epsilon > 0.0)) return "--mc-epsilon must be positive";
     if (slicePixels == 0 && schedule != SliceSchedule::None) return "--slice-pixels must be positive";

@@ -35,9 +35,6 @@ struct FitSettings {
 
     std::size_t voxelBatch = 32768;  ///< voxel samples per iteration
     std::size_t refreshEvery = 5;    ///< K: draw new voxel samples every K iterations
-    /// Voxels are drawn as whole cubes of this edge (1, 2, 4 or 8), each evaluated
-    /// with one BVH query; 1 draws single voxels, as the paper does.
-    int sampleBlockEdge = 4;
     bool importanceSampling = true;  ///< false: uniform voxels (lambda = 1)
     ImportanceSettings importance;
 

@@ -53,34 +53,6 @@ SampleSet voxelSampleSet(const VolumeTarget& target, const std::vector<VoxelSamp
     return set;
 }
 
-/// Whole cubes of voxels for the cube-by-cube loss; held-out voxels are left out,
-/// and @a draw receives every voxel kept, for the sampler's error record.
-SampleSet cubeSampleSet(const VolumeTarget& target, const ImportanceSampler& sampler,
-                        const std::vector<BlockSample>& cubes, std::vector<VoxelSample>& draw) {
-    SampleSet set;
-    draw.clear();
-    for (const BlockSample& cube : cubes) {
-        const openvdb::Coord lower = cube.box.min(), upper = cube.box.max();
-        SampleBlock block{{lower.x(), lower.y(), lower.z()}, {upper.x(), upper.y(), upper.z()},
-                          std::uint32_t(set.size()), 0};
-        for (int z = lower.z(); z <= upper.z(); ++z) {
-            for (int y = lower.y(); y <= upper.y(); ++y) {
-                for (int x = lower.x(); x <= upper.x(); ++x) {
-                    const openvdb::Coord ijk(x, y, z);
-                    if (sampler.isExcluded(ijk)) continue;
-                    set.points.push_back({float(x), float(y), float(z)});
-                    set.weights.push_back(cube.weight / float(cubes.size()));
-                    draw.push_back({ijk, cube.weight, sampler.blockOf(ijk)});
-                }
-            }
-        }
-        block.end = std::uint32_t(set.size());
-        set.blocks.push_back(block);
-    }
-    fillVoxelTargets(target, set);
-    return set;
-}
-
 SampleSet sliceSampleSet(const VolumeTarget& target, std::size_t pixels, std::uint64_t seed) {
     SampleSet set;
     set.points = drawSlicePoints(target.box(), pixels, seed);
@@ -190,7 +162,6 @@ private:
     }
 
     double step(std::size_t iteration, double fraction, FitProgress& progress);
-    SampleSet drawVoxels(std::size_t iteration);
     bool refreshField();
 
     const VolumeTarget& mTarget;
@@ -227,9 +198,10 @@ double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progre
         const bool redraw = iteration % mSettings.refreshEvery == 0 || mVoxels.size() == 0;
         if (redraw) {
             if (!mVoxelResiduals.empty()) mSampler.recordErrors(mLastDraw, mVoxelResiduals);
-            mVoxels = drawVoxels(iteration);
+            mLastDraw = mSampler.draw(mSettings.voxelBatch, streamSeed(mSettings.seed, kVoxels, iteration));
+            mVoxels = voxelSampleSet(mTarget, mLastDraw);
         }
-        if ((redraw || rebuilt) && mVoxels.blocks.empty()) findCandidates(mField, mVoxels);
+        if (redraw || rebuilt) findCandidates(mField, mVoxels);
         loss += weightedSquaredError(mField, mVoxels, voxelShare, &mChunks, &mVoxelResiduals);
     }
     if (sliceShare > 0.0) {
@@ -252,19 +224,6 @@ double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progre
         ++mReport.skippedSteps;
     }
     return loss;
-}
-
-/// About voxelBatch voxels: single voxels, or whole cubes of sampleBlockEdge^3.
-SampleSet FitLoop::drawVoxels(std::size_t iteration) {
-    const std::uint64_t seed = streamSeed(mSettings.seed, kVoxels, iteration);
-    const int edge = mSettings.sampleBlockEdge;
-    if (edge == 1) {
-        mLastDraw = mSampler.draw(mSettings.voxelBatch, seed);
-        return voxelSampleSet(mTarget, mLastDraw);
-    }
-    const std::size_t cubeVoxels = std::size_t(edge) * edge * edge;
-    const std::size_t cubes = (mSettings.voxelBatch + cubeVoxels - 1) / cubeVoxels;
-    return cubeSampleSet(mTarget, mSampler, mSampler.drawBlocks(cubes, edge, seed), mLastDraw);
 }
 
 void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOutCoords, const SampleSet& heldOut,

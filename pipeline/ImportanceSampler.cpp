@@ -95,25 +95,6 @@ std::vector<VoxelSample> ImportanceSampler::draw(std::size_t count, std::uint64_
     return samples;
 }
 
-std::vector<BlockSample> ImportanceSampler::drawBlocks(std::size_t count, int edge, std::uint64_t seed) const {
-    if (edge < 1 || edge > kBlock || (edge & (edge - 1)) != 0) {
-        throw std::invalid_argument("sample blocks must have an edge of 1, 2, 4 or 8 voxels");
-    }
-    std::mt19937_64 random(seed);
-    const double remaining = double(mBox.volume()) - double(mExcluded.size());
-    std::vector<BlockSample> samples(count);
-    for (BlockSample& sample : samples) {
-        const openvdb::Coord local = drawOne(random) - mBox.min();
-        const openvdb::Coord lower = mBox.min() + openvdb::Coord(local.x() & ~(edge - 1), local.y() & ~(edge - 1),
-                                                                 local.z() & ~(edge - 1));
-        sample.box = openvdb::CoordBBox(lower, openvdb::Coord::minComponent(lower.offsetBy(edge - 1), mBox.max()));
-        // p is constant inside an 8^3 block, and the cube lies inside one.
-        const double probability = double(sample.box.volume()) * this->probability(lower);
-        sample.weight = float(1.0 / (remaining * probability));
-    }
-    return samples;
-}
-
 std::uint64_t ImportanceSampler::packed(const openvdb::Coord& ijk) const {
     const openvdb::Coord local = ijk - mBox.min();
     const openvdb::Coord extent = mBox.dim();

@@ -34,14 +34,6 @@ struct VoxelSample {
     std::uint32_t block;  ///< the 8^3 block the voxel lies in
 };
 
-/// A cube of voxels drawn as one sample: every voxel of it inside the box counts.
-struct BlockSample {
-    openvdb::CoordBBox box;  ///< clipped to the sampled box
-    /// 1 / (n' P(block)), P(block) the probability of drawing this block: weighting
-    /// each remaining voxel's squared residual by it estimates the MSE unbiasedly.
-    float weight;
-};
-
 class ImportanceSampler {
 public:
     /// Starts with the same error everywhere, i.e. uniform sampling.
@@ -49,12 +41,6 @@ public:
 
     /// Draws @a count voxels; the same seed gives the same samples.
     std::vector<VoxelSample> draw(std::size_t count, std::uint64_t seed) const;
-
-    /// Draws @a count cubes of @a edge voxels (a power of two up to 8, aligned to
-    /// the box's corner): each is the cube holding a voxel drawn from p(x), so that
-    /// its voxels can be evaluated together. Excluded voxels stay in the cube; the
-    /// caller skips them, and the weights stay unbiased over the remaining voxels.
-    std::vector<BlockSample> drawBlocks(std::size_t count, int edge, std::uint64_t seed) const;
 
     /// p(x), the probability of drawing voxel @a ijk in one draw before exclusion.
     double probability(const openvdb::Coord& ijk) const;

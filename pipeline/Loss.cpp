@@ -85,29 +85,6 @@ void evaluateRecorded(const GaussianField& field, const float x[3], const std::u
     }
 }
 
-}  // namespace
-
-void findCandidates(const GaussianField& field, SampleSet& samples) {
-    const std::size_t n = samples.size();
-    std::array<std::vector<std::uint32_t>, GradientChunks::kChunks> ids, counts;
-    tbb::parallel_for(std::size_t(0), GradientChunks::kChunks, [&](std::size_t c) {
-        std::vector<std::uint32_t> hits;
-        for (std::size_t s = c * n / GradientChunks::kChunks; s < (c + 1) * n / GradientChunks::kChunks; ++s) {
-            field.bvh().query(samples.points[s].data(), hits);
-            ids[c].insert(ids[c].end(), hits.begin(), hits.end());
-            counts[c].push_back(std::uint32_t(hits.size()));
-        }
-    });
-    samples.candidateStart.assign(1, 0);
-    samples.candidates.clear();
-    for (std::size_t c = 0; c < GradientChunks::kChunks; ++c) {
-        samples.candidates.insert(samples.candidates.end(), ids[c].begin(), ids[c].end());
-        for (std::uint32_t count : counts[c]) samples.candidateStart.push_back(samples.candidateStart.back() + count);
-    }
-}
-
-namespace {
-
 /// Sum of w_s |f(x_s) - t_s|^2 over points [begin, end), point by point.
 double pointsSquaredError(const GaussianField& field, const SampleSet& samples, std::size_t begin,
                           std::size_t end, double scale, GradientChunks* gradients, std::size_t chunk,
@@ -144,119 +121,35 @@ double pointsSquaredError(const GaussianField& field, const SampleSet& samples, 
     return sum;
 }
 
-constexpr int kMaxBlockVoxels = 8 * 8 * 8;
-
-/// One Gaussian's share at one voxel of a cube, kept for the backward pass.
-struct CubeEntry {
-    std::uint32_t gaussian;
-    std::uint32_t voxel;  // offset in the cube, x fastest
-    float e;
-    float u[3];
-};
-
-/// Sum of w_s |f(x_s) - t_s|^2 over the voxels of one cube. One BVH query serves
-/// the whole cube, each Gaussian visits only the voxels its bounds reach, and its
-/// gradient is summed over the cube before it is written.
-double cubeSquaredError(const GaussianField& field, const SampleSet& samples, const SampleBlock& block,
-                        double scale, GradientChunks* gradients, std::size_t chunk,
-                        std::vector<float>* squaredResiduals, std::vector<std::uint32_t>& hits,
-                        std::vector<CubeEntry>& entries) {
-    const int channels = field.channels();
-    int dim[3];
-    float lower[3], upper[3];
-    for (int a = 0; a < 3; ++a) {
-        dim[a] = block.upper[a] - block.lower[a] + 1;
-        lower[a] = float(block.lower[a]);
-        upper[a] = float(block.upper[a]);
-    }
-    const auto offsetOf = [&](int x, int y, int z) { return (z * dim[1] + y) * dim[0] + x; };
-    std::array<std::int32_t, kMaxBlockVoxels> sampleAt;
-    sampleAt.fill(-1);
-    for (std::uint32_t s = block.begin; s < block.end; ++s) {
-        const auto& p = samples.points[s];
-        sampleAt[offsetOf(int(p[0]) - block.lower[0], int(p[1]) - block.lower[1], int(p[2]) - block.lower[2])] =
-            std::int32_t(s);
-    }
-
-    field.bvh().overlapping(lower, upper, hits);
-    std::sort(hits.begin(), hits.end());  // a fixed summation order, as point by point
-    entries.clear();
-    std::array<float, 3 * kMaxBlockVoxels> value{};
-    for (std::uint32_t index : hits) {
-        const ActiveGaussian& g = field.gaussians()[index];
-        const Box& reach = field.bvh().boxes()[index];
-        int from[3], to[3];
-        for (int a = 0; a < 3; ++a) {
-            from[a] = std::max(0, int(std::ceil(reach.lower[a] - lower[a])));
-            to[a] = std::min(dim[a] - 1, int(std::floor(reach.upper[a] - lower[a])));
-        }
-        for (int z = from[2]; z <= to[2]; ++z) {
-            for (int y = from[1]; y <= to[1]; ++y) {
-                for (int x = from[0]; x <= to[0]; ++x) {
-                    const int voxel = offsetOf(x, y, z);
-                    if (sampleAt[voxel] < 0) continue;
-                    const float point[3] = {lower[0] + x, lower[1] + y, lower[2] + z};
-                    CubeEntry entry{index, std::uint32_t(voxel), 0.0f, {}};
-                    const float q = mahalanobis2(g, point, entry.u);
-                    if (q > field.cutoff2()) continue;
-                    entry.e = std::exp(-0.5f * q);
-                    for (int c = 0; c < channels; ++c) value[voxel * channels + c] += g.amplitude[c] * entry.e;
-                    entries.push_back(entry);
-                }
-            }
-        }
-    }
-
-    std::array<float, 3 * kMaxBlockVoxels> upstream{};
-    double sum = 0.0;
-    for (std::uint32_t s = block.begin; s < block.end; ++s) {
-        const auto& p = samples.points[s];
-        const int voxel = offsetOf(int(p[0]) - block.lower[0], int(p[1]) - block.lower[1], int(p[2]) - block.lower[2]);
-        float squared = 0.0f;
-        for (int c = 0; c < channels; ++c) {
-            const float residual = value[voxel * channels + c] - samples.targets[s * channels + c];
-            squared += residual * residual;
-            upstream[voxel * channels + c] = float(2.0 * scale * samples.weights[s] * residual);
-        }
-        sum += double(samples.weights[s]) * squared;
-        if (squaredResiduals) (*squaredResiduals)[s] = squared;
-    }
-    if (!gradients) return sum;
-
-    // Entries come Gaussian by Gaussian: sum each one's run, then write it once.
-    for (std::size_t k = 0; k < entries.size();) {
-        const std::uint32_t index = entries[k].gaussian;
-        const ActiveGaussian& g = field.gaussians()[index];
-        GradientSums sums;
-        for (; k < entries.size() && entries[k].gaussian == index; ++k) {
-            sums.add(g, channels, entries[k].u, entries[k].e, &upstream[entries[k].voxel * channels]);
-        }
-        gradients->add(chunk, index, sums);
-    }
-    return sum;
-}
-
 }  // namespace
+
+void findCandidates(const GaussianField& field, SampleSet& samples) {
+    const std::size_t n = samples.size();
+    std::array<std::vector<std::uint32_t>, GradientChunks::kChunks> ids, counts;
+    tbb::parallel_for(std::size_t(0), GradientChunks::kChunks, [&](std::size_t c) {
+        std::vector<std::uint32_t> hits;
+        for (std::size_t s = c * n / GradientChunks::kChunks; s < (c + 1) * n / GradientChunks::kChunks; ++s) {
+            field.bvh().query(samples.points[s].data(), hits);
+            ids[c].insert(ids[c].end(), hits.begin(), hits.end());
+            counts[c].push_back(std::uint32_t(hits.size()));
+        }
+    });
+    samples.candidateStart.assign(1, 0);
+    samples.candidates.clear();
+    for (std::size_t c = 0; c < GradientChunks::kChunks; ++c) {
+        samples.candidates.insert(samples.candidates.end(), ids[c].begin(), ids[c].end());
+        for (std::uint32_t count : counts[c]) samples.candidateStart.push_back(samples.candidateStart.back() + count);
+    }
+}
 
 double weightedSquaredError(const GaussianField& field, const SampleSet& samples, double scale,
                             GradientChunks* gradients, std::vector<float>* squaredResiduals) {
     const std::size_t n = samples.size();
     if (squaredResiduals) squaredResiduals->assign(n, 0.0f);
-    const std::size_t cubes = samples.blocks.size();
     std::array<double, GradientChunks::kChunks> partial{};
     tbb::parallel_for(std::size_t(0), GradientChunks::kChunks, [&](std::size_t c) {
-        if (cubes == 0) {
-            partial[c] = pointsSquaredError(field, samples, c * n / GradientChunks::kChunks,
-                                            (c + 1) * n / GradientChunks::kChunks, scale, gradients, c,
-                                            squaredResiduals);
-            return;
-        }
-        std::vector<std::uint32_t> hits;
-        std::vector<CubeEntry> entries;
-        for (std::size_t b = c * cubes / GradientChunks::kChunks; b < (c + 1) * cubes / GradientChunks::kChunks; ++b) {
-            partial[c] += cubeSquaredError(field, samples, samples.blocks[b], scale, gradients, c,
-                                           squaredResiduals, hits, entries);
-        }
+        partial[c] = pointsSquaredError(field, samples, c * n / GradientChunks::kChunks,
+                                        (c + 1) * n / GradientChunks::kChunks, scale, gradients, c, squaredResiduals);
     });
     double total = 0.0;
     for (double p : partial) total += p;

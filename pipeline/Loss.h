@@ -12,21 +12,11 @@
 
 namespace gvr {
 
-/// Voxels of one cube, points[begin .. end) of a SampleSet, in any order.
-struct SampleBlock {
-    std::array<int, 3> lower, upper;  ///< inclusive voxel bounds, at most 8 apart
-    std::uint32_t begin, end;
-};
-
 /// Points where the field is compared with the volume.
 struct SampleSet {
     std::vector<std::array<float, 3>> points;  ///< index space
     std::vector<float> targets;                ///< channels per point, normalised units
     std::vector<float> weights;                ///< one per point
-    /// Optional: when the points are whole voxels grouped in cubes, each cube is
-    /// evaluated at once, with one BVH query and each Gaussian's gradient summed
-    /// over the cube before it is written, instead of point by point.
-    std::vector<SampleBlock> blocks;
     /// Optional, from findCandidates(): the Gaussians to try at point s are
     /// candidates[candidateStart[s] .. candidateStart[s + 1]). Empty: ask the BVH.
     std::vector<std::uint32_t> candidateStart, candidates;
