@@ -1,6 +1,7 @@
 // gvr baseline INPUT --method M -o RECON.vdb --stream FILE: the reference codecs
 // that gvr's Gaussians are measured against, with the reconstruction they give.
 
+#include "AtomicFile.h"
 #include "BaselineCodecs.h"
 #include "Commands.h"
 #include "Error.h"
@@ -71,6 +72,8 @@ void runBaselineCommand(BaselineFlags& flags) {
     if (const std::string problem = flags.settings.validate(); !problem.empty()) {
         throw InputError("gvr baseline", problem);
     }
+    checkOutputPath("-o", flags.output, {flags.input});
+    checkOutputPath("--stream", flags.stream, {flags.input});
     namespace fs = std::filesystem;
     if (fs::weakly_canonical(flags.stream) == fs::weakly_canonical(flags.output)) {
         throw InputError("--stream", "must be another file than -o " + flags.output);

@@ -1,5 +1,6 @@
 // gvr export ASSET -o OUT.vdb: the reconstruction as OpenVDB grids (and NIfTI).
 
+#include "AtomicFile.h"
 #include "AssetExport.h"
 #include "Commands.h"
 #include "Error.h"
@@ -63,6 +64,7 @@ void printResult(const ExportFlags& flags, const ExportResult& result, const std
 }
 
 void runExport(const ExportFlags& flags) {
+    checkOutputPath("-o", flags.output, {flags.input, flags.like, flags.densityFrom});
     const auto start = std::chrono::steady_clock::now();
     const GaussianAsset asset = selectStructures(readAsset(flags.input), flags.show, flags.hide, flags.input);
     ExportSettings settings;

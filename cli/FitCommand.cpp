@@ -1,5 +1,6 @@
 // gvr fit IN -o ASSET: Gaussians fitted to a grid, with error against run time.
 
+#include "AtomicFile.h"
 #include "Commands.h"
 #include "Error.h"
 #include "Fitter.h"
@@ -228,6 +229,8 @@ void runFit(FitFlags& flags) {
     applyAblation(ablationFromName(flags.ablation), flags.settings);
     const std::string problem = flags.settings.validate();
     if (!problem.empty()) throw InputError("gvr fit", problem);
+    checkOutputPath("-o", flags.output, {flags.input});
+    if (!flags.logPath.empty()) checkOutputPath("--log", flags.logPath, {flags.input, flags.output});
 
     IngestResult loaded;
     openvdb::Int32Grid::Ptr labels;
@@ -339,7 +342,7 @@ void addFitCommand(CLI::App& app) {
                         "(comma-separated). Each structure gets Gaussians in proportion to its voxels (at least " +
                             std::to_string(kStructureFloor) + "), its own samples and seed; other voxels are "
                             "left out. --ratio then applies to each structure's own voxels");
-    command->add_option("--threads", flags->threads, "Worker threads (default: all cores)");
+    command->add_option("--threads", flags->threads, "Worker threads (default: all cores)")->check(CLI::Range(0, 1024));
     addTuningFlags(*command, flags->settings);
     addEncodingFlags(*command, flags->encoding);
     addSourceFlags(*command, flags->source);

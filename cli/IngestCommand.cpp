@@ -1,5 +1,6 @@
 // gvr ingest INPUT -o OUT.vdb: any supported volume to a sparse OpenVDB grid.
 
+#include "AtomicFile.h"
 #include "Commands.h"
 #include "GridFile.h"
 #include "GridSummary.h"
@@ -29,6 +30,7 @@ void printWarnings(const std::vector<std::string>& warnings) {
 }
 
 void runIngest(const IngestFlags& flags) {
+    checkOutputPath("-o", flags.output, {flags.input, flags.labels, flags.labelNames});
     IngestOptions options = toIngestOptions(flags.source);
     IngestResult result;
     {

@@ -134,8 +134,11 @@ void writeStats(const std::string& path, const nlohmann::json& frames) {
 void runRender(RenderFlags& flags) {
     const std::string problem = flags.shearWarp.validate();
     if (!problem.empty()) throw InputError("gvr render", problem);
-    if (!(flags.stepVoxels > 0.0 && flags.stepVoxels <= 0.5)) throw InputError("--step", "must be in (0, 0.5] voxels");
+    // Below a hundredth of a voxel a ray marches for hours and looks no different.
+    if (!(flags.stepVoxels >= 0.01 && flags.stepVoxels <= 0.5)) throw InputError("--step", "must be in [0.01, 0.5] voxels");
     if (flags.orbit < 0 || flags.orbit > 3600) throw InputError("--orbit", "must be between 1 and 3600 frames");
+    checkOutputPath("-o", flags.output, {flags.input, flags.tf});
+    if (!flags.statsPath.empty()) checkOutputPath("--stats", flags.statsPath, {flags.input, flags.output});
     const auto [width, height] = parseSize(flags.size);
     const std::optional<GaussianAsset> asset = loadAsset(flags);
     const std::unique_ptr<RenderVolume> volume = loadVolume(flags, asset);

@@ -2,6 +2,7 @@
 
 #include "Commands.h"
 #include "Error.h"
+#include "OptionGuards.h"
 
 #include <filesystem>
 #include <iostream>
@@ -21,6 +22,8 @@ int main(int argc, char** argv) {
     gvr::addRenderCommand(app);
     gvr::addBaselineCommand(app);
     gvr::addBenchCommand(app);
+    gvr::refuseNegativeUnsignedValues(app);
+    gvr::useOneLineUsageErrors(app);
     try {
         app.parse(argc, argv);
         return 0;

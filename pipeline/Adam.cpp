@@ -3,9 +3,15 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace gvr {
+
+namespace {
+/// Its square stays well inside float range.
+constexpr float kLargestGradient = 1e18f;
+}  // namespace
 
 Adam::Adam(std::size_t count, int channels, const AdamSettings& settings)
     : mSettings(settings), mFirst(count, channels), mSecond(count, channels) {}
@@ -26,8 +32,10 @@ void Adam::step(GaussianParameters& params, const GaussianParameters& gradient,
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, params.values[g].size(), 16384),
                           [&](const tbb::blocked_range<std::size_t>& range) {
             for (std::size_t k = range.begin(); k != range.end(); ++k) {
-                m[k] = beta1 * m[k] + (1.0f - beta1) * grad[k];
-                v[k] = beta2 * v[k] + (1.0f - beta2) * grad[k] * grad[k];
+                // A huge but finite gradient would make v infinite and freeze the parameter for good.
+                const float g = std::clamp(grad[k], -kLargestGradient, kLargestGradient);
+                m[k] = beta1 * m[k] + (1.0f - beta1) * g;
+                v[k] = beta2 * v[k] + (1.0f - beta2) * g * g;
                 values[k] -= rate * m[k] / (std::sqrt(v[k] * inverseCorrection2) + epsilon);
             }
         });

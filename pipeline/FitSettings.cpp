@@ -9,21 +9,24 @@ namespace gvr {
 std::string FitSettings::validate() const {
     if (iterations == 0 && !(seconds > 0.0)) return "--iterations or --time must be positive";
     if (seconds < 0.0 || !std::isfinite(seconds)) return "--time must be a finite number of seconds >= 0";
-    if (gradientSeedShare < 0.0 || uniformSeedShare < 0.0 || gradientSeedShare + uniformSeedShare <= 0.0) {
+    // Written as !(x >= 0) and the like throughout, so that NaN is refused too.
+    if (!(gradientSeedShare >= 0.0) || !(uniformSeedShare >= 0.0) || !(gradientSeedShare + uniformSeedShare > 0.0) ||
+        !std::isfinite(gradientSeedShare + uniformSeedShare)) {
         return "--gradient-share and --uniform-share must be >= 0 and not both 0";
     }
     if (voxelBatch == 0 && schedule != SliceSchedule::SlicesOnly) return "--batch must be positive";
     if (refreshEvery == 0) return "--refresh-every must be positive";
-    if (importance.uniformShare < 0.0 || importance.uniformShare > 1.0) return "--mc-lambda must lie in [0, 1]";
-    if (!(importance.epsilon > 0.0)) return "--mc-epsilon must be positive";
+    if (!(importance.uniformShare >= 0.0 && importance.uniformShare <= 1.0)) return "--mc-lambda must lie in [0, 1]";
+    if (!(importance.epsilon > 0.0) || !std::isfinite(importance.epsilon)) return "--mc-epsilon must be a positive number";
     if (slicePixels == 0 && schedule != SliceSchedule::None) return "--slice-pixels must be positive";
-    if (sliceMax < 0.0 || sliceMax > 1.0) return "--slice-max must lie in [0, 1]";
-    if (!(sliceBeta > 0.0)) return "--slice-beta must be positive";
+    if (!(sliceMax >= 0.0 && sliceMax <= 1.0)) return "--slice-max must lie in [0, 1]";
+    if (!std::isfinite(sliceGamma)) return "--slice-gamma must be a finite fraction of the budget";
+    if (!(sliceBeta > 0.0) || !std::isfinite(sliceBeta)) return "--slice-beta must be a positive number";
     if (!(learningRate > 0.0) || !std::isfinite(learningRate)) return "--lr must be positive";
     if (!(finalRateFactor > 0.0) || finalRateFactor > 1.0) return "--lr-final must lie in (0, 1]";
     if (!(cutoffSigmas >= 1.0f) || cutoffSigmas > 10.0f) return "--cutoff must lie in [1, 10] sigmas";
-    if (pruneAmplitude < 0.0) return "--prune-amplitude must be >= 0";
-    if (amplitudeSolveShare < 0.0 || amplitudeSolveShare >= 1.0) return "--solve-share must lie in [0, 1)";
+    if (!(pruneAmplitude >= 0.0) || !std::isfinite(pruneAmplitude)) return "--prune-amplitude must be a number >= 0";
+    if (!(amplitudeSolveShare >= 0.0 && amplitudeSolveShare < 1.0)) return "--solve-share must lie in [0, 1)";
     if (heldOutVoxels == 0 || logEvery == 0) return "--held-out and --log-every must be positive";
     return "";
 }

@@ -106,6 +106,9 @@ void repair(GaussianParameters& params, const openvdb::CoordBBox& box) {
         for (int a = 0; a < 3; ++a) logScale[a] = std::clamp(logScale[a], kMinLogScale, kMaxLogScale);
         float* logit = params.at(kOpacityLogits, i);
         *logit = std::clamp(*logit, -12.0f, 12.0f);
+        // Values are normalised to [0, 1]; a colour far outside is a runaway, not a fit.
+        float* colour = params.at(kColours, i);
+        for (int c = 0; c < params.channels; ++c) colour[c] = std::clamp(colour[c], -16.0f, 16.0f);
         float* q = params.at(kRotations, i);
         const float norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
         if (norm > 1e-6f) {
@@ -214,6 +217,7 @@ double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progre
 
     if (!std::isfinite(loss) || !mGradient.allFinite()) {
         ++mReport.skippedSteps;
+        mVoxelResiduals.clear();  // NaN residuals would poison the sampler's errors and the respawn order
         return loss;
     }
     mBackup = mParams;

@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -119,6 +121,46 @@ TEST(Cli, BadAssetEncodingAndSolveFlagsAreRefusedWithoutOutput) {
         EXPECT_NE(run.err.find(flag.substr(0, flag.find(' '))), std::string::npos) << run.err;
         EXPECT_FALSE(std::filesystem::exists(dir.path("bad.gvr"))) << flag;
     }
+}
+
+TEST(Cli, NegativeCountsAreRefusedNotWrapped) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    for (const std::string flag : {"--gaussians -5", "--iterations -1", "--seed -1", "--refresh-every -1", "--batch -1",
+                                   "--held-out -1", "--slice-pixels -1", "--threads -1", "--threads 100000"}) {
+        const std::string budget = flag.rfind("--iterations", 0) == 0 ? "" : "--iterations 5 ";
+        const test::CommandResult run = test::runGvr("fit -q '" + grid + "' -o '" + dir.path("bad.gvr") + "' " +
+                                                         budget + flag, dir);
+        EXPECT_EQ(run.exitCode, 2) << flag;
+        EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
+        EXPECT_EQ(run.err.rfind("gvr: error: ", 0), 0u) << run.err;
+        EXPECT_NE(run.err.find(flag.substr(0, flag.find(' '))), std::string::npos) << run.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.path("bad.gvr"))) << flag;
+    }
+}
+
+TEST(Cli, OutputsNeverReplaceInputsOrSpecialFiles) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    const std::string before = test::readBytes(grid);
+    const std::string fifo = dir.path("pipe.gvr");
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    std::filesystem::create_directory(dir.path("out"));
+    const std::string asset = dir.path("out/a.gvr");
+    for (const std::string command : {"fit -q '" + grid + "' -o '" + grid + "' --iterations 5",
+                                      "ingest '" + grid + "' -o '" + grid + "'",
+                                      "fit -q '" + grid + "' -o '" + fifo + "' --iterations 5",
+                                      "fit -q '" + grid + "' -o '" + dir.path("out") + "' --iterations 5",
+                                      "fit -q '" + grid + "' -o '" + asset + "' --iterations 5 --log '" + grid + "'",
+                                      "render '" + grid + "' -o '" + dir.path("out/x.png") + "' --stats '" +
+                                          dir.path("missing/stats.json") + "'"}) {
+        const test::CommandResult run = test::runGvr(command, dir);
+        EXPECT_EQ(run.exitCode, 2) << command << "\n" << run.err;
+        EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
+    }
+    EXPECT_EQ(test::readBytes(grid), before) << "an input was overwritten";
+    EXPECT_TRUE(std::filesystem::is_fifo(fifo)) << "the FIFO was replaced by a file";
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path("out"))) << "a refused command left a file";
 }
 
 TEST(Cli, FittingAnEmptyVolumeWarnsAndWritesAnEmptyAsset) {

@@ -115,6 +115,21 @@ TEST(Fitter, InvalidSettingsAreRejected) {
     settings = quickSettings(10, 5);
     settings.importance.uniformShare = 1.5;
     EXPECT_THROW(fitGaussians(target, settings), InputError);
+    // NaN passes every comparison: each number must be refused on its own.
+    const double nan = std::nan("");
+    for (double FitSettings::*field : {&FitSettings::sliceMax, &FitSettings::sliceGamma, &FitSettings::sliceBeta,
+                                       &FitSettings::gradientSeedShare, &FitSettings::uniformSeedShare,
+                                       &FitSettings::pruneAmplitude, &FitSettings::amplitudeSolveShare,
+                                       &FitSettings::learningRate, &FitSettings::finalRateFactor, &FitSettings::seconds}) {
+        settings = quickSettings(10, 5);
+        settings.*field = nan;
+        EXPECT_FALSE(settings.validate().empty()) << "a NaN setting was accepted";
+    }
+    for (double* value : {&settings.importance.uniformShare, &settings.importance.epsilon}) {
+        settings = quickSettings(10, 5);
+        *value = nan;
+        EXPECT_FALSE(settings.validate().empty()) << "a NaN sampler setting was accepted";
+    }
 }
 
 struct HardVolume {
