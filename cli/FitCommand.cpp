@@ -67,6 +67,7 @@ nlohmann::json settingsJson(const FitFlags& flags) {
     return {{"ablation", flags.ablation},        {"seed", s.seed},
             {"iterations", s.iterations},        {"seconds", s.seconds},
             {"batch", s.voxelBatch},             {"refresh_every", s.refreshEvery},
+            {"min_samples", s.minSamplesPerGaussian},
             {"mc_lambda", s.importance.uniformShare}, {"mc_epsilon", s.importance.epsilon},
             {"slice_pixels", s.slicePixels},     {"slice_max", s.sliceMax},
             {"slice_gamma", s.sliceGamma},       {"slice_beta", s.sliceBeta},
@@ -193,7 +194,8 @@ void report(const FitFlags& flags, const GaussianAsset& asset, double peak, cons
                                                    {"seconds", fit.amplitudeSolve.seconds},
                                                    {"psnr_before_db", jsonNumber(psnrFromMse(fit.amplitudeSolve.mseBefore, peak))},
                                                    {"psnr_after_db", jsonNumber(psnrFromMse(fit.amplitudeSolve.mseAfter, peak))}}},
-                              {"dropped_to_fit_budget", dropped}, {"peak_rss_mib", peakRssMiB()}};
+                              {"dropped_to_fit_budget", dropped}, {"peak_rss_mib", peakRssMiB()},
+                              {"gaussians_allowed_by_ratio", fit.requestedGaussians}};
         if (!structures.empty()) out["structures"] = structuresJson(asset, structures);
         std::cout << out.dump(2) << "\n";
         return;
@@ -205,7 +207,13 @@ void report(const FitFlags& flags, const GaussianAsset& asset, double peak, cons
               << double(floatBytes) / fileBytes << ":1 against float32\n"
               << "  fit:             " << fit.iterations << " iterations in " << std::setprecision(4)
               << fit.seconds << " s; " << fit.skippedSteps << " steps skipped (non-finite), "
-              << fit.pruned << " Gaussians pruned, " << fit.respawned << " respawned\n"
+              << fit.pruned << " Gaussians pruned, " << fit.respawned << " respawned\n";
+    if (fit.requestedGaussians > 0) {
+        std::cout << "  count:           fewer Gaussians than the ratio allows (" << fit.requestedGaussians
+                  << "): the time budget trains about " << flags.settings.minSamplesPerGaussian
+                  << " voxel samples each for fewer (--min-samples)\n";
+    }
+    std::cout
               << "  amplitude solve: " << fit.amplitudeSolve.iterations << " CG iterations in "
               << fit.amplitudeSolve.seconds << " s";
     if (fit.amplitudeSolve.mseBefore > 0.0) {
@@ -227,6 +235,7 @@ void runFit(FitFlags& flags) {
     tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                                 flags.threads > 0 ? flags.threads : tbb::this_task_arena::max_concurrency());
     applyAblation(ablationFromName(flags.ablation), flags.settings);
+    if (flags.gaussians > 0) flags.settings.minSamplesPerGaussian = 0.0;  // an exact count was asked for
     const std::string problem = flags.settings.validate();
     if (!problem.empty()) throw InputError("gvr fit", problem);
     checkOutputPath("-o", flags.output, {flags.input});
@@ -285,6 +294,10 @@ void runFit(FitFlags& flags) {
 void addTuningFlags(CLI::App& command, FitSettings& s) {
     command.add_option("--batch", s.voxelBatch, "Voxel samples per iteration")->capture_default_str();
     command.add_option("--refresh-every", s.refreshEvery, "K: redraw the voxel samples every K iterations")->capture_default_str();
+    command.add_option("--min-samples", s.minSamplesPerGaussian,
+                       "With --ratio and --time: fit fewer Gaussians than the ratio allows when the time cannot give "
+                       "each about this many voxel samples, measured over the first iterations (0: never)")
+        ->capture_default_str();
     command.add_option("--mc-lambda", s.importance.uniformShare, "lambda: uniform share of p(x) = lambda/n + (1-lambda) p_imp(x)")->capture_default_str();
     command.add_option("--mc-epsilon", s.importance.epsilon, "epsilon added to each block's error in p_imp")->capture_default_str();
     command.add_option("--slice-pixels", s.slicePixels, "Pixels per random slice")->capture_default_str();

@@ -27,6 +27,9 @@ std::string FitSettings::validate() const {
     if (!(cutoffSigmas >= 1.0f) || cutoffSigmas > 10.0f) return "--cutoff must lie in [1, 10] sigmas";
     if (!(pruneAmplitude >= 0.0) || !std::isfinite(pruneAmplitude)) return "--prune-amplitude must be a number >= 0";
     if (!(amplitudeSolveShare >= 0.0 && amplitudeSolveShare < 1.0)) return "--solve-share must lie in [0, 1)";
+    if (!(minSamplesPerGaussian >= 0.0) || !std::isfinite(minSamplesPerGaussian)) {
+        return "--min-samples must be a number >= 0";
+    }
     if (heldOutVoxels == 0 || logEvery == 0) return "--held-out and --log-every must be positive";
     return "";
 }

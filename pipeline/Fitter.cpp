@@ -164,6 +164,9 @@ private:
         return rates;
     }
 
+    void initialise(std::size_t count);
+    std::size_t trainableCount() const;
+    void fitCountToTheTime();
     double step(std::size_t iteration, double fraction, FitProgress& progress);
     bool refreshField();
 
@@ -179,7 +182,66 @@ private:
     std::vector<float> mVoxelResiduals;
     std::unique_ptr<Adam> mAdam;
     FitReport mReport;
+
+    /// Seconds per iteration measured at a Gaussian count, to size the count to the time.
+    struct Pace {
+        std::size_t count;
+        double secondsPerIteration;
+    };
+    static constexpr std::size_t kPaceIterations = 5;
+    std::vector<Pace> mPaces;
+    bool mPacing = false;
+    double mPaceStart = 0.0;
+    std::size_t mPaceIterations = 0;
 };
+
+void FitLoop::initialise(std::size_t count) {
+    SeedSettings seeds;
+    seeds.count = count;
+    seeds.gradientShare = mSettings.gradientSeedShare;
+    seeds.uniformShare = mSettings.uniformSeedShare;
+    seeds.seed = streamSeed(mSettings.seed, kSeeds, 0);
+    mParams = initialiseGaussians(mTarget, seeds);
+    mAdam = std::make_unique<Adam>(mParams.count(), mParams.channels);
+    mVoxels = SampleSet();
+    mVoxelResiduals.clear();
+    mLastDraw.clear();
+    mPaceStart = elapsed();
+    mPaceIterations = 0;
+}
+
+/// The count that the rest of the time can train with minSamplesPerGaussian voxel
+/// samples each, if an iteration over m Gaussians takes a + b m seconds: from one
+/// pace, a constant (which undercounts, since fewer Gaussians are faster); from two,
+/// the line through both.
+std::size_t FitLoop::trainableCount() const {
+    const double samples = std::max(adamSeconds() - elapsed(), 0.0) * double(mSettings.voxelBatch) /
+                           mSettings.minSamplesPerGaussian;  // R: m (a + b m) = R
+    double a = mPaces.back().secondsPerIteration, b = 0.0;
+    if (mPaces.size() >= 2) {
+        const Pace& first = mPaces[0];
+        const Pace& last = mPaces.back();
+        b = std::max((first.secondsPerIteration - last.secondsPerIteration) / (double(first.count) - double(last.count)), 0.0);
+        a = std::max(last.secondsPerIteration - b * double(last.count), 1e-6);
+    }
+    const double count = b > 0.0 ? (-a + std::sqrt(a * a + 4.0 * b * samples)) / (2.0 * b) : samples / a;
+    return std::size_t(std::clamp(count, 1.0, double(mSettings.gaussians)));
+}
+
+/// After kPaceIterations timed iterations: if the time cannot train this many
+/// Gaussians, start again with as many as it can (at most twice: the second pace
+/// corrects the first's undercount).
+void FitLoop::fitCountToTheTime() {
+    mPaces.push_back({mParams.count(), (elapsed() - mPaceStart) / double(kPaceIterations)});
+    const std::size_t current = mParams.count();
+    const std::size_t trainable = trainableCount();
+    const bool shrink = mPaces.size() == 1 && double(current) > 1.25 * double(trainable);
+    const bool grow = mPaces.size() == 2 && double(trainable) > 1.25 * double(current);
+    mPacing = shrink;  // a second pace only after shrinking
+    if (!shrink && !grow) return;
+    mReport.requestedGaussians = mSettings.gaussians;
+    initialise(trainable);
+}
 
 /// Brings the field up to date with the parameters; rebuilds the BVH only when
 /// a Gaussian has left its slack box. @return true when the BVH was rebuilt.
@@ -253,19 +315,14 @@ void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOut
 }
 
 GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) {
-    SeedSettings seeds;
-    seeds.count = mSettings.gaussians;
-    seeds.gradientShare = mSettings.gradientSeedShare;
-    seeds.uniformShare = mSettings.uniformSeedShare;
-    seeds.seed = streamSeed(mSettings.seed, kSeeds, 0);
-    mParams = initialiseGaussians(mTarget, seeds);
-    mAdam = std::make_unique<Adam>(mParams.count(), mParams.channels);
     const std::vector<VoxelSample> heldOutDraw =
         heldOutVoxels(mTarget, mSettings.heldOutVoxels, streamSeed(mSettings.seed, kHeldOut, 0));
     std::vector<openvdb::Coord> heldOutCoords;
     for (const VoxelSample& sample : heldOutDraw) heldOutCoords.push_back(sample.ijk);
     mSampler.exclude(heldOutCoords);  // an honest PSNR curve: training never sees them
     const SampleSet heldOut = voxelSampleSet(mTarget, heldOutDraw);
+    initialise(mSettings.gaussians);
+    mPacing = mSettings.seconds > 0.0 && mSettings.minSamplesPerGaussian > 0.0 && mSettings.voxelBatch > 0;
 
     std::size_t iteration = 0;
     while (mParams.count() > 0) {
@@ -274,6 +331,7 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
         FitProgress progress;
         progress.loss = step(iteration, fraction, progress);
         ++iteration;
+        if (mPacing && ++mPaceIterations == kPaceIterations) fitCountToTheTime();
 
         if (mSettings.pruneEvery > 0 && iteration % mSettings.pruneEvery == 0 && !mVoxelResiduals.empty()) {
             const std::size_t budget = mParams.count();

@@ -108,6 +108,28 @@ TEST(Fitter, CurriculumWeightsFollowTheSchedule) {
     EXPECT_EQ(sliceWeight(settings, 0.9), 0.0);
 }
 
+TEST(Fitter, ATimeBudgetTooShortForTheCountFitsFewerGaussians) {
+    const VolumeTarget target(test::makeGrid({32, 28, 24}, blob), "blobs");
+    FitSettings settings = quickSettings(2000, 0);
+    settings.seconds = 1.5;
+    settings.amplitudeSolveIterations = 0;
+    settings.pruneEvery = 0;  // counts then change only by the time budget
+    // 2000 Gaussians x 100,000 samples / 4096 per iteration: about 49,000 iterations,
+    // which no machine runs in 1.5 s.
+    settings.minSamplesPerGaussian = 100000.0;
+    FitReport report;
+    const GaussianParameters fewer = fitGaussians(target, settings, {}, &report);
+    EXPECT_EQ(report.requestedGaussians, 2000u);
+    EXPECT_LT(fewer.count(), 2000u / 2);
+    EXPECT_GT(fewer.count(), 0u);
+    EXPECT_TRUE(fewer.allFinite());
+
+    settings.minSamplesPerGaussian = 0.0;  // the count as asked, however short the time
+    const GaussianParameters asked = fitGaussians(target, settings, {}, &report);
+    EXPECT_EQ(report.requestedGaussians, 0u);
+    EXPECT_EQ(asked.count(), 2000u);
+}
+
 TEST(Fitter, InvalidSettingsAreRejected) {
     const VolumeTarget target(test::makeGrid({8, 8, 8}, blob), "blobs");
     FitSettings settings = quickSettings(10, 0);
