@@ -341,7 +341,9 @@ void addFitCommand(CLI::App& app) {
     command->add_option("input", flags->input, "Grid (.vdb) or source volume")->required();
     command->add_option("-o,--output", flags->output, "Asset file to write (any name)")->required();
     auto* ratio = command->add_option("--ratio", flags->ratio, "Target compression ratio against the raw source bytes")->capture_default_str();
-    command->add_option("--gaussians", flags->gaussians, "Fit exactly this many Gaussians instead")->excludes(ratio);
+    command->add_option("--gaussians", flags->gaussians, "Fit exactly this many Gaussians instead")
+        ->excludes(ratio)
+        ->check(CLI::Range(std::size_t(1), std::size_t(1) << 32));
     auto* time = command->add_option("--time", flags->settings.seconds, "Time budget in seconds")->capture_default_str();
     command->add_option("--iterations", flags->settings.iterations,
                         "Iteration budget; with it the result is reproducible byte for byte")

@@ -8,7 +8,7 @@ namespace gvr {
 
 void addSourceFlags(CLI::App& command, SourceFlags& flags, bool withThreshold) {
     command.add_option("--volume", flags.volume, "Volume of a 4D NIfTI or frame of an MGH to read")
-        ->check(CLI::NonNegativeNumber);
+        ->check(CLI::Range(0, 1 << 30));
     command.add_option("--spacing", flags.spacing,
                        "Voxel size X,Y,Z in mm for stacks and raw data (default 1,1,1)")
         ->delimiter(',')->expected(3);
@@ -29,11 +29,14 @@ void addSourceFlags(CLI::App& command, SourceFlags& flags, bool withThreshold) {
     command.add_option("--nan-to", flags.nanTo, "Replace NaN/Inf samples with this value "
                                                 "(default: reject the file)");
     command.add_option("--modality", flags.modality, "Override the modality (CT, MR, ...)");
+    command.add_flag("--data-files-anywhere", flags.dataFilesAnywhere,
+                     "Let a header (MetaImage ElementDataFile) name a data file outside its own folder");
 }
 
 IngestOptions toIngestOptions(const SourceFlags& flags) {
     IngestOptions options;
     options.read.volumeIndex = flags.volume;
+    options.read.dataFilesAnywhere = flags.dataFilesAnywhere;
     if (!flags.spacing.empty()) {
         for (double s : flags.spacing) {
             if (!(s > 0.0) || !std::isfinite(s)) {

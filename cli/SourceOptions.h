@@ -23,6 +23,7 @@ struct SourceFlags {
     std::optional<double> threshold;
     std::optional<float> nanTo;
     std::string modality;
+    bool dataFilesAnywhere = false;
 };
 
 /// Adds --volume, --spacing, --raw-*, --threshold, --nan-to and --modality to @a command;

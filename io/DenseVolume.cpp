@@ -23,4 +23,10 @@ void allocateSamples(DenseVolume& volume, const std::string& file) {
     volume.samples.assign(volume.sampleBytes(), 0);
 }
 
+void reserveSamples(DenseVolume& volume, const std::string& file) {
+    checkVolumeFitsInMemory(file, volume.dims, volume.channels, bytesPerSample(volume.type));
+    volume.samples.clear();
+    volume.samples.reserve(volume.sampleBytes());
+}
+
 }  // namespace gvr

@@ -53,4 +53,8 @@ openvdb::math::Mat4d worldFromSpacing(const openvdb::Vec3d& spacingMm);
 /// @throw InputError naming @a file when the header asks for an absurd size.
 void allocateSamples(DenseVolume& volume, const std::string& file);
 
+/// The same check, but the buffer is only reserved and left empty: a reader appends
+/// what the file really holds, so a forged header costs address space, not memory.
+void reserveSamples(DenseVolume& volume, const std::string& file);
+
 }  // namespace gvr

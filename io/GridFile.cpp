@@ -4,6 +4,7 @@
 #include "Error.h"
 #include "VolumeMetadata.h"
 
+#include <filesystem>
 #include <fstream>
 
 namespace gvr {
@@ -21,6 +22,7 @@ namespace {
 
 openvdb::GridPtrVecPtr readGrids(const std::string& path, bool voxels) {
     initializeOpenVdb();
+    if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
     if (!isVdbFile(path)) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
     try {
         openvdb::io::File file(path);

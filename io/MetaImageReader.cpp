@@ -5,6 +5,7 @@
 #include "Readers.h"
 #include "SampleFile.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -23,6 +24,14 @@ std::string trim(const std::string& text) {
     const auto begin = text.find_first_not_of(" \t\r");
     if (begin == std::string::npos) return "";
     return text.substr(begin, text.find_last_not_of(" \t\r") - begin + 1);
+}
+
+/// True when @a file, links resolved, lies in @a folder or below it.
+bool liesBelow(const std::filesystem::path& file, const std::filesystem::path& folder) {
+    namespace fs = std::filesystem;
+    const fs::path base = fs::weakly_canonical(folder.empty() ? fs::path(".") : folder);
+    const fs::path resolved = fs::weakly_canonical(file);
+    return std::mismatch(base.begin(), base.end(), resolved.begin(), resolved.end()).first == base.end();
 }
 
 /// Reads "Key = Value" lines up to ElementDataFile, which MetaImage requires last.
@@ -127,7 +136,7 @@ DenseVolume readMetaImage(const std::string& path, const ReadOptions& options) {
     }
     const std::vector<double> size = numbers(header, "DimSize", std::size_t(ndims), path);
     DenseVolume volume;
-    // Out-of-range sizes become 0 so that allocateSamples() rejects them by name.
+    // Out-of-range sizes become 0 so that reserveSamples() rejects them by name.
     const auto dimension = [&](std::size_t axis) -> std::int64_t {
         if (axis >= size.size()) return 1;
         return size[axis] >= 1 && size[axis] < 9e18 ? std::int64_t(size[axis]) : 0;
@@ -145,13 +154,17 @@ DenseVolume readMetaImage(const std::string& path, const ReadOptions& options) {
     if (dataFile == "LIST" || dataFile.find('%') != std::string::npos) {
         throw InputError(path, "MetaImage ElementDataFile '" + dataFile + "' (slice lists) is not supported");
     }
-    allocateSamples(volume, path);
+    reserveSamples(volume, path);  // the sample reader allocates as data arrives
 
     const bool local = dataFile == "LOCAL";
     const std::string samplesPath =
         local ? path : (std::filesystem::path(path).parent_path() / dataFile).string();
     if (!local && !std::filesystem::exists(samplesPath)) {
         throw InputError(path, "ElementDataFile " + samplesPath + " does not exist");
+    }
+    if (!local && !options.dataFilesAnywhere && !liesBelow(samplesPath, std::filesystem::path(path).parent_path())) {
+        throw InputError(path, "ElementDataFile " + dataFile +
+                                   " lies outside the header's folder (allow it with --data-files-anywhere)");
     }
     const std::uint64_t offset = local ? header.endOffset : 0;
     if (isTrue(header, "CompressedData")) {

@@ -114,7 +114,7 @@ DenseVolume readMgh(const std::string& path, const ReadOptions& options) {
                                    " is out of range: the file holds " + std::to_string(frames) +
                                    " frame(s)");
     }
-    allocateSamples(volume, path);
+    reserveSamples(volume, path);  // the sample reader allocates as data arrives
 
     readGzipSamples(path, kHeaderBytes + volume.sampleBytes() * std::uint64_t(options.volumeIndex),
                     /*bigEndian=*/true, volume);

@@ -8,7 +8,9 @@
 #include <zlib.h>
 
 #include <cmath>
+#include <cstring>
 #include <memory>
+#include <sstream>
 
 namespace gvr {
 
@@ -19,21 +21,57 @@ struct NiftiImageDeleter {
 };
 using NiftiImagePtr = std::unique_ptr<nifti_image, NiftiImageDeleter>;
 
-/// nifticlib only says "failed" on stderr, so look at sizeof_hdr ourselves first to
+/// What nifticlib does not tell: the header's size, and vox_offset as written
+/// (nifticlib quietly moves an offset it cannot use to the end of the header).
+struct RawHeader {
+    int size = 0;           // 348 (NIfTI-1) or 540 (NIfTI-2)
+    double voxOffset = 0.0;
+};
+
+template <typename T>
+T fieldAt(const unsigned char* bytes, std::size_t offset, bool swap) {
+    unsigned char copy[sizeof(T)];
+    for (std::size_t k = 0; k < sizeof(T); ++k) copy[k] = bytes[offset + (swap ? sizeof(T) - 1 - k : k)];
+    T value;
+    std::memcpy(&value, copy, sizeof(T));
+    return value;
+}
+
+/// nifticlib only says "failed" on stderr, so read the header ourselves first to
 /// tell a truncated or foreign file from a corrupt header.
-void checkHeaderSize(const std::string& path) {
+RawHeader readRawHeader(const std::string& path) {
     gzFile file = gzopen(path.c_str(), "rb");
     if (!file) throw InputError(path, "cannot open file");
-    std::int32_t sizeofHdr = 0;
-    const int got = gzread(file, &sizeofHdr, sizeof sizeofHdr);
+    unsigned char bytes[540] = {};
+    const int got = gzread(file, bytes, sizeof bytes);
     gzclose(file);
-    if (got != int(sizeof sizeofHdr)) throw InputError(path, "file is too short for a NIfTI header");
-    const std::int32_t swapped = std::int32_t(__builtin_bswap32(std::uint32_t(sizeofHdr)));
-    for (std::int32_t size : {sizeofHdr, swapped}) {
-        if (size == 348 || size == 540) return;
+    if (got < 4) throw InputError(path, "file is too short for a NIfTI header");
+    for (bool swap : {false, true}) {
+        const std::int32_t size = fieldAt<std::int32_t>(bytes, 0, swap);
+        if ((size != 348 && size != 540) || got < size) continue;
+        RawHeader header;
+        header.size = size;
+        header.voxOffset = size == 348 ? double(fieldAt<float>(bytes, 108, swap)) : fieldAt<double>(bytes, 168, swap);
+        return header;
     }
-    throw InputError(path, "corrupt NIfTI header: sizeof_hdr is " + std::to_string(sizeofHdr) +
+    const std::int32_t size = fieldAt<std::int32_t>(bytes, 0, false);
+    if (size == 348 || size == 540) throw InputError(path, "file is too short for its NIfTI header");
+    throw InputError(path, "corrupt NIfTI header: sizeof_hdr is " + std::to_string(size) +
                                " (expected 348 for NIfTI-1 or 540 for NIfTI-2)");
+}
+
+/// The samples must start where the header says, after the header in a one-file
+/// NIfTI (anywhere in a .hdr/.img pair's .img), at a whole byte.
+void checkVoxOffset(const std::string& path, const RawHeader& header, const nifti_image& image) {
+    const bool oneFile = std::string(image.iname) == std::string(image.fname);
+    const double lowest = oneFile ? double(header.size + 4) : 0.0;
+    const double offset = header.voxOffset;
+    if (!(offset >= lowest) || offset != std::floor(offset) || double(image.iname_offset) != offset) {
+        std::ostringstream text;
+        text << "corrupt NIfTI header: vox_offset " << offset << " is not a usable data offset (a whole number of bytes, at least "
+             << lowest << ")";
+        throw InputError(path, text.str());
+    }
 }
 
 struct Layout {
@@ -82,10 +120,11 @@ openvdb::math::Mat4d worldFromIndexOf(const nifti_image& image, DenseVolume& vol
 }  // namespace
 
 DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
-    checkHeaderSize(path);
+    const RawHeader header = readRawHeader(path);
     nifti_set_debug_level(0);
     NiftiImagePtr image(nifti_image_read(path.c_str(), /*read_data=*/0));
     if (!image) throw InputError(path, "corrupt NIfTI header (nifticlib could not parse it)");
+    checkVoxOffset(path, header, *image);
 
     DenseVolume volume;
     const Layout layout = layoutOf(*image, path);
@@ -117,7 +156,7 @@ DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
         volume.intercept = image->scl_inter;
     }
 
-    allocateSamples(volume, path);
+    reserveSamples(volume, path);  // the sample reader allocates as data arrives
     // The samples are read with zlib rather than nifticlib, which prints to stderr
     // on a short read and frees the caller's buffer.
     const std::uint64_t offset =

@@ -12,7 +12,7 @@ DenseVolume readRaw(const std::string& path, const ReadOptions& options) {
     volume.type = layout.type;
     volume.channels = layout.channels;
     setGivenSpacing(options, volume);
-    allocateSamples(volume, path);
+    reserveSamples(volume, path);  // the sample reader allocates as data arrives
     readPlainSamples(path, layout.headerBytes, layout.bigEndian, volume);
     return volume;
 }

@@ -31,6 +31,10 @@ struct ReadOptions {
     /// Voxel size in mm for formats that do not store one (stacks, raw).
     std::optional<openvdb::Vec3d> spacingMm;
     std::optional<RawLayout> raw;  ///< set: read INPUT as raw samples
+    /// A header may name its data file (MetaImage's ElementDataFile). Unless this is
+    /// set, that file must lie in the header's folder or below it, so that a header
+    /// from elsewhere cannot make gvr read, say, ../../etc/passwd into a grid.
+    bool dataFilesAnywhere = false;
     ProgressFn progress;
 };
 

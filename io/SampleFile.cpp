@@ -14,6 +14,9 @@ namespace gvr {
 
 namespace {
 
+/// Buffers grow by this much as decompressed bytes arrive.
+constexpr std::uint64_t kGrowBytes = 64u << 20;
+
 void toHostOrder(DenseVolume& volume, bool bigEndian) {
     const std::size_t width = bytesPerSample(volume.type);
     gvr::toHostOrder(volume.samples.data(), volume.samples.size() / width, width, bigEndian);
@@ -24,7 +27,7 @@ void toHostOrder(DenseVolume& volume, bool bigEndian) {
 void readPlainSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
                       DenseVolume& volume) {
     const std::uint64_t size = std::filesystem::file_size(file);
-    const std::uint64_t needed = offset + volume.samples.size();
+    const std::uint64_t needed = offset + volume.sampleBytes();
     if (size < needed) {
         throw InputError(file, "truncated: voxel data needs " + std::to_string(needed) +
                                    " bytes, the file has " + std::to_string(size));
@@ -33,6 +36,7 @@ void readPlainSamples(const std::string& file, std::uint64_t offset, bool bigEnd
         volume.warnings.push_back(file + ": " + std::to_string(size - needed) +
                                   " bytes after the voxel data are ignored");
     }
+    allocateSamples(volume, file);
     std::ifstream in(file, std::ios::binary);
     in.seekg(std::streamoff(offset));
     in.read(reinterpret_cast<char*>(volume.samples.data()), std::streamsize(volume.samples.size()));
@@ -44,20 +48,32 @@ void readGzipSamples(const std::string& file, std::uint64_t offset, bool bigEndi
                      DenseVolume& volume) {
     gzFile stream = gzopen(file.c_str(), "rb");
     if (!stream) throw InputError(file, "cannot open file");
+    reserveSamples(volume, file);
+    const std::uint64_t expected = volume.sampleBytes();
     std::uint64_t filled = 0;
     if (gzseek(stream, z_off_t(offset), SEEK_SET) == z_off_t(offset)) {
-        while (filled < volume.samples.size()) {
-            const unsigned chunk =
-                unsigned(std::min<std::uint64_t>(volume.samples.size() - filled, 1u << 30));
-            const int got = gzread(stream, volume.samples.data() + filled, chunk);
+        while (filled < expected) {
+            const std::uint64_t chunk = std::min<std::uint64_t>(expected - filled, kGrowBytes);
+            volume.samples.resize(filled + chunk);  // within the reserve: no copy
+            const int got = gzread(stream, volume.samples.data() + filled, unsigned(chunk));
             if (got <= 0) break;
             filled += std::uint64_t(got);
         }
+        // Read on to the end, so that zlib checks the gzip CRC of what was read.
+        std::vector<unsigned char> rest(1 << 16);
+        while (filled == expected && gzread(stream, rest.data(), unsigned(rest.size())) > 0) {
+        }
     }
+    int code = Z_OK;
+    const std::string zlibMessage = gzerror(stream, &code);
     gzclose(stream);
-    if (filled != volume.samples.size()) {
+    volume.samples.resize(filled);
+    if (code == Z_DATA_ERROR || code == Z_STREAM_ERROR || code == Z_MEM_ERROR) {
+        throw InputError(file, "corrupt compressed data (zlib: " + zlibMessage + ")");
+    }
+    if (filled != expected) {
         throw InputError(file, "truncated: voxel data holds " + std::to_string(filled) +
-                                   " bytes, expected " + std::to_string(volume.samples.size()));
+                                   " bytes, expected " + std::to_string(expected));
     }
     toHostOrder(volume, bigEndian);
 }
@@ -68,13 +84,23 @@ void readDeflatedSamples(const std::string& file, std::uint64_t offset, bool big
     in.seekg(std::streamoff(offset));
     z_stream stream{};
     if (inflateInit2(&stream, 15 + 32) != Z_OK) throw InputError(file, "zlib initialisation failed");
-    const std::uint64_t expected = volume.samples.size();
-    stream.next_out = volume.samples.data();
-    std::vector<unsigned char> chunk(1 << 20);
+    reserveSamples(volume, file);
+    const std::uint64_t expected = volume.sampleBytes();
+    std::vector<unsigned char> chunk(1 << 20), beyond(1 << 16);
     int status = Z_OK;
-    while (status == Z_OK && stream.total_out < expected) {
-        if (stream.avail_out == 0) {  // avail_out is 32-bit: feed large volumes in parts
-            stream.avail_out = uInt(std::min<std::uint64_t>(expected - stream.total_out, 1u << 30));
+    // Inflate to the stream's end even after the last sample, so that zlib checks
+    // the stream's Adler-32 or CRC; output past the samples goes to scratch.
+    while (status == Z_OK) {
+        if (stream.avail_out == 0) {  // grown in steps, within the reserve
+            const std::uint64_t produced = stream.total_out;
+            if (produced < expected) {
+                volume.samples.resize(std::min<std::uint64_t>(expected, produced + kGrowBytes));
+                stream.next_out = volume.samples.data() + produced;
+                stream.avail_out = uInt(volume.samples.size() - produced);
+            } else {
+                stream.next_out = beyond.data();
+                stream.avail_out = uInt(beyond.size());
+            }
         }
         if (stream.avail_in == 0) {
             in.read(reinterpret_cast<char*>(chunk.data()), std::streamsize(chunk.size()));
@@ -86,6 +112,7 @@ void readDeflatedSamples(const std::string& file, std::uint64_t offset, bool big
     }
     const std::uint64_t produced = stream.total_out;
     inflateEnd(&stream);
+    volume.samples.resize(std::min(produced, expected));
     if (status != Z_OK && status != Z_STREAM_END) {
         throw InputError(file, "corrupt compressed voxel data (zlib error " +
                                    std::to_string(status) + ")");
@@ -95,6 +122,7 @@ void readDeflatedSamples(const std::string& file, std::uint64_t offset, bool big
                                    std::to_string(produced) + " bytes, expected " +
                                    std::to_string(expected));
     }
+    if (status != Z_STREAM_END) throw InputError(file, "truncated: the compressed stream ends before its checksum");
     toHostOrder(volume, bigEndian);
 }
 

@@ -233,6 +233,10 @@ std::size_t FitLoop::trainableCount() const {
 /// corrects the first's undercount).
 void FitLoop::fitCountToTheTime() {
     mPaces.push_back({mParams.count(), (elapsed() - mPaceStart) / double(kPaceIterations)});
+    if (elapsed() > 0.5 * adamSeconds()) {  // too late to start again: keep what has been trained
+        mPacing = false;
+        return;
+    }
     const std::size_t current = mParams.count();
     const std::size_t trainable = trainableCount();
     const bool shrink = mPaces.size() == 1 && double(current) > 1.25 * double(trainable);

@@ -7,6 +7,10 @@
 #include "TestHelpers.h"
 
 #include <nifti2_io.h>
+#include <sys/resource.h>
+
+#include <cmath>
+#include <cstring>
 
 namespace gvr {
 namespace {
@@ -59,6 +63,27 @@ TEST(BadInput, CorruptNiftiHeader) {
     const std::string path = plainCh2(dir);
     patchInt16(path, 0, 1234);  // sizeof_hdr
     expectMentions(ingestError(path), "corrupt NIfTI header");
+}
+
+TEST(BadInput, NiftiVoxOffsetThatCannotBeUsed) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    for (float offset : {-100.0f, 0.0f, 100.0f, 352.5f, std::nanf("")}) {
+        const std::string path = plainCh2(dir);
+        std::string bytes = test::readBytes(path);
+        std::memcpy(&bytes[108], &offset, sizeof offset);  // vox_offset
+        test::writeBytes(path, bytes);
+        expectMentions(ingestError(path), "vox_offset");
+    }
+    // Beyond the end of the file: the samples are missing, not shifted.
+    const std::string path = plainCh2(dir);
+    std::string bytes = test::readBytes(path);
+    const float far = 1e12f;
+    std::memcpy(&bytes[108], &far, sizeof far);
+    test::writeBytes(path, bytes);
+    const std::string message = ingestError(path);
+    EXPECT_TRUE(message.find("vox_offset") != std::string::npos || message.find("truncated") != std::string::npos)
+        << message;
 }
 
 TEST(BadInput, DimensionsBeyondMemoryAreRefusedBeforeAllocating) {
@@ -146,6 +171,34 @@ TEST(BadInput, TruncatedMgzAndCorruptMghHeader) {
     expectMentions(ingestError(cut), cut + ": truncated");
     test::writeBytes(dir.path("junk.mgh"), std::string(300, '\x7f'));
     expectMentions(ingestError(dir.path("junk.mgh")), "corrupt MGH header");
+}
+
+TEST(BadInput, CompressedDataThatFailsItsCrcIsRefused) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    for (const std::string source : {"mri-freesurfer-norm-aparc/norm.mgz", "mri-colin27-aal/ch2.nii.gz"}) {
+        const std::string clean = test::readBytes(test::sharedData(source));
+        for (double at : {0.3, 0.6, 0.9}) {
+            std::string bytes = clean;
+            bytes[std::size_t(at * double(bytes.size()))] ^= 0x5a;
+            const std::string path = dir.path("flipped-" + std::to_string(int(at * 10)) +
+                                              (source.find(".mgz") != std::string::npos ? ".mgz" : ".nii.gz"));
+            test::writeBytes(path, bytes);
+            expectMentions(ingestError(path), path + ": corrupt compressed data");
+        }
+    }
+}
+
+TEST(BadInput, AHeaderClaimingMoreThanTheFileHoldsCostsNoMemory) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string path = plainCh2(dir);
+    for (std::size_t offset : {42u, 44u, 46u}) patchInt16(path, offset, 1600);  // dim[1..3]: 4.1 GB of uint8
+    rusage before{}, after{};
+    getrusage(RUSAGE_SELF, &before);
+    expectMentions(ingestError(path), "truncated");
+    getrusage(RUSAGE_SELF, &after);
+    EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 1L << 20) << "KiB of peak memory for a 7 MB file";
 }
 
 TEST(BadInput, TruncatedAndForeignVdb) {

@@ -126,7 +126,7 @@ TEST(Cli, BadAssetEncodingAndSolveFlagsAreRefusedWithoutOutput) {
 TEST(Cli, NegativeCountsAreRefusedNotWrapped) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
-    for (const std::string flag : {"--gaussians -5", "--iterations -1", "--seed -1", "--refresh-every -1", "--batch -1",
+    for (const std::string flag : {"--gaussians -5", "--gaussians 0", "--iterations -1", "--seed -1", "--refresh-every -1", "--batch -1",
                                    "--held-out -1", "--slice-pixels -1", "--threads -1", "--threads 100000"}) {
         const std::string budget = flag.rfind("--iterations", 0) == 0 ? "" : "--iterations 5 ";
         const test::CommandResult run = test::runGvr("fit -q '" + grid + "' -o '" + dir.path("bad.gvr") + "' " +

@@ -50,6 +50,12 @@ TEST(GridFile, RejectsFilesThatAreNotVdb) {
     test::TempDir dir;
     test::writeBytes(dir.path("fake.vdb"), "definitely not a vdb file");
     EXPECT_THROW(readGridFile(dir.path("fake.vdb")), InputError);
+    try {
+        readGridFile(dir.path("missing.vdb"));
+        ADD_FAILURE() << "a missing file was read";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("no such file"), std::string::npos) << error.what();
+    }
 }
 
 }  // namespace

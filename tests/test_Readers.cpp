@@ -100,6 +100,29 @@ TEST(MetaImageReader, DetachedAndCompressedData) {
     EXPECT_THROW(readMetaImage(dir.path("v.mhd"), {}), InputError);
 }
 
+TEST(MetaImageReader, DataFilesOutsideTheHeadersFolderNeedPermission) {
+    test::TempDir dir;
+    std::filesystem::create_directories(dir.path("headers/sub"));
+    const std::string samples = shortSamples({1, 2, 3, 4}, false);
+    test::writeBytes(dir.path("outside.raw"), samples);
+    test::writeBytes(dir.path("headers/sub/inside.raw"), samples);
+    for (const std::string& named : {std::string("../outside.raw"), dir.path("outside.raw"),
+                                     std::string("sub/../../outside.raw")}) {
+        test::writeBytes(dir.path("headers/v.mhd"), metaHeader("", named));
+        try {
+            readMetaImage(dir.path("headers/v.mhd"), {});
+            ADD_FAILURE() << named << " was read";
+        } catch (const InputError& error) {
+            EXPECT_NE(std::string(error.what()).find("outside the header's folder"), std::string::npos) << error.what();
+        }
+        ReadOptions anywhere;
+        anywhere.dataFilesAnywhere = true;
+        EXPECT_EQ(readMetaImage(dir.path("headers/v.mhd"), anywhere).data<std::int16_t>()[3], 4) << named;
+    }
+    test::writeBytes(dir.path("headers/v.mhd"), metaHeader("", "sub/inside.raw"));
+    EXPECT_EQ(readMetaImage(dir.path("headers/v.mhd"), {}).data<std::int16_t>()[3], 4);
+}
+
 /// An MGH file of 2x2x2 uint8 in FreeSurfer's LIA orientation, centred at c_ras.
 std::string mghBytes() {
     std::string bytes;
