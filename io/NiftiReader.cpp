@@ -100,7 +100,7 @@ Layout layoutOf(const nifti_image& image, const std::string& path) {
 }
 
 /// sform if set, else qform, else the voxel sizes alone (NIfTI's "method 1").
-openvdb::math::Mat4d worldFromIndexOf(const nifti_image& image, DenseVolume& volume) {
+openvdb::math::Mat4d worldFromIndexOf(const std::string& path, const nifti_image& image, DenseVolume& volume) {
     const nifti_dmat44* matrix = nullptr;
     if (image.sform_code > 0) matrix = &image.sto_xyz;
     else if (image.qform_code > 0) matrix = &image.qto_xyz;
@@ -109,7 +109,14 @@ openvdb::math::Mat4d worldFromIndexOf(const nifti_image& image, DenseVolume& vol
                          {0, 0, std::abs(image.dz), 0}};
     if (matrix) {
         for (int r = 0; r < 3; ++r) {
-            for (int c = 0; c < 4; ++c) rows[r][c] = matrix->m[r][c];
+            for (int c = 0; c < 4; ++c) {
+                rows[r][c] = matrix->m[r][c];
+                if (!std::isfinite(rows[r][c])) {
+                    throw InputError(path, std::string("corrupt NIfTI header: the ") +
+                                               (matrix == &image.sto_xyz ? "sform" : "qform") +
+                                               " holds a value that is not finite");
+                }
+            }
         }
     } else {
         volume.warnings.push_back("no sform or qform: orientation unknown, using voxel sizes only");
@@ -149,7 +156,7 @@ DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
                                   " volumes: reading volume " +
                                   std::to_string(options.volumeIndex) + " (choose with --volume)");
     }
-    volume.worldFromIndex = worldFromIndexOf(*image, volume);
+    volume.worldFromIndex = worldFromIndexOf(path, *image, volume);
     if (image->scl_slope != 0.0 && std::isfinite(image->scl_slope) &&
         std::isfinite(image->scl_inter)) {
         volume.slope = image->scl_slope;

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace gvr {
 namespace {
@@ -84,6 +85,23 @@ TEST(BadInput, NiftiVoxOffsetThatCannotBeUsed) {
     const std::string message = ingestError(path);
     EXPECT_TRUE(message.find("vox_offset") != std::string::npos || message.find("truncated") != std::string::npos)
         << message;
+}
+
+TEST(BadInput, NiftiSformWithAnInfiniteOffset) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string path = plainCh2(dir);
+    std::string bytes = test::readBytes(path);
+    std::int16_t sformCode = 0;
+    std::memcpy(&sformCode, &bytes[254], sizeof sformCode);
+    if (sformCode == 0) {  // make the sform the one in use
+        sformCode = 1;
+        std::memcpy(&bytes[254], &sformCode, sizeof sformCode);
+    }
+    const float infinite = std::numeric_limits<float>::infinity();
+    std::memcpy(&bytes[292], &infinite, sizeof infinite);  // srow_x[3], the x offset
+    test::writeBytes(path, bytes);
+    expectMentions(ingestError(path), "sform holds a value that is not finite");
 }
 
 TEST(BadInput, DimensionsBeyondMemoryAreRefusedBeforeAllocating) {
