@@ -353,6 +353,15 @@ GaussianAsset readAsset(const std::string& path) {
     if (!asset.params.allFinite() || !std::isfinite(asset.cutoffSigmas) || !(asset.mapping.scale != 0.0)) {
         throw InputError(path, "corrupt asset: non-finite values");
     }
+    // Valid numbers can still describe nothing usable: a fit never writes these.
+    if (!(asset.cutoffSigmas >= 1.0f && asset.cutoffSigmas <= 10.0f)) {
+        throw InputError(path, "corrupt asset: cutoff of " + std::to_string(asset.cutoffSigmas) +
+                                   " sigmas (gvr writes 1 to 10)");
+    }
+    const double determinant = asset.worldFromIndex.getMat3().det();
+    if (!std::isfinite(determinant) || std::abs(determinant) < 1e-12) {
+        throw InputError(path, "corrupt asset: its index-to-world transform is singular or not finite");
+    }
     return asset;
 }
 

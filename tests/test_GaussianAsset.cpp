@@ -152,6 +152,28 @@ std::string withCount(const std::string& bytes, std::size_t count) {
     return out + text + bytes.substr(16 + headerBytes);
 }
 
+TEST(GaussianAsset, ValidButAbsurdNumbersAreRefused) {
+    test::TempDir dir;
+    const auto refusal = [&](GaussianAsset asset) {
+        writeAsset(dir.path("odd.gvr"), asset);  // a well-formed file with a correct checksum
+        try {
+            readAsset(dir.path("odd.gvr"));
+        } catch (const InputError& error) {
+            return std::string(error.what());
+        }
+        return std::string("read without complaint");
+    };
+    for (float cutoff : {0.0f, -3.0f, 0.5f, 1e6f}) {
+        GaussianAsset asset = randomAsset(20, 1);
+        asset.cutoffSigmas = cutoff;
+        EXPECT_NE(refusal(asset).find("cutoff"), std::string::npos) << cutoff;
+    }
+    GaussianAsset flat = randomAsset(20, 1);
+    flat.worldFromIndex = openvdb::math::Mat4d::zero();
+    flat.worldFromIndex(3, 3) = 1.0;
+    EXPECT_NE(refusal(flat).find("singular"), std::string::npos);
+}
+
 TEST(GaussianAsset, ACountTheFileCannotHoldIsRefusedBeforeAllocating) {
     test::TempDir dir;
     GaussianAsset asset = randomAsset(50, 1);
