@@ -243,7 +243,7 @@ void FitLoop::fitCountToTheTime() {
     const bool grow = mPaces.size() == 2 && double(trainable) > 1.25 * double(current);
     mPacing = shrink;  // a second pace only after shrinking
     if (!shrink && !grow) return;
-    mReport.requestedGaussians = mSettings.gaussians;
+    mReport.requestedGaussians = trainable < mSettings.gaussians ? mSettings.gaussians : 0;
     initialise(trainable);
 }
 
