@@ -36,7 +36,7 @@ void readPlainSamples(const std::string& file, std::uint64_t offset, bool bigEnd
         volume.warnings.push_back(file + ": " + std::to_string(size - needed) +
                                   " bytes after the voxel data are ignored");
     }
-    allocateSamples(volume, file);
+    volume.samples.assign(volume.sampleBytes(), 0);
     std::ifstream in(file, std::ios::binary);
     in.seekg(std::streamoff(offset));
     in.read(reinterpret_cast<char*>(volume.samples.data()), std::streamsize(volume.samples.size()));
@@ -48,7 +48,8 @@ void readGzipSamples(const std::string& file, std::uint64_t offset, bool bigEndi
                      DenseVolume& volume) {
     gzFile stream = gzopen(file.c_str(), "rb");
     if (!stream) throw InputError(file, "cannot open file");
-    reserveSamples(volume, file);
+    volume.samples.clear();
+    volume.samples.reserve(volume.sampleBytes());
     const std::uint64_t expected = volume.sampleBytes();
     std::uint64_t filled = 0;
     if (gzseek(stream, z_off_t(offset), SEEK_SET) == z_off_t(offset)) {
@@ -84,7 +85,8 @@ void readDeflatedSamples(const std::string& file, std::uint64_t offset, bool big
     in.seekg(std::streamoff(offset));
     z_stream stream{};
     if (inflateInit2(&stream, 15 + 32) != Z_OK) throw InputError(file, "zlib initialisation failed");
-    reserveSamples(volume, file);
+    volume.samples.clear();
+    volume.samples.reserve(volume.sampleBytes());
     const std::uint64_t expected = volume.sampleBytes();
     std::vector<unsigned char> chunk(1 << 20), beyond(1 << 16);
     int status = Z_OK;

@@ -9,10 +9,11 @@
 
 namespace gvr {
 
-/// Reads volume.samples (dims, channels and type already set) from @a file at
-/// @a offset and converts them to host byte order. These readers size the buffer
-/// themselves, as the bytes arrive or after checking the file's size, so that a
-/// header that claims more than the file holds costs no memory.
+/// Reads volume.samples (dims, channels and type already set, and checked against
+/// memory with reserveSamples()) from @a file at @a offset and converts them to
+/// host byte order. These readers size the buffer themselves, as the bytes arrive
+/// or after checking the file's size, so that a header that claims more than the
+/// file holds costs no memory.
 /// @throw InputError naming @a file when it holds fewer bytes than the volume needs,
 ///        or when compressed data fails its CRC or Adler-32 check.
 void readPlainSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
