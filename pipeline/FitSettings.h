@@ -26,9 +26,10 @@ enum class Ablation { Full, A1, A2, A3, A4, A5 };
 
 struct FitSettings {
     std::size_t gaussians = 0;  ///< m; the caller derives it from --ratio
-    /// With a time budget and a value above 0, m is only a ceiling: after a few
-    /// timed iterations the fit starts again with fewer Gaussians if the time
-    /// cannot give each about this many voxel samples (iterations x voxelBatch / m).
+    /// With a time budget and a value above 0, m is only a ceiling: the fit times
+    /// a few iterations at a probe count of at most 16,384, then starts again with
+    /// as many Gaussians (up to m) as the time can give about this many voxel
+    /// samples each (iterations x voxelBatch / m), and checks that once more.
     double minSamplesPerGaussian = 1000.0;
     std::size_t iterations = 0; ///< stop after this many (0: no limit)
     double seconds = 0.0;       ///< stop after this long (0: no limit); one of the two must be set

@@ -189,6 +189,7 @@ private:
         double secondsPerIteration;
     };
     static constexpr std::size_t kPaceIterations = 5;
+    static constexpr std::size_t kProbeGaussians = 16384;
     std::vector<Pace> mPaces;
     bool mPacing = false;
     double mPaceStart = 0.0;
@@ -202,6 +203,7 @@ void FitLoop::initialise(std::size_t count) {
     seeds.uniformShare = mSettings.uniformSeedShare;
     seeds.seed = streamSeed(mSettings.seed, kSeeds, 0);
     mParams = initialiseGaussians(mTarget, seeds);
+    mReport.requestedGaussians = count < mSettings.gaussians ? mSettings.gaussians : 0;
     mAdam = std::make_unique<Adam>(mParams.count(), mParams.channels);
     mVoxels = SampleSet();
     mVoxelResiduals.clear();
@@ -212,8 +214,8 @@ void FitLoop::initialise(std::size_t count) {
 
 /// The count that the rest of the time can train with minSamplesPerGaussian voxel
 /// samples each, if an iteration over m Gaussians takes a + b m seconds: from one
-/// pace, a constant (which undercounts, since fewer Gaussians are faster); from two,
-/// the line through both.
+/// pace, a constant (off in the direction of the count it was timed at, since fewer
+/// Gaussians are faster); from two, the line through both.
 std::size_t FitLoop::trainableCount() const {
     const double samples = std::max(adamSeconds() - elapsed(), 0.0) * double(mSettings.voxelBatch) /
                            mSettings.minSamplesPerGaussian;  // R: m (a + b m) = R
@@ -228,23 +230,23 @@ std::size_t FitLoop::trainableCount() const {
     return std::size_t(std::clamp(count, 1.0, double(mSettings.gaussians)));
 }
 
-/// After kPaceIterations timed iterations: if the time cannot train this many
-/// Gaussians, start again with as many as it can (at most twice: the second pace
-/// corrects the first's undercount).
+/// After kPaceIterations timed iterations: if the time can train clearly more or
+/// fewer Gaussians than this, start again with as many as it can. A second pace
+/// corrects the first estimate, which assumed the time per iteration does not
+/// depend on the count; there is no third.
 void FitLoop::fitCountToTheTime() {
     mPaces.push_back({mParams.count(), (elapsed() - mPaceStart) / double(kPaceIterations)});
     if (elapsed() > 0.5 * adamSeconds()) {  // too late to start again: keep what has been trained
         mPacing = false;
         return;
     }
-    const std::size_t current = mParams.count();
     const std::size_t trainable = trainableCount();
-    const bool shrink = mPaces.size() == 1 && double(current) > 1.25 * double(trainable);
-    const bool grow = mPaces.size() == 2 && double(trainable) > 1.25 * double(current);
-    mPacing = shrink;  // a second pace only after shrinking
-    if (!shrink && !grow) return;
-    mReport.requestedGaussians = trainable < mSettings.gaussians ? mSettings.gaussians : 0;
-    initialise(trainable);
+    const double change = double(trainable) / double(mParams.count());
+    // Small changes are not worth a restart, except to reach the byte budget's count.
+    const bool reachesTheAllowance = trainable == mSettings.gaussians && trainable != mParams.count();
+    const bool restart = reachesTheAllowance || change > 1.25 || change < 0.8;
+    mPacing = restart && mPaces.size() < 2;
+    if (restart) initialise(trainable);
 }
 
 /// Brings the field up to date with the parameters; rebuilds the BVH only when
@@ -325,8 +327,10 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
     for (const VoxelSample& sample : heldOutDraw) heldOutCoords.push_back(sample.ijk);
     mSampler.exclude(heldOutCoords);  // an honest PSNR curve: training never sees them
     const SampleSet heldOut = voxelSampleSet(mTarget, heldOutDraw);
-    initialise(mSettings.gaussians);
     mPacing = mSettings.seconds > 0.0 && mSettings.minSamplesPerGaussian > 0.0 && mSettings.voxelBatch > 0;
+    // Timing a probe rather than the whole allowance keeps the peak memory near
+    // what the time can train, not what the byte budget allows.
+    initialise(mPacing ? std::min(mSettings.gaussians, kProbeGaussians) : mSettings.gaussians);
 
     std::size_t iteration = 0;
     while (mParams.count() > 0) {

@@ -34,7 +34,7 @@ struct FitReport {
     std::size_t pruned = 0;
     std::size_t respawned = 0;
     /// Gaussians asked for, when the time budget could train fewer and the fit
-    /// started again with fewer (FitSettings::minSamplesPerGaussian); else 0.
+    /// kept fewer (FitSettings::minSamplesPerGaussian); else 0.
     std::size_t requestedGaussians = 0;
     AmplitudeSolveReport amplitudeSolve;
 };

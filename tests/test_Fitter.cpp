@@ -130,6 +130,23 @@ TEST(Fitter, ATimeBudgetTooShortForTheCountFitsFewerGaussians) {
     EXPECT_EQ(asked.count(), 2000u);
 }
 
+TEST(Fitter, ATimeBudgetThatCanTrainTheAllowanceGrowsPastTheProbe) {
+    // The fit first times a probe of 16,384 Gaussians; one voxel sample each is
+    // trained in a single iteration, so the time allows all 20,000.
+    const VolumeTarget target(test::makeGrid({64, 64, 64}, [](int i, int j, int k) { return float(i + j + k) + blob(i, j, k); }),
+                              "blobs on a ramp");
+    ASSERT_GT(target.activeVoxelCount(), 20000u);
+    FitSettings settings = quickSettings(20000, 0);
+    settings.seconds = 4.0;
+    settings.amplitudeSolveIterations = 0;
+    settings.pruneEvery = 0;
+    settings.minSamplesPerGaussian = 1.0;
+    FitReport report;
+    const GaussianParameters fitted = fitGaussians(target, settings, {}, &report);
+    EXPECT_EQ(fitted.count(), 20000u);
+    EXPECT_EQ(report.requestedGaussians, 0u);
+}
+
 TEST(Fitter, InvalidSettingsAreRejected) {
     const VolumeTarget target(test::makeGrid({8, 8, 8}, blob), "blobs");
     FitSettings settings = quickSettings(10, 0);
