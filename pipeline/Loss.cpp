@@ -23,22 +23,25 @@ void GradientChunks::reset(std::size_t count) {
     });
 }
 
-void GradientChunks::add(std::size_t c, std::uint32_t index, const GradientSums& sums) {
+GradientSums& GradientChunks::sumsOf(std::size_t c, std::uint32_t index) {
     if (!mWritten[c][index]) {
         mWritten[c][index] = 1;
         mTouched[c].push_back(index);
     }
-    mSums[c][index] += sums;
+    return mSums[c][index];
 }
 
 void GradientChunks::sumInto(const GaussianField& field, GaussianParameters& gradient) const {
     const std::size_t count = field.gaussians().size();
     if (gradient.count() != count || gradient.channels != field.channels()) {
         gradient = GaussianParameters(count, field.channels());
-    } else {
-        gradient.setZero();
     }
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+        for (int group = 0; group < kGroupCount; ++group) {
+            const std::size_t width = std::size_t(gradient.width(ParameterGroup(group)));
+            std::fill(gradient.values[group].begin() + range.begin() * width,
+                      gradient.values[group].begin() + range.end() * width, 0.0f);
+        }
         for (std::size_t index = range.begin(); index != range.end(); ++index) {
             GradientSums total;
             bool written = false;
@@ -62,9 +65,10 @@ struct Contribution {
 };
 
 /// f(x) into value[] from the Gaussians @a ids[0..count), recording every
-/// contribution inside the cutoff.
+/// contribution inside the cutoff. @a idsAscending: the ids come sorted, as
+/// findCandidates() stores them, so the contributions need no sorting.
 void evaluateRecorded(const GaussianField& field, const float x[3], const std::uint32_t* ids,
-                      std::size_t count, float* value, std::vector<Contribution>& contributions) {
+                      std::size_t count, bool idsAscending, float* value, std::vector<Contribution>& contributions) {
     contributions.clear();
     const int channels = field.channels();
     for (int c = 0; c < channels; ++c) value[c] = 0.0f;
@@ -77,8 +81,10 @@ void evaluateRecorded(const GaussianField& field, const float x[3], const std::u
         contributions.push_back(contribution);
     }
     // Sum in index order, so the result does not depend on the BVH traversal.
-    std::sort(contributions.begin(), contributions.end(),
-              [](const Contribution& a, const Contribution& b) { return a.index < b.index; });
+    if (!idsAscending) {
+        std::sort(contributions.begin(), contributions.end(),
+                  [](const Contribution& a, const Contribution& b) { return a.index < b.index; });
+    }
     for (const Contribution& contribution : contributions) {
         const ActiveGaussian& g = field.gaussians()[contribution.index];
         for (int c = 0; c < channels; ++c) value[c] += g.amplitude[c] * contribution.e;
@@ -98,10 +104,10 @@ double pointsSquaredError(const GaussianField& field, const SampleSet& samples, 
         const float* x = samples.points[s].data();
         if (samples.candidateStart.empty()) {
             field.bvh().query(x, hits);
-            evaluateRecorded(field, x, hits.data(), hits.size(), value, contributions);
+            evaluateRecorded(field, x, hits.data(), hits.size(), false, value, contributions);
         } else {
             const std::uint32_t first = samples.candidateStart[s], last = samples.candidateStart[s + 1];
-            evaluateRecorded(field, x, samples.candidates.data() + first, last - first, value, contributions);
+            evaluateRecorded(field, x, samples.candidates.data() + first, last - first, true, value, contributions);
         }
         float squared = 0.0f;
         for (int ch = 0; ch < channels; ++ch) {
@@ -113,9 +119,7 @@ double pointsSquaredError(const GaussianField& field, const SampleSet& samples, 
         if (squaredResiduals) (*squaredResiduals)[s] = squared;
         if (!gradients) continue;
         for (const Contribution& c : contributions) {
-            GradientSums sums;
-            sums.add(field.gaussians()[c.index], channels, c.u, c.e, upstream);
-            gradients->add(chunk, c.index, sums);
+            gradients->sumsOf(chunk, c.index).add(field.gaussians()[c.index], channels, c.u, c.e, upstream);
         }
     }
     return sum;
@@ -130,6 +134,7 @@ void findCandidates(const GaussianField& field, SampleSet& samples) {
         std::vector<std::uint32_t> hits;
         for (std::size_t s = c * n / GradientChunks::kChunks; s < (c + 1) * n / GradientChunks::kChunks; ++s) {
             field.bvh().query(samples.points[s].data(), hits);
+            std::sort(hits.begin(), hits.end());  // once per draw, not once per iteration
             ids[c].insert(ids[c].end(), hits.begin(), hits.end());
             counts[c].push_back(std::uint32_t(hits.size()));
         }

@@ -23,7 +23,8 @@ struct SampleSet {
     std::size_t size() const { return points.size(); }
 };
 
-/// Records, for every point of @a samples, the Gaussians whose BVH boxes hold it.
+/// Records, for every point of @a samples, the Gaussians whose BVH boxes hold it,
+/// in ascending order.
 /// They stay a superset of the Gaussians that reach the point for as long as
 /// GaussianField::update() succeeds, so the loss can skip the BVH until then.
 void findCandidates(const GaussianField& field, SampleSet& samples);
@@ -38,8 +39,8 @@ public:
 
     /// Zeroes every buffer, sized for @a count Gaussians.
     void reset(std::size_t count);
-    /// Adds @a sums to Gaussian @a index in chunk @a c.
-    void add(std::size_t c, std::uint32_t index, const GradientSums& sums);
+    /// Gaussian @a index's sums in chunk @a c, to add a point to.
+    GradientSums& sumsOf(std::size_t c, std::uint32_t index);
     /// dL/dparams of every Gaussian of @a field into @a gradient (overwritten),
     /// summing the chunks in chunk order.
     void sumInto(const GaussianField& field, GaussianParameters& gradient) const;
