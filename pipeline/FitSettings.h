@@ -67,6 +67,9 @@ struct FitSettings {
     /// known: the amplitude solve then runs on the stored geometry and makes up for
     /// its rounding and for any Gaussians left out.
     std::function<GaussianParameters(const GaussianParameters&)> storedGeometry;
+    /// Sees each iteration's gradient before the step; tests use it to inject the
+    /// non-finite values that the fit must skip and survive.
+    std::function<void(std::size_t iteration, GaussianParameters& gradient)> gradientHook;
 
     std::size_t heldOutVoxels = 32768;  ///< fixed voxels for the PSNR curve
     std::size_t logEvery = 50;          ///< iterations between held-out PSNR evaluations

@@ -65,11 +65,12 @@ SampleSet sliceSampleSet(const VolumeTarget& target, std::size_t pixels, std::ui
 }
 
 /// Fixed voxels for the PSNR curve, drawn uniformly: at most a tenth of the box, so
-/// that training keeps nearly every voxel.
+/// that training keeps nearly every voxel (none at all from fewer than ten voxels).
 std::vector<VoxelSample> heldOutVoxels(const VolumeTarget& target, std::size_t count, std::uint64_t seed) {
     ImportanceSettings uniform;
     uniform.uniformShare = 1.0;
-    count = std::min<std::size_t>(count, std::size_t(target.box().volume() / 10) + 1);
+    count = std::min<std::size_t>(count, std::size_t(target.box().volume() / 10));
+    if (count == 0) return {};
     return ImportanceSampler(target.box(), uniform).draw(count, seed);
 }
 
@@ -281,6 +282,7 @@ double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progre
         loss += weightedSquaredError(mField, slice, sliceShare, &mChunks);
     }
     mChunks.sumInto(mField, mGradient);
+    if (mSettings.gradientHook) mSettings.gradientHook(iteration, mGradient);
     progress.sliceWeight = sliceShare;
 
     if (!std::isfinite(loss) || !mGradient.allFinite()) {

@@ -45,7 +45,7 @@ void copyTruncated(const std::string& from, const std::string& to, std::size_t k
 }
 
 openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<float(int, int, int)>& value,
-                                openvdb::Vec3d spacingMm) {
+                                openvdb::Vec3d spacingMm, std::optional<double> threshold) {
     std::vector<float> values;
     values.reserve(std::size_t(dims[0]) * dims[1] * dims[2]);
     for (int k = 0; k < dims[2]; ++k) {
@@ -57,6 +57,7 @@ openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<flo
     volume.worldFromIndex = worldFromSpacing(spacingMm);
     GridBuildSettings settings;
     settings.sourceFile = "synthetic";
+    settings.threshold = threshold;
     return buildGrid(volume, settings);
 }
 

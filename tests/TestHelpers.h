@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,9 +55,11 @@ DenseVolume makeVolume(std::array<std::int64_t, 3> dims, const std::vector<T>& v
 }
 
 /// An ingested float grid of @a dims whose voxel (i, j, k) holds value(i, j, k),
-/// with spacing @a spacingMm.
+/// with spacing @a spacingMm; voxels at or below @a threshold are inactive (unset:
+/// those at the minimum, as ingest does).
 openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<float(int, int, int)>& value,
-                                openvdb::Vec3d spacingMm = openvdb::Vec3d(1.0));
+                                openvdb::Vec3d spacingMm = openvdb::Vec3d(1.0),
+                                std::optional<double> threshold = std::nullopt);
 
 struct CommandResult {
     int exitCode = -1;
@@ -83,3 +86,14 @@ GaussianParameters randomGaussians(std::size_t count, int channels, float extent
 #define GVR_REQUIRE_SHARED_DATA()                                                  \
     if (!std::filesystem::exists(gvr::test::sharedData("README.md")))             \
     GTEST_SKIP() << "shared data not found at " << gvr::test::sharedData("")
+
+// AddressSanitizer reserves terabytes of address space at start, so a test that
+// lowers ulimit -v cannot run under it. GCC says so with __SANITIZE_ADDRESS__,
+// clang with __has_feature.
+#if defined(__SANITIZE_ADDRESS__)
+#define GVR_UNDER_ADDRESS_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define GVR_UNDER_ADDRESS_SANITIZER 1
+#endif
+#endif

@@ -1,4 +1,4 @@
-"""gvr eval's SSIM and MS-SSIM match scikit-image on 2D images.
+"""gvr eval's SSIM and MS-SSIM match scikit-image on 2D images and 3D volumes.
 
 Usage: metrics_vs_skimage.py GVR_EXECUTABLE SHARED_DATA_DIR WORK_DIR
 (SHARED_DATA_DIR is unused: the images are synthesised here with a fixed seed.)
@@ -27,6 +27,7 @@ import subprocess
 import sys
 import zlib
 
+import nibabel
 import numpy as np
 
 import checks
@@ -133,20 +134,24 @@ def _stats(x, y, peak):
     ssim_map = ((2 * ux * uy + c1) / (ux * ux + uy * uy + c1)) * cs
 
     def interior_mean(m):
-        return float(m[PAD:-PAD, PAD:-PAD].mean())
+        return float(m[tuple(slice(PAD, -PAD) for _ in m.shape)].mean())
 
     return interior_mean(ssim_map), interior_mean(cs)
 
 
 def _downsample(x):
-    h, w = (x.shape[0] // 2) * 2, (x.shape[1] // 2) * 2
-    x = x[:h, :w]
-    return 0.25 * (x[0::2, 0::2] + x[1::2, 0::2] + x[0::2, 1::2] + x[1::2, 1::2])
+    """Averages pairs along every axis, after dropping an odd last sample."""
+    x = x[tuple(slice(0, (n // 2) * 2) for n in x.shape)]
+    for axis in range(x.ndim):
+        even = np.take(x, range(0, x.shape[axis], 2), axis=axis)
+        odd = np.take(x, range(1, x.shape[axis], 2), axis=axis)
+        x = 0.5 * (even + odd)
+    return x
 
 
-def scale_count(height, width):
+def scale_count(*shape):
     m = 0
-    side = min(height, width)
+    side = min(shape)
     while m < len(WEIGHTS) and side >= WIN:
         m += 1
         side //= 2
@@ -234,6 +239,44 @@ def run_case(gvr, tmp, name, a16, b16):
     return ref_scales
 
 
+def smooth_volume(rng, shape):
+    """Gaussian blobs and fine texture in 3D, scaled into [0.05, 0.95]."""
+    axes = np.meshgrid(*[np.arange(n, dtype=np.float64) for n in shape], indexing="ij")
+    vol = np.zeros(shape)
+    for _ in range(6):
+        centre = [rng.uniform(0, n) for n in shape]
+        s = rng.uniform(0.1, 0.3) * min(shape)
+        vol += rng.uniform(0.3, 1.0) * np.exp(-sum((a - c) ** 2 for a, c in zip(axes, centre)) / (2 * s * s))
+    vol += 0.05 * ndimage.gaussian_filter(rng.standard_normal(shape), 1.0)
+    vol -= vol.min()
+    return 0.05 + 0.9 * vol / vol.max()
+
+
+def run_volume_case(gvr, tmp, rng, name, shape, expected_scales):
+    """A 3D pair as float32 NIfTI: every axis is smoothed and downsampled."""
+    print(f"== {name}: {'x'.join(map(str, shape))} ==")
+    a = smooth_volume(rng, shape).astype(np.float32)
+    b = distort(rng, a.astype(np.float64)).astype(np.float32)
+    pa, pb = os.path.join(tmp, f"{name}_a.nii"), os.path.join(tmp, f"{name}_b.nii")
+    nibabel.save(nibabel.Nifti1Image(a, np.eye(4)), pa)
+    nibabel.save(nibabel.Nifti1Image(b, np.eye(4)), pb)
+    a, b = a.astype(np.float64), b.astype(np.float64)
+    ref_ssim = float(structural_similarity(a, b, gaussian_weights=True, sigma=SIGMA, use_sample_covariance=False,
+                                           data_range=PEAK))
+    ref_ms, ref_scales, own_ssim = ms_ssim_grey(a, b, PEAK)
+    check(f"{name} reference single-scale SSIM == skimage (1e-9)", abs(own_ssim - ref_ssim) < 1e-9,
+          f"own {own_ssim:.12f}, skimage {ref_ssim:.12f}")
+    check(f"{name} test design: reference uses {expected_scales} scale(s)", ref_scales == expected_scales,
+          f"{ref_scales}")
+    got = gvr_eval(gvr, pa, pb, PEAK)
+    check(f"{name} SSIM: gvr vs skimage", abs(float(got["ssim"]) - ref_ssim) < TOL,
+          f"gvr {float(got['ssim']):.6f}, skimage {ref_ssim:.6f}, diff {abs(float(got['ssim']) - ref_ssim):.2e}")
+    check(f"{name} MS-SSIM scales: gvr vs reference", int(got["ms_ssim_scales"]) == ref_scales,
+          f"gvr {got['ms_ssim_scales']}, reference {ref_scales}")
+    check(f"{name} MS-SSIM: gvr vs reference", abs(float(got["ms_ssim"]) - ref_ms) < TOL,
+          f"gvr {float(got['ms_ssim']):.6f}, reference {ref_ms:.6f}, diff {abs(float(got['ms_ssim']) - ref_ms):.2e}")
+
+
 def all_cases(gvr, shared, scratch):
     rng = np.random.RandomState(20240611)
     cases = [
@@ -247,6 +290,7 @@ def all_cases(gvr, shared, scratch):
         scales = run_case(gvr, scratch, name, a16, b16)
         check(f"{name} test design: reference uses {expected_scales} scale(s)", scales == expected_scales,
               f"{scales}")
+    run_volume_case(gvr, scratch, rng, "volume_52x48x44", (52, 48, 44), 3)  # 44, 22, 11
 
 
 if __name__ == "__main__":

@@ -110,6 +110,23 @@ TEST(Cli, FitRespectsTheRatioAndLogsErrorAgainstTime) {
     EXPECT_GT(result["amplitude_solve"]["iterations"].get<int>(), 0);
 }
 
+TEST(Cli, FitForATimeStopsOnTimeWithinTheRatio) {
+    // Every figure in the README comes from --time fits: the budget covers the
+    // amplitude solve, and the count stays within what the ratio allows.
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    const test::CommandResult run =
+        test::runGvr("fit -q '" + grid + "' -o '" + dir.path("t.asset") + "' --ratio 4 --time 3 --json", dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const nlohmann::json result = nlohmann::json::parse(run.out);
+    // Not a speed test: a fit that ignored its budget would be off by far more.
+    EXPECT_GT(result["seconds"].get<double>(), 1.5);
+    EXPECT_LT(result["seconds"].get<double>(), 3.0 + 10.0);
+    EXPECT_GT(result["iterations"].get<int>(), 10);
+    EXPECT_LE(std::filesystem::file_size(dir.path("t.asset")), 24u * 20 * 16 / 4);
+    EXPECT_GT(result["psnr_db"].get<double>(), 20.0);
+}
+
 TEST(Cli, BadAssetEncodingAndSolveFlagsAreRefusedWithoutOutput) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);

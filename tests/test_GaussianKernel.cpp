@@ -131,6 +131,44 @@ TEST(Kernel, BoundsContainTheRotatedEllipsoid) {
     }
 }
 
+TEST(Kernel, GradientAtNeedlesAndSheetsMatchesFiniteDifferences) {
+    // Scale ratio 1e4: standard deviations of 0.01 and 100 voxels. Each point lies
+    // inside one standard deviation of the thin axes, where the value is large and
+    // changes fast; the finite-difference steps are small against those scales.
+    struct Case {
+        const char* name;
+        float logScales[3];
+        float offset[3];  // point minus mean (identity rotation: the Gaussian's own frame)
+    };
+    const Case cases[] = {{"needle", {-4.6f, -4.6f, 4.6f}, {0.005f, -0.004f, 3.0f}},
+                          {"sheet", {4.6f, 4.6f, -4.6f}, {2.0f, -3.0f, 0.004f}}};
+    const float steps[kGroupCount] = {1e-4f, 1e-5f, 1e-3f, 1e-3f, 1e-3f};  // means, rotations, scales, ...
+    for (const Case& shape : cases) {
+        GaussianParameters params(1, 1);
+        for (int a = 0; a < 3; ++a) params.at(kMeans, 0)[a] = 5.0f + float(a);
+        params.at(kRotations, 0)[0] = 1.0f;
+        std::copy_n(shape.logScales, 3, params.at(kLogScales, 0));
+        *params.at(kOpacityLogits, 0) = 0.5f;
+        params.at(kColours, 0)[0] = 0.8f;
+        const float x[3] = {5.0f + shape.offset[0], 6.0f + shape.offset[1], 7.0f + shape.offset[2]};
+        const float upstream[1] = {1.0f};
+        GaussianParameters gradient(1, 1);
+        accumulateGradient(activate(params, 0), 0, x, 1e6f, upstream, gradient);
+        ASSERT_GT(objective(params, x, upstream), 0.1) << shape.name << ": the point must sit where the value is large";
+        for (int g = 0; g < kGroupCount; ++g) {
+            for (int k = 0; k < params.width(ParameterGroup(g)); ++k) {
+                GaussianParameters plus = params, minus = params;
+                plus.at(ParameterGroup(g), 0)[k] += steps[g];
+                minus.at(ParameterGroup(g), 0)[k] -= steps[g];
+                const double numeric = (objective(plus, x, upstream) - objective(minus, x, upstream)) / (2.0 * steps[g]);
+                const double analytic = gradient.at(ParameterGroup(g), 0)[k];
+                EXPECT_NEAR(analytic, numeric, 2e-3 + 2e-2 * std::abs(numeric))
+                    << shape.name << ": " << groupName(ParameterGroup(g)) << "[" << k << "]";
+            }
+        }
+    }
+}
+
 TEST(Kernel, ExtremeShapesStayFinite) {
     // Needles and sheets (scale ratio 1e4), near-singular covariances, scales far
     // below and above a voxel, and a vanished quaternion.
