@@ -28,8 +28,13 @@ struct ExportFlags {
 std::optional<Lattice> chosenLattice(const ExportFlags& flags, const GaussianAsset& asset) {
     if (!flags.like.empty()) return latticeLike(flags.like);
     if (flags.resolution) {
-        return resizedLattice(asset.worldFromIndex, asset.source.dims,
-                              voxelSizeForResolution(asset.worldFromIndex, asset.source.dims, *flags.resolution));
+        const double voxelSize = voxelSizeForResolution(asset.worldFromIndex, asset.source.dims, *flags.resolution);
+        try {
+            return resizedLattice(asset.worldFromIndex, asset.source.dims, voxelSize);
+        } catch (const InputError&) {  // it names --voxel-size, which this user did not give
+            throw InputError("--resolution", std::to_string(*flags.resolution) +
+                                                 " voxels along the longest axis would need more than 2^36 voxels");
+        }
     }
     if (flags.voxelSize) return resizedLattice(asset.worldFromIndex, asset.source.dims, *flags.voxelSize);
     return std::nullopt;

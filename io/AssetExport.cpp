@@ -4,6 +4,7 @@
 #include "FloatVolume.h"
 #include "GridFile.h"
 #include "Luminance.h"
+#include "MemoryBudget.h"
 #include "VolumeBorder.h"
 
 namespace gvr {
@@ -51,6 +52,9 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     ExportResult result;
     result.lattice = settings.lattice.value_or(sourceLattice(asset.worldFromIndex, dims));
     result.threshold = settings.threshold.value_or(asset.source.threshold.value_or(asset.source.valueMin));
+    const openvdb::Coord size = result.lattice.box.dim();
+    checkVolumeFitsInMemory(settings.assetPath.empty() ? "asset" : settings.assetPath, {size.x(), size.y(), size.z()},
+                            asset.params.channels, sizeof(float), "export");
     const GaussianField field(asset.params, asset.cutoffSigmas);
     const FieldToGridSettings sampling{asset.mapping, result.threshold, sourceLattice(asset.worldFromIndex, dims).box};
     openvdb::GridBase::Ptr values = fieldToGrid(field, asset.worldFromIndex, result.lattice, sampling, progress);

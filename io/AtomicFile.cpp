@@ -37,6 +37,9 @@ void installSignalCleanup() {
             sigemptyset(&action.sa_mask);
             sigaction(signal, &action, nullptr);
         }
+        // Past ulimit -f the kernel would kill the process and leave the temporary
+        // behind; ignored, the write fails with EFBIG and the writer reports it.
+        std::signal(SIGXFSZ, SIG_IGN);
     });
 }
 

@@ -17,7 +17,8 @@ void checkOutputPath(const std::string& flag, const std::string& output, const s
 /// Calls @a write with a temporary path beside @a path, then renames it over @a path.
 /// If @a write throws, or the process gets SIGINT or SIGTERM meanwhile, the
 /// temporary file is removed and @a path is left untouched. (SIGKILL can leave a
-/// hidden ".tmpPID-name" file beside @a path.)
+/// hidden ".tmpPID-name" file beside @a path.) SIGXFSZ is ignored from then on, so
+/// that a write past ulimit -f fails like a full disk instead of killing gvr.
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write);
 
 }  // namespace gvr

@@ -4,12 +4,14 @@
 // normal and to check that the series is consistent; only then is the volume
 // allocated and the slices decoded, in parallel.
 
+#include "DicomStructure.h"
 #include "Error.h"
 #include "Readers.h"
 
 #include <gdcmImageHelper.h>
 #include <gdcmImageReader.h>
 #include <gdcmReader.h>
+#include <gdcmTrace.h>
 #include <tbb/parallel_for.h>
 
 #include <openvdb/Types.h>
@@ -72,6 +74,7 @@ Vec3d vec3(const std::vector<double>& values, std::size_t offset) {
 
 /// Reads one slice's header; the pixel data is skipped.
 SliceHeader readSliceHeader(const std::string& file, SeriesHeader& series, bool first) {
+    checkDicomStructure(file);
     gdcm::Reader reader;
     reader.SetFileName(file.c_str());
     if (!reader.ReadUpToTag(gdcm::Tag(0x7fe0, 0x0010))) {
@@ -205,32 +208,17 @@ bool rescaleIsUniform(const SeriesHeader& series) {
     });
 }
 
-bool endsWithSequenceDelimiter(const std::string& file) {
-    std::ifstream in(file, std::ios::binary | std::ios::ate);
-    const unsigned char expected[8] = {0xfe, 0xff, 0xdd, 0xe0, 0, 0, 0, 0};
-    unsigned char tail[8] = {};
-    in.seekg(-8, std::ios::end);
-    in.read(reinterpret_cast<char*>(tail), 8);
-    return in && std::equal(tail, tail + 8, expected);
-}
-
-/// GDCM decodes what it can of a cut-off file without complaint, so check that the
-/// pixel data is all there: native data must hold every byte, and encapsulated
-/// (compressed) data must end with its sequence delimiter.
+/// GDCM decodes what it can of a cut-off file without complaint, so check that
+/// native pixel data holds every byte (checkDicomStructure() has already seen
+/// compressed pixel data end with its delimiter).
 void checkPixelDataComplete(const gdcm::DataSet& dataSet, const std::string& file,
                             std::size_t storedBytes) {
     const gdcm::Tag pixelData(0x7fe0, 0x0010);
     if (!dataSet.FindDataElement(pixelData)) throw InputError(file, "has no pixel data");
-    const gdcm::DataElement& element = dataSet.GetDataElement(pixelData);
-    if (element.GetSequenceOfFragments()) {
-        if (!endsWithSequenceDelimiter(file)) {
-            throw InputError(file, "truncated: compressed pixel data has no end delimiter");
-        }
-    } else if (const gdcm::ByteValue* value = element.GetByteValue()) {
-        if (value->GetLength() < storedBytes) {
-            throw InputError(file, "truncated: pixel data holds " + std::to_string(value->GetLength()) +
-                                       " bytes, expected " + std::to_string(storedBytes));
-        }
+    const gdcm::ByteValue* value = dataSet.GetDataElement(pixelData).GetByteValue();
+    if (value && value->GetLength() < storedBytes) {
+        throw InputError(file, "truncated: pixel data holds " + std::to_string(value->GetLength()) +
+                                   " bytes, expected " + std::to_string(storedBytes));
     }
 }
 
@@ -277,6 +265,10 @@ bool isDicomFile(const std::string& path) {
 }
 
 DenseVolume readDicomSeries(const std::string& folder, const ReadOptions& options) {
+    // GDCM's warnings and errors would add lines to gvr's one-line messages; the
+    // checks here report what matters about a file, in that one line.
+    gdcm::Trace::WarningOff();
+    gdcm::Trace::ErrorOff();
     const SeriesHeader series = readSeriesHeader(folder);
     DenseVolume volume;
     volume.dims = {series.columns, series.rows, std::int64_t(series.slices.size())};

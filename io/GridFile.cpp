@@ -65,13 +65,30 @@ openvdb::GridBase::Ptr chooseVolumeGrid(const openvdb::GridPtrVec& grids, const 
                                (found.empty() ? std::string(" nothing") : found));
 }
 
+namespace {
+
+/// Writes what io::File writes (a seekable archive), but into a stream whose
+/// state we check afterwards: io::File ignores write errors, so a full disk or
+/// ulimit -f would leave a cut file that looks written.
+class CheckedFileArchive : public openvdb::io::Archive {
+public:
+    void writeTo(const std::string& path, const std::string& culprit, const openvdb::GridCPtrVec& grids) const {
+        std::ofstream out(path, std::ios::binary | std::ios::trunc);
+        if (!out) throw InputError(culprit, "cannot open the file for writing");
+        Archive::write(out, grids, /*seekable=*/true);
+        out.close();
+        if (!out) throw InputError(culprit, "writing failed (disk full or file size limit?)");
+    }
+};
+
+}  // namespace
+
 void writeGridFile(const std::string& path, const openvdb::GridCPtrVec& grids) {
     initializeOpenVdb();
     writeAtomically(path, [&](const std::string& temporary) {
-        openvdb::io::File file(temporary);
-        file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
-        file.write(grids);
-        file.close();
+        CheckedFileArchive archive;
+        archive.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
+        archive.writeTo(temporary, path, grids);
     });
 }
 

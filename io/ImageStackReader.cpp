@@ -7,6 +7,10 @@
 #include <OpenImageIO/imageio.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
 namespace gvr {
 
 namespace {
@@ -71,12 +75,29 @@ void addPage(const std::string& file, int subimage, const OIIO::ImageSpec& spec,
     layout.pages.push_back({file, subimage});
 }
 
+/// No image codec expands its bytes more than about 1000:1 (deflate's limit; LZW
+/// reaches about 2700:1), so a file whose header claims more pixels than this can
+/// hold is corrupt or a decompression bomb, and is refused before the memory is spent.
+constexpr double kMostDecodedBytesPerFileByte = 4096.0;
+
+void checkFileCanHoldItsPages(const std::string& file, const OIIO::ImageSpec& spec, std::size_t pages) {
+    const double decoded = double(spec.width) * double(spec.height) * double(std::max(spec.depth, 1)) *
+                           double(spec.nchannels) * double(spec.format.size()) * double(pages);
+    const double fileBytes = double(std::filesystem::file_size(file));
+    if (decoded > fileBytes * kMostDecodedBytesPerFileByte) {
+        throw InputError(file, "corrupt image header: " + std::to_string(spec.width) + "x" +
+                                   std::to_string(spec.height) + " pixels cannot come from a file of " +
+                                   std::to_string(std::uint64_t(fileBytes)) + " bytes");
+    }
+}
+
 StackLayout readLayout(const std::vector<std::string>& files) {
     StackLayout layout;
     for (const std::string& file : files) {
         auto input = openImage(file);
         OIIO::ImageSpec spec = input->spec();
         for (int subimage = 0;; ++subimage) {
+            checkFileCanHoldItsPages(file, spec, std::size_t(subimage) + 1);
             addPage(file, subimage, spec, layout);
             if (!input->seek_subimage(subimage + 1, 0, spec)) break;
         }
@@ -84,9 +105,25 @@ StackLayout readLayout(const std::vector<std::string>& files) {
     return layout;
 }
 
+/// libjpeg decodes a cut-off JPEG with a warning only, filling the rest with grey,
+/// and OpenImageIO passes it on as a success; a complete one ends with its
+/// end-of-image marker (FF D9), which entropy-coded data cannot contain.
+void checkJpegComplete(const std::string& file) {
+    std::ifstream in(file, std::ios::binary | std::ios::ate);
+    const std::streamoff size = in.tellg();
+    const std::streamoff tail = std::min<std::streamoff>(size, 64);
+    std::string bytes(std::size_t(tail), '\0');
+    in.seekg(size - tail);
+    in.read(bytes.data(), tail);
+    if (bytes.find("\xff\xd9") == std::string::npos) {
+        throw InputError(file, "truncated JPEG: no end-of-image marker");
+    }
+}
+
 void readPage(const StackLayout& layout, std::size_t index, DenseVolume& volume) {
     const Page& page = layout.pages[index];
     auto input = openImage(page.file);
+    if (std::string(input->format_name()) == "jpeg") checkJpegComplete(page.file);
     const std::size_t pageBytes = std::size_t(layout.width) * layout.height * layout.channels *
                                   bytesPerSample(layout.type);
     unsigned char* destination = volume.samples.data() + index * pageBytes;

@@ -2,8 +2,11 @@
 
 #include "Error.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <fstream>
 #include <sstream>
 
@@ -12,6 +15,28 @@ namespace gvr {
 namespace {
 
 constexpr std::int64_t kMaxDimension = std::int64_t(1) << 30;
+
+std::atomic<std::uint64_t> gCeiling{0};
+
+/// A "Key: N kB" line of a /proc file, in bytes; 0 when it is missing.
+std::uint64_t procKibibytes(const char* file, const std::string& wanted) {
+    std::ifstream in(file);
+    std::string key;
+    std::uint64_t kib = 0;
+    std::string unit;
+    while (in >> key >> kib >> unit) {
+        if (key == wanted) return kib * 1024;
+    }
+    return 0;
+}
+
+/// What ulimit -v still leaves, or no limit.
+std::uint64_t addressSpaceLeft() {
+    rlimit limit{};
+    if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return UINT64_MAX;
+    const std::uint64_t mapped = procKibibytes("/proc/self/status", "VmSize:");
+    return limit.rlim_cur > mapped ? limit.rlim_cur - mapped : 0;
+}
 
 std::string gibibytes(long double bytes) {
     std::ostringstream out;
@@ -23,18 +48,17 @@ std::string gibibytes(long double bytes) {
 }  // namespace
 
 std::uint64_t availableMemoryBytes() {
-    std::ifstream meminfo("/proc/meminfo");
-    std::string key;
-    std::uint64_t kib = 0;
-    std::string unit;
-    while (meminfo >> key >> kib >> unit) {
-        if (key == "MemAvailable:") return kib * 1024;
-    }
-    return std::uint64_t(sysconf(_SC_PHYS_PAGES)) * std::uint64_t(sysconf(_SC_PAGE_SIZE));
+    std::uint64_t available = procKibibytes("/proc/meminfo", "MemAvailable:");
+    if (available == 0) available = std::uint64_t(sysconf(_SC_PHYS_PAGES)) * std::uint64_t(sysconf(_SC_PAGE_SIZE));
+    available = std::min(available, addressSpaceLeft());
+    const std::uint64_t ceiling = gCeiling.load();
+    return ceiling > 0 ? std::min(available, ceiling) : available;
 }
 
+void setMemoryCeiling(std::uint64_t bytes) { gCeiling.store(bytes); }
+
 void checkVolumeFitsInMemory(const std::string& file, const std::array<std::int64_t, 3>& dims,
-                             int channels, std::size_t bytesPerSample) {
+                             int channels, std::size_t bytesPerSample, const std::string& task) {
     for (std::int64_t d : dims) {
         if (d < 1 || d > kMaxDimension) {
             throw InputError(file, "dimensions " + std::to_string(dims[0]) + "x" +
@@ -50,7 +74,7 @@ void checkVolumeFitsInMemory(const std::string& file, const std::array<std::int6
     if (needed > available) {
         throw InputError(file, "a volume of " + std::to_string(dims[0]) + "x" +
                                    std::to_string(dims[1]) + "x" + std::to_string(dims[2]) +
-                                   " voxels needs " + gibibytes(needed) + " to ingest, but only " +
+                                   " voxels needs " + gibibytes(needed) + " to " + task + ", but only " +
                                    gibibytes(available) + " is available");
     }
 }

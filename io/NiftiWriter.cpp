@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <memory>
 
 namespace gvr {
@@ -65,15 +64,17 @@ void writeNifti(const std::string& path, const FloatVolume& volume) {
     image->nifti_type = NIFTI_FTYPE_NIFTI1_1;
     copySamples(volume, *image);
     setGeometry(volume.worldFromIndex, *image);
+    nifti_set_debug_level(0);  // its messages would add lines to gvr's one-line errors
     writeAtomically(path, [&](const std::string& temporary) {
         if (nifti_set_filenames(image.get(), temporary.c_str(), 0, 1) != 0) {
             throw InputError(path, "nifticlib does not accept this file name (use .nii or .nii.gz)");
         }
         nifti_image_write(image.get());
-        // nifti_image_write reports failures only on stderr.
-        if (!std::filesystem::exists(temporary) || std::filesystem::file_size(temporary) == 0) {
-            throw InputError(path, "writing the NIfTI file failed");
-        }
+        // nifti_image_write reports failures only on stderr (a full disk, ulimit -f),
+        // so read the file back: a cut one does not load.
+        nifti_image* written = nifti_image_read(temporary.c_str(), /*read_data=*/1);
+        if (!written) throw InputError(path, "writing the NIfTI file failed (disk full or file size limit?)");
+        nifti_image_free(written);
     });
 }
 

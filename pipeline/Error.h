@@ -13,7 +13,18 @@ namespace gvr {
 class InputError : public std::runtime_error {
 public:
     InputError(const std::string& culprit, const std::string& problem)
-        : std::runtime_error(culprit + ": " + problem) {}
+        : std::runtime_error(culprit + ": " + oneLine(problem)) {}
+
+private:
+    /// Libraries' error texts may span lines ("PNG read error: ...\nPNG library
+    /// error"); the message stays one line.
+    static std::string oneLine(std::string text) {
+        while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+        for (std::size_t at = text.find_first_of("\r\n"); at != std::string::npos; at = text.find_first_of("\r\n", at)) {
+            text.replace(at, 1, "; ");
+        }
+        return text;
+    }
 };
 
 }  // namespace gvr

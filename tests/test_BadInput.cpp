@@ -4,10 +4,12 @@
 #include "Error.h"
 #include "GridFile.h"
 #include "Ingest.h"
+#include "MemoryBudget.h"
 #include "TestHelpers.h"
 
 #include <nifti2_io.h>
 #include <sys/resource.h>
+#include <zlib.h>
 
 #include <cmath>
 #include <cstring>
@@ -236,6 +238,68 @@ TEST(BadInput, RawFileShorterThanItsDimensions) {
     IngestOptions options;
     options.read.raw = RawLayout{{10, 10, 10}, SampleType::UInt16, 1, false, 0};
     expectMentions(ingestError(dir.path("short.raw"), options), "truncated: voxel data needs 2000 bytes");
+}
+
+/// A PNG whose IHDR claims @a width x @a height, with a valid chunk CRC, so that
+/// only the size gives it away.
+std::string pngClaiming(const std::string& png, std::uint32_t width, std::uint32_t height) {
+    std::string bytes = png;
+    const auto putBigEndian = [&](std::size_t at, std::uint32_t value) {
+        for (int b = 0; b < 4; ++b) bytes[at + b] = char((value >> (24 - 8 * b)) & 0xff);
+    };
+    putBigEndian(16, width);  // IHDR data starts after the signature, length and type
+    putBigEndian(20, height);
+    putBigEndian(29, std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data() + 12), 17)));
+    return bytes;
+}
+
+TEST(BadInput, ImageHeadersClaimingHugeSlicesAreRefusedBeforeAllocating) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string stack = dir.path("stack");
+    std::filesystem::create_directory(stack);
+    const std::string png = test::readBytes(test::sharedData("ct-head-visible-human-png/texture-0.png"));
+    for (int slice = 0; slice < 3; ++slice) {
+        test::writeBytes(stack + "/" + std::to_string(slice) + ".png", pngClaiming(png, 30000, 30000));
+    }
+    rusage before{}, after{};
+    getrusage(RUSAGE_SELF, &before);
+    expectMentions(ingestError(stack), stack + "/0.png: corrupt image header: 30000x30000 pixels cannot come from");
+    getrusage(RUSAGE_SELF, &after);
+    EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 100L << 10) << "KiB of peak memory for three small files";
+}
+
+TEST(BadInput, TruncatedJpegSlice) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string stack = dir.path("stack");
+    std::filesystem::create_directory(stack);
+    std::filesystem::copy(test::sharedData("rgb-brainmaps54-cryosection/1020.jpg"), stack + "/0.jpg");
+    const std::string cut = stack + "/1.jpg";
+    const std::size_t size = std::filesystem::file_size(test::sharedData("rgb-brainmaps54-cryosection/1020.jpg"));
+    test::copyTruncated(test::sharedData("rgb-brainmaps54-cryosection/1020.jpg"), cut, size / 2);
+    expectMentions(ingestError(stack), cut + ":");
+}
+
+TEST(BadInput, ADicomFileCutInsideItsHeader) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string series = dir.path("series");
+    std::filesystem::create_directory(series);
+    for (std::size_t keep : {200u, 700u, 2000u}) {
+        const std::string cut = series + "/cut.dcm";
+        test::copyTruncated(test::sharedData("ct-chest-ricord-512/1-001.dcm"), cut, keep);
+        expectMentions(ingestError(series), cut + ":");
+    }
+}
+
+TEST(BadInput, TheMemoryCeilingIsHonouredAndNamedInTheMessage) {
+    GVR_REQUIRE_SHARED_DATA();
+    setMemoryCeiling(16u << 20);
+    const std::string message = ingestError(test::sharedData("mri-colin27-aal/ch2.nii.gz"));
+    setMemoryCeiling(0);
+    expectMentions(message, "ch2.nii.gz: a volume of 181x217x181 voxels needs");
+    expectMentions(message, "but only 0.0156 GiB is available");
 }
 
 }  // namespace

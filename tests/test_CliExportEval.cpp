@@ -91,6 +91,22 @@ TEST(CliExport, BadInputLeavesNoFiles) {
     }
 }
 
+TEST(CliExport, AHugeLatticeIsRefusedNamingTheFlagOrTheMemory) {
+    test::TempDir dir;
+    const std::string asset = smallAsset(dir);
+    const std::string out = "' -o '" + dir.path("x.vdb") + "'";
+    const test::CommandResult tooFine = runGvr("export '" + asset + out + " --resolution 100000", dir);
+    EXPECT_EQ(tooFine.exitCode, 2);
+    EXPECT_NE(tooFine.err.find("--resolution: 100000 voxels along the longest axis would need more than 2^36"),
+              std::string::npos) << tooFine.err;
+    // 2400 x 2000 x 1600 voxels: below the 2^36 limit, far above this machine's memory.
+    const test::CommandResult tooBig = runGvr("export '" + asset + out + " --voxel-size 0.01", dir);
+    EXPECT_EQ(tooBig.exitCode, 2);
+    EXPECT_NE(tooBig.err.find(asset + ": a volume of 2400x2000x1600 voxels needs"), std::string::npos) << tooBig.err;
+    EXPECT_NE(tooBig.err.find("to export, but only"), std::string::npos) << tooBig.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("x.vdb")));
+}
+
 TEST(CliEval, IdenticalInputsPrintInfinity) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);

@@ -1,0 +1,93 @@
+// Fault injection for every writer: a file size limit (what a full disk looks like
+// to a writer) and SIGTERM in the middle of a write. The existing output must
+// survive and no temporary file may be left. Each fault runs in a child process
+// (a death test), so that the limit and the signal do not reach the test runner.
+
+#include "AtomicFile.h"
+#include "Error.h"
+#include "GridFile.h"
+#include "Ingest.h"
+#include "NiftiWriter.h"
+#include "TestHelpers.h"
+
+#include <sys/resource.h>
+
+#include <csignal>
+#include <fstream>
+#include <random>
+
+namespace gvr {
+namespace {
+
+constexpr int kRefused = 3;  // the child's exit code when the writer threw InputError
+
+/// Files in @a dir whose names start with ".tmp": what an interrupted write leaves.
+std::vector<std::string> temporaries(const test::TempDir& dir) {
+    std::vector<std::string> found;
+    for (const auto& entry : std::filesystem::directory_iterator(dir.root())) {
+        if (entry.path().filename().string().rfind(".tmp", 0) == 0) found.push_back(entry.path().string());
+    }
+    return found;
+}
+
+/// In a child: limits files to 64 KiB, runs @a write, and exits kRefused if it
+/// threw InputError, 0 if it claimed success.
+void writeUnderAFileSizeLimit(const std::function<void()>& write) {
+    rlimit limit{64 * 1024, 64 * 1024};
+    setrlimit(RLIMIT_FSIZE, &limit);
+    try {
+        write();
+    } catch (const InputError&) {
+        std::_Exit(kRefused);
+    }
+    std::_Exit(0);
+}
+
+class AtomicFile : public ::testing::Test {
+protected:
+    void SetUp() override {
+        GTEST_FLAG_SET(death_test_style, "threadsafe");
+        test::writeBytes(mExisting, "the previous output");
+    }
+    void expectExistingOutputIntact() {
+        EXPECT_EQ(test::readBytes(mExisting), "the previous output");
+        EXPECT_TRUE(temporaries(mDir).empty()) << temporaries(mDir).front();
+    }
+    test::TempDir mDir;
+    const std::string mExisting = mDir.path("out.vdb");
+};
+
+TEST_F(AtomicFile, AFullDiskFailsTheGridWriterAndKeepsTheOldFile) {
+    GVR_REQUIRE_SHARED_DATA();
+    const IngestResult ch2 = ingest(test::sharedData("mri-colin27-aal/ch2.nii.gz"), {});  // about 6 MiB as VDB
+    EXPECT_EXIT(writeUnderAFileSizeLimit([&] { writeGridFile(mExisting, {ch2.grid}); }),
+                ::testing::ExitedWithCode(kRefused), "");
+    expectExistingOutputIntact();
+}
+
+TEST_F(AtomicFile, AFullDiskFailsTheNiftiWriterAndKeepsTheOldFile) {
+    FloatVolume volume(openvdb::Coord(64, 64, 64), 1);  // 1 MiB of random float32: no gzip gets it below 64 KiB
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> value(0.0f, 1000.0f);
+    for (float& v : volume.values) v = value(random);
+    const std::string nifti = mDir.path("out.nii.gz");
+    test::writeBytes(nifti, "the previous output");
+    EXPECT_EXIT(writeUnderAFileSizeLimit([&] { writeNifti(nifti, volume); }), ::testing::ExitedWithCode(kRefused),
+                "");
+    EXPECT_EQ(test::readBytes(nifti), "the previous output");
+    EXPECT_TRUE(temporaries(mDir).empty());
+}
+
+TEST_F(AtomicFile, SigtermDuringAWriteRemovesTheTemporaryAndKeepsTheOldFile) {
+    const auto writeHalfThenGetKilled = [&] {
+        writeAtomically(mExisting, [](const std::string& temporary) {
+            std::ofstream(temporary) << "half of a new output";
+            std::raise(SIGTERM);
+        });
+    };
+    EXPECT_EXIT(writeHalfThenGetKilled(), ::testing::KilledBySignal(SIGTERM), "");
+    expectExistingOutputIntact();
+}
+
+}  // namespace
+}  // namespace gvr
