@@ -12,6 +12,9 @@ packages=(
   g++
   pkg-config
   strace
+  # The sanitizer build and the libFuzzer targets (.ci/sanitize.sh).
+  clang
+  libclang-rt-14-dev
 
   # Libraries the build links.
   libopenvdb-dev

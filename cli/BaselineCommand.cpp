@@ -4,6 +4,7 @@
 #include "AtomicFile.h"
 #include "BaselineCodecs.h"
 #include "Commands.h"
+#include "Diagnostics.h"
 #include "Error.h"
 #include "GridFile.h"
 #include "GridSummary.h"
@@ -79,7 +80,7 @@ void runBaselineCommand(BaselineFlags& flags) {
         throw InputError("--stream", "must be another file than -o " + flags.output);
     }
     const IngestResult source = loadOrIngest(flags.input, toIngestOptions(flags.source));
-    for (const std::string& warning : source.warnings) std::cerr << "gvr: warning: " << warning << "\n";
+    for (const std::string& warning : source.warnings) diagnostics() << "gvr: warning: " << warning << "\n";
     BaselineResult result;
     {
         ProgressBar bar(flags.method, !flags.quiet);

@@ -7,6 +7,7 @@
 #include "BenchTable.h"
 #include "ChildProcess.h"
 #include "Commands.h"
+#include "Diagnostics.h"
 #include "Error.h"
 #include "Report.h"
 
@@ -82,7 +83,7 @@ void writeReport(const std::string& folder) {
     const std::string python = "/usr/bin/python3";
     if (!fs::exists(python)) throw InputError(python, "not found: install python3 and python3-matplotlib for the report");
     const ChildResult result = runChild({python, script, folder}, folder + "/report.log");
-    std::cerr << result.output;
+    diagnostics() << result.output;
     if (!result.ok()) throw InputError(folder + "/report.md", "the report script failed: " + result.lastError);
 }
 
@@ -136,7 +137,7 @@ void runBench(const BenchFlags& flags) {
         const std::size_t n = ++done;
         if (flags.quiet) return;
         std::lock_guard<std::mutex> lock(printing);
-        std::cerr << "[" << n << "/" << pending << "] " << describeRow(row) << std::endl;
+        diagnostics() << "[" << n << "/" << pending << "] " << describeRow(row) << std::endl;
     };
 
     std::atomic<std::size_t> next{0};
@@ -187,7 +188,7 @@ void mergeResults(const BenchFlags& flags) {
     writeResultsCsv((out / "results.csv").string(), merged);
     writeResultsJson((out / "results.json").string(), manifest, merged);
     if (duplicates > 0 && !flags.quiet) {
-        std::cerr << "gvr bench: " << duplicates << " rows were in more than one folder; kept the first of each\n";
+        diagnostics() << "gvr bench: " << duplicates << " rows were in more than one folder; kept the first of each\n";
     }
     writeReport(out.string());
     printSummary(flags, merged, out.string());

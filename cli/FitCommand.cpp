@@ -2,6 +2,7 @@
 
 #include "AtomicFile.h"
 #include "Commands.h"
+#include "Diagnostics.h"
 #include "Error.h"
 #include "Fitter.h"
 #include "GaussianAsset.h"
@@ -251,13 +252,13 @@ void runFit(FitFlags& flags) {
         loaded.grid = chooseVolumeGrid(*grids, flags.input);
         labels = findLabelGrid(*grids, flags.input);
     }
-    for (const std::string& warning : loaded.warnings) std::cerr << "gvr: warning: " << warning << "\n";
+    for (const std::string& warning : loaded.warnings) diagnostics() << "gvr: warning: " << warning << "\n";
     const VolumeTarget target(loaded.grid, flags.input);
     GaussianAsset asset = assetSkeleton(*loaded.grid, target, flags, flags.input);
     std::uint64_t maxBytes = 0;
     std::size_t droppedBeforeSolve = 0;  // by the budget, before the final amplitude solve
     if (target.activeVoxelCount() == 0) {
-        std::cerr << "gvr: warning: " << flags.input << " has no active voxels; writing an empty asset\n";
+        diagnostics() << "gvr: warning: " << flags.input << " has no active voxels; writing an empty asset\n";
         flags.settings.gaussians = 0;
     } else if (!labels) {  // structures get their own budgets (structureBudgets)
         flags.settings.gaussians = budgetedGaussians(asset, flags, maxBytes);

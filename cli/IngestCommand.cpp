@@ -2,6 +2,7 @@
 
 #include "AtomicFile.h"
 #include "Commands.h"
+#include "Diagnostics.h"
 #include "GridFile.h"
 #include "GridSummary.h"
 #include "LabelGrid.h"
@@ -26,7 +27,7 @@ struct IngestFlags {
 };
 
 void printWarnings(const std::vector<std::string>& warnings) {
-    for (const std::string& warning : warnings) std::cerr << "gvr: warning: " << warning << "\n";
+    for (const std::string& warning : warnings) diagnostics() << "gvr: warning: " << warning << "\n";
 }
 
 void runIngest(const IngestFlags& flags) {
@@ -42,7 +43,7 @@ void runIngest(const IngestFlags& flags) {
     }
     printWarnings(result.warnings);
     if (result.grid->activeVoxelCount() == 0) {
-        std::cerr << "gvr: warning: no voxel is above the threshold; the grid is empty\n";
+        diagnostics() << "gvr: warning: no voxel is above the threshold; the grid is empty\n";
     }
     openvdb::GridCPtrVec grids{result.grid};
     LabelTable labelTable;

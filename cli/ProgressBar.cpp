@@ -1,5 +1,7 @@
 #include "ProgressBar.h"
 
+#include "Diagnostics.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,11 +20,11 @@ double secondsBetween(Clock::time_point a, Clock::time_point b) {
 }  // namespace
 
 ProgressBar::ProgressBar(std::string label, bool enabled)
-    : mLabel(std::move(label)), mEnabled(enabled && isatty(STDERR_FILENO)),
+    : mLabel(std::move(label)), mEnabled(enabled && isatty(diagnosticsFd())),
       mStart(Clock::now()), mLastDraw(mStart) {}
 
 ProgressBar::~ProgressBar() {
-    if (mDrawn) std::fputc('\n', stderr);
+    if (mDrawn) std::fputc('\n', diagnosticsFile());
 }
 
 void ProgressBar::update(double fraction, const std::string& detail) {
@@ -42,10 +44,10 @@ void ProgressBar::draw(double fraction, const std::string& detail) {
     const int filled = int(fraction * kWidth);
     const double elapsed = secondsBetween(mStart, Clock::now());
     const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
-    std::fprintf(stderr, "\r%-14s [%.*s%*s] %5.1f %%  %6.1f s elapsed, ETA %6.1f s  %s\033[K",
+    std::fprintf(diagnosticsFile(), "\r%-14s [%.*s%*s] %5.1f %%  %6.1f s elapsed, ETA %6.1f s  %s\033[K",
                  mLabel.c_str(), filled, "##############################", kWidth - filled, "",
                  100.0 * fraction, elapsed, eta, detail.c_str());
-    std::fflush(stderr);
+    std::fflush(diagnosticsFile());
     mDrawn = true;
 }
 

@@ -1,5 +1,5 @@
 /// @file ProgressBar.h
-/// @brief A one-line progress bar on stderr, shown only when stderr is a terminal.
+/// @brief A one-line progress bar on gvr's stderr, shown only when that is a terminal.
 #pragma once
 
 #include "Progress.h"

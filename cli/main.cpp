@@ -1,6 +1,7 @@
 // gvr: medical volumes to compact Gaussian assets, and back.
 
 #include "Commands.h"
+#include "Diagnostics.h"
 #include "Error.h"
 #include "OptionGuards.h"
 
@@ -8,11 +9,37 @@
 #include <iostream>
 #include <new>
 
+namespace {
+
+int run(CLI::App& app, int argc, char** argv) {
+    try {
+        app.parse(argc, argv);
+        return 0;
+    } catch (const CLI::ParseError& error) {
+        const int code = app.exit(error, std::cout, gvr::diagnostics());
+        return code == 0 ? 0 : 2;
+    } catch (const gvr::InputError& error) {
+        gvr::diagnostics() << "gvr: error: " << error.what() << "\n";
+    } catch (const std::filesystem::filesystem_error& error) {
+        gvr::diagnostics() << "gvr: error: " << error.what() << "\n";
+    } catch (const std::bad_alloc&) {
+        gvr::diagnostics() << "gvr: error: out of memory\n";
+    } catch (const std::exception& error) {
+        gvr::diagnostics() << "gvr: internal error: " << error.what() << "\n";
+        return 1;
+    }
+    return 2;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+    gvr::divertLibraryOutput();
     CLI::App app{"gvr: turn medical volumes into sparse OpenVDB grids and compact Gaussian assets, "
                  "evaluate and render them"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "gvr 0.1.0");
+    app.fallthrough();  // inherited by the subcommands, so that --verbose may follow them
     gvr::addIngestCommand(app);
     gvr::addInfoCommand(app);
     gvr::addFitCommand(app);
@@ -24,21 +51,9 @@ int main(int argc, char** argv) {
     gvr::addBenchCommand(app);
     gvr::refuseNegativeUnsignedValues(app);
     gvr::useOneLineUsageErrors(app);
-    try {
-        app.parse(argc, argv);
-        return 0;
-    } catch (const CLI::ParseError& error) {
-        const int code = app.exit(error);
-        return code == 0 ? 0 : 2;
-    } catch (const gvr::InputError& error) {
-        std::cerr << "gvr: error: " << error.what() << "\n";
-    } catch (const std::filesystem::filesystem_error& error) {
-        std::cerr << "gvr: error: " << error.what() << "\n";
-    } catch (const std::bad_alloc&) {
-        std::cerr << "gvr: error: out of memory\n";
-    } catch (const std::exception& error) {
-        std::cerr << "gvr: internal error: " << error.what() << "\n";
-        return 1;
-    }
-    return 2;
+    bool verbose = false;
+    app.add_flag("--verbose", verbose, "Also print what the libraries (libpng, nifticlib, GDCM) wrote, after gvr's own output");
+    const int code = run(app, argc, argv);
+    if (verbose) gvr::showLibraryOutput();
+    return code;
 }

@@ -2,6 +2,7 @@
 // Every page of every file becomes one slice, in the order given.
 
 #include "Error.h"
+#include "ImageFraming.h"
 #include "Readers.h"
 
 #include <OpenImageIO/imageio.h>
@@ -9,7 +10,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 
 namespace gvr {
 
@@ -94,6 +94,7 @@ void checkFileCanHoldItsPages(const std::string& file, const OIIO::ImageSpec& sp
 StackLayout readLayout(const std::vector<std::string>& files) {
     StackLayout layout;
     for (const std::string& file : files) {
+        checkImageFraming(file);
         auto input = openImage(file);
         OIIO::ImageSpec spec = input->spec();
         for (int subimage = 0;; ++subimage) {
@@ -105,25 +106,9 @@ StackLayout readLayout(const std::vector<std::string>& files) {
     return layout;
 }
 
-/// libjpeg decodes a cut-off JPEG with a warning only, filling the rest with grey,
-/// and OpenImageIO passes it on as a success; a complete one ends with its
-/// end-of-image marker (FF D9), which entropy-coded data cannot contain.
-void checkJpegComplete(const std::string& file) {
-    std::ifstream in(file, std::ios::binary | std::ios::ate);
-    const std::streamoff size = in.tellg();
-    const std::streamoff tail = std::min<std::streamoff>(size, 64);
-    std::string bytes(std::size_t(tail), '\0');
-    in.seekg(size - tail);
-    in.read(bytes.data(), tail);
-    if (bytes.find("\xff\xd9") == std::string::npos) {
-        throw InputError(file, "truncated JPEG: no end-of-image marker");
-    }
-}
-
 void readPage(const StackLayout& layout, std::size_t index, DenseVolume& volume) {
     const Page& page = layout.pages[index];
     auto input = openImage(page.file);
-    if (std::string(input->format_name()) == "jpeg") checkJpegComplete(page.file);
     const std::size_t pageBytes = std::size_t(layout.width) * layout.height * layout.channels *
                                   bytesPerSample(layout.type);
     unsigned char* destination = volume.samples.data() + index * pageBytes;

@@ -26,6 +26,7 @@ using NiftiImagePtr = std::unique_ptr<nifti_image, NiftiImageDeleter>;
 struct RawHeader {
     int size = 0;           // 348 (NIfTI-1) or 540 (NIfTI-2)
     double voxOffset = 0.0;
+    double pixdim[3] = {1.0, 1.0, 1.0};  // as written: nifticlib turns 0 and NaN into 1
 };
 
 template <typename T>
@@ -52,6 +53,10 @@ RawHeader readRawHeader(const std::string& path) {
         RawHeader header;
         header.size = size;
         header.voxOffset = size == 348 ? double(fieldAt<float>(bytes, 108, swap)) : fieldAt<double>(bytes, 168, swap);
+        for (int axis = 0; axis < 3; ++axis) {
+            header.pixdim[axis] = size == 348 ? double(fieldAt<float>(bytes, 80 + 4 * axis, swap))
+                                              : fieldAt<double>(bytes, 112 + 8 * axis, swap);
+        }
         return header;
     }
     const std::int32_t size = fieldAt<std::int32_t>(bytes, 0, false);
@@ -99,14 +104,28 @@ Layout layoutOf(const nifti_image& image, const std::string& path) {
                                "float32, float64 and RGB24");
 }
 
+/// Without an sform the voxel sizes come from pixdim, where nifticlib silently
+/// replaces a 0 or a NaN with 1 mm: say so, since every distance then is a guess.
+void warnAboutMissingVoxelSizes(const RawHeader& header, DenseVolume& volume) {
+    for (int axis = 0; axis < 3; ++axis) {
+        const double size = header.pixdim[axis];
+        if (size != 0.0 && std::isfinite(size)) continue;
+        std::ostringstream text;
+        text << "pixdim[" << axis + 1 << "] is " << size << ", not a voxel size: using 1 mm along axis " << "xyz"[axis];
+        volume.warnings.push_back(text.str());
+    }
+}
+
 /// sform if set, else qform, else the voxel sizes alone (NIfTI's "method 1").
-openvdb::math::Mat4d worldFromIndexOf(const std::string& path, const nifti_image& image, DenseVolume& volume) {
+openvdb::math::Mat4d worldFromIndexOf(const std::string& path, const nifti_image& image, const RawHeader& header,
+                                      DenseVolume& volume) {
     const nifti_dmat44* matrix = nullptr;
     if (image.sform_code > 0) matrix = &image.sto_xyz;
     else if (image.qform_code > 0) matrix = &image.qto_xyz;
     double rows[3][4] = {{std::abs(image.dx), 0, 0, 0},
                          {0, std::abs(image.dy), 0, 0},
                          {0, 0, std::abs(image.dz), 0}};
+    if (matrix != &image.sto_xyz) warnAboutMissingVoxelSizes(header, volume);
     if (matrix) {
         for (int r = 0; r < 3; ++r) {
             for (int c = 0; c < 4; ++c) {
@@ -156,7 +175,7 @@ DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
                                   " volumes: reading volume " +
                                   std::to_string(options.volumeIndex) + " (choose with --volume)");
     }
-    volume.worldFromIndex = worldFromIndexOf(path, *image, volume);
+    volume.worldFromIndex = worldFromIndexOf(path, *image, header, volume);
     if (image->scl_slope != 0.0 && std::isfinite(image->scl_slope) &&
         std::isfinite(image->scl_inter)) {
         volume.slope = image->scl_slope;

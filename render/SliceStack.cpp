@@ -142,7 +142,10 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     const openvdb::BBoxd cells(volume.box().min().asVec3d() - Vec3d(0.5), volume.box().max().asVec3d() + Vec3d(0.5));
     ProgressCounter counter(progress, slabs.size());
     Slab slab(mGeometry.width, mGeometry.height);
-    for (const auto& [firstSlice, origins] : slabs) {
+    for (const auto& slabEntry : slabs) {
+        // Named copies, since lambdas may not capture structured bindings in C++17.
+        const int firstSlice = slabEntry.first;
+        const std::vector<Coord>& origins = slabEntry.second;
         std::fill(slab.samples.begin(), slab.samples.end(), StackSample{});
         tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) {
             // Per thread, not per block: this loop is the stack build's hot path.

@@ -106,6 +106,27 @@ TEST(BadInput, NiftiSformWithAnInfiniteOffset) {
     expectMentions(ingestError(path), "sform holds a value that is not finite");
 }
 
+// nifticlib replaces a voxel size of 0 or NaN with 1 mm; without an sform that
+// guess would set every distance, so the user hears of it.
+TEST(BadInput, NiftiVoxelSizeOfZeroOrNanIsAWarning) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string path = plainCh2(dir);
+    patchInt16(path, 252, 0);  // qform_code
+    patchInt16(path, 254, 0);  // sform_code
+    std::string bytes = test::readBytes(path);
+    const float zero = 0.0f, notANumber = std::numeric_limits<float>::quiet_NaN();
+    std::memcpy(&bytes[84], &zero, sizeof zero);              // pixdim[2]
+    std::memcpy(&bytes[88], &notANumber, sizeof notANumber);  // pixdim[3]
+    test::writeBytes(path, bytes);
+    const IngestResult result = ingest(path, {});
+    std::string warnings;
+    for (const std::string& warning : result.warnings) warnings += warning + "\n";
+    expectMentions(warnings, "pixdim[2] is 0, not a voxel size: using 1 mm along axis y");
+    expectMentions(warnings, "pixdim[3] is nan, not a voxel size");
+    EXPECT_EQ(warnings.find("pixdim[1]"), std::string::npos) << warnings;
+}
+
 TEST(BadInput, DimensionsBeyondMemoryAreRefusedBeforeAllocating) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
@@ -158,7 +179,23 @@ TEST(BadInput, TruncatedImageSlice) {
     }
     const std::string cut = stack + "/texture-1.png";
     test::copyTruncated(test::sharedData("ct-head-visible-human-png/texture-1.png"), cut, 4000);
-    expectMentions(ingestError(stack), cut + ":");
+    expectMentions(ingestError(stack), cut + ": truncated or corrupt PNG: chunk 'IDAT' runs past the end");
+    test::copyTruncated(test::sharedData("ct-head-visible-human-png/texture-1.png"), cut,
+                        std::filesystem::file_size(test::sharedData("ct-head-visible-human-png/texture-1.png")) - 12);
+    expectMentions(ingestError(stack), cut + ": truncated PNG: it ends before its IEND chunk");
+}
+
+// libpng would notice a damaged IDAT only while decoding, through a longjmp that
+// leaks inside OpenImageIO; every chunk carries a CRC-32 that is checked first.
+TEST(BadInput, DamagedPngSlice) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string stack = dir.path("stack");
+    std::filesystem::create_directory(stack);
+    std::string bytes = test::readBytes(test::sharedData("ct-head-visible-human-png/texture-1.png"));
+    bytes[bytes.size() / 2] ^= 0x5a;
+    test::writeBytes(stack + "/texture-1.png", bytes);
+    expectMentions(ingestError(stack), stack + "/texture-1.png: corrupt PNG: chunk 'IDAT' fails its CRC check");
 }
 
 TEST(BadInput, EmptyFolderAndMissingFile) {
@@ -278,7 +315,7 @@ TEST(BadInput, TruncatedJpegSlice) {
     const std::string cut = stack + "/1.jpg";
     const std::size_t size = std::filesystem::file_size(test::sharedData("rgb-brainmaps54-cryosection/1020.jpg"));
     test::copyTruncated(test::sharedData("rgb-brainmaps54-cryosection/1020.jpg"), cut, size / 2);
-    expectMentions(ingestError(stack), cut + ":");
+    expectMentions(ingestError(stack), cut + ": truncated JPEG: no end-of-image marker");
 }
 
 TEST(BadInput, ADicomFileCutInsideItsHeader) {

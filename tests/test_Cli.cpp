@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
 
 namespace gvr {
@@ -39,6 +40,34 @@ TEST(Cli, BadInputGivesOneLineExitTwoAndNoOutput) {
     EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
     EXPECT_EQ(run.err.rfind("gvr: error: " + cut + ": ", 0), 0u) << run.err;
     EXPECT_TRUE(std::filesystem::is_empty(dir.path("out")));
+}
+
+// nifticlib prints "** ERROR: ..." on its own before it returns a failure.
+TEST(Cli, LibraryMessagesStayOffStderrUnlessVerbose) {
+    test::TempDir dir;
+    std::string header(352, '\0');  // a NIfTI-1 header whose dim[0] is out of range
+    const std::int32_t headerSize = 348;
+    const std::int16_t rank = 9;
+    const float voxOffset = 352.0f;
+    std::memcpy(&header[0], &headerSize, sizeof headerSize);
+    std::memcpy(&header[40], &rank, sizeof rank);
+    std::memcpy(&header[108], &voxOffset, sizeof voxOffset);
+    std::memcpy(&header[344], "n+1", 4);
+    const std::string input = dir.path("bad.nii");
+    test::writeBytes(input, header);
+    const std::string command = "ingest '" + input + "' -o '" + dir.path("x.vdb") + "'";
+
+    const test::CommandResult quiet = test::runGvr(command, dir);
+    EXPECT_EQ(quiet.exitCode, 2);
+    EXPECT_EQ(test::lineCount(quiet.err), 1u) << quiet.err;
+    EXPECT_EQ(quiet.err.rfind("gvr: error: " + input + ": ", 0), 0u) << quiet.err;
+
+    const test::CommandResult verbose = test::runGvr(command + " --verbose", dir);
+    EXPECT_EQ(verbose.exitCode, 2);
+    EXPECT_EQ(verbose.err.rfind("gvr: error: " + input + ": ", 0), 0u) << verbose.err;
+    EXPECT_NE(verbose.err.find("\ngvr: library: ** ERROR: nifti_convert_n1hdr2nim: bad dim[0]"), std::string::npos)
+        << verbose.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("x.vdb")));
 }
 
 TEST(Cli, UnknownFlagsAndBadSpacingAreUsageErrors) {

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# CI: an AddressSanitizer + UBSan build with clang (build-asan), the unit tests under it,
+# then every libFuzzer target for a fixed time (GVR_FUZZ_SECONDS, default 30) on seeds
+# from tests/fuzz/make_seeds.py. A crash, leak, undefined behaviour or uncaught exception
+# fails the run and leaves the input in build-asan/fuzz-findings/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${GVR_FUZZ_SECONDS:-30}
+build=build-asan
+CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DGVR_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" > /dev/null
+# Only what the tests and fuzzers run: the benchmark examples gain nothing from sanitizers.
+cmake --build "$build" -j 2 --target gvr gvr_tests \
+  fuzz_nifti fuzz_metaimage fuzz_mgh fuzz_raw fuzz_dicom fuzz_image fuzz_vdb fuzz_asset
+
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=0
+export LSAN_OPTIONS=suppressions=$(pwd)/.ci/lsan-suppressions.txt:print_suppressions=0
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$(pwd)/.ci/ubsan-suppressions.txt
+# Not under strace, as in .ci/run: LeakSanitizer cannot work in a traced process.
+# Blender, the dependency audit's own test and the minimal example (minutes under
+# ASan; the unit tests cover its steps) gain nothing from a sanitized gvr.
+ctest --test-dir "$build" --output-on-failure -j 2 -E "export_clients|deps_audit|example_minimal"
+
+seeds=$build/fuzz-seeds
+rm -rf "$seeds" "$build/fuzz-corpus"
+/usr/bin/python3 tests/fuzz/make_seeds.py "$build/cli/gvr" ../shared/data "$seeds"
+mkdir -p "$build/fuzz-findings"
+for target in nifti metaimage mgh raw dicom image vdb asset; do
+  corpus=$build/fuzz-corpus/$target
+  mkdir -p "$corpus"
+  cp "$seeds/$target"/* "$corpus"/
+  echo "== fuzz_$target for $seconds s"
+  "$build/tests/fuzz/fuzz_$target" "$corpus" -max_total_time="$seconds" -rss_limit_mb=2048 \
+    -artifact_prefix="$build/fuzz-findings/$target-" -print_final_stats=1 2> "$build/fuzz-$target.log" || {
+    tail -40 "$build/fuzz-$target.log" >&2
+    echo "sanitize: fuzz_$target found a failing input in $build/fuzz-findings/" >&2
+    exit 1
+  }
+  grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$build/fuzz-$target.log" | tr '\n' ' '
+  echo
+done
+# The clang build itself must need nothing that .ci/install-deps.sh leaves out.
+/usr/bin/python3 .ci/deps-audit "$build"

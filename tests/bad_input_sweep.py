@@ -1,0 +1,365 @@
+"""Bad input, class by class, the way a careless or hostile user would give it.
+
+usage: bad_input_sweep.py GVR SHARED_DATA WORK_DIR [--json]
+
+Every case must end as the README's Errors section promises: exit code 2, exactly
+one line on stderr starting "gvr: error:", no output file, and every input file
+unchanged. Damage that a format cannot detect (a flipped byte in uncompressed
+samples or in a VDB, which carry no checksum) may also give exit 0, and a header
+that only lacks a voxel size gives exit 0 with a warning; never a crash or a hang. Prints a table of cases tried and handled per
+class, and fails if any case is not handled.
+"""
+import collections
+import gzip
+import hashlib
+import json
+import os
+import pathlib
+import struct
+import subprocess
+import sys
+import time
+import zlib
+
+import nibabel
+import numpy
+
+import checks
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent / "fuzz"))
+import make_seeds  # noqa: E402  (small valid files of every format)
+
+TIMEOUT_SECONDS = 120
+Case = collections.namedtuple("Case", "kind name args inputs outputs may_succeed")
+cases = []
+
+
+def case(kind, name, args, inputs=(), outputs=("out.vdb",), may_succeed=False):
+    cases.append(Case(kind, name, [str(a) for a in args], [pathlib.Path(p) for p in inputs], outputs, may_succeed))
+
+
+def cut(source, target, keep):
+    target.parent.mkdir(parents=True, exist_ok=True)
+    target.write_bytes(source.read_bytes()[:keep])
+    return target
+
+
+def flipped(source, target, offset):
+    data = bytearray(source.read_bytes())
+    data[offset] ^= 0x5A
+    target.parent.mkdir(parents=True, exist_ok=True)
+    target.write_bytes(bytes(data))
+    return target
+
+
+def patched(source, target, offset, fmt, value):
+    data = bytearray(source.read_bytes())
+    struct.pack_into(fmt, data, offset, value)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    target.write_bytes(bytes(data))
+    return target
+
+
+def fractions(count):
+    return [(k + 0.5) / count for k in range(count)]
+
+
+def truncated_files(work, shared, seeds):
+    sources = {
+        "nii.gz": shared / "mri-colin27-aal/ch2.nii.gz",
+        "nii": seeds / "nifti/int16-hu.nii",
+        "mgz": shared / "mri-freesurfer-norm-aparc/norm.mgz",
+        "mgh": seeds / "mgh/float32.mgh",
+        "mha": seeds / "metaimage/short.mha",
+        "mha-zlib": seeds / "metaimage/short-zlib.mha",
+    }
+    for label, source in sources.items():
+        size = source.stat().st_size
+        for f in fractions(8):
+            target = cut(source, work / f"cut-{label}-{f:.3f}" / source.name, int(size * f))
+            case("truncated file", f"{label} cut at {f:.0%}", ["ingest", target, "-o", "out.vdb"], [target])
+    slices = {
+        "png": sorted((shared / "ct-head-visible-human-png").glob("*.png"))[0],
+        "jpeg": seeds / "image/rgb.jpg",
+        "dicom": sorted((shared / "ct-chest-ricord-512").glob("*.dcm"), key=lambda p: p.stat().st_size)[0],
+    }
+    for label, source in slices.items():
+        size = source.stat().st_size
+        keeps = [int(size * f) for f in fractions(8)]
+        if label == "dicom":  # inside the file meta information and the dataset header
+            keeps += [130, 200, 400, 700, 1000, 1400, 2000, 2800]
+        for keep in keeps:
+            folder = work / f"cut-{label}-{keep}"
+            target = cut(source, folder / source.name, keep)
+            case("truncated file", f"{label} slice cut at {keep} bytes", ["ingest", folder, "-o", "out.vdb"], [target])
+
+
+def corrupt_compressed(work, shared, seeds):
+    sources = {
+        "nii.gz": shared / "mri-colin27-aal/ch2.nii.gz",
+        "mgz": shared / "mri-freesurfer-norm-aparc/norm.mgz",
+        "mha-zlib": seeds / "metaimage/short-zlib.mha",
+        "png": sorted((shared / "ct-head-visible-human-png").glob("*.png"))[0],
+    }
+    for label, source in sources.items():
+        size = source.stat().st_size
+        start = source.read_bytes().index(b"LOCAL\n") + 8 if label == "mha-zlib" else 64
+        for f in fractions(6):
+            offset = start + int((size - start - 16) * f)
+            folder = work / f"flip-{label}-{offset}"
+            target = flipped(source, folder / source.name, offset)
+            where = folder if label == "png" else target
+            case("corrupt compressed data", f"{label} byte {offset} flipped", ["ingest", where, "-o", "out.vdb"], [target])
+
+
+def nifti_float(work, name, values):
+    path = work / name
+    nibabel.save(nibabel.Nifti1Image(values.astype(numpy.float32), numpy.diag([1.0, 1.0, 2.0, 1.0])), path)
+    return path
+
+
+def absurd_headers(work, seeds):
+    nii = seeds / "nifti/uint8.nii"
+    for dims in [(1600, 1600, 1600), (32767, 32767, 32767), (-5, 4, 4), (0, 4, 4)]:
+        data = bytearray(nii.read_bytes())
+        struct.pack_into("<3h", data, 42, *dims)
+        target = work / f"dims-{dims[0]}-{dims[1]}.nii"
+        target.write_bytes(bytes(data))
+        case("absurd dimensions", f"NIfTI claiming {dims}", ["ingest", target, "-o", "out.vdb"], [target])
+        packed = work / f"dims-{dims[0]}-{dims[1]}.nii.gz"
+        packed.write_bytes(gzip.compress(bytes(data)))
+        case("absurd dimensions", f"NIfTI .gz claiming {dims}", ["ingest", packed, "-o", "out.vdb"], [packed])
+    mgh = seeds / "mgh/uint8.mgh"
+    for dims in [(30000, 30000, 30000), (-1, 5, 4)]:
+        data = bytearray(mgh.read_bytes())
+        struct.pack_into(">3i", data, 4, *dims)
+        target = work / f"dims-{dims[0]}.mgh"
+        target.write_bytes(bytes(data))
+        case("absurd dimensions", f"MGH claiming {dims}", ["ingest", target, "-o", "out.vdb"], [target])
+    mha = seeds / "metaimage/short.mha"
+    target = work / "dims-huge.mha"
+    target.write_bytes(mha.read_bytes().replace(b"DimSize = 6 5 4", b"DimSize = 100000 100000 100000"))
+    case("absurd dimensions", "MetaImage claiming 1e5 cubed", ["ingest", target, "-o", "out.vdb"], [target])
+    png = seeds / "image/grey.png"
+    for side in [30000, 65535]:
+        data = bytearray(png.read_bytes())
+        struct.pack_into(">II", data, 16, side, side)
+        struct.pack_into(">I", data, 29, zlib.crc32(bytes(data[12:29])))
+        folder = work / f"png-{side}"
+        folder.mkdir()
+        for k in range(3):
+            (folder / f"{k}.png").write_bytes(bytes(data))
+        case("absurd dimensions", f"three PNGs claiming {side} squared", ["ingest", folder, "-o", "out.vdb"], [folder / "0.png"])
+    raw = work / "small.raw"
+    raw.write_bytes(bytes(64))
+    case("absurd dimensions", "raw file with --raw-dims 100000 cubed",
+         ["ingest", raw, "-o", "out.vdb", "--raw-dims", "100000,100000,100000", "--raw-type", "uint8"], [raw])
+    case("absurd dimensions", "raw file larger than its dims claim nothing of",
+         ["ingest", raw, "-o", "out.vdb", "--raw-dims", "4,4,8", "--raw-type", "float32"], [raw])
+
+
+def bad_values(work):
+    values = numpy.arange(60, dtype=numpy.float32).reshape(5, 4, 3)
+    for label, bad in [("NaN", numpy.nan), ("Inf", numpy.inf), ("-Inf", -numpy.inf)]:
+        v = values.copy()
+        v[2, 1, 1] = bad
+        target = nifti_float(work, f"value-{label}.nii", v)
+        case("NaN/Inf values", f"NIfTI float with one {label}", ["ingest", target, "-o", "out.vdb"], [target])
+    target = work / "value-nan.mha"
+    header = {"ObjectType": "Image", "NDims": 3, "DimSize": "2 2 2", "ElementType": "MET_FLOAT",
+              "BinaryData": "True", "BinaryDataByteOrderMSB": "False"}
+    target.write_bytes(make_seeds.metaimage(header, numpy.array([1, 2, numpy.nan, 4, 5, 6, 7, 8], numpy.float32).tobytes()))
+    case("NaN/Inf values", "MetaImage float with a NaN", ["ingest", target, "-o", "out.vdb"], [target])
+
+
+def unsupported_and_inconsistent_headers(work, seeds):
+    nii = seeds / "nifti/float32.nii"
+    for datatype, bitpix, label in [(32, 64, "complex64"), (1536, 128, "float128"), (2304, 32, "RGBA32"),
+                                    (1792, 128, "complex128"), (77, 8, "unknown type 77")]:
+        data = bytearray(nii.read_bytes())
+        struct.pack_into("<hh", data, 70, datatype, bitpix)
+        target = work / f"type-{datatype}.nii"
+        target.write_bytes(bytes(data))
+        case("unsupported type", f"NIfTI datatype {label}", ["ingest", target, "-o", "out.vdb"], [target])
+    mgh = seeds / "mgh/uint8.mgh"
+    target = patched(mgh, work / "type-99.mgh", 20, ">i", 99)
+    case("unsupported type", "MGH type 99", ["ingest", target, "-o", "out.vdb"], [target])
+    mha = seeds / "metaimage/short.mha"
+    target = work / "type-string.mha"
+    target.write_bytes(mha.read_bytes().replace(b"MET_SHORT", b"MET_STRING"))
+    case("unsupported type", "MetaImage MET_STRING", ["ingest", target, "-o", "out.vdb"], [target])
+    for offset, label in [(1e12, "1e12"), (-100.0, "-100"), (float("nan"), "NaN"), (352.5, "352.5")]:
+        target = patched(nii, work / f"voxoffset-{label}.nii", 108, "<f", offset)
+        case("inconsistent header", f"NIfTI vox_offset {label}", ["ingest", target, "-o", "out.vdb"], [target])
+    data = bytearray(nii.read_bytes())
+    struct.pack_into("<h", data, 254, 1)  # sform_code: scanner
+    struct.pack_into("<4f", data, 280, 1.0, 0.0, 0.0, float("inf"))
+    target = work / "sform-inf.nii"
+    target.write_bytes(bytes(data))
+    case("inconsistent header", "NIfTI sform with an Inf offset", ["ingest", target, "-o", "out.vdb"], [target])
+    for pixdim, label in [((0.0, 1.0, 1.0), "0"), ((float("nan"), 1.0, 1.0), "NaN")]:
+        data = bytearray(nii.read_bytes())
+        struct.pack_into("<h", data, 252, 0)  # qform_code 0: pixdim alone gives the spacing
+        struct.pack_into("<h", data, 254, 0)
+        struct.pack_into("<3f", data, 80, *pixdim)
+        target = work / f"pixdim-{label}.nii"
+        target.write_bytes(bytes(data))
+        case("inconsistent header", f"NIfTI pixdim {label}", ["ingest", target, "-o", "out.vdb"], [target],
+             may_succeed="gvr: warning: pixdim[1] is")
+    for volume in ["-1", "5"]:
+        case("inconsistent header", f"MGH --volume {volume} of 1", ["ingest", mgh, "-o", "out.vdb", "--volume", volume], [mgh])
+
+
+def path_escapes(work, seeds):
+    (work / "escape").mkdir()
+    raw = seeds / "metaimage/short.mha"
+    header = raw.read_bytes().split(b"ElementDataFile")[0]
+    for label, name in [("relative ../", "../../../../../../etc/passwd"), ("absolute", "/etc/passwd")]:
+        target = work / "escape" / f"{label.split()[0]}.mhd"
+        target.write_bytes(header.replace(b"DimSize = 6 5 4", b"DimSize = 4 4 2") + f"ElementDataFile = {name}\n".encode())
+        case("data file outside the header's folder", f"MetaImage ElementDataFile {label}",
+             ["ingest", target, "-o", "out.vdb"], [target])
+
+
+def gvr_files(work, gvr, seeds):
+    grid, asset = work / "small.vdb", work / "small.gvr"
+    subprocess.run([gvr, "ingest", seeds / "nifti/int16-hu.nii", "-o", grid], check=True, capture_output=True)
+    subprocess.run([gvr, "fit", grid, "-o", asset, "--gaussians", "40", "--iterations", "5"], check=True,
+                   capture_output=True)
+    return grid, asset
+
+
+def damaged_assets(work, asset):
+    size = asset.stat().st_size
+    for f in fractions(10):
+        target = cut(asset, work / f"asset-cut-{f:.2f}.gvr", int(size * f))
+        case("damaged asset", f"asset cut at {f:.0%}", ["export", target, "-o", "out.vdb"], [target])
+    for f in fractions(12):
+        offset = min(size - 1, int(size * f))
+        target = flipped(asset, work / f"asset-flip-{offset}.gvr", offset)
+        case("damaged asset", f"asset byte {offset} flipped", ["render", target, "-o", "out.png"], [target], ["out.png"])
+    data = asset.read_bytes()
+    header_length = struct.unpack_from("<I", data, 12)[0]
+    header = json.loads(data[16:16 + header_length])
+    for label, change in [("version 99", lambda d, h: struct.pack_into("<I", d, 8, 99)),
+                          ("count + 1", lambda d, h: h.update(count=h["count"] + 1)),
+                          ("cutoff 0", lambda d, h: h.update(cutoff_sigmas=0.0)),
+                          ("singular transform", lambda d, h: h.update(world_from_index=[0.0] * 16))]:
+        h = dict(header)
+        body = bytearray(data[:-4])
+        change(body, h)
+        text = json.dumps(h).encode()
+        rebuilt = bytearray(body[:12]) + struct.pack("<I", len(text)) + text + body[16 + header_length:]
+        rebuilt += struct.pack("<I", zlib.crc32(bytes(rebuilt)))
+        target = work / f"asset-{label.replace(' ', '-')}.gvr"
+        target.write_bytes(bytes(rebuilt))
+        case("damaged asset", f"asset with a valid CRC but {label}", ["export", target, "-o", "out.vdb"], [target])
+
+
+def damaged_grids(work, grid):
+    size = grid.stat().st_size
+    for f in fractions(8):
+        target = cut(grid, work / f"grid-cut-{f:.3f}.vdb", int(size * f))
+        case("damaged VDB", f"VDB cut at {f:.0%}", ["fit", target, "-o", "out.gvr", "--gaussians", "8", "--iterations", "2"],
+             [target], ["out.gvr"])
+    for f in fractions(8):
+        offset = int(size * f)
+        target = flipped(grid, work / f"grid-flip-{offset}.vdb", offset)
+        case("damaged VDB (no checksum)", f"VDB byte {offset} flipped", ["info", target], [target], (), may_succeed=True)
+
+
+def outputs_and_flags(work, grid, asset):
+    fifo = work / "fifo"
+    os.mkfifo(fifo)
+    (work / "a-folder").mkdir()
+    for label, args, inputs in [
+        ("ingest -o equal to its input", ["ingest", grid, "-o", grid], [grid]),
+        ("fit -o equal to its input", ["fit", grid, "-o", grid, "--iterations", "2"], [grid]),
+        ("export -o equal to its input", ["export", asset, "-o", asset], [asset]),
+        ("-o a FIFO", ["export", asset, "-o", fifo], [asset]),
+        ("-o /dev/null", ["export", asset, "-o", "/dev/null"], [asset]),
+        ("-o a folder", ["export", asset, "-o", work / "a-folder"], [asset]),
+        ("-o in a missing folder", ["export", asset, "-o", work / "missing/out.vdb"], [asset]),
+        ("render --stats in a missing folder", ["render", asset, "-o", "out.png", "--stats", work / "missing/s.json"], [asset]),
+        ("fit --log in a missing folder", ["fit", grid, "-o", "out.gvr", "--log", work / "missing/log.csv"], [grid]),
+    ]:
+        case("unsafe output", label, args, inputs, ["out.png", "out.gvr", "out.vdb"])
+    fit = ["fit", grid, "-o", "out.gvr"]
+    for flag in ["--iterations", "--threads", "--gaussians", "--seed", "--refresh-every", "--batch", "--held-out",
+                 "--slice-pixels", "--prune-every", "--log-every"]:
+        case("flag out of range", f"fit {flag} -1", fit + [flag, "-1"], [grid], ["out.gvr"])
+    for flag in ["--mc-lambda", "--slice-max", "--slice-gamma", "--slice-beta", "--lr", "--cutoff", "--ratio", "--time"]:
+        case("flag out of range", f"fit {flag} nan", fit + [flag, "nan"], [grid], ["out.gvr"])
+    case("flag out of range", "fit --gaussians 0", fit + ["--gaussians", "0"], [grid], ["out.gvr"])
+    case("flag out of range", "fit --threads 100000", fit + ["--threads", "100000"], [grid], ["out.gvr"])
+    render = ["render", asset, "-o", "out.png"]
+    for args in [["--renderer", "raymarch", "--step", "1e-9"], ["--slice-spacing", "1e-9"], ["--size", "0x0"],
+                 ["--size", "100000x100000"]]:
+        case("flag out of range", "render " + " ".join(args), render + args, [asset], ["out.png"])
+    for args in [["--resolution", "5000"], ["--voxel-size", "1e-6"]]:
+        case("flag out of range", "export " + " ".join(args), ["export", asset, "-o", "out.vdb"] + args, [asset])
+
+
+def run_case(gvr, work, c):
+    folder = work / "runs" / f"{len(list((work / 'runs').iterdir()))}"
+    folder.mkdir()
+    before = {p: hashlib.sha256(p.read_bytes()).hexdigest() for p in c.inputs if p.is_file()}
+    try:
+        run = subprocess.run([gvr] + c.args + ["--quiet"] * (c.args[0] in ("ingest", "fit", "export", "render")),
+                             cwd=folder, capture_output=True, text=True, errors="replace", timeout=TIMEOUT_SECONDS)
+    except subprocess.TimeoutExpired:
+        return f"no exit within {TIMEOUT_SECONDS} s"
+    lines = run.stderr.splitlines()
+    changed = [str(p) for p, digest in before.items() if hashlib.sha256(p.read_bytes()).hexdigest() != digest]
+    if changed:
+        return f"changed its input {changed[0]}"
+    if run.returncode == 0 and c.may_succeed:
+        if isinstance(c.may_succeed, str) and c.may_succeed not in run.stderr:
+            return f"exit 0 without the warning '{c.may_succeed}': {run.stderr.strip()[-300:]}"
+        return None
+    if run.returncode != 2:
+        return f"exit {run.returncode}: {run.stderr.strip()[-300:]}"
+    if len(lines) != 1 or not lines[0].startswith("gvr: error: "):
+        return f"{len(lines)} lines on stderr: {run.stderr.strip()[-300:]}"
+    left = [name for name in c.outputs if (folder / name).exists()]
+    if left or [p for p in folder.iterdir() if p.name.startswith(".tmp")]:
+        return f"left an output behind: {left}"
+    return None
+
+
+def body(gvr, shared, scratch):
+    work, shared = pathlib.Path(scratch), pathlib.Path(shared)
+    seeds = work / "seeds"
+    subprocess.run([sys.executable, make_seeds.__file__, gvr, shared, seeds], check=True, capture_output=True)
+    (work / "runs").mkdir()
+    grid, asset = gvr_files(work, gvr, seeds)
+    truncated_files(work, shared, seeds)
+    corrupt_compressed(work, shared, seeds)
+    absurd_headers(work, seeds)
+    bad_values(work)
+    unsupported_and_inconsistent_headers(work, seeds)
+    path_escapes(work, seeds)
+    damaged_assets(work, asset)
+    damaged_grids(work, grid)
+    outputs_and_flags(work, grid, asset)
+    tally = collections.OrderedDict()
+    seconds = []
+    for c in cases:
+        started = time.time()
+        problem = run_case(gvr, work, c)
+        seconds.append((time.time() - started, c.name))
+        tried, handled = tally.get(c.kind, (0, 0))
+        tally[c.kind] = (tried + 1, handled + (problem is None))
+        if problem:
+            checks.check(f"{c.kind}: {c.name}", False, problem)
+    print("\n| class | cases | handled |\n|---|---|---|")
+    for kind, (tried, handled) in tally.items():
+        print(f"| {kind} | {tried} | {handled} |")
+    print("slowest cases: " + "; ".join(f"{name} {t:.1f} s" for t, name in sorted(seconds)[-4:]))
+    total = sum(t for t, _ in tally.values()), sum(h for _, h in tally.values())
+    print(f"| all | {total[0]} | {total[1]} |")
+    checks.check("every bad input handled as the README promises", total[0] == total[1], f"{total[1]} of {total[0]}")
+
+
+if __name__ == "__main__":
+    sys.exit(checks.run(body, __doc__))

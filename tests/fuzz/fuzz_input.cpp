@@ -1,0 +1,121 @@
+// One libFuzzer target per input format, all built from this file: GVR_FUZZ_FORMAT
+// names the format. Each input is written to a file, or to a file in a folder,
+// and read the way `gvr ingest` (or, for assets, `gvr info`) reads a user's file.
+// The contract under test: any bytes give a grid, an asset or an InputError.
+// Any other exception, a crash, a leak or undefined behaviour is a finding.
+
+#include "Error.h"
+#include "GaussianAsset.h"
+#include "GridFile.h"
+#include "Ingest.h"
+#include "MemoryBudget.h"
+#include "SampleType.h"
+
+#include <zlib.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fuzzer process runs under libFuzzer's 2 GB RSS limit; the readers' memory
+// check must refuse before that, as it would on a smaller machine.
+constexpr std::uint64_t kMemoryCeiling = 512ull << 20;
+
+struct Format {
+    const char* file;   // the input's name inside the scratch folder
+    bool asFolder;      // ingest the folder (DICOM series, image stack), not the file
+};
+
+Format format() {
+    const std::string name = GVR_FUZZ_FORMAT;
+    if (name == "nifti") return {"volume.nii", false};
+    if (name == "metaimage") return {"volume.mha", false};
+    if (name == "mgh") return {"volume.mgh", false};
+    if (name == "raw") return {"volume.raw", false};
+    if (name == "dicom") return {"series/slice.dcm", true};
+    if (name == "image") return {"stack/slice.png", true};
+    if (name == "vdb") return {"volume.vdb", false};
+    if (name == "asset") return {"fit.gvr", false};
+    std::abort();
+}
+
+const fs::path& scratchFolder() {
+    static const fs::path folder = [] {
+        std::string pattern = (fs::temp_directory_path() / "gvr-fuzz-XXXXXX").string();
+        if (!mkdtemp(pattern.data())) std::abort();
+        return fs::path(pattern);
+    }();
+    return folder;
+}
+
+void writeFile(const fs::path& path, const std::uint8_t* data, std::size_t size) {
+    fs::create_directories(path.parent_path());
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
+}
+
+/// Raw data has no header: the first 16 bytes choose the layout that the flags
+/// (--raw-dims, --raw-type, --endian, --header-bytes) would give.
+gvr::ReadOptions rawOptions(const std::uint8_t* data, std::size_t size) {
+    gvr::ReadOptions options;
+    gvr::RawLayout layout;
+    std::uint8_t bytes[16] = {};
+    std::memcpy(bytes, data, std::min<std::size_t>(size, 16));
+    for (int a = 0; a < 3; ++a) layout.dims[a] = 1 + (bytes[2 * a] | (bytes[2 * a + 1] << 8));
+    const gvr::SampleType types[] = {gvr::SampleType::UInt8,  gvr::SampleType::Int8,    gvr::SampleType::UInt16,
+                                     gvr::SampleType::Int16,  gvr::SampleType::UInt32,  gvr::SampleType::Int32,
+                                     gvr::SampleType::Float32, gvr::SampleType::Float64};
+    layout.type = types[bytes[6] % 8];
+    layout.channels = bytes[7] % 2 == 0 ? 1 : 3;
+    layout.bigEndian = bytes[8] % 2 == 1;
+    layout.headerBytes = bytes[9];
+    options.raw = layout;
+    return options;
+}
+
+void readAsUserInput(const fs::path& path, const Format& format, const std::uint8_t* data, std::size_t size) {
+    const std::string input = format.asFolder ? path.parent_path().string() : path.string();
+    if (std::string(GVR_FUZZ_FORMAT) == "asset") {
+        gvr::readAsset(input);
+        return;
+    }
+    gvr::IngestOptions options;
+    if (std::string(GVR_FUZZ_FORMAT) == "raw") options.read = rawOptions(data, size);
+    gvr::ingest(input, options);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    gvr::initializeOpenVdb();
+    gvr::setMemoryCeiling(kMemoryCeiling);
+    return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    const Format chosen = format();
+    const fs::path path = scratchFolder() / chosen.file;
+    if (std::string(GVR_FUZZ_FORMAT) == "asset") {
+        // Assets end in a CRC-32 of what precedes it. Appending it here lets the
+        // fuzzer reach the decoder behind the checksum; the tests cover bad checksums.
+        std::string bytes(reinterpret_cast<const char*>(data), size);
+        const auto crc = std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(data), uInt(size)));
+        bytes.append(reinterpret_cast<const char*>(&crc), sizeof crc);
+        writeFile(path, reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+    } else {
+        writeFile(path, data, size);
+    }
+    try {
+        readAsUserInput(path, chosen, data, size);
+    } catch (const gvr::InputError&) {
+        // The promised answer to bad input.
+    }
+    return 0;
+}
