@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <sstream>
 
 namespace gvr {
 
@@ -161,13 +162,18 @@ typename GridT::Ptr buildSparseGrid(const Values& values, const DenseVolume& vol
 
 openvdb::math::Transform::Ptr transformOf(const DenseVolume& volume, const std::string& file) {
     const openvdb::Mat3d linear = volume.worldFromIndex.getMat3();
+    std::ostringstream determinant;
+    determinant << "(its determinant is " << linear.det() << ")";
     const openvdb::Vec3d spacing = axisSpacing(volume.worldFromIndex);
     const double scale = spacing[0] * spacing[1] * spacing[2];
     if (!(std::abs(linear.det()) > 1e-9 * scale) || !std::isfinite(linear.det())) {
-        throw InputError(file, "degenerate orientation matrix (its determinant is " +
-                                   std::to_string(linear.det()) + ")");
+        throw InputError(file, "degenerate orientation matrix " + determinant.str());
     }
-    return openvdb::math::Transform::createLinearTransform(volume.worldFromIndex);
+    try {
+        return openvdb::math::Transform::createLinearTransform(volume.worldFromIndex);
+    } catch (const openvdb::ArithmeticError&) {  // OpenVDB's own, absolute, test of the determinant
+        throw InputError(file, "voxels too small for OpenVDB: orientation matrix " + determinant.str());
+    }
 }
 
 template <typename T>

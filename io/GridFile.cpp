@@ -2,6 +2,7 @@
 
 #include "AtomicFile.h"
 #include "Error.h"
+#include "VdbLengths.h"
 #include "VolumeMetadata.h"
 
 #include <openvdb/io/Stream.h>
@@ -25,11 +26,13 @@ namespace {
 /// OpenVDB reads lengths and counts without checking that the read succeeded, so
 /// in a cut file it would size strings and buffers from whatever the variable held
 /// (up to 23 GB on a 10 KB grid). A stream that throws on the first short read
-/// stops it there. io::Stream reads what io::File writes, all in one pass.
+/// stops it there. io::Stream reads what io::File writes, all in one pass. Lengths
+/// that were read whole are checked first (checkVdbLengths).
 openvdb::GridPtrVecPtr readGrids(const std::string& path, bool voxels) {
     initializeOpenVdb();
     if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
     if (!isVdbFile(path)) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
+    checkVdbLengths(path);
     std::ifstream in(path, std::ios::binary);
     in.exceptions(std::ios::failbit | std::ios::badbit);
     try {
@@ -43,6 +46,9 @@ openvdb::GridPtrVecPtr readGrids(const std::string& path, bool voxels) {
         throw InputError(path, std::string("corrupt or truncated VDB file: ") + error.what());
     } catch (const std::ios_base::failure&) {
         throw InputError(path, "truncated or corrupt VDB file: a read ran past its end");
+    } catch (const std::bad_alloc&) {
+        // Compressed block sizes are 64-bit lengths that OpenVDB allocates before reading.
+        throw InputError(path, "corrupt VDB file: a length in it asks for more memory than there is");
     }
 }
 

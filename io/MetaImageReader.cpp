@@ -34,6 +34,20 @@ bool liesBelow(const std::filesystem::path& file, const std::filesystem::path& f
     return std::mismatch(base.begin(), base.end(), resolved.begin(), resolved.end()).first == base.end();
 }
 
+/// The header names the data file, so its name may be anything: too long, a
+/// folder, nothing at all.
+void checkDataFile(const std::string& header, const std::string& samplesPath) {
+    std::error_code error;
+    const std::filesystem::file_status status = std::filesystem::status(samplesPath, error);
+    if (!std::filesystem::exists(status)) {
+        const std::string why = error && error != std::errc::no_such_file_or_directory ? ": " + error.message() : "";
+        throw InputError(header, "ElementDataFile " + samplesPath + " does not exist" + why);
+    }
+    if (!std::filesystem::is_regular_file(status)) {
+        throw InputError(header, "ElementDataFile " + samplesPath + " is not a regular file");
+    }
+}
+
 /// Reads "Key = Value" lines up to ElementDataFile, which MetaImage requires last.
 MetaHeader readHeader(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -159,9 +173,7 @@ DenseVolume readMetaImage(const std::string& path, const ReadOptions& options) {
     const bool local = dataFile == "LOCAL";
     const std::string samplesPath =
         local ? path : (std::filesystem::path(path).parent_path() / dataFile).string();
-    if (!local && !std::filesystem::exists(samplesPath)) {
-        throw InputError(path, "ElementDataFile " + samplesPath + " does not exist");
-    }
+    if (!local) checkDataFile(path, samplesPath);
     if (!local && !options.dataFilesAnywhere && !liesBelow(samplesPath, std::filesystem::path(path).parent_path())) {
         throw InputError(path, "ElementDataFile " + dataFile +
                                    " lies outside the header's folder (allow it with --data-files-anywhere)");

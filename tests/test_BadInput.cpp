@@ -127,6 +127,21 @@ TEST(BadInput, NiftiVoxelSizeOfZeroOrNanIsAWarning) {
     EXPECT_EQ(warnings.find("pixdim[1]"), std::string::npos) << warnings;
 }
 
+// Found by fuzz_nifti: OpenVDB refuses a transform whose determinant is below an
+// absolute 3e-15, which micrometre-sized voxels given in millimetres reach.
+TEST(BadInput, VoxelsTooSmallForOpenVdb) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string path = plainCh2(dir);
+    patchInt16(path, 252, 0);  // qform_code
+    patchInt16(path, 254, 0);  // sform_code
+    std::string bytes = test::readBytes(path);
+    const float tiny = 1e-6f;
+    for (int axis = 1; axis <= 3; ++axis) std::memcpy(&bytes[76 + 4 * axis], &tiny, sizeof tiny);  // pixdim
+    test::writeBytes(path, bytes);
+    expectMentions(ingestError(path), path + ": voxels too small for OpenVDB");
+}
+
 TEST(BadInput, DimensionsBeyondMemoryAreRefusedBeforeAllocating) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;

@@ -5,6 +5,9 @@
 #include "TestHelpers.h"
 #include "VolumeMetadata.h"
 
+#include <openvdb/io/File.h>
+
+#include <cstring>
 #include <filesystem>
 
 namespace gvr {
@@ -55,6 +58,35 @@ TEST(GridFile, RejectsFilesThatAreNotVdb) {
         ADD_FAILURE() << "a missing file was read";
     } catch (const InputError& error) {
         EXPECT_NE(std::string(error.what()).find("no such file"), std::string::npos) << error.what();
+    }
+}
+
+// Found by fuzz_vdb: OpenVDB filled a 4 GiB string from a corrupt metadata length
+// before its read failed. Every length in the headers is checked first.
+TEST(GridFile, ALengthPastTheEndIsRefusedBeforeOpenVdbAllocatesIt) {
+    test::TempDir dir;
+    for (const char* name : {"file_note", "grid_note"}) {
+        openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create();
+        grid->tree().setValue(openvdb::Coord(1, 2, 3), 1.0f);
+        grid->insertMeta("grid_note", openvdb::StringMetadata("a value to corrupt"));
+        openvdb::MetaMap fileMetadata;
+        fileMetadata.insertMeta("file_note", openvdb::StringMetadata("a value to corrupt"));
+        openvdb::io::File(dir.path("g.vdb")).write({grid}, fileMetadata);
+        EXPECT_NO_THROW(readGridFile(dir.path("g.vdb"))) << name;
+
+        std::string bytes = test::readBytes(dir.path("g.vdb"));
+        const std::size_t value = bytes.find("a value to corrupt", bytes.find(name));
+        ASSERT_NE(value, std::string::npos) << name;
+        const std::uint32_t huge = 0xF0000000u;
+        std::memcpy(&bytes[value - 4], &huge, sizeof huge);
+        test::writeBytes(dir.path("g.vdb"), bytes);
+        try {
+            readGridFile(dir.path("g.vdb"));
+            ADD_FAILURE() << name << ": a corrupt length was read";
+        } catch (const InputError& error) {
+            EXPECT_NE(std::string(error.what()).find("a metadata value claims 4026531840 bytes"), std::string::npos)
+                << error.what();
+        }
     }
 }
 

@@ -123,6 +123,25 @@ TEST(MetaImageReader, DataFilesOutsideTheHeadersFolderNeedPermission) {
     EXPECT_EQ(readMetaImage(dir.path("headers/v.mhd"), {}).data<std::int16_t>()[3], 4);
 }
 
+// Found by fuzz_metaimage: an ElementDataFile that is empty or names a folder, or
+// a name too long for the system, made std::filesystem throw its own exception.
+TEST(MetaImageReader, ADataFileThatCannotBeAFileIsRefused) {
+    test::TempDir dir;
+    std::filesystem::create_directories(dir.path("headers/sub"));
+    const std::pair<std::string, std::string> cases[] = {{"", "is not a regular file"},
+                                                         {"sub", "is not a regular file"},
+                                                         {std::string(5000, 'a'), "does not exist: File name too long"}};
+    for (const auto& [named, problem] : cases) {
+        test::writeBytes(dir.path("headers/v.mhd"), metaHeader("", named));
+        try {
+            readMetaImage(dir.path("headers/v.mhd"), {});
+            ADD_FAILURE() << "'" << named << "' was read";
+        } catch (const InputError& error) {
+            EXPECT_NE(std::string(error.what()).find(problem), std::string::npos) << error.what();
+        }
+    }
+}
+
 /// An MGH file of 2x2x2 uint8 in FreeSurfer's LIA orientation, centred at c_ras.
 std::string mghBytes() {
     std::string bytes;

@@ -1,0 +1,21 @@
+/// @file VdbLengths.h
+/// @brief Checks the lengths in a VDB file's headers before OpenVDB trusts them.
+///
+/// OpenVDB sizes every string and metadata value from a 32-bit length in the file
+/// and fills the buffer before its read can fail, so one corrupt length costs up to
+/// 4 GiB. The lengths sit in a few places that are cheap to walk: the file's
+/// metadata, each grid's descriptor, and each grid's metadata.
+#pragma once
+
+#include <string>
+
+namespace gvr {
+
+/// Walks the header, the file metadata and, grid by grid, each descriptor and its
+/// metadata, checking every length against the bytes left in the file. Grids after
+/// the first are reached through the descriptors' offsets, which files written by
+/// io::File carry; in a file without them only the first grid is checked.
+/// @throw InputError naming @a path for a length that runs past the end.
+void checkVdbLengths(const std::string& path);
+
+}  // namespace gvr
