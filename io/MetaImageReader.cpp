@@ -6,6 +6,7 @@
 #include "SampleFile.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -97,6 +98,15 @@ std::vector<double> numbersOr(const MetaHeader& header, const std::string& key,
     return numbers(header, key, fallback.size(), path);
 }
 
+/// A small count (NDims, channels), which a header may give as any number at all.
+int countOr(const MetaHeader& header, const std::string& key, double fallback, const std::string& path) {
+    const double value = numbersOr(header, key, {fallback}, path)[0];
+    if (!(value >= 1 && value <= 64) || value != std::floor(value)) {
+        throw InputError(path, "MetaImage " + key + " is " + field(header, key, path) + ", not a count");
+    }
+    return int(value);
+}
+
 SampleType sampleTypeOf(const std::string& elementType, const std::string& path) {
     static const std::map<std::string, SampleType> types = {
         {"MET_UCHAR", SampleType::UInt8},   {"MET_CHAR", SampleType::Int8},
@@ -144,7 +154,7 @@ openvdb::math::Mat4d worldFromIndexOf(const MetaHeader& header, int ndims, const
 
 DenseVolume readMetaImage(const std::string& path, const ReadOptions& options) {
     const MetaHeader header = readHeader(path);
-    const int ndims = int(numbers(header, "NDims", 1, path)[0]);
+    const int ndims = countOr(header, "NDims", 0.0, path);
     if (ndims != 2 && ndims != 3) {
         throw InputError(path, "MetaImage NDims is " + std::to_string(ndims) + "; gvr reads 2 or 3");
     }
@@ -157,7 +167,7 @@ DenseVolume readMetaImage(const std::string& path, const ReadOptions& options) {
     };
     volume.dims = {dimension(0), dimension(1), dimension(2)};
     volume.type = sampleTypeOf(field(header, "ElementType", path), path);
-    volume.channels = int(numbersOr(header, "ElementNumberOfChannels", {1.0}, path)[0]);
+    volume.channels = countOr(header, "ElementNumberOfChannels", 1.0, path);
     if (volume.channels != 1 && volume.channels != 3) {
         throw InputError(path, "MetaImage has " + std::to_string(volume.channels) +
                                    " channels; gvr reads 1 (grey) or 3 (RGB)");

@@ -9,6 +9,8 @@
 #include <nifti2_io.h>
 #include <zlib.h>
 
+#include <tuple>
+
 namespace gvr {
 namespace {
 
@@ -136,6 +138,28 @@ TEST(MetaImageReader, ADataFileThatCannotBeAFileIsRefused) {
         try {
             readMetaImage(dir.path("headers/v.mhd"), {});
             ADD_FAILURE() << "'" << named << "' was read";
+        } catch (const InputError& error) {
+            EXPECT_NE(std::string(error.what()).find(problem), std::string::npos) << error.what();
+        }
+    }
+}
+
+// Found by fuzz_metaimage: NDims = 1e52 was cast to int, which is undefined.
+TEST(MetaImageReader, CountsThatAreNotCountsAreRefused) {
+    test::TempDir dir;
+    test::writeBytes(dir.path("v.raw"), shortSamples({1, 2, 3, 4}, false));
+    const std::tuple<std::string, std::string, std::string> cases[] = {
+        {"NDims = 3", "NDims = 1e52", "NDims is 1e52, not a count"},
+        {"NDims = 3", "NDims = -2", "NDims is -2, not a count"},
+        {"ElementType", "ElementNumberOfChannels = 2.5\nElementType", "ElementNumberOfChannels is 2.5, not a count"},
+        {"ElementType", "ElementNumberOfChannels = nan\nElementType", "ElementNumberOfChannels needs 1 numbers"}};
+    for (const auto& [from, to, problem] : cases) {
+        std::string header = metaHeader("", "v.raw");
+        header.replace(header.find(from), from.size(), to);
+        test::writeBytes(dir.path("v.mhd"), header);
+        try {
+            readMetaImage(dir.path("v.mhd"), {});
+            ADD_FAILURE() << to << " was read";
         } catch (const InputError& error) {
             EXPECT_NE(std::string(error.what()).find(problem), std::string::npos) << error.what();
         }
