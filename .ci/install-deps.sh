@@ -15,6 +15,11 @@ packages=(
   # The sanitizer build and the libFuzzer targets (.ci/sanitize.sh).
   clang
   libclang-rt-14-dev
+  # With clang, zfp's CMake config requires OpenMP for C (libomp), and CMake takes
+  # llvm-ar, llvm-ranlib and ld.lld for its archiver, ranlib and linker entries.
+  libomp-14-dev
+  llvm
+  lld
 
   # Libraries the build links.
   libopenvdb-dev
