@@ -11,6 +11,7 @@
 #include <sys/resource.h>
 #include <zlib.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -43,9 +44,23 @@ std::string plainCh2(const test::TempDir& dir) {
     return path;
 }
 
+std::string emptyFolder(const test::TempDir& dir, const std::string& name) {
+    std::filesystem::create_directory(dir.path(name));
+    return dir.path(name);
+}
+
 void patchInt16(const std::string& path, std::size_t offset, std::int16_t value) {
     std::string bytes = test::readBytes(path);
     std::memcpy(&bytes[offset], &value, sizeof value);
+    test::writeBytes(path, bytes);
+}
+
+/// No sform or qform, so pixdim alone gives the voxel sizes.
+void patchVoxelSizesWithoutOrientation(const std::string& path, const std::array<float, 3>& sizes) {
+    patchInt16(path, 252, 0);  // qform_code
+    patchInt16(path, 254, 0);  // sform_code
+    std::string bytes = test::readBytes(path);
+    std::memcpy(&bytes[80], sizes.data(), sizeof sizes);  // pixdim[1..3]
     test::writeBytes(path, bytes);
 }
 
@@ -112,13 +127,7 @@ TEST(BadInput, NiftiVoxelSizeOfZeroOrNanIsAWarning) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
     const std::string path = plainCh2(dir);
-    patchInt16(path, 252, 0);  // qform_code
-    patchInt16(path, 254, 0);  // sform_code
-    std::string bytes = test::readBytes(path);
-    const float zero = 0.0f, notANumber = std::numeric_limits<float>::quiet_NaN();
-    std::memcpy(&bytes[84], &zero, sizeof zero);              // pixdim[2]
-    std::memcpy(&bytes[88], &notANumber, sizeof notANumber);  // pixdim[3]
-    test::writeBytes(path, bytes);
+    patchVoxelSizesWithoutOrientation(path, {1.0f, 0.0f, std::numeric_limits<float>::quiet_NaN()});
     const IngestResult result = ingest(path, {});
     std::string warnings;
     for (const std::string& warning : result.warnings) warnings += warning + "\n";
@@ -133,12 +142,7 @@ TEST(BadInput, VoxelsTooSmallForOpenVdb) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
     const std::string path = plainCh2(dir);
-    patchInt16(path, 252, 0);  // qform_code
-    patchInt16(path, 254, 0);  // sform_code
-    std::string bytes = test::readBytes(path);
-    const float tiny = 1e-6f;
-    for (int axis = 1; axis <= 3; ++axis) std::memcpy(&bytes[76 + 4 * axis], &tiny, sizeof tiny);  // pixdim
-    test::writeBytes(path, bytes);
+    patchVoxelSizesWithoutOrientation(path, {1e-6f, 1e-6f, 1e-6f});
     expectMentions(ingestError(path), path + ": voxels too small for OpenVDB");
 }
 
@@ -176,8 +180,7 @@ TEST(BadInput, NaNVoxelsAreCountedOrReplaced) {
 TEST(BadInput, StackSlicesOfDifferentSizes) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
-    const std::string stack = dir.path("stack");
-    std::filesystem::create_directory(stack);
+    const std::string stack = emptyFolder(dir, "stack");
     std::filesystem::copy(test::sharedData("ct-head-visible-human-png/texture-0.png"), stack + "/0.png");
     std::filesystem::copy(test::sharedData("rgb-brainmaps54-cryosection/1020.jpg"), stack + "/1.jpg");
     expectMentions(ingestError(stack), "/1.jpg: slice is 512x304 but earlier slices are 512x512");
@@ -186,8 +189,7 @@ TEST(BadInput, StackSlicesOfDifferentSizes) {
 TEST(BadInput, TruncatedImageSlice) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
-    const std::string stack = dir.path("stack");
-    std::filesystem::create_directory(stack);
+    const std::string stack = emptyFolder(dir, "stack");
     for (int slice = 0; slice < 3; ++slice) {
         const std::string name = "texture-" + std::to_string(slice) + ".png";
         std::filesystem::copy(test::sharedData("ct-head-visible-human-png/" + name), stack + "/" + name);
@@ -205,8 +207,7 @@ TEST(BadInput, TruncatedImageSlice) {
 TEST(BadInput, DamagedPngSlice) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
-    const std::string stack = dir.path("stack");
-    std::filesystem::create_directory(stack);
+    const std::string stack = emptyFolder(dir, "stack");
     std::string bytes = test::readBytes(test::sharedData("ct-head-visible-human-png/texture-1.png"));
     bytes[bytes.size() / 2] ^= 0x5a;
     test::writeBytes(stack + "/texture-1.png", bytes);
@@ -224,8 +225,7 @@ TEST(BadInput, EmptyFolderAndMissingFile) {
 TEST(BadInput, TruncatedDicomSlice) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
-    const std::string series = dir.path("series");
-    std::filesystem::create_directory(series);
+    const std::string series = emptyFolder(dir, "series");
     for (const char* name : {"1-001.dcm", "1-002.dcm", "1-003.dcm"}) {
         std::filesystem::copy(test::sharedData(std::string("ct-chest-ricord-512/") + name),
                               series + "/" + name);
@@ -308,8 +308,7 @@ std::string pngClaiming(const std::string& png, std::uint32_t width, std::uint32
 TEST(BadInput, ImageHeadersClaimingHugeSlicesAreRefusedBeforeAllocating) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
-    const std::string stack = dir.path("stack");
-    std::filesystem::create_directory(stack);
+    const std::string stack = emptyFolder(dir, "stack");
     const std::string png = test::readBytes(test::sharedData("ct-head-visible-human-png/texture-0.png"));
     for (int slice = 0; slice < 3; ++slice) {
         test::writeBytes(stack + "/" + std::to_string(slice) + ".png", pngClaiming(png, 30000, 30000));
@@ -324,8 +323,7 @@ TEST(BadInput, ImageHeadersClaimingHugeSlicesAreRefusedBeforeAllocating) {
 TEST(BadInput, TruncatedJpegSlice) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
-    const std::string stack = dir.path("stack");
-    std::filesystem::create_directory(stack);
+    const std::string stack = emptyFolder(dir, "stack");
     std::filesystem::copy(test::sharedData("rgb-brainmaps54-cryosection/1020.jpg"), stack + "/0.jpg");
     const std::string cut = stack + "/1.jpg";
     const std::size_t size = std::filesystem::file_size(test::sharedData("rgb-brainmaps54-cryosection/1020.jpg"));
@@ -336,8 +334,7 @@ TEST(BadInput, TruncatedJpegSlice) {
 TEST(BadInput, ADicomFileCutInsideItsHeader) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
-    const std::string series = dir.path("series");
-    std::filesystem::create_directory(series);
+    const std::string series = emptyFolder(dir, "series");
     for (std::size_t keep : {200u, 700u, 2000u}) {
         const std::string cut = series + "/cut.dcm";
         test::copyTruncated(test::sharedData("ct-chest-ricord-512/1-001.dcm"), cut, keep);
