@@ -5,6 +5,7 @@
 #include "VdbLengths.h"
 #include "VolumeMetadata.h"
 
+#include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
 
 #include <filesystem>
@@ -26,22 +27,34 @@ namespace {
 /// OpenVDB reads lengths and counts without checking that the read succeeded, so
 /// in a cut file it would size strings and buffers from whatever the variable held
 /// (up to 23 GB on a 10 KB grid). A stream that throws on the first short read
-/// stops it there. io::Stream reads what io::File writes, all in one pass. Lengths
-/// that were read whole are checked first (checkVdbLengths).
+/// stops it there. io::Stream reads what io::File writes, all in one pass.
+openvdb::GridPtrVecPtr streamGrids(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    in.exceptions(std::ios::failbit | std::ios::badbit);
+    openvdb::io::Stream stream(in, /*delayLoad=*/false);
+    return stream.getGrids();
+}
+
+/// Only the headers, which checkVdbLengths() has walked, so io::File may seek
+/// straight to each grid's metadata. A file without grid offsets must be read whole.
+openvdb::GridPtrVecPtr gridMetadata(const std::string& path, bool hasGridOffsets) {
+    if (hasGridOffsets) {
+        openvdb::io::File file(path);
+        file.open(/*delayLoad=*/false);
+        return file.readAllGridMetadata();
+    }
+    openvdb::GridPtrVecPtr grids = streamGrids(path);
+    for (auto& grid : *grids) grid = grid->copyGridWithNewTree();  // drop the voxels
+    return grids;
+}
+
 openvdb::GridPtrVecPtr readGrids(const std::string& path, bool voxels) {
     initializeOpenVdb();
     if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
     if (!isVdbFile(path)) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
-    checkVdbLengths(path);
-    std::ifstream in(path, std::ios::binary);
-    in.exceptions(std::ios::failbit | std::ios::badbit);
+    const bool hasGridOffsets = checkVdbLengths(path);
     try {
-        openvdb::io::Stream stream(in, /*delayLoad=*/false);
-        openvdb::GridPtrVecPtr grids = stream.getGrids();
-        if (!voxels) {
-            for (auto& grid : *grids) grid = grid->copyGridWithNewTree();  // drop the voxels
-        }
-        return grids;
+        return voxels ? streamGrids(path) : gridMetadata(path, hasGridOffsets);
     } catch (const openvdb::Exception& error) {
         throw InputError(path, std::string("corrupt or truncated VDB file: ") + error.what());
     } catch (const std::ios_base::failure&) {

@@ -70,7 +70,7 @@ private:
 
 }  // namespace
 
-void checkVdbLengths(const std::string& path) {
+bool checkVdbLengths(const std::string& path) {
     LengthWalker file(path);
     file.skip(8, "the magic number");
     const std::uint32_t version = file.read<std::uint32_t>("the format version");
@@ -93,9 +93,10 @@ void checkVdbLengths(const std::string& path) {
         const std::int64_t end = file.read<std::int64_t>("a grid end position");
         if (version >= openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION) file.skip(4, "a grid compression flag");
         file.skipMetadata("a grid's metadata");
-        if (!hasOffsets) return;  // the next grid starts after this one's voxels, unknown here
+        if (!hasOffsets) return false;  // the next grid starts after this one's voxels, unknown here
         file.seek(end, "a grid end position");
     }
+    return hasOffsets;
 }
 
 }  // namespace gvr

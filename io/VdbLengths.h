@@ -15,7 +15,8 @@ namespace gvr {
 /// metadata, checking every length against the bytes left in the file. Grids after
 /// the first are reached through the descriptors' offsets, which files written by
 /// io::File carry; in a file without them only the first grid is checked.
+/// @return whether the file carries grid offsets (io::File may then seek to each grid).
 /// @throw InputError naming @a path for a length that runs past the end.
-void checkVdbLengths(const std::string& path);
+bool checkVdbLengths(const std::string& path);
 
 }  // namespace gvr
