@@ -11,8 +11,10 @@
 
 namespace gvr {
 
-/// Walks the header, the file metadata and, grid by grid, each descriptor and its
-/// metadata, checking every length against the bytes left in the file. Grids after
+/// Walks the header, the file metadata and, grid by grid, each descriptor, its
+/// metadata and its transform's type name, checking every length against the bytes left in the file, each
+/// fixed-size metadata value's size against its type, and the counts inside
+/// delayed-load metadata, from which OpenVDB would otherwise allocate. Grids after
 /// the first are reached through the descriptors' offsets, which files written by
 /// io::File carry; in a file without them only the first grid is checked.
 /// @return whether the file carries grid offsets (io::File may then seek to each grid).

@@ -90,5 +90,64 @@ TEST(GridFile, ALengthPastTheEndIsRefusedBeforeOpenVdbAllocatesIt) {
     }
 }
 
+/// Writes a one-voxel grid with io::File, which adds delayed-load metadata, and
+/// returns the file's bytes.
+std::string oneVoxelFileBytes(const std::string& path) {
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create();
+    grid->tree().setValue(openvdb::Coord(1, 2, 3), 1.0f);
+    grid->insertMeta("spacing", openvdb::Vec3DMetadata(openvdb::Vec3d(1, 2, 3)));
+    openvdb::io::File(path).write({grid});
+    return test::readBytes(path);
+}
+
+void expectRefused(const std::string& path, const std::string& message) {
+    try {
+        readGridFile(path);
+        ADD_FAILURE() << "a corrupt file was read";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find(message), std::string::npos) << error.what();
+    }
+}
+
+// Found by fuzz_vdb: a type name changed from vec3d to vec4d made OpenVDB read 32
+// bytes of a 24-byte value, and every length after it from the wrong place (a
+// 2 GiB string filled before the read failed).
+TEST(GridFile, AMetadataValueOfTheWrongSizeForItsTypeIsRefused) {
+    test::TempDir dir;
+    std::string bytes = oneVoxelFileBytes(dir.path("g.vdb"));
+    EXPECT_NO_THROW(readGridFile(dir.path("g.vdb")));
+    const std::size_t type = bytes.find("vec3d");
+    ASSERT_NE(type, std::string::npos);
+    bytes[type + 3] = '4';
+    test::writeBytes(dir.path("g.vdb"), bytes);
+    expectRefused(dir.path("g.vdb"), "a 'vec4d' metadata value of 24 bytes (it takes 32)");
+}
+
+// Found by fuzz_vdb: the transform's map type name is one more string OpenVDB
+// fills before its read can fail.
+TEST(GridFile, ATransformTypeNamePastTheEndIsRefused) {
+    test::TempDir dir;
+    std::string bytes = oneVoxelFileBytes(dir.path("g.vdb"));
+    const std::size_t name = bytes.find("UniformScaleMap");
+    ASSERT_NE(name, std::string::npos);
+    const std::uint32_t huge = 0xFFFFFFF0u;
+    std::memcpy(&bytes[name - 4], &huge, sizeof huge);
+    test::writeBytes(dir.path("g.vdb"), bytes);
+    expectRefused(dir.path("g.vdb"), "a transform's map type claims 4294967280 bytes");
+}
+
+// OpenVDB sizes delayed-load metadata's arrays from a leaf count inside the value.
+TEST(GridFile, DelayedLoadMetadataThatClaimsTooManyLeavesIsRefused) {
+    test::TempDir dir;
+    std::string bytes = oneVoxelFileBytes(dir.path("g.vdb"));
+    const std::size_t type = bytes.find("__delayedload");
+    ASSERT_NE(type, std::string::npos);
+    const std::size_t count = type + std::strlen("__delayedload") + 4;  // after the value's size
+    const std::uint32_t huge = 0x7FFFFFFFu;
+    std::memcpy(&bytes[count], &huge, sizeof huge);
+    test::writeBytes(dir.path("g.vdb"), bytes);
+    expectRefused(dir.path("g.vdb"), "delayed-load metadata claims more leaf nodes than the file can hold");
+}
+
 }  // namespace
 }  // namespace gvr
