@@ -8,6 +8,7 @@
 #include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -48,13 +49,35 @@ openvdb::GridPtrVecPtr gridMetadata(const std::string& path, bool hasGridOffsets
     return grids;
 }
 
+/// Index-to-world must be an invertible affine map with finite entries: the
+/// readers, exporters and renderer all invert it. OpenVDB throws only when one
+/// asks for the affine map, far from the file.
+void checkTransforms(const openvdb::GridPtrVec& grids, const std::string& path) {
+    for (const auto& grid : grids) {
+        bool usable = false;
+        try {
+            const openvdb::Mat4d matrix = grid->transform().baseMap()->getAffineMap()->getMat4();
+            usable = std::isfinite(matrix.det());
+            for (int i = 0; i < 4; ++i) {
+                for (int j = 0; j < 4; ++j) usable = usable && std::isfinite(matrix(i, j));
+            }
+        } catch (const openvdb::Exception&) {
+            usable = false;
+        }
+        if (!usable) {
+            throw InputError(path, "grid '" + grid->getName() + "' has a singular or non-finite transform");
+        }
+    }
+}
+
 openvdb::GridPtrVecPtr readGrids(const std::string& path, bool voxels) {
     initializeOpenVdb();
     if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
     if (!isVdbFile(path)) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
     const bool hasGridOffsets = checkVdbLengths(path);
+    openvdb::GridPtrVecPtr grids;
     try {
-        return voxels ? streamGrids(path) : gridMetadata(path, hasGridOffsets);
+        grids = voxels ? streamGrids(path) : gridMetadata(path, hasGridOffsets);
     } catch (const openvdb::Exception& error) {
         throw InputError(path, std::string("corrupt or truncated VDB file: ") + error.what());
     } catch (const std::ios_base::failure&) {
@@ -63,6 +86,8 @@ openvdb::GridPtrVecPtr readGrids(const std::string& path, bool voxels) {
         // Compressed block sizes are 64-bit lengths that OpenVDB allocates before reading.
         throw InputError(path, "corrupt VDB file: a length in it asks for more memory than there is");
     }
+    checkTransforms(*grids, path);
+    return grids;
 }
 
 }  // namespace

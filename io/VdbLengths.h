@@ -1,24 +1,28 @@
 /// @file VdbLengths.h
-/// @brief Checks the lengths in a VDB file's headers before OpenVDB trusts them.
+/// @brief Checks every length and size in a VDB file before OpenVDB trusts them.
 ///
-/// OpenVDB sizes every string and metadata value from a 32-bit length in the file
-/// and fills the buffer before its read can fail, so one corrupt length costs up to
-/// 4 GiB. The lengths sit in a few places that are cheap to walk: the file's
-/// metadata, each grid's descriptor, and each grid's metadata.
+/// OpenVDB sizes strings, metadata values and voxel buffers from lengths in the
+/// file and fills them before its read can fail, and Debian's OpenVDB 10 reads an
+/// uncompressed voxel block of whatever size the file states into a buffer of the
+/// size it expects. One corrupt number costs gigabytes or corrupts the heap. The
+/// numbers are cheap to walk: headers, metadata, the transform, and the tree's
+/// masks and block sizes.
 #pragma once
 
 #include <string>
 
 namespace gvr {
 
-/// Walks the header, the file metadata and, grid by grid, each descriptor, its
-/// metadata and its transform's type name, checking every length against the bytes left in the file, each
-/// fixed-size metadata value's size against its type, and the counts inside
-/// delayed-load metadata, from which OpenVDB would otherwise allocate. Grids after
-/// the first are reached through the descriptors' offsets, which files written by
-/// io::File carry; in a file without them only the first grid is checked.
+/// Walks the file as OpenVDB will read it: the header, the file metadata and,
+/// grid by grid, the descriptor, the metadata (each fixed-size value's size
+/// against its type, and the counts inside delayed-load metadata), the transform,
+/// and the tree (node masks, and each compressed block against the size it must
+/// decode to, Blosc's header included).
 /// @return whether the file carries grid offsets (io::File may then seek to each grid).
-/// @throw InputError naming @a path for a length that runs past the end.
+/// @throw InputError naming @a path for a number that does not fit, for a format
+///        version before 222 (OpenVDB 3.0), and for a grid type it cannot walk
+///        (anything but the standard 5-4-3 trees of float, double, int32, int64,
+///        vec3s, vec3d and vec3i).
 bool checkVdbLengths(const std::string& path);
 
 }  // namespace gvr

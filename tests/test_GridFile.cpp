@@ -7,7 +7,9 @@
 
 #include <openvdb/io/File.h>
 
+#include <algorithm>
 #include <cstring>
+#include <type_traits>
 #include <filesystem>
 
 namespace gvr {
@@ -147,6 +149,116 @@ TEST(GridFile, DelayedLoadMetadataThatClaimsTooManyLeavesIsRefused) {
     std::memcpy(&bytes[count], &huge, sizeof huge);
     test::writeBytes(dir.path("g.vdb"), bytes);
     expectRefused(dir.path("g.vdb"), "delayed-load metadata claims more leaf nodes than the file can hold");
+}
+
+/// A grid of @a GridT with one full leaf of random values (of random bits for
+/// integers, which zlib cannot shrink and stores raw), an inactive voxel, a tile
+/// and 100 one-voxel leaves, written with
+/// @a compression; returns the file's bytes.
+template <typename GridT>
+std::string writeSampleGrid(const std::string& path, std::uint32_t compression, bool half = false) {
+    using ValueT = typename GridT::ValueType;
+    typename GridT::Ptr grid = GridT::create();
+    std::uint32_t state = 12345;
+    for (int i = 0; i < 8; ++i) {
+        for (int j = 0; j < 8; ++j) {
+            for (int k = 0; k < 8; ++k) {
+                ValueT value;
+                for (std::size_t b = 0; b < sizeof value; b += 4) {
+                    state = state * 1664525u + 1013904223u;
+                    std::uint32_t bits = state;
+                    if (std::is_floating_point<typename openvdb::VecTraits<ValueT>::ElementType>::value) {
+                        bits = (bits & 0x3FFFFFFFu) | 0x3E000000u;  // finite
+                    }
+                    std::memcpy(reinterpret_cast<char*>(&value) + b, &bits, std::min<std::size_t>(4, sizeof value - b));
+                }
+                grid->tree().setValue(openvdb::Coord(i, j, k), value);
+            }
+        }
+    }
+    grid->tree().setValueOff(openvdb::Coord(100, 0, 0), openvdb::zeroVal<ValueT>());
+    // 100 more leaves: delayed-load metadata compresses, and pads, arrays of 48-128 bytes.
+    for (int leaf = 0; leaf < 100; ++leaf) grid->tree().setValue(openvdb::Coord(8 * leaf, 64, 0), ValueT(1));
+    grid->tree().addTile(1, openvdb::Coord(4096, 0, 0), openvdb::zeroVal<ValueT>(), true);
+    grid->setSaveFloatAsHalf(half);
+    openvdb::io::File file(path);
+    file.setCompression(compression);
+    file.write({grid});
+    return test::readBytes(path);
+}
+
+void expectReadable(const std::string& path) {
+    try {
+        readGridFile(path);
+    } catch (const InputError& error) {
+        ADD_FAILURE() << error.what();
+    }
+}
+
+TEST(GridFile, EveryStoredLayoutOfTheValueTypesGvrReadsPassesTheChecks) {
+    using namespace openvdb::io;
+    test::TempDir dir;
+    const std::string path = dir.path("g.vdb");
+    for (std::uint32_t compression : std::initializer_list<std::uint32_t>{COMPRESS_NONE, COMPRESS_ZIP, COMPRESS_BLOSC, COMPRESS_ACTIVE_MASK,
+                                      COMPRESS_ZIP | COMPRESS_ACTIVE_MASK, COMPRESS_BLOSC | COMPRESS_ACTIVE_MASK}) {
+        SCOPED_TRACE(compressionToString(compression));
+        for (bool half : {false, true}) {
+            writeSampleGrid<openvdb::FloatGrid>(path, compression, half);
+            expectReadable(path);
+            writeSampleGrid<openvdb::Vec3SGrid>(path, compression, half);
+            expectReadable(path);
+            writeSampleGrid<openvdb::DoubleGrid>(path, compression, half);
+            expectReadable(path);
+        }
+        writeSampleGrid<openvdb::Int32Grid>(path, compression);
+        expectReadable(path);
+    }
+}
+
+// Found by fuzz_vdb: Debian's OpenVDB 10 reads an uncompressed block of the size
+// the file states into a buffer of the size it expects (a segfault in release).
+TEST(GridFile, AnUncompressedBlockOfTheWrongSizeIsRefused) {
+    test::TempDir dir;
+    std::string bytes = writeSampleGrid<openvdb::Int32Grid>(dir.path("g.vdb"), openvdb::io::COMPRESS_ZIP);
+    expectReadable(dir.path("g.vdb"));
+    const std::int64_t raw = -2048, larger = -4096;  // 512 integers, stored raw
+    const std::size_t at = bytes.find(std::string(reinterpret_cast<const char*>(&raw), sizeof raw));
+    ASSERT_NE(at, std::string::npos);
+    std::memcpy(&bytes[at], &larger, sizeof larger);
+    test::writeBytes(dir.path("g.vdb"), bytes);
+    expectRefused(dir.path("g.vdb"), "an uncompressed block of 4096 bytes where 2048 belong");
+}
+
+// Found by fuzz_vdb: a scale of zero made the transform singular, and OpenVDB
+// threw (an internal error, exit 1) only when the reader asked for its matrix.
+TEST(GridFile, ASingularTransformIsRefused) {
+    test::TempDir dir;
+    std::string bytes = oneVoxelFileBytes(dir.path("g.vdb"));
+    const std::size_t name = bytes.find("UniformScaleMap");
+    ASSERT_NE(name, std::string::npos);
+    const std::size_t scale = name + std::strlen("UniformScaleMap");  // ScaleMap: the scale comes first
+    double one = 0.0;
+    std::memcpy(&one, &bytes[scale], sizeof one);
+    ASSERT_EQ(one, 1.0);
+    const double zero = 0.0;
+    for (int axis = 0; axis < 3; ++axis) std::memcpy(&bytes[scale + axis * sizeof zero], &zero, sizeof zero);
+    test::writeBytes(dir.path("g.vdb"), bytes);
+    expectRefused(dir.path("g.vdb"), "grid '' has a singular or non-finite transform");
+}
+
+TEST(GridFile, GridTypesAndVersionsTheChecksCannotWalkAreRefused) {
+    test::TempDir dir;
+    openvdb::BoolGrid::Ptr mask = openvdb::BoolGrid::create();
+    mask->tree().setValue(openvdb::Coord(1, 2, 3), true);
+    mask->setName("mask");
+    openvdb::io::File(dir.path("b.vdb")).write({mask});
+    expectRefused(dir.path("b.vdb"), "grid 'mask' is a Tree_bool_5_4_3, a type gvr does not read");
+
+    std::string bytes = oneVoxelFileBytes(dir.path("old.vdb"));
+    const std::uint32_t version = 221;  // just before node mask compression
+    std::memcpy(&bytes[8], &version, sizeof version);
+    test::writeBytes(dir.path("old.vdb"), bytes);
+    expectRefused(dir.path("old.vdb"), "VDB format version 221");
 }
 
 }  // namespace
