@@ -30,15 +30,15 @@ void GaussianField::rebuild(const GaussianParameters& params, float cutoffSigmas
 bool GaussianField::update(const GaussianParameters& params) {
     const std::size_t count = params.count();
     if (count != mGaussians.size() || params.channels != mChannels) return false;
-    std::vector<ActiveGaussian> updated(count);
     const std::vector<Box>& boxes = mBvh.boxes();
-    const bool inside = tbb::parallel_reduce(
+    // In place: a second array would be as large as the field (the fit's peak memory).
+    return tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, count), true,
         [&](const tbb::blocked_range<std::size_t>& range, bool ok) {
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                updated[i] = activate(params, i);
+                mGaussians[i] = activate(params, i);
                 float lower[3], upper[3];
-                truncatedBounds(updated[i], mCutoffSigmas, lower, upper);
+                truncatedBounds(mGaussians[i], mCutoffSigmas, lower, upper);
                 for (int a = 0; a < 3; ++a) {
                     ok = ok && lower[a] >= boxes[i].lower[a] && upper[a] <= boxes[i].upper[a];
                 }
@@ -46,8 +46,6 @@ bool GaussianField::update(const GaussianParameters& params) {
             return ok;
         },
         [](bool a, bool b) { return a && b; });
-    if (inside) mGaussians = std::move(updated);
-    return inside;
 }
 
 }  // namespace gvr

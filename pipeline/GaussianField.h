@@ -27,8 +27,8 @@ public:
     /// Re-activates the Gaussians of @a params (the same count as at the last
     /// rebuild) and keeps the BVH. Queries stay exact because every Gaussian's
     /// truncated bounds must still lie inside its box in the BVH.
-    /// @return false, changing nothing, when one has left its box or the count
-    ///         changed: rebuild() then.
+    /// @return false when one has left its box or the count changed: rebuild()
+    ///         then, before evaluating (the field may be half updated).
     bool update(const GaussianParameters& params);
 
     /// f at @a x into value[0..channels). @a hits is scratch space, one per thread;

@@ -10,25 +10,24 @@ namespace gvr {
 
 void GradientChunks::reset(std::size_t count) {
     tbb::parallel_for(std::size_t(0), kChunks, [&](std::size_t c) {
-        if (mSums[c].size() != count) {
-            mSums[c].assign(count, GradientSums{});
-            mWritten[c].assign(count, 0);
+        if (mSlots[c].size() != count) {
+            mSlots[c].assign(count, kUntouched);
         } else {
-            for (std::uint32_t index : mTouched[c]) {
-                mSums[c][index] = GradientSums{};
-                mWritten[c][index] = 0;
-            }
+            for (std::uint32_t index : mTouched[c]) mSlots[c][index] = kUntouched;
         }
         mTouched[c].clear();
+        mSums[c].clear();
     });
 }
 
 GradientSums& GradientChunks::sumsOf(std::size_t c, std::uint32_t index) {
-    if (!mWritten[c][index]) {
-        mWritten[c][index] = 1;
+    std::uint32_t& slot = mSlots[c][index];
+    if (slot == kUntouched) {
+        slot = std::uint32_t(mSums[c].size());
+        mSums[c].emplace_back();
         mTouched[c].push_back(index);
     }
-    return mSums[c][index];
+    return mSums[c][slot];
 }
 
 void GradientChunks::sumInto(const GaussianField& field, GaussianParameters& gradient) const {
@@ -46,8 +45,9 @@ void GradientChunks::sumInto(const GaussianField& field, GaussianParameters& gra
             GradientSums total;
             bool written = false;
             for (std::size_t c = 0; c < kChunks; ++c) {  // chunk order, whatever the threads did
-                if (!mWritten[c][index]) continue;
-                total += mSums[c][index];
+                const std::uint32_t slot = mSlots[c][index];
+                if (slot == kUntouched) continue;
+                total += mSums[c][slot];
                 written = true;
             }
             if (written) accumulateGradient(field.gaussians()[index], index, total, gradient);

@@ -29,10 +29,11 @@ struct SampleSet {
 /// GaussianField::update() succeeds, so the loss can skip the BVH until then.
 void findCandidates(const GaussianField& field, SampleSet& samples);
 
-/// One gradient buffer per chunk, reused across iterations. A chunk keeps each
-/// Gaussian's GradientSums, so that the rotation and quaternion adjoints run once
-/// per Gaussian in sumInto(), and remembers which Gaussians it wrote, so that
-/// clearing costs what a pass touched.
+/// One gradient buffer per chunk, reused across iterations. A chunk keeps the
+/// GradientSums of each Gaussian it touched, so that the rotation and quaternion
+/// adjoints run once per Gaussian in sumInto(). The sums are stored densely in
+/// the order of first touch, behind a slot per Gaussian: a chunk touches only part
+/// of the Gaussians, and clearing costs what a pass touched.
 class GradientChunks {
 public:
     static constexpr std::size_t kChunks = 8;
@@ -46,9 +47,11 @@ public:
     void sumInto(const GaussianField& field, GaussianParameters& gradient) const;
 
 private:
-    std::array<std::vector<GradientSums>, kChunks> mSums;
-    std::array<std::vector<std::uint32_t>, kChunks> mTouched;
-    std::array<std::vector<std::uint8_t>, kChunks> mWritten;
+    static constexpr std::uint32_t kUntouched = ~std::uint32_t(0);
+
+    std::array<std::vector<GradientSums>, kChunks> mSums;     ///< by slot
+    std::array<std::vector<std::uint32_t>, kChunks> mTouched; ///< slot -> Gaussian
+    std::array<std::vector<std::uint32_t>, kChunks> mSlots;   ///< Gaussian -> slot, or kUntouched
 };
 
 /// L = scale * sum_s w_s |f(x_s) - t_s|^2 over @a samples.
