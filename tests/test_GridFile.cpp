@@ -8,6 +8,7 @@
 #include <openvdb/io/File.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <type_traits>
 #include <filesystem>
@@ -111,44 +112,41 @@ void expectRefused(const std::string& path, const std::string& message) {
     }
 }
 
+/// Writes oneVoxelFileBytes(), overwrites it with @a patch @a offset bytes after
+/// the first @a marker, and expects the read to be refused with @a message.
+template <typename T>
+void expectPatchRefused(const std::string& marker, std::ptrdiff_t offset, const T& patch,
+                        const std::string& message) {
+    test::TempDir dir;
+    const std::string path = dir.path("g.vdb");
+    std::string bytes = oneVoxelFileBytes(path);
+    EXPECT_NO_THROW(readGridFile(path));
+    const std::size_t at = bytes.find(marker);
+    ASSERT_NE(at, std::string::npos) << marker;
+    std::memcpy(&bytes[std::size_t(std::ptrdiff_t(at) + offset)], &patch, sizeof patch);
+    test::writeBytes(path, bytes);
+    expectRefused(path, message);
+}
+
 // Found by fuzz_vdb: a type name changed from vec3d to vec4d made OpenVDB read 32
 // bytes of a 24-byte value, and every length after it from the wrong place (a
 // 2 GiB string filled before the read failed).
 TEST(GridFile, AMetadataValueOfTheWrongSizeForItsTypeIsRefused) {
-    test::TempDir dir;
-    std::string bytes = oneVoxelFileBytes(dir.path("g.vdb"));
-    EXPECT_NO_THROW(readGridFile(dir.path("g.vdb")));
-    const std::size_t type = bytes.find("vec3d");
-    ASSERT_NE(type, std::string::npos);
-    bytes[type + 3] = '4';
-    test::writeBytes(dir.path("g.vdb"), bytes);
-    expectRefused(dir.path("g.vdb"), "a 'vec4d' metadata value of 24 bytes (it takes 32)");
+    expectPatchRefused("vec3d", 3, '4', "a 'vec4d' metadata value of 24 bytes (it takes 32)");
 }
 
 // Found by fuzz_vdb: the transform's map type name is one more string OpenVDB
 // fills before its read can fail.
 TEST(GridFile, ATransformTypeNamePastTheEndIsRefused) {
-    test::TempDir dir;
-    std::string bytes = oneVoxelFileBytes(dir.path("g.vdb"));
-    const std::size_t name = bytes.find("UniformScaleMap");
-    ASSERT_NE(name, std::string::npos);
-    const std::uint32_t huge = 0xFFFFFFF0u;
-    std::memcpy(&bytes[name - 4], &huge, sizeof huge);
-    test::writeBytes(dir.path("g.vdb"), bytes);
-    expectRefused(dir.path("g.vdb"), "a transform's map type claims 4294967280 bytes");
+    expectPatchRefused("UniformScaleMap", -4, std::uint32_t(0xFFFFFFF0u),
+                       "a transform's map type claims 4294967280 bytes");
 }
 
 // OpenVDB sizes delayed-load metadata's arrays from a leaf count inside the value.
 TEST(GridFile, DelayedLoadMetadataThatClaimsTooManyLeavesIsRefused) {
-    test::TempDir dir;
-    std::string bytes = oneVoxelFileBytes(dir.path("g.vdb"));
-    const std::size_t type = bytes.find("__delayedload");
-    ASSERT_NE(type, std::string::npos);
-    const std::size_t count = type + std::strlen("__delayedload") + 4;  // after the value's size
-    const std::uint32_t huge = 0x7FFFFFFFu;
-    std::memcpy(&bytes[count], &huge, sizeof huge);
-    test::writeBytes(dir.path("g.vdb"), bytes);
-    expectRefused(dir.path("g.vdb"), "delayed-load metadata claims more leaf nodes than the file can hold");
+    const std::ptrdiff_t count = std::strlen("__delayedload") + 4;  // after the value's size
+    expectPatchRefused("__delayedload", count, std::uint32_t(0x7FFFFFFFu),
+                       "delayed-load metadata claims more leaf nodes than the file can hold");
 }
 
 /// A grid of @a GridT with one full leaf of random values (of random bits for
@@ -232,18 +230,10 @@ TEST(GridFile, AnUncompressedBlockOfTheWrongSizeIsRefused) {
 // Found by fuzz_vdb: a scale of zero made the transform singular, and OpenVDB
 // threw (an internal error, exit 1) only when the reader asked for its matrix.
 TEST(GridFile, ASingularTransformIsRefused) {
-    test::TempDir dir;
-    std::string bytes = oneVoxelFileBytes(dir.path("g.vdb"));
-    const std::size_t name = bytes.find("UniformScaleMap");
-    ASSERT_NE(name, std::string::npos);
-    const std::size_t scale = name + std::strlen("UniformScaleMap");  // ScaleMap: the scale comes first
-    double one = 0.0;
-    std::memcpy(&one, &bytes[scale], sizeof one);
-    ASSERT_EQ(one, 1.0);
-    const double zero = 0.0;
-    for (int axis = 0; axis < 3; ++axis) std::memcpy(&bytes[scale + axis * sizeof zero], &zero, sizeof zero);
-    test::writeBytes(dir.path("g.vdb"), bytes);
-    expectRefused(dir.path("g.vdb"), "grid '' has a singular or non-finite transform");
+    // A UniformScaleMap stores its scale (1, 1, 1 here) right after its name.
+    const std::ptrdiff_t scale = std::strlen("UniformScaleMap");
+    expectPatchRefused("UniformScaleMap", scale, std::array<double, 3>{0.0, 0.0, 0.0},
+                       "grid '' has a singular or non-finite transform");
 }
 
 TEST(GridFile, GridTypesAndVersionsTheChecksCannotWalkAreRefused) {
