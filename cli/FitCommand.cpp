@@ -75,7 +75,6 @@ nlohmann::json settingsJson(const FitFlags& flags) {
             {"lr", s.learningRate},              {"lr_final", s.finalRateFactor},
             {"gradient_share", s.gradientSeedShare}, {"uniform_share", s.uniformSeedShare},
             {"prune_every", s.pruneEvery},       {"prune_amplitude", s.pruneAmplitude},
-            {"grow_doublings", s.growthDoublings}, {"grow_share", s.growthShare},
             {"solve_iterations", s.amplitudeSolveIterations}, {"solve_share", s.amplitudeSolveShare}};
 }
 
@@ -313,8 +312,6 @@ void addTuningFlags(CLI::App& command, FitSettings& s) {
     command.add_option("--cutoff", s.cutoffSigmas, "Truncation radius of every Gaussian, in standard deviations")->capture_default_str();
     command.add_option("--prune-every", s.pruneEvery, "Iterations between prune-and-respawn passes (0: never)")->capture_default_str();
     command.add_option("--prune-amplitude", s.pruneAmplitude, "Prune Gaussians whose peak |opacity*colour| is below this")->capture_default_str();
-    command.add_option("--grow-doublings", s.growthDoublings, "Coarse to fine: start with 1/2^N of the Gaussians and split the widest until the full count")->capture_default_str();
-    command.add_option("--grow-share", s.growthShare, "Share of the budget by which the count has grown to the full count")->capture_default_str();
     command.add_option("--solve-iterations", s.amplitudeSolveIterations, "Conjugate-gradient iterations of the final least-squares amplitude solve (0: none)")->capture_default_str();
     command.add_option("--solve-share", s.amplitudeSolveShare, "Share of a --time budget kept for the amplitude solve")->capture_default_str();
     command.add_option("--held-out", s.heldOutVoxels, "Fixed voxels for the PSNR curve")->capture_default_str();

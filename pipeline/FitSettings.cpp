@@ -30,8 +30,6 @@ std::string FitSettings::validate() const {
     if (!(minSamplesPerGaussian >= 0.0) || !std::isfinite(minSamplesPerGaussian)) {
         return "--min-samples must be a number >= 0";
     }
-    if (growthDoublings < 0 || growthDoublings > 10) return "--grow-doublings must lie in [0, 10]";
-    if (!(growthShare > 0.0 && growthShare < 1.0)) return "--grow-share must lie in (0, 1)";
     if (heldOutVoxels == 0 || logEvery == 0) return "--held-out and --log-every must be positive";
     return "";
 }

@@ -55,12 +55,6 @@ struct FitSettings {
     std::array<double, kGroupCount> rateScale{1.0, 2.0, 10.0, 100.0, 10.0};
     double finalRateFactor = 0.1;  ///< rates decay exponentially to this factor at the end
 
-    /// Coarse to fine (Growth.h): start with m / 2^growthDoublings Gaussians and
-    /// double the count in even steps, reaching m at growthShare of the budget
-    /// (0 doublings: m from the start).
-    int growthDoublings = 0;
-    double growthShare = 0.3;
-
     float cutoffSigmas = kDefaultCutoffSigmas;
     std::size_t pruneEvery = 200;  ///< iterations between prune-and-respawn passes (0: never)
     double pruneAmplitude = 2e-3;  ///< Gaussians with |opacity * colour| below this are pruned

@@ -2,7 +2,6 @@
 
 #include "Adam.h"
 #include "Error.h"
-#include "Growth.h"
 #include "Loss.h"
 #include "Pruning.h"
 #include "SliceSampler.h"
@@ -166,8 +165,7 @@ private:
         return rates;
     }
 
-    void initialise(std::size_t finalCount);
-    void growIfDue(double fraction);
+    void initialise(std::size_t count);
     std::size_t trainableCount() const;
     void fitCountToTheTime();
     double step(std::size_t iteration, double fraction, FitProgress& progress);
@@ -185,7 +183,6 @@ private:
     std::vector<float> mVoxelResiduals;
     std::unique_ptr<Adam> mAdam;
     FitReport mReport;
-    std::size_t mFinalCount = 0;  ///< the count once growth is over
 
     /// Seconds per iteration measured at a Gaussian count, to size the count to the time.
     struct Pace {
@@ -200,15 +197,14 @@ private:
     std::size_t mPaceIterations = 0;
 };
 
-void FitLoop::initialise(std::size_t finalCount) {
-    mFinalCount = finalCount;
+void FitLoop::initialise(std::size_t count) {
     SeedSettings seeds;
-    seeds.count = countAtStage(finalCount, mSettings.growthDoublings, 0);
+    seeds.count = count;
     seeds.gradientShare = mSettings.gradientSeedShare;
     seeds.uniformShare = mSettings.uniformSeedShare;
     seeds.seed = streamSeed(mSettings.seed, kSeeds, 0);
     mParams = initialiseGaussians(mTarget, seeds);
-    mReport.requestedGaussians = finalCount < mSettings.gaussians ? mSettings.gaussians : 0;
+    mReport.requestedGaussians = count < mSettings.gaussians ? mSettings.gaussians : 0;
     mAdam = std::make_unique<Adam>(mParams.count(), mParams.channels);
     mVoxels = SampleSet();
     mVoxelResiduals.clear();
@@ -246,21 +242,12 @@ void FitLoop::fitCountToTheTime() {
         return;
     }
     const std::size_t trainable = trainableCount();
-    const double change = double(trainable) / double(mFinalCount);
+    const double change = double(trainable) / double(mParams.count());
     // Small changes are not worth a restart, except to reach the byte budget's count.
-    const bool reachesTheAllowance = trainable == mSettings.gaussians && trainable != mFinalCount;
+    const bool reachesTheAllowance = trainable == mSettings.gaussians && trainable != mParams.count();
     const bool restart = reachesTheAllowance || change > 1.25 || change < 0.8;
     mPacing = restart && mPaces.size() < 2;
     if (restart) initialise(trainable);
-}
-
-/// Splits Gaussians until the count is what the growth stage at @a fraction asks.
-void FitLoop::growIfDue(double fraction) {
-    const int stage = stageAt(fraction, mSettings.growthDoublings, mSettings.growthShare);
-    const std::size_t wanted = countAtStage(mFinalCount, mSettings.growthDoublings, stage);
-    while (mParams.count() > 0 && mParams.count() < wanted) {
-        splitWidest(mParams, *mAdam, wanted - mParams.count());
-    }
 }
 
 /// Brings the field up to date with the parameters; rebuilds the BVH only when
@@ -351,7 +338,6 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
     while (mParams.count() > 0) {
         const double fraction = fractionDone(iteration);
         if (fraction >= 1.0) break;
-        growIfDue(fraction);
         FitProgress progress;
         progress.loss = step(iteration, fraction, progress);
         ++iteration;
