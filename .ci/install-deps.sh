@@ -44,6 +44,10 @@ packages=(
   libzfp-dev
   libzstd-dev
   libvolpack1-dev
+  # The gvr Python module (python/).
+  pybind11-dev
+  python3-pybind11
+  python3-dev
 
   # The embedded default volume (Colin27 T1 MRI).
   mricron-data
@@ -56,6 +60,7 @@ packages=(
   python3-skimage
   python3-pil
   python3-matplotlib
+  python3-pytest
   blender
 )
 apt-get update -qq

@@ -1,7 +1,8 @@
 // gvr export ASSET -o OUT.vdb: the reconstruction as OpenVDB grids (and NIfTI).
 
-#include "AtomicFile.h"
 #include "AssetExport.h"
+#include "AssetFile.h"
+#include "AtomicFile.h"
 #include "Commands.h"
 #include "Error.h"
 #include "GridFile.h"

@@ -2,16 +2,14 @@
 
 #include "AtomicFile.h"
 #include "Commands.h"
+#include "Compress.h"
 #include "Diagnostics.h"
 #include "Error.h"
-#include "Fitter.h"
-#include "GaussianAsset.h"
 #include "GaussianField.h"
 #include "GridFile.h"
 #include "GridSummary.h"
 #include "LabelBudget.h"
 #include "LabelGrid.h"
-#include "LabelledFit.h"
 #include "ProgressBar.h"
 #include "Report.h"
 #include "SourceOptions.h"
@@ -32,13 +30,10 @@ namespace gvr {
 namespace {
 
 struct FitFlags {
-    std::string input, output, logPath, ablation = "full", labels;
-    double ratio = 10.0;
-    std::size_t gaussians = 0;
+    std::string input, output, logPath;
     std::size_t threads = 0;
     bool json = false, quiet = false;
-    FitSettings settings;
-    AssetEncoding encoding;
+    CompressOptions options;
     SourceFlags source;
 };
 
@@ -63,100 +58,6 @@ private:
     std::ofstream mOut;
 };
 
-nlohmann::json settingsJson(const FitFlags& flags) {
-    const FitSettings& s = flags.settings;
-    return {{"ablation", flags.ablation},        {"seed", s.seed},
-            {"iterations", s.iterations},        {"seconds", s.seconds},
-            {"batch", s.voxelBatch},             {"refresh_every", s.refreshEvery},
-            {"min_samples", s.minSamplesPerGaussian},
-            {"mc_lambda", s.importance.uniformShare}, {"mc_epsilon", s.importance.epsilon},
-            {"slice_pixels", s.slicePixels},     {"slice_max", s.sliceMax},
-            {"slice_gamma", s.sliceGamma},       {"slice_beta", s.sliceBeta},
-            {"lr", s.learningRate},              {"lr_final", s.finalRateFactor},
-            {"gradient_share", s.gradientSeedShare}, {"uniform_share", s.uniformSeedShare},
-            {"prune_every", s.pruneEvery},       {"prune_amplitude", s.pruneAmplitude},
-            {"solve_iterations", s.amplitudeSolveIterations}, {"solve_share", s.amplitudeSolveShare}};
-}
-
-GaussianAsset assetSkeleton(const openvdb::GridBase& grid, const VolumeTarget& target, const FitFlags& flags,
-                            const std::string& input) {
-    GaussianAsset asset;
-    asset.params = GaussianParameters(0, target.channels());
-    asset.cutoffSigmas = flags.settings.cutoffSigmas;
-    asset.worldFromIndex = grid.transform().baseMap()->getAffineMap()->getMat4();
-    asset.mapping = target.mapping();
-    if (auto metadata = readVolumeMetadata(grid)) {
-        asset.source = *metadata;
-    } else {  // a foreign grid: describe it as float32 samples over its box
-        asset.source.sourceFile = input;
-        asset.source.sourceType = "float32";
-        asset.source.channels = target.channels();
-        asset.source.dims = openvdb::Vec3i(target.box().dim().asVec3i());
-        asset.source.spacingMm = grid.transform().voxelSize();
-    }
-    asset.fitSettings = settingsJson(flags);
-    asset.encoding = flags.encoding;
-    return asset;
-}
-
-std::size_t budgetedGaussians(const GaussianAsset& asset, const FitFlags& flags, std::uint64_t& maxBytes) {
-    if (flags.gaussians > 0) {
-        maxBytes = 0;
-        return flags.gaussians;
-    }
-    if (!(flags.ratio >= 1.0) || !std::isfinite(flags.ratio)) throw InputError("--ratio", "must be at least 1");
-    maxBytes = std::uint64_t(double(asset.source.rawSourceBytes()) / flags.ratio);
-    const std::size_t capacity = assetCapacity(asset, maxBytes);
-    if (capacity == 0) {
-        throw InputError("--ratio", "leaves " + std::to_string(maxBytes) +
-                                        " bytes, too few for even one Gaussian");
-    }
-    return capacity;
-}
-
-/// Gaussians per structure: --gaussians split with a floor, or --ratio applied to
-/// each structure's own raw bytes.
-std::vector<std::size_t> structureBudgets(const FitFlags& flags, const GaussianAsset& asset,
-                                          const std::vector<std::uint64_t>& voxels) {
-    if (flags.gaussians > 0) return splitBudget(flags.gaussians, voxels);
-    if (!(flags.ratio >= 1.0) || !std::isfinite(flags.ratio)) throw InputError("--ratio", "must be at least 1");
-    const double sourceVoxels = double(asset.source.dims.x()) * asset.source.dims.y() * asset.source.dims.z();
-    const double rawBytesPerVoxel = double(asset.source.rawSourceBytes()) / sourceVoxels;
-    const double wholeVolumeBytes = double(asset.source.rawSourceBytes()) / flags.ratio;
-    const double perGaussian = assetEstimatedBytesPerGaussian(asset, double(assetCapacity(asset, std::uint64_t(wholeVolumeBytes))));
-    return proportionalBudgets(rawBytesPerVoxel / flags.ratio / perGaussian,
-                               voxels);
-}
-
-/// Fits the structures that --labels names, from the label grid stored beside the image.
-std::vector<StructureFit> fitByLabel(const FitFlags& flags, const openvdb::GridBase& image,
-                                     const openvdb::Int32Grid& labels, GaussianAsset& asset,
-                                     const FitObserver& observer, FitReport& total) {
-    const LabelTable table = labelTableOf(labels);
-    const std::vector<int> ids = selectLabels(table, flags.labels, "--labels");
-    const std::vector<std::uint64_t> voxels = countLabelVoxels(labels, ids);
-    const std::vector<std::size_t> budgets = structureBudgets(flags, asset, voxels);
-    std::vector<StructureFit> structures;
-    for (std::size_t s = 0; s < ids.size(); ++s) {
-        structures.push_back({ids[s], voxels[s], budgets[s], {}});
-        asset.labelTable.names[ids[s]] = table.nameOf(ids[s]);
-    }
-    LabelledFitResult result = fitStructures(image, labels, structures, flags.settings, observer);
-    asset.params = std::move(result.params);
-    asset.labels = std::move(result.labels);
-    for (const StructureFit& s : result.structures) {
-        total.iterations += s.report.iterations;
-        total.seconds += s.report.seconds;
-        total.skippedSteps += s.report.skippedSteps;
-        total.pruned += s.report.pruned;
-        total.respawned += s.report.respawned;
-        // Per-structure errors cover overlapping boxes: only the work adds up.
-        total.amplitudeSolve.iterations += s.report.amplitudeSolve.iterations;
-        total.amplitudeSolve.seconds += s.report.amplitudeSolve.seconds;
-    }
-    return result.structures;
-}
-
 FitObserver progressObserver(ProgressBar& bar, FitLog& log) {
     return [&bar, &log, lastPsnr = std::string("-")](const FitProgress& p) mutable {
         if (p.heldOutEvaluated) lastPsnr = formatDb(p.heldOutPsnr);
@@ -176,8 +77,9 @@ nlohmann::json structuresJson(const GaussianAsset& asset, const std::vector<Stru
     return out;
 }
 
-void report(const FitFlags& flags, const GaussianAsset& asset, double peak, const FitReport& fit,
-            const VolumeError& error, std::size_t dropped, const std::vector<StructureFit>& structures) {
+void report(const FitFlags& flags, const CompressResult& result, double peak, const VolumeError& error) {
+    const GaussianAsset& asset = result.asset;
+    const FitReport& fit = result.fit;
     const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
     const std::uint64_t rawBytes = asset.source.rawSourceBytes();
     const std::uint64_t floatBytes = std::uint64_t(asset.source.dims.x()) * asset.source.dims.y() *
@@ -195,9 +97,9 @@ void report(const FitFlags& flags, const GaussianAsset& asset, double peak, cons
                                                    {"seconds", fit.amplitudeSolve.seconds},
                                                    {"psnr_before_db", jsonNumber(psnrFromMse(fit.amplitudeSolve.mseBefore, peak))},
                                                    {"psnr_after_db", jsonNumber(psnrFromMse(fit.amplitudeSolve.mseAfter, peak))}}},
-                              {"dropped_to_fit_budget", dropped}, {"peak_rss_mib", peakRssMiB()},
+                              {"dropped_to_fit_budget", result.dropped}, {"peak_rss_mib", peakRssMiB()},
                               {"gaussians_allowed_by_ratio", fit.requestedGaussians}};
-        if (!structures.empty()) out["structures"] = structuresJson(asset, structures);
+        if (!result.structures.empty()) out["structures"] = structuresJson(asset, result.structures);
         std::cout << out.dump(2) << "\n";
         return;
     }
@@ -211,7 +113,7 @@ void report(const FitFlags& flags, const GaussianAsset& asset, double peak, cons
               << fit.pruned << " Gaussians pruned, " << fit.respawned << " respawned\n";
     if (fit.requestedGaussians > 0) {
         std::cout << "  count:           fewer Gaussians than the ratio allows (" << fit.requestedGaussians
-                  << "): the time budget trains about " << flags.settings.minSamplesPerGaussian
+                  << "): the time budget trains about " << flags.options.settings.minSamplesPerGaussian
                   << " voxel samples each for fewer (--min-samples)\n";
     }
     std::cout
@@ -226,7 +128,7 @@ void report(const FitFlags& flags, const GaussianAsset& asset, double peak, cons
               << formatDb(error.foregroundPsnr) << " dB foreground (" << error.foregroundVoxels
               << " voxels above the ingest threshold); peak = " << peak << " (normalised data range)\n"
               << "  peak memory:     " << std::setprecision(5) << peakRssMiB() << " MiB\n";
-    for (const nlohmann::json& st : structuresJson(asset, structures)) {
+    for (const nlohmann::json& st : structuresJson(asset, result.structures)) {
         std::cout << "  structure " << st["id"] << " " << st["name"].get<std::string>() << ": " << st["voxels"]
                   << " voxels, " << st["gaussians"] << " Gaussians\n";
     }
@@ -235,16 +137,13 @@ void report(const FitFlags& flags, const GaussianAsset& asset, double peak, cons
 void runFit(FitFlags& flags) {
     tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                                 flags.threads > 0 ? flags.threads : tbb::this_task_arena::max_concurrency());
-    applyAblation(ablationFromName(flags.ablation), flags.settings);
-    if (flags.gaussians > 0) flags.settings.minSamplesPerGaussian = 0.0;  // an exact count was asked for
-    const std::string problem = flags.settings.validate();
-    if (!problem.empty()) throw InputError("gvr fit", problem);
+    checkedSettings(flags.options);  // bad flags are refused before anything is read
     checkOutputPath("-o", flags.output, {flags.input});
     if (!flags.logPath.empty()) checkOutputPath("--log", flags.logPath, {flags.input, flags.output});
 
     IngestResult loaded;
     openvdb::Int32Grid::Ptr labels;
-    if (flags.labels.empty()) {
+    if (flags.options.labels.empty()) {
         loaded = loadOrIngest(flags.input, toIngestOptions(flags.source));
     } else {  // the image and its label grid, from one read of the file
         if (!isVdbFile(flags.input)) throw InputError(flags.input, "--labels needs a .vdb from gvr ingest --labels");
@@ -254,42 +153,20 @@ void runFit(FitFlags& flags) {
     }
     for (const std::string& warning : loaded.warnings) diagnostics() << "gvr: warning: " << warning << "\n";
     const VolumeTarget target(loaded.grid, flags.input);
-    GaussianAsset asset = assetSkeleton(*loaded.grid, target, flags, flags.input);
-    std::uint64_t maxBytes = 0;
-    std::size_t droppedBeforeSolve = 0;  // by the budget, before the final amplitude solve
     if (target.activeVoxelCount() == 0) {
         diagnostics() << "gvr: warning: " << flags.input << " has no active voxels; writing an empty asset\n";
-        flags.settings.gaussians = 0;
-    } else if (!labels) {  // structures get their own budgets (structureBudgets)
-        flags.settings.gaussians = budgetedGaussians(asset, flags, maxBytes);
-        // The last amplitude solve then makes up for what the file does to the geometry:
-        // its rounding, and the weakest Gaussians dropped if the budget's estimate of
-        // the file size was short. (Structures are stored together, over ranges and a
-        // budget that no single structure knows, so labelled fits skip this.)
-        flags.settings.storedGeometry = [&](const GaussianParameters& params) {
-            GaussianAsset stored = asset;
-            stored.params = params;
-            droppedBeforeSolve = fitAssetInto(stored, maxBytes);
-            return quantisedCopy(stored.params, flags.encoding);
-        };
     }
-
-    FitReport fit;
-    std::vector<StructureFit> structures;
+    CompressResult result;
     {
         FitLog log(flags.logPath, target.peak());
         ProgressBar bar("fitting", !flags.quiet);
-        if (flags.labels.empty()) {
-            asset.params = fitGaussians(target, flags.settings, progressObserver(bar, log), &fit);
-        } else {
-            structures = fitByLabel(flags, *loaded.grid, *labels, asset, progressObserver(bar, log), fit);
-        }
+        result = compress(loaded.grid, flags.input, flags.options, progressObserver(bar, log), labels.get());
     }
-    const std::size_t dropped = droppedBeforeSolve + writeAsset(flags.output, asset, maxBytes);
+    writeAsset(flags.output, result.asset);
     ProgressBar measuring("measuring", !flags.quiet);
-    const GaussianField saved(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas);
+    const GaussianField saved(quantisedCopy(result.asset.params, result.asset.encoding), result.asset.cutoffSigmas);
     const VolumeError error = measureVolumeError(saved, target, measuring.callback());
-    report(flags, asset, target.peak(), fit, error, dropped, structures);
+    report(flags, result, target.peak(), error);
 }
 
 void addTuningFlags(CLI::App& command, FitSettings& s) {
@@ -333,7 +210,7 @@ void addEncodingFlags(CLI::App& command, AssetEncoding& e) {
 
 void addFitCommand(CLI::App& app) {
     auto flags = std::make_shared<FitFlags>();
-    flags->settings.seconds = 300.0;
+    flags->options.settings.seconds = 300.0;
     CLI::App* command = app.add_subcommand(
         "fit", "Fit Gaussians to a volume (a .vdb from ingest, or any input ingest reads) and write a "
                "Gaussian asset. Ablations: full = Monte Carlo importance voxels then the slice curriculum; "
@@ -341,26 +218,26 @@ void addFitCommand(CLI::App& app) {
                "A4 = slices only; A5 = Monte Carlo voxels only");
     command->add_option("input", flags->input, "Grid (.vdb) or source volume")->required();
     command->add_option("-o,--output", flags->output, "Asset file to write (any name)")->required();
-    auto* ratio = command->add_option("--ratio", flags->ratio, "Target compression ratio against the raw source bytes")->capture_default_str();
-    command->add_option("--gaussians", flags->gaussians, "Fit exactly this many Gaussians instead")
+    auto* ratio = command->add_option("--ratio", flags->options.ratio, "Target compression ratio against the raw source bytes")->capture_default_str();
+    command->add_option("--gaussians", flags->options.gaussians, "Fit exactly this many Gaussians instead")
         ->excludes(ratio)
         ->check(CLI::Range(std::size_t(1), std::size_t(1) << 32));
-    auto* time = command->add_option("--time", flags->settings.seconds, "Time budget in seconds")->capture_default_str();
-    command->add_option("--iterations", flags->settings.iterations,
+    auto* time = command->add_option("--time", flags->options.settings.seconds, "Time budget in seconds")->capture_default_str();
+    command->add_option("--iterations", flags->options.settings.iterations,
                         "Iteration budget; with it the result is reproducible byte for byte")
         ->excludes(time)
-        ->each([flags](const std::string&) { flags->settings.seconds = 0.0; });
-    command->add_option("--seed", flags->settings.seed, "Random seed")->capture_default_str();
-    command->add_option("--ablation", flags->ablation, "full, A1, A2, A3, A4 or A5")->capture_default_str();
+        ->each([flags](const std::string&) { flags->options.settings.seconds = 0.0; });
+    command->add_option("--seed", flags->options.settings.seed, "Random seed")->capture_default_str();
+    command->add_option("--ablation", flags->options.ablation, "full, A1, A2, A3, A4 or A5")->capture_default_str();
     command->add_option("--log", flags->logPath, "Write error against run time as CSV");
-    command->add_option("--labels", flags->labels,
+    command->add_option("--labels", flags->options.labels,
                         "Fit by structure from the label grid that ingest --labels stored: all, or IDs and names "
                         "(comma-separated). Each structure gets Gaussians in proportion to its voxels (at least " +
                             std::to_string(kStructureFloor) + "), its own samples and seed; other voxels are "
                             "left out. --ratio then applies to each structure's own voxels");
     command->add_option("--threads", flags->threads, "Worker threads (default: all cores)")->check(CLI::Range(0, 1024));
-    addTuningFlags(*command, flags->settings);
-    addEncodingFlags(*command, flags->encoding);
+    addTuningFlags(*command, flags->options.settings);
+    addEncodingFlags(*command, flags->options.encoding);
     addSourceFlags(*command, flags->source);
     command->add_flag("--json", flags->json, "Print the result as JSON");
     command->add_flag("-q,--quiet", flags->quiet, "No progress bars");

@@ -1,7 +1,7 @@
 // gvr info FILE: what a .vdb holds, or what ingest would make of a source volume.
 
+#include "AssetFile.h"
 #include "Commands.h"
-#include "GaussianAsset.h"
 #include "GridFile.h"
 #include "GridSummary.h"
 #include "SourceOptions.h"

@@ -1,9 +1,9 @@
 // gvr probe ASSET --index I,J,K: what the Gaussian field holds at given points.
 
+#include "AssetFile.h"
+#include "AssetProbe.h"
 #include "Commands.h"
 #include "Error.h"
-#include "GaussianAsset.h"
-#include "GaussianField.h"
 
 #include <iostream>
 #include <sstream>
@@ -31,21 +31,16 @@ openvdb::Vec3d parsePoint(const std::string& text) {
 
 void runProbe(const ProbeFlags& flags) {
     const GaussianAsset asset = readAsset(flags.input);
-    const GaussianField field(asset.params, asset.cutoffSigmas);
-    std::vector<std::uint32_t> hits;
+    AssetProbe probe(asset);
     nlohmann::json rows = nlohmann::json::array();
     for (const std::string& text : flags.points) {
         const openvdb::Vec3d index = parsePoint(text);
-        const float x[3] = {float(index[0]), float(index[1]), float(index[2])};
-        float normalised[3];
-        field.evaluate(x, normalised, hits);
-        std::vector<double> value;
-        for (int c = 0; c < field.channels(); ++c) value.push_back(asset.mapping.toPhysical(normalised[c], c));
+        const AssetProbe::Sample sample = probe.at({index[0], index[1], index[2]});
         const openvdb::Vec3d world = asset.worldFromIndex.transform(index);
         rows.push_back({{"index", {index[0], index[1], index[2]}},
                         {"world_mm", {world[0], world[1], world[2]}},
-                        {"value", value},
-                        {"gaussians", hits.size()}});
+                        {"value", std::vector<double>(sample.value.begin(), sample.value.begin() + probe.channels())},
+                        {"gaussians", sample.gaussians}});
     }
     if (flags.json) {
         std::cout << nlohmann::json{{"asset", flags.input}, {"points", rows}}.dump(2) << "\n";

@@ -1,18 +1,20 @@
 // gvr render INPUT -o frame.png: shear-warp (or ray-marched) images of an asset or grid.
 
 #include "AssetExport.h"
+#include "AssetFile.h"
 #include "AtomicFile.h"
 #include "Commands.h"
 #include "Error.h"
 #include "FramePath.h"
-#include "GaussianAsset.h"
 #include "ImageFile.h"
 #include "LabelStyleFile.h"
 #include "ProgressBar.h"
 #include "RayMarcher.h"
 #include "ShearWarp.h"
 #include "SourceOptions.h"
+#include "StyledLayers.h"
 #include "TransferFunctionFile.h"
+#include "VolumeClassifier.h"
 
 #include <algorithm>
 #include <chrono>
@@ -48,11 +50,8 @@ std::pair<int, int> parseSize(const std::string& text) {
     return {width, height};
 }
 
-std::unique_ptr<RenderVolume> gaussianVolume(const GaussianAsset& asset, const RenderFlags& flags) {
-    return std::make_unique<GaussianRenderVolume>(asset.params, asset.cutoffSigmas, asset.worldFromIndex,
-                                                  asset.source.dims, asset.mapping, asset.source.valueMax,
-                                                  asset.source.threshold.value_or(asset.source.valueMin),
-                                                  float(flags.minScale.value_or(0.5 * flags.shearWarp.sliceSpacingVoxels)));
+float minScale(const RenderFlags& flags) {
+    return float(flags.minScale.value_or(0.5 * flags.shearWarp.sliceSpacingVoxels));
 }
 
 /// The shown structures of the input, when it is a Gaussian asset.
@@ -70,7 +69,7 @@ std::unique_ptr<RenderVolume> loadVolume(const RenderFlags& flags, const std::op
             everything.threshold = -std::numeric_limits<double>::infinity();
             return std::make_unique<GridRenderVolume>(exportAsset(asset, everything).grids.front());
         }
-        return gaussianVolume(asset, flags);
+        return std::make_unique<GaussianRenderVolume>(asset, minScale(flags));
     }
     if (!flags.show.empty() || !flags.hide.empty()) {
         throw InputError(flags.input, "--show and --hide select the structures of a Gaussian asset fitted with --labels");
@@ -80,42 +79,20 @@ std::unique_ptr<RenderVolume> loadVolume(const RenderFlags& flags, const std::op
 
 Classifier classifierFor(const RenderFlags& flags, const RenderVolume& volume) {
     if (!flags.tf.empty() && std::filesystem::is_regular_file(flags.tf)) {
-        return Classifier(readTransferFunction(flags.tf), volume.channels(), 1.0 / volume.valueMax());
+        return volumeClassifier(volume, readTransferFunction(flags.tf));
     }
-    const VolumeStatistics statistics = volume.statistics();
-    const std::string preset = flags.tf.empty() ? defaultPreset(volume.channels(), statistics) : flags.tf;
-    return Classifier(presetTransferFunction(preset, statistics), volume.channels(), 1.0 / volume.valueMax());
+    return presetClassifier(volume, flags.tf);
 }
 
-/// Layers for --label-style: each styled structure on its own with its style,
-/// then the other shown structures with @a base. Empty without --label-style.
-std::vector<StackLayer> styledLayers(const RenderFlags& flags, const std::optional<GaussianAsset>& loaded,
-                                     const Classifier& base, std::vector<std::unique_ptr<RenderVolume>>& owned) {
+/// The layers of --label-style, or none without it.
+StyledLayers labelStyleLayers(const RenderFlags& flags, const std::optional<GaussianAsset>& loaded,
+                              const Classifier& base) {
     if (flags.labelStyle.empty()) return {};
     if (!loaded || flags.renderer != "shear-warp") {
         throw InputError("--label-style", "styles the structures of a Gaussian asset fitted with --labels (shear-warp)");
     }
-    const GaussianAsset& asset = *loaded;
-    if (asset.labelTable.names.empty()) throw InputError(flags.input, "has no structures to style; fit it with --labels");
-    std::vector<StackLayer> layers;
-    std::vector<int> plain;
-    for (const auto& [id, name] : asset.labelTable.names) plain.push_back(id);
-    for (const auto& [key, style] : readLabelStyles(flags.labelStyle)) {
-        if (style.colour && base.channels() != 1) {
-            throw InputError(flags.labelStyle, "colours apply to grey assets; RGB structures keep their own (opacity applies)");
-        }
-        for (int id : selectLabels(asset.labelTable, key, flags.labelStyle)) {
-            plain.erase(std::remove(plain.begin(), plain.end(), id), plain.end());
-            owned.push_back(gaussianVolume(withLabels(asset, {id}), flags));
-            layers.push_back({owned.back().get(), Classifier(styledTransferFunction(base.transferFunction(), style),
-                                                             base.channels(), base.colourScale())});
-        }
-    }
-    if (!plain.empty()) {
-        owned.push_back(gaussianVolume(withLabels(asset, plain), flags));
-        layers.push_back({owned.back().get(), base});
-    }
-    return layers;
+    if (loaded->labelTable.names.empty()) throw InputError(flags.input, "has no structures to style; fit it with --labels");
+    return styledLayers(*loaded, readLabelStyles(flags.labelStyle), base, minScale(flags), flags.labelStyle);
 }
 
 nlohmann::json toJson(const FrameStats& s) {
@@ -145,10 +122,9 @@ void runRender(RenderFlags& flags) {
     const Classifier classifier = classifierFor(flags, *volume);
     if (!flags.saveTf.empty()) writeTransferFunction(flags.saveTf, classifier.transferFunction());
     const auto corners = worldCorners(volume->worldFromIndex(), volume->box());
-    std::vector<std::unique_ptr<RenderVolume>> styledVolumes;
-    std::vector<StackLayer> layers = styledLayers(flags, asset, classifier, styledVolumes);
-    if (layers.empty()) layers.push_back({volume.get(), classifier});
-    ShearWarpRenderer shearWarp(std::move(layers), flags.shearWarp);
+    StyledLayers styled = labelStyleLayers(flags, asset, classifier);
+    if (styled.layers.empty()) styled.layers.push_back({volume.get(), classifier});
+    ShearWarpRenderer shearWarp(std::move(styled.layers), flags.shearWarp);
     const int frames = std::max(1, flags.orbit);
     nlohmann::json stats = nlohmann::json::array();
     ProgressBar bar("rendering", !flags.quiet && frames > 1);

@@ -15,11 +15,6 @@ std::string formatDb(double db) {
     return out.str();
 }
 
-nlohmann::json jsonNumber(double value) {
-    if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-    return value;
-}
-
 double peakRssMiB() {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);

@@ -1,5 +1,6 @@
 // gvr: medical volumes to compact Gaussian assets, and back.
 
+#include "AtomicFile.h"
 #include "Commands.h"
 #include "Diagnostics.h"
 #include "Error.h"
@@ -35,6 +36,7 @@ int run(CLI::App& app, int argc, char** argv) {
 
 int main(int argc, char** argv) {
     gvr::divertLibraryOutput();
+    gvr::removeTemporariesOnSignals();
     CLI::App app{"gvr: turn medical volumes into sparse OpenVDB grids and compact Gaussian assets, "
                  "evaluate and render them"};
     app.require_subcommand(1);

@@ -9,7 +9,7 @@
 // PSNR is of the whole volume against SOURCE, every voxel counted.
 
 #include "AssetBodyV1.h"
-#include "GaussianAsset.h"
+#include "AssetFile.h"
 #include "GridFile.h"
 #include "VolumeError.h"
 

@@ -5,7 +5,7 @@
 //
 //   bench_asset_layout ASSET
 
-#include "GaussianAsset.h"
+#include "AssetFile.h"
 #include "GaussianKernel.h"
 
 #include <openvdb/points/PointConversion.h>

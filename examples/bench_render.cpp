@@ -11,8 +11,8 @@
 // VolPack (Lacroute's shear-warp) rendering the same volume in the same run.
 // Figures are printed, never asserted.
 
+#include "AssetFile.h"
 #include "Fitter.h"
-#include "GaussianAsset.h"
 #include "GridFile.h"
 #include "QualityMetrics.h"
 #include "RayMarcher.h"
@@ -115,9 +115,7 @@ int run(const std::string& assetPath, const std::string& gridPath) {
     const GaussianAsset asset = readAsset(assetPath);
     const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(chooseVolumeGrid(*readGridFile(gridPath), gridPath));
     if (!grid) throw std::runtime_error(gridPath + ": the benchmark takes a grey (float) grid");
-    const GaussianRenderVolume gaussians(asset.params, asset.cutoffSigmas, asset.worldFromIndex, asset.source.dims,
-                                         asset.mapping, asset.source.valueMax,
-                                         asset.source.threshold.value_or(asset.source.valueMin));
+    const GaussianRenderVolume gaussians(asset);
     const GridRenderVolume original(grid);
     // Surface-like, as VolPack's classification below: opaque soon above the air.
     const Classifier classifier(TransferFunction({{20.0, {0.90f, 0.80f, 0.70f, 0.0f}},

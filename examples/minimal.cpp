@@ -8,12 +8,13 @@
 // flags and error messages around them. Read top to bottom.
 
 #include "AssetExport.h"
-#include "Fitter.h"
+#include "AssetFile.h"
+#include "Compress.h"
 #include "GridFile.h"
 #include "ImageFile.h"
 #include "Ingest.h"
 #include "ShearWarp.h"
-#include "TransferPresets.h"
+#include "VolumeClassifier.h"
 
 #include <iostream>
 
@@ -28,19 +29,14 @@ int main(int argc, char** argv) {
         const openvdb::GridBase::Ptr grid = ingested.grid;
         std::cout << "ingested " << input << ": " << grid->activeVoxelCount() << " active voxels\n";
 
-        // 2. Fit. The target reads the grid in normalised units (0 = background,
-        //    1 = top of the data range). 4000 Gaussians and 300 iterations take a few
-        //    seconds; `gvr fit` derives the count from a compression ratio instead.
-        const gvr::VolumeTarget target(grid, input);
-        gvr::FitSettings settings;
-        settings.gaussians = 4000;
-        settings.iterations = 300;
-        gvr::GaussianAsset asset;
-        asset.params = gvr::fitGaussians(target, settings);
-        asset.cutoffSigmas = settings.cutoffSigmas;
-        asset.worldFromIndex = grid->transform().baseMap()->getAffineMap()->getMat4();
-        asset.mapping = target.mapping();
-        asset.source = *gvr::readVolumeMetadata(*grid);
+        // 2. Fit. The Gaussians are fitted in normalised units (0 = background, 1 =
+        //    top of the data range) and kept with what places them in the world and
+        //    maps them back. 4000 Gaussians and 300 iterations take a few seconds;
+        //    `gvr fit` asks for a compression ratio and a time budget instead.
+        gvr::CompressOptions options;
+        options.gaussians = 4000;
+        options.settings.iterations = 300;
+        gvr::GaussianAsset asset = gvr::compress(grid, input, options).asset;
         gvr::writeAsset(out + "/minimal.gvr", asset);
         std::cout << "fitted " << asset.params.count() << " Gaussians -> " << out << "/minimal.gvr\n";
 
@@ -53,11 +49,8 @@ int main(int argc, char** argv) {
         // 4. Render. The renderer sees the Gaussians straight from the asset; a
         //    transfer function preset classifies the values; one orthographic view
         //    around the volume's centre is shear-warped into a framebuffer.
-        const gvr::GaussianRenderVolume volume(asset.params, asset.cutoffSigmas, asset.worldFromIndex,
-                                               asset.source.dims, asset.mapping, asset.source.valueMax,
-                                               asset.source.threshold.value_or(asset.source.valueMin));
-        const gvr::VolumeStatistics statistics = volume.statistics();
-        const gvr::Classifier classifier(gvr::presetTransferFunction("mri", statistics), volume.channels());
+        const gvr::GaussianRenderVolume volume(asset);
+        const gvr::Classifier classifier = gvr::presetClassifier(volume, "mri");
         const gvr::OrthoCamera camera =
             gvr::makeCamera({30.0, 15.0}, gvr::worldCorners(volume.worldFromIndex(), volume.box()), 256, 256);
         gvr::ShearWarpRenderer renderer(volume, classifier, gvr::ShearWarpSettings{});

@@ -5,6 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash .ci/install-deps.sh
 bash .ci/build.sh
+# gvr, its library (find_package(gvr)) and the Python module (import gvr) under /usr/local.
+cmake --install build > /dev/null
 
 input=/usr/share/mricron/templates/ch2.nii.gz
 gvr=build/cli/gvr
@@ -35,3 +37,5 @@ echo "  reconstruction:      $(pwd)/out/ch2-reconstruction.vdb   (open in Blende
 echo "  reconstruction NIfTI: $(pwd)/out/ch2-reconstruction.nii.gz"
 echo "  rendered view:       $(pwd)/out/ch2-render.png           (shear-warp from the Gaussians)"
 echo "  render timings:      $(pwd)/out/ch2-render.json"
+echo "Installed: /usr/local/bin/gvr, find_package(gvr) from /usr/local/lib/cmake/gvr, and"
+echo "  /usr/bin/python3 -c 'import gvr' (examples/quickstart.py is the same pipeline from Python)"

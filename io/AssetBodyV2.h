@@ -21,6 +21,7 @@
 /// whose content is exactly one byte per Gaussian.
 #pragma once
 
+#include "AssetEncoding.h"
 #include "GaussianParameters.h"
 
 #include <nlohmann/json.hpp>
@@ -31,16 +32,6 @@
 #include <vector>
 
 namespace gvr {
-
-/// Bit depths and the compression level. The defaults come from measuring each
-/// attribute's rate against the reconstruction PSNR (README, "Asset format").
-struct AssetEncoding {
-    float meanStep = 1.0f / 8.0f;  ///< lattice of the means, in voxels
-    int rotationBits = 7;          ///< per stored quaternion component, 2-15
-    int logScaleBits = 7;          ///< per axis, 2-16
-    int amplitudeBits = 10;        ///< per channel, 2-16
-    int zstdLevel = 19;
-};
 
 /// Ranges and bit depths of one asset: the header's "quantisation" object.
 struct QuantisationV2 {

@@ -72,14 +72,17 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     return result;
 }
 
-Lattice latticeLike(const std::string& path) {
-    const openvdb::GridBase::Ptr grid = chooseVolumeGrid(*readGridFile(path), path);
-    const openvdb::CoordBBox box = volumeBox(*grid);
-    if (box.empty()) throw InputError(path, "grid '" + grid->getName() + "' has no voxels to take a lattice from");
+Lattice latticeOf(const openvdb::GridBase& grid, const std::string& name) {
+    const openvdb::CoordBBox box = volumeBox(grid);
+    if (box.empty()) throw InputError(name, "grid '" + grid.getName() + "' has no voxels to take a lattice from");
     openvdb::math::Mat4d shift = openvdb::math::Mat4d::identity();
     shift.setTranslation(box.min().asVec3d());
-    const openvdb::math::Mat4d worldFromIndex = grid->transform().baseMap()->getAffineMap()->getMat4();
+    const openvdb::math::Mat4d worldFromIndex = grid.transform().baseMap()->getAffineMap()->getMat4();
     return {shift * worldFromIndex, openvdb::CoordBBox(openvdb::Coord(0), box.dim() - openvdb::Coord(1))};
+}
+
+Lattice latticeLike(const std::string& path) {
+    return latticeOf(*chooseVolumeGrid(*readGridFile(path), path), path);
 }
 
 }  // namespace gvr

@@ -43,6 +43,11 @@ struct ExportResult {
 ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& settings,
                          const ProgressFn& progress = {});
 
+/// The lattice of @a grid (its gvr dimensions, or its active voxels), moved so that
+/// its first voxel has index (0, 0, 0). @throw InputError naming @a name when it has
+/// no voxels.
+Lattice latticeOf(const openvdb::GridBase& grid, const std::string& name);
+
 /// The lattice of the volume grid in the .vdb file @a path (its gvr dimensions, or
 /// its active voxels), moved so that its first voxel has index (0, 0, 0).
 /// @throw InputError naming @a path when it holds no volume grid or no voxels.

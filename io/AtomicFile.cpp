@@ -28,7 +28,15 @@ extern "C" void removeTemporaryAndExit(int signal) {
     std::raise(signal);
 }
 
-void installSignalCleanup() {
+bool sameFile(const fs::path& a, const fs::path& b) {
+    std::error_code error;
+    if (fs::exists(a, error) && fs::exists(b, error)) return fs::equivalent(a, b, error);
+    return fs::weakly_canonical(a, error) == fs::weakly_canonical(b, error);
+}
+
+}  // namespace
+
+void removeTemporariesOnSignals() {
     static std::once_flag installed;
     std::call_once(installed, [] {
         for (int signal : {SIGINT, SIGTERM, SIGHUP}) {
@@ -42,14 +50,6 @@ void installSignalCleanup() {
         std::signal(SIGXFSZ, SIG_IGN);
     });
 }
-
-bool sameFile(const fs::path& a, const fs::path& b) {
-    std::error_code error;
-    if (fs::exists(a, error) && fs::exists(b, error)) return fs::equivalent(a, b, error);
-    return fs::weakly_canonical(a, error) == fs::weakly_canonical(b, error);
-}
-
-}  // namespace
 
 void checkOutputPath(const std::string& flag, const std::string& output, const std::vector<std::string>& inputs) {
     const fs::path target(output);
@@ -76,7 +76,6 @@ void writeAtomically(const std::string& path, const std::function<void(const std
     // and keeps the file's extension for writers that choose a format by it (nifticlib).
     const fs::path temporary = folder / (".tmp" + std::to_string(getpid()) + "-" + target.filename().string());
     if (temporary.native().size() >= sizeof(gTemporary)) throw InputError(path, "path is too long");
-    installSignalCleanup();
     std::lock_guard<std::mutex> lock(gWriting);
     std::strcpy(gTemporary, temporary.c_str());
     gHasTemporary = 1;

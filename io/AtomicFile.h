@@ -15,10 +15,16 @@ namespace gvr {
 void checkOutputPath(const std::string& flag, const std::string& output, const std::vector<std::string>& inputs);
 
 /// Calls @a write with a temporary path beside @a path, then renames it over @a path.
-/// If @a write throws, or the process gets SIGINT or SIGTERM meanwhile, the
-/// temporary file is removed and @a path is left untouched. (SIGKILL can leave a
-/// hidden ".tmpPID-name" file beside @a path.) SIGXFSZ is ignored from then on, so
-/// that a write past ulimit -f fails like a full disk instead of killing gvr.
+/// If @a write throws, the temporary file is removed and @a path is left untouched;
+/// after removeTemporariesOnSignals(), SIGINT, SIGTERM and SIGHUP do the same.
+/// (SIGKILL can leave a hidden ".tmpPID-name" file beside @a path.)
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write);
+
+/// For programs such as the gvr command: from now on SIGINT, SIGTERM and SIGHUP
+/// remove the temporary of a write in progress, then end the process by the same
+/// signal; SIGXFSZ is ignored, so that a write past ulimit -f fails like a full disk
+/// instead of killing the process. Opt-in, since a library must leave its host's
+/// signals alone (Python's Ctrl-C, for one).
+void removeTemporariesOnSignals();
 
 }  // namespace gvr

@@ -1,6 +1,7 @@
 #include "ComparisonInput.h"
 
 #include "AssetExport.h"
+#include "AssetFile.h"
 
 #include "Error.h"
 #include "Readers.h"
@@ -62,8 +63,13 @@ ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions
     // A Gaussian asset is compared as what it exports onto its source grid.
     const openvdb::GridBase::Ptr grid = isAssetFile(path) ? exportAsset(readAsset(path), ExportSettings{}).grids.front()
                                                           : loadOrIngest(path, options).grid;
-    input.volume = sampleGrid(*grid, volumeBox(*grid));
-    const auto metadata = readVolumeMetadata(*grid);
+    return comparisonInputOf(*grid);
+}
+
+ComparisonInput comparisonInputOf(const openvdb::GridBase& grid) {
+    ComparisonInput input;
+    input.volume = sampleGrid(grid, volumeBox(grid));
+    const auto metadata = readVolumeMetadata(grid);
     input.dataRange = metadata ? metadata->valueMax - metadata->valueMin : sampleRange(input.volume);
     return input;
 }

@@ -21,4 +21,8 @@ struct ComparisonInput {
 /// @throw InputError naming @a path when it cannot be read.
 ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions& options);
 
+/// A grid in memory (float, double or Vec3s), over the voxels it stands for.
+/// @throw InputError for any other value type.
+ComparisonInput comparisonInputOf(const openvdb::GridBase& grid);
+
 }  // namespace gvr

@@ -1,6 +1,7 @@
 #include "GaussianKernel.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace gvr {
 
@@ -11,6 +12,13 @@ void rotationFromQuaternion(const float q[4], float r[9]) {
     r[0] = 1 - 2 * (y * y + z * z); r[1] = 2 * (x * y - w * z);     r[2] = 2 * (x * z + w * y);
     r[3] = 2 * (x * y + w * z);     r[4] = 1 - 2 * (x * x + z * z); r[5] = 2 * (y * z - w * x);
     r[6] = 2 * (x * z - w * y);     r[7] = 2 * (y * z + w * x);     r[8] = 1 - 2 * (x * x + y * y);
+}
+
+float peakAmplitude(const GaussianParameters& params, std::size_t index) {
+    const float opacity = sigmoid(*params.at(kOpacityLogits, index));
+    float peak = 0.0f;
+    for (int c = 0; c < params.channels; ++c) peak = std::max(peak, std::abs(opacity * params.at(kColours, index)[c]));
+    return peak;
 }
 
 ActiveGaussian activate(const GaussianParameters& params, std::size_t index) {

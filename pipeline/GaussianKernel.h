@@ -41,6 +41,10 @@ void rotationFromQuaternion(const float q[4], float r[9]);
 
 ActiveGaussian activate(const GaussianParameters& params, std::size_t index);
 
+/// The largest |opacity * colour_c| over the channels: how much Gaussian @a index
+/// can add to the field anywhere.
+float peakAmplitude(const GaussianParameters& params, std::size_t index);
+
 /// Axis-aligned box around the truncated ellipsoid (q <= cutoff^2).
 void truncatedBounds(const ActiveGaussian& g, float cutoffSigmas, float lower[3], float upper[3]);
 

@@ -13,10 +13,7 @@ PruneResult pruneAndRespawn(GaussianParameters& params, Adam& adam, double thres
     std::vector<bool> keep(count, true);
     PruneResult result;
     for (std::size_t i = 0; i < count; ++i) {
-        const float opacity = sigmoid(*params.at(kOpacityLogits, i));
-        float peak = 0.0f;
-        for (int c = 0; c < params.channels; ++c) peak = std::max(peak, std::abs(opacity * params.at(kColours, i)[c]));
-        if (peak < threshold) {
+        if (peakAmplitude(params, i) < threshold) {
             keep[i] = false;
             ++result.removed;
         }

@@ -145,6 +145,11 @@ GaussianRenderVolume::GaussianRenderVolume(const GaussianParameters& params, flo
     mValueMax = valueMax;
 }
 
+GaussianRenderVolume::GaussianRenderVolume(const GaussianAsset& asset, float minScaleVoxels)
+    : GaussianRenderVolume(asset.params, asset.cutoffSigmas, asset.worldFromIndex, asset.source.dims, asset.mapping,
+                           asset.source.valueMax, asset.source.threshold.value_or(asset.source.valueMin),
+                           minScaleVoxels) {}
+
 std::unique_ptr<BlockSource> GaussianRenderVolume::blocksOn(const Lattice& lattice, double invisibleUpTo) const {
     // Luminance and value alike lie within scale * (sum of peaks) of the background's.
     float background[3];

@@ -2,6 +2,7 @@
 /// @brief What the renderers draw: a Gaussian field or a VDB grid, in physical units.
 #pragma once
 
+#include "GaussianAsset.h"
 #include "GaussianField.h"
 #include "LatticeSampler.h"
 #include "TransferPresets.h"
@@ -64,6 +65,8 @@ public:
     GaussianRenderVolume(const GaussianParameters& params, float cutoffSigmas, const openvdb::math::Mat4d& worldFromIndex,
                          const openvdb::Vec3i& dims, const ValueMapping& mapping, double valueMax,
                          double foregroundAbove, float minScaleVoxels = 0.5f);
+    /// The asset's Gaussians, placed, mapped and thresholded as its source was.
+    explicit GaussianRenderVolume(const GaussianAsset& asset, float minScaleVoxels = 0.5f);
 
     int channels() const override { return mField.channels(); }
     std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override;

@@ -33,6 +33,7 @@ std::vector<std::string> temporaries(const test::TempDir& dir) {
 /// In a child: limits files to 64 KiB, runs @a write, and exits kRefused if it
 /// threw InputError, 0 if it claimed success.
 void writeUnderAFileSizeLimit(const std::function<void()>& write) {
+    removeTemporariesOnSignals();  // as the gvr command does
     rlimit limit{64 * 1024, 64 * 1024};
     setrlimit(RLIMIT_FSIZE, &limit);
     try {
@@ -80,6 +81,7 @@ TEST_F(AtomicFile, AFullDiskFailsTheNiftiWriterAndKeepsTheOldFile) {
 
 TEST_F(AtomicFile, SigtermDuringAWriteRemovesTheTemporaryAndKeepsTheOldFile) {
     const auto writeHalfThenGetKilled = [&] {
+        removeTemporariesOnSignals();
         writeAtomically(mExisting, [](const std::string& temporary) {
             std::ofstream(temporary) << "half of a new output";
             std::raise(SIGTERM);

@@ -2,8 +2,8 @@
 // label per Gaussian with per-structure budgets, render and export select
 // structures without refitting, eval reports each structure.
 
+#include "AssetFile.h"
 #include "FloatVolume.h"
-#include "GaussianAsset.h"
 #include "ImageFile.h"
 #include "NiftiWriter.h"
 #include "TestHelpers.h"

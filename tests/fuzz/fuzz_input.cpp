@@ -4,8 +4,8 @@
 // The contract under test: any bytes give a grid, an asset or an InputError.
 // Any other exception, a crash, a leak or undefined behaviour is a finding.
 
+#include "AssetFile.h"
 #include "Error.h"
-#include "GaussianAsset.h"
 #include "GridFile.h"
 #include "Ingest.h"
 #include "MemoryBudget.h"

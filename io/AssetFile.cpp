@@ -1,4 +1,4 @@
-#include "GaussianAsset.h"
+#include "AssetFile.h"
 
 #include "AssetBodyV1.h"
 
@@ -158,35 +158,6 @@ std::string encodeAsset(GaussianAsset& asset) {
     return bytes;
 }
 
-/// Keeps the Gaussians (and their labels) whose flag is set, in order.
-void keepOnly(GaussianAsset& asset, const std::vector<bool>& keep) {
-    asset.params.keepOnly(keep);
-    if (asset.labels.empty()) return;
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < keep.size(); ++i) {
-        if (keep[i]) asset.labels[kept++] = asset.labels[i];
-    }
-    asset.labels.resize(kept);
-}
-
-/// Drops the Gaussians with the smallest peak amplitude, keeping @a keepCount.
-void keepStrongest(GaussianAsset& asset, std::size_t keepCount) {
-    const GaussianParameters& params = asset.params;
-    std::vector<float> peak(params.count());
-    for (std::size_t i = 0; i < params.count(); ++i) {
-        const float opacity = sigmoid(*params.at(kOpacityLogits, i));
-        for (int c = 0; c < params.channels; ++c) {
-            peak[i] = std::max(peak[i], std::abs(opacity * params.at(kColours, i)[c]));
-        }
-    }
-    std::vector<std::size_t> order(params.count());
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return peak[a] > peak[b]; });
-    std::vector<bool> keep(params.count(), false);
-    for (std::size_t k = 0; k < keepCount; ++k) keep[order[k]] = true;
-    keepOnly(asset, keep);
-}
-
 /// Refuses a count that the file cannot hold, before anything is allocated for it.
 void checkCountAgainstSize(std::uint32_t version, std::size_t count, int channels, std::uint64_t bodyBytes) {
     if (version == 1 && count * assetV1BytesPerGaussian(channels) != bodyBytes) {
@@ -224,28 +195,6 @@ std::size_t assetCapacity(const GaussianAsset& asset, std::uint64_t maxBytes) {
     double count = room / 8.0;
     for (int k = 0; k < 8; ++k) count = room / assetEstimatedBytesPerGaussian(asset, count);
     return std::size_t(count);
-}
-
-GaussianAsset withLabels(const GaussianAsset& asset, const std::vector<int>& shown) {
-    if (asset.labels.empty()) return asset;
-    GaussianAsset subset = asset;
-    std::vector<bool> keep(asset.labels.size());
-    for (std::size_t i = 0; i < keep.size(); ++i) {
-        keep[i] = std::binary_search(shown.begin(), shown.end(), asset.labels[i]);
-    }
-    keepOnly(subset, keep);
-    subset.labelTable.names.clear();
-    for (int id : shown) subset.labelTable.names[id] = asset.labelTable.nameOf(id);
-    return subset;
-}
-
-GaussianAsset selectStructures(const GaussianAsset& asset, const std::string& show, const std::string& hide,
-                               const std::string& path) {
-    if (show.empty() && hide.empty()) return asset;
-    if (asset.labelTable.names.empty()) {
-        throw InputError(path, "has no structures to show or hide; fit it with gvr fit --labels");
-    }
-    return withLabels(asset, shownLabels(asset.labelTable, show, hide));
 }
 
 GaussianParameters quantisedCopy(const GaussianParameters& params, const AssetEncoding& encoding) {

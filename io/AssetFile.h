@@ -1,5 +1,5 @@
-/// @file GaussianAsset.h
-/// @brief The Gaussian asset file: a fitted model that stands on its own.
+/// @file AssetFile.h
+/// @brief The Gaussian asset file: a GaussianAsset (pipeline/GaussianAsset.h) on disk.
 ///
 /// Format, version 2 (all integers little-endian):
 ///
@@ -26,13 +26,7 @@
 #pragma once
 
 #include "AssetBodyV2.h"
-#include "GaussianParameters.h"
-#include "LabelTable.h"
-#include "ValueMapping.h"
-#include "VolumeMetadata.h"
-
-#include <nlohmann/json.hpp>
-#include <openvdb/math/Mat4.h>
+#include "GaussianAsset.h"
 
 #include <cstdint>
 #include <string>
@@ -40,20 +34,6 @@
 namespace gvr {
 
 constexpr std::uint32_t kAssetVersion = 2;  ///< the version gvr writes
-
-struct GaussianAsset {
-    GaussianParameters params;
-    /// Empty, or one label per Gaussian, grouped (all of one label together).
-    std::vector<int> labels;
-    LabelTable labelTable;  ///< names of the labels in @a labels
-    float cutoffSigmas = 3.0f;
-    openvdb::math::Mat4d worldFromIndex = openvdb::math::Mat4d::identity();
-    ValueMapping mapping;
-    VolumeMetadata source;
-    nlohmann::json fitSettings = nlohmann::json::object();
-    AssetEncoding encoding;                   ///< bit depths for writing
-    std::uint32_t formatVersion = kAssetVersion;  ///< the version it was read from
-};
 
 /// What a Gaussian costs in this asset's file, on average, when it holds @a count
 /// Gaussians over its source's voxels: for budgets before the fit, since the entropy
@@ -83,17 +63,6 @@ bool isAssetFile(const std::string& path);
 /// @throw InputError naming @a path for a wrong magic, an unknown version,
 ///        a size that does not match the header, or a checksum mismatch.
 GaussianAsset readAsset(const std::string& path);
-
-/// The asset with only the Gaussians whose label is in @a shown (ascending), and
-/// their names; an unlabelled asset is returned whole.
-GaussianAsset withLabels(const GaussianAsset& asset, const std::vector<int>& shown);
-
-/// The structures that --show @a show (empty: all) and --hide @a hide leave, by id
-/// or name. Nothing is refitted: the other structures' Gaussians are left out.
-/// @throw InputError naming @a path when the asset has no labels, or naming the flag
-///        for an unknown structure (listing the valid ones).
-GaussianAsset selectStructures(const GaussianAsset& asset, const std::string& show, const std::string& hide,
-                               const std::string& path);
 
 /// The parameters as they come back from a file written with @a encoding
 /// (quantised and restored, in the same order).

@@ -1,0 +1,152 @@
+#include "Compress.h"
+
+#include "Error.h"
+#include "LabelBudget.h"
+#include "LabelGrid.h"
+
+#include <cmath>
+
+namespace gvr {
+
+namespace {
+
+/// The settings as the asset records them, with the names of `gvr fit`'s flags.
+nlohmann::json settingsJson(const FitSettings& s, const std::string& ablation) {
+    return {{"ablation", ablation},              {"seed", s.seed},
+            {"iterations", s.iterations},        {"seconds", s.seconds},
+            {"batch", s.voxelBatch},             {"refresh_every", s.refreshEvery},
+            {"min_samples", s.minSamplesPerGaussian},
+            {"mc_lambda", s.importance.uniformShare}, {"mc_epsilon", s.importance.epsilon},
+            {"slice_pixels", s.slicePixels},     {"slice_max", s.sliceMax},
+            {"slice_gamma", s.sliceGamma},       {"slice_beta", s.sliceBeta},
+            {"lr", s.learningRate},              {"lr_final", s.finalRateFactor},
+            {"gradient_share", s.gradientSeedShare}, {"uniform_share", s.uniformSeedShare},
+            {"prune_every", s.pruneEvery},       {"prune_amplitude", s.pruneAmplitude},
+            {"solve_iterations", s.amplitudeSolveIterations}, {"solve_share", s.amplitudeSolveShare}};
+}
+
+/// Everything but the Gaussians.
+GaussianAsset assetSkeleton(const openvdb::GridBase& grid, const VolumeTarget& target, const FitSettings& settings,
+                            const CompressOptions& options, const std::string& name) {
+    GaussianAsset asset;
+    asset.params = GaussianParameters(0, target.channels());
+    asset.cutoffSigmas = settings.cutoffSigmas;
+    asset.worldFromIndex = grid.transform().baseMap()->getAffineMap()->getMat4();
+    asset.mapping = target.mapping();
+    if (auto metadata = readVolumeMetadata(grid)) {
+        asset.source = *metadata;
+    } else {  // a foreign grid: describe it as float32 samples over its box
+        asset.source.sourceFile = name;
+        asset.source.sourceType = "float32";
+        asset.source.channels = target.channels();
+        asset.source.dims = openvdb::Vec3i(target.box().dim().asVec3i());
+        asset.source.spacingMm = grid.transform().voxelSize();
+    }
+    asset.fitSettings = settingsJson(settings, options.ablation);
+    asset.encoding = options.encoding;
+    return asset;
+}
+
+void checkRatio(double ratio) {
+    if (!(ratio >= 1.0) || !std::isfinite(ratio)) throw InputError("--ratio", "must be at least 1");
+}
+
+/// The whole volume's count, and its byte budget (0 for an exact count).
+std::size_t budgetedGaussians(const GaussianAsset& asset, const CompressOptions& options, std::uint64_t& maxBytes) {
+    maxBytes = 0;
+    if (options.gaussians > 0) return options.gaussians;
+    checkRatio(options.ratio);
+    maxBytes = std::uint64_t(double(asset.source.rawSourceBytes()) / options.ratio);
+    const std::size_t capacity = assetCapacity(asset, maxBytes);
+    if (capacity == 0) {
+        throw InputError("--ratio", "leaves " + std::to_string(maxBytes) + " bytes, too few for even one Gaussian");
+    }
+    return capacity;
+}
+
+/// Gaussians per structure: the count split with a floor, or the ratio applied to
+/// each structure's own raw bytes.
+std::vector<std::size_t> structureBudgets(const CompressOptions& options, const GaussianAsset& asset,
+                                          const std::vector<std::uint64_t>& voxels) {
+    if (options.gaussians > 0) return splitBudget(options.gaussians, voxels);
+    checkRatio(options.ratio);
+    const double sourceVoxels = double(asset.source.dims.x()) * asset.source.dims.y() * asset.source.dims.z();
+    const double rawBytesPerVoxel = double(asset.source.rawSourceBytes()) / sourceVoxels;
+    const double wholeVolumeBytes = double(asset.source.rawSourceBytes()) / options.ratio;
+    const double perGaussian =
+        assetEstimatedBytesPerGaussian(asset, double(assetCapacity(asset, std::uint64_t(wholeVolumeBytes))));
+    return proportionalBudgets(rawBytesPerVoxel / options.ratio / perGaussian, voxels);
+}
+
+/// Fits the structures that options.labels names into @a result.
+void fitByLabel(const openvdb::GridBase& image, const openvdb::Int32Grid& labels, const FitSettings& settings,
+                const CompressOptions& options, const FitObserver& observer, CompressResult& result) {
+    GaussianAsset& asset = result.asset;
+    const LabelTable table = labelTableOf(labels);
+    const std::vector<int> ids = selectLabels(table, options.labels, "--labels");
+    const std::vector<std::uint64_t> voxels = countLabelVoxels(labels, ids);
+    const std::vector<std::size_t> budgets = structureBudgets(options, asset, voxels);
+    std::vector<StructureFit> structures;
+    for (std::size_t s = 0; s < ids.size(); ++s) {
+        structures.push_back({ids[s], voxels[s], budgets[s], {}});
+        asset.labelTable.names[ids[s]] = table.nameOf(ids[s]);
+    }
+    LabelledFitResult fitted = fitStructures(image, labels, structures, settings, observer);
+    asset.params = std::move(fitted.params);
+    asset.labels = std::move(fitted.labels);
+    FitReport& total = result.fit;
+    for (const StructureFit& s : fitted.structures) {
+        total.iterations += s.report.iterations;
+        total.seconds += s.report.seconds;
+        total.skippedSteps += s.report.skippedSteps;
+        total.pruned += s.report.pruned;
+        total.respawned += s.report.respawned;
+        // Per-structure errors cover overlapping boxes: only the work adds up.
+        total.amplitudeSolve.iterations += s.report.amplitudeSolve.iterations;
+        total.amplitudeSolve.seconds += s.report.amplitudeSolve.seconds;
+    }
+    result.structures = std::move(fitted.structures);
+}
+
+}  // namespace
+
+FitSettings checkedSettings(const CompressOptions& options) {
+    FitSettings settings = options.settings;
+    applyAblation(ablationFromName(options.ablation), settings);
+    if (options.gaussians > 0) settings.minSamplesPerGaussian = 0.0;
+    const std::string problem = settings.validate();
+    if (!problem.empty()) throw InputError("fit settings", problem);
+    return settings;
+}
+
+CompressResult compress(const openvdb::GridBase::Ptr& grid, const std::string& name, const CompressOptions& options,
+                        const FitObserver& observer, const openvdb::Int32Grid* labels) {
+    FitSettings settings = checkedSettings(options);
+    if (!options.labels.empty() && !labels) throw InputError(name, "--labels needs a .vdb from gvr ingest --labels");
+
+    const VolumeTarget target(grid, name);
+    CompressResult result;
+    result.asset = assetSkeleton(*grid, target, settings, options, name);
+    if (target.activeVoxelCount() == 0) return result;
+    if (labels && !options.labels.empty()) {
+        // Structures are stored together, over ranges and a budget that no single
+        // structure knows, so their fits skip the solve on the stored geometry.
+        fitByLabel(*grid, *labels, settings, options, observer, result);
+        return result;
+    }
+    settings.gaussians = budgetedGaussians(result.asset, options, result.maxBytes);
+    // The last amplitude solve makes up for what the file does to the geometry: its
+    // rounding, and the weakest Gaussians dropped if the estimate of the file size
+    // was short.
+    settings.storedGeometry = [&](const GaussianParameters& params) {
+        GaussianAsset stored = result.asset;
+        stored.params = params;
+        result.dropped = fitAssetInto(stored, result.maxBytes);
+        return quantisedCopy(stored.params, options.encoding);
+    };
+    result.asset.params = fitGaussians(target, settings, observer, &result.fit);
+    result.dropped += fitAssetInto(result.asset, result.maxBytes);
+    return result;
+}
+
+}  // namespace gvr

@@ -1,0 +1,56 @@
+/// @file Compress.h
+/// @brief A volume in, a Gaussian asset out: the fit sized to a compression ratio
+/// or a count, with its byte budget kept, as `gvr fit` runs it.
+#pragma once
+
+#include "AssetFile.h"
+#include "Fitter.h"
+#include "LabelledFit.h"
+
+#include <openvdb/openvdb.h>
+
+#include <string>
+#include <vector>
+
+namespace gvr {
+
+struct CompressOptions {
+    /// Against the source's raw bytes (VolumeMetadata::rawSourceBytes); the count
+    /// is what fits in rawBytes / ratio. Ignored when @a gaussians is set.
+    double ratio = 10.0;
+    std::size_t gaussians = 0;  ///< an exact count instead (the time then never lowers it)
+    /// Time or iterations must be set. The count (settings.gaussians) is derived;
+    /// the ablation (applyAblation) is recorded in the asset as @a ablation.
+    FitSettings settings;
+    std::string ablation = "full";
+    AssetEncoding encoding;
+    /// Structures to fit one by one from a label grid ("all", or ids and names,
+    /// comma-separated); empty: the whole volume.
+    std::string labels;
+};
+
+struct CompressResult {
+    GaussianAsset asset;          ///< within the byte budget: writeAsset() it as it is
+    FitReport fit;                ///< summed over the structures of a labelled fit
+    std::uint64_t maxBytes = 0;   ///< the byte budget; 0 when a count was asked for
+    std::size_t dropped = 0;      ///< Gaussians dropped so that the file fits the budget
+    std::vector<StructureFit> structures;  ///< one per structure of a labelled fit
+};
+
+/// The fit settings compress() uses: the ablation applied, and no ceiling on the
+/// count when an exact count was asked for. Cheap: callers check options with it
+/// before reading a volume.
+/// @throw InputError naming "fit settings" when FitSettings::validate() refuses them.
+FitSettings checkedSettings(const CompressOptions& options);
+
+/// Fits @a grid (an ingested volume, or any float or Vec3s grid) and returns the
+/// asset. @a name names the volume in errors and, for a grid that gvr did not
+/// ingest, in the asset's source record. @a labels: the label grid that
+/// `ingest --labels` stored beside the image, needed when options.labels is set.
+/// An empty grid gives an empty asset.
+/// @throw InputError for settings that validate() refuses, a ratio below 1 or too
+///        high for one Gaussian, or labels asked for without a label grid.
+CompressResult compress(const openvdb::GridBase::Ptr& grid, const std::string& name, const CompressOptions& options,
+                        const FitObserver& observer = {}, const openvdb::Int32Grid* labels = nullptr);
+
+}  // namespace gvr

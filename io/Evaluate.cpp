@@ -1,0 +1,164 @@
+#include "Evaluate.h"
+
+#include "AssetFile.h"
+#include "Error.h"
+#include "Fitter.h"
+#include "GridFile.h"
+#include "JsonNumber.h"
+#include "LabelGrid.h"
+#include "Luminance.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace gvr {
+
+namespace {
+
+std::string dimsText(const FloatVolume& v) {
+    return std::to_string(v.dims.x()) + "x" + std::to_string(v.dims.y()) + "x" + std::to_string(v.dims.z()) +
+           " with " + std::to_string(v.channels) + " channel(s)";
+}
+
+/// Brings @a test onto the reference's samples, or says why it cannot.
+void matchGeometry(const std::string& testPath, bool resample, const ComparisonInput& reference, ComparisonInput& test) {
+    const FloatVolume& ref = reference.volume;
+    FloatVolume& other = test.volume;
+    if (reference.isImage != test.isImage) {
+        throw InputError(testPath, "one input is a 2D image and the other a volume");
+    }
+    if (ref.channels != other.channels) {
+        throw InputError(testPath, "has " + std::to_string(other.channels) + " channel(s), the reference " +
+                                         std::to_string(ref.channels));
+    }
+    const bool sameDims = ref.dims == other.dims;
+    const bool sameTransform = reference.isImage || samePlacement(ref.worldFromIndex, other.worldFromIndex, 1e-5);
+    if (sameDims && sameTransform) return;
+    if (!resample || reference.isImage) {
+        throw InputError(testPath, (sameDims ? std::string("is placed differently in the world than the reference")
+                                               : "is " + dimsText(other) + ", the reference " + dimsText(ref)) +
+                                         (reference.isImage ? "" : "; pass --resample to resample it onto the reference"));
+    }
+    other = resampleTrilinear(other, ref.dims, ref.worldFromIndex);
+}
+
+/// The voxels that count as foreground, and how they were chosen.
+std::vector<std::uint8_t> foregroundMask(const EvalOptions& options, const FloatVolume& ref, std::string& rule) {
+    std::vector<std::uint8_t> mask(ref.voxelCount(), 0);
+    if (!options.mask.empty()) {
+        const ComparisonInput m = loadComparisonInput(options.mask, options.ingest);
+        if (m.volume.dims != ref.dims) {
+            throw InputError(options.mask, "mask is " + dimsText(m.volume) + ", the reference " + dimsText(ref));
+        }
+        for (std::size_t n = 0; n < mask.size(); ++n) mask[n] = m.volume.values[n * m.volume.channels] != 0.0f;
+        rule = "inside the mask " + options.mask;
+        return mask;
+    }
+    if (!options.threshold && !ref.foreground.empty()) {
+        rule = "the reference's active voxels";
+        return ref.foreground;
+    }
+    const auto key = [&](std::size_t n) {
+        const float* v = ref.values.data() + n * ref.channels;
+        return ref.channels >= 3 ? luminance(v) : double(v[0]);
+    };
+    double cut = 0.0;
+    if (options.threshold) {
+        cut = *options.threshold;
+        rule = "reference above " + std::to_string(cut);
+    } else {
+        cut = INFINITY;
+        for (std::size_t n = 0; n < mask.size(); ++n) cut = std::min(cut, key(n));
+        rule = "reference above its minimum";
+    }
+    for (std::size_t n = 0; n < mask.size(); ++n) mask[n] = key(n) > cut;
+    return mask;
+}
+
+/// The label of each reference voxel: the label grid's voxel at the same place.
+std::vector<int> labelsOnSamples(const FloatVolume& ref, const openvdb::Int32Grid& labels) {
+    std::vector<int> out(ref.voxelCount());
+    auto accessor = labels.getConstAccessor();
+    for (int k = 0; k < ref.dims.z(); ++k) {
+        for (int j = 0; j < ref.dims.y(); ++j) {
+            for (int i = 0; i < ref.dims.x(); ++i) {
+                const openvdb::Vec3d world = ref.worldFromIndex.transform(openvdb::Vec3d(i, j, k));
+                const openvdb::Coord at = openvdb::Coord::round(labels.transform().worldToIndex(world));
+                out[ref.indexOf(i, j, k)] = accessor.getValue(at);
+            }
+        }
+    }
+    return out;
+}
+
+/// Per-structure quality over the labels of --labels: the structures --structures
+/// names, else those of a labelled test asset, else all.
+void evaluateStructures(const EvalOptions& options, const FloatVolume& ref, const FloatVolume& test, EvalResult& e) {
+    const openvdb::Int32Grid::Ptr labels = findLabelGrid(*readGridFile(options.labels), options.labels);
+    e.labelTable = labelTableOf(*labels);
+    const std::string spec = options.structures.empty() ? "all" : options.structures;
+    const std::vector<int> ids = selectLabels(e.labelTable, spec, options.structures.empty() ? options.labels : "--structures");
+    e.structures = structureQuality(ref, test, labelsOnSamples(ref, *labels), ids, e.peak);
+}
+
+/// The structures of a labelled asset at @a path, as a --structures list; else "".
+std::string assetStructures(const std::string& path) {
+    if (!isAssetFile(path)) return "";
+    std::string spec;
+    for (const auto& [id, name] : readAsset(path).labelTable.names) spec += (spec.empty() ? "" : ",") + std::to_string(id);
+    return spec;
+}
+
+}  // namespace
+
+EvalResult evaluate(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
+                    const std::string& referenceName, const std::string& testName) {
+    const auto start = std::chrono::steady_clock::now();
+    matchGeometry(testName, options.resample, reference, test);
+    EvalResult e;
+    e.peak = options.peak.value_or(reference.dataRange);
+    if (!(e.peak > 0.0) || !std::isfinite(e.peak)) {
+        throw InputError(options.peak ? "--peak" : referenceName,
+                         options.peak ? "must be a positive number" : "has no data range (a constant volume); give --peak");
+    }
+    const std::vector<std::uint8_t> mask = foregroundMask(options, reference.volume, e.foregroundRule);
+    e.foregroundVoxels = std::size_t(std::count(mask.begin(), mask.end(), 1));
+    e.mse = meanSquaredError(reference.volume, test.volume);
+    e.psnr = psnrFromMse(e.mse, e.peak);
+    e.foregroundMse = meanSquaredError(reference.volume, test.volume, mask);
+    e.foregroundPsnr = e.foregroundVoxels > 0 ? psnrFromMse(e.foregroundMse, e.peak) : NAN;
+    SsimSettings ssimSettings;
+    ssimSettings.dataRange = e.peak;
+    e.ssim = ssim(reference.volume, test.volume, ssimSettings);
+    e.msSsim = msSsim(reference.volume, test.volume, ssimSettings);
+    if (!options.labels.empty()) evaluateStructures(options, reference.volume, test.volume, e);
+    e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return e;
+}
+
+EvalResult evaluate(const std::string& referencePath, const std::string& testPath, const EvalOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    EvalOptions resolved = options;
+    if (!options.labels.empty() && options.structures.empty()) resolved.structures = assetStructures(testPath);
+    EvalResult e = evaluate(loadComparisonInput(referencePath, options.ingest),
+                            loadComparisonInput(testPath, options.ingest), resolved, referencePath, testPath);
+    e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();  // reading included
+    return e;
+}
+
+nlohmann::json evalResultJson(const EvalResult& e) {
+    nlohmann::json out = {{"mse", e.mse}, {"psnr", jsonNumber(e.psnr)},
+                          {"fg_mse", e.foregroundMse}, {"fg_psnr", e.foregroundVoxels ? jsonNumber(e.foregroundPsnr) : nullptr},
+                          {"fg_voxels", e.foregroundVoxels}, {"fg_rule", e.foregroundRule},
+                          {"ssim", e.ssim}, {"ms_ssim", e.msSsim.value},
+                          {"ms_ssim_scales", e.msSsim.scales}, {"peak", e.peak},
+                          {"seconds", e.seconds}};
+    for (const StructureQuality& q : e.structures) {
+        out["structures"].push_back({{"id", q.id}, {"name", e.labelTable.nameOf(q.id)}, {"voxels", q.voxels},
+                                     {"mse", q.mse}, {"psnr", jsonNumber(q.psnr)}, {"ssim", q.ssim}});
+    }
+    return out;
+}
+
+}  // namespace gvr

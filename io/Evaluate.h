@@ -1,0 +1,57 @@
+/// @file Evaluate.h
+/// @brief A test volume against a reference: MSE, PSNR, foreground PSNR, SSIM,
+/// MS-SSIM, and per structure, as `gvr eval` reports them.
+#pragma once
+
+#include "ComparisonInput.h"
+#include "LabelTable.h"
+#include "QualityMetrics.h"
+#include "StructureQuality.h"
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gvr {
+
+struct EvalOptions {
+    std::string mask;                  ///< foreground = the non-zero voxels of this volume
+    std::optional<double> threshold;   ///< foreground = reference above this (physical; luminance for RGB)
+    std::optional<double> peak;        ///< PSNR peak; default: the reference's data range
+    bool resample = false;             ///< resample the test onto the reference when they differ
+    std::string labels;                ///< a .vdb with a label grid: also report per structure
+    /// With @a labels, the structures to report (ids or names); default: those of a
+    /// labelled test asset, else all.
+    std::string structures;
+    IngestOptions ingest;              ///< how inputs that are not .vdb files are read
+};
+
+struct EvalResult {
+    double mse = 0, psnr = 0, foregroundMse = 0, foregroundPsnr = 0, ssim = 0, peak = 0, seconds = 0;
+    std::size_t foregroundVoxels = 0;
+    MsSsim msSsim;
+    std::string foregroundRule;  ///< how the foreground was chosen, in words
+    std::vector<StructureQuality> structures;
+    LabelTable labelTable;
+};
+
+/// Compares two volumes or two images in memory. @a referenceName and @a testName
+/// name them in errors. Without options.structures, every structure of
+/// options.labels is reported.
+/// @throw InputError naming the input at fault: other channels, another grid
+///        without options.resample, a constant reference without a peak.
+EvalResult evaluate(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
+                    const std::string& referenceName, const std::string& testName);
+
+/// Compares the files @a reference and @a test: .vdb grids, Gaussian assets, anything
+/// ingest reads, or two 2D images. Without options.structures, a labelled test
+/// asset's own structures are reported.
+/// @throw InputError as above, or naming a file that cannot be read.
+EvalResult evaluate(const std::string& reference, const std::string& test, const EvalOptions& options);
+
+/// The result with the keys of `gvr eval --json` (an infinite PSNR as "inf").
+nlohmann::json evalResultJson(const EvalResult& result);
+
+}  // namespace gvr

@@ -1,0 +1,376 @@
+// The gvr Python module: volumes to and from numpy, fits, assets, renders and
+// evaluation, as thin calls into the library the command line uses. Errors in the
+// user's input raise gvr.Error (a ValueError) with the command line's one-line message.
+
+#include "AssetExport.h"
+#include "AssetFile.h"
+#include "AssetProbe.h"
+#include "ComparisonInput.h"
+#include "Compress.h"
+#include "Error.h"
+#include "Evaluate.h"
+#include "GridBuilder.h"
+#include "GridFile.h"
+#include "Ingest.h"
+#include "ShearWarp.h"
+#include "VolumeClassifier.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <optional>
+#include <variant>
+
+namespace py = pybind11;
+
+namespace gvr {
+namespace {
+
+/// A volume: an OpenVDB grid in physical units, as ingest makes it.
+struct Volume {
+    openvdb::GridBase::Ptr grid;
+};
+
+/// Raised inside a fit's progress callback to stop the fit, once Python's error
+/// indicator holds why (Ctrl-C, or an exception in the user's callback).
+struct PythonErrorPending {};
+
+// ---- numpy in ----
+
+template <typename T>
+void copySamples(const py::array& array, DenseVolume& volume) {
+    const auto typed = py::array_t<T>::ensure(array);
+    T* out = volume.data<T>();
+    const int channels = volume.channels;
+    const auto [nx, ny, nz] = volume.dims;
+    if (channels == 1) {
+        const auto in = typed.template unchecked<3>();
+        for (std::int64_t k = 0; k < nz; ++k)
+            for (std::int64_t j = 0; j < ny; ++j)
+                for (std::int64_t i = 0; i < nx; ++i) *out++ = in(i, j, k);
+    } else {
+        const auto in = typed.template unchecked<4>();
+        for (std::int64_t k = 0; k < nz; ++k)
+            for (std::int64_t j = 0; j < ny; ++j)
+                for (std::int64_t i = 0; i < nx; ++i)
+                    for (int c = 0; c < channels; ++c) *out++ = in(i, j, k, c);
+    }
+}
+
+SampleType sampleTypeOf(const py::dtype& dtype) {
+    const char kind = dtype.kind();
+    const auto size = dtype.itemsize();
+    if (kind == 'u' && size == 1) return SampleType::UInt8;
+    if (kind == 'i' && size == 1) return SampleType::Int8;
+    if (kind == 'u' && size == 2) return SampleType::UInt16;
+    if (kind == 'i' && size == 2) return SampleType::Int16;
+    if (kind == 'u' && size == 4) return SampleType::UInt32;
+    if (kind == 'i' && size == 4) return SampleType::Int32;
+    if (kind == 'f' && size == 4) return SampleType::Float32;
+    if (kind == 'f' && size == 8) return SampleType::Float64;
+    throw InputError("array", "dtype " + dtype.attr("name").cast<std::string>() +
+                                  " is not supported (uint8, int8, uint16, int16, uint32, int32, float32, float64)");
+}
+
+/// The array's samples in gvr's layout (i fastest, channels interleaved), in its own type.
+DenseVolume denseFromArray(const py::array& array) {
+    const bool rgb = array.ndim() == 4 && array.shape(3) == 3;
+    if (array.ndim() != 3 && !rgb) {
+        std::string shape;
+        for (py::ssize_t d = 0; d < array.ndim(); ++d) shape += (d ? ", " : "") + std::to_string(array.shape(d));
+        throw InputError("array", "shape (" + shape + ") is neither (x, y, z) nor (x, y, z, 3)");
+    }
+    DenseVolume volume;
+    volume.type = sampleTypeOf(array.dtype());
+    volume.channels = rgb ? 3 : 1;
+    for (int a = 0; a < 3; ++a) volume.dims[a] = array.shape(a);
+    if (volume.voxelCount() == 0) throw InputError("array", "is empty");
+    allocateSamples(volume, "array");
+    switch (volume.type) {
+        case SampleType::UInt8: copySamples<std::uint8_t>(array, volume); break;
+        case SampleType::Int8: copySamples<std::int8_t>(array, volume); break;
+        case SampleType::UInt16: copySamples<std::uint16_t>(array, volume); break;
+        case SampleType::Int16: copySamples<std::int16_t>(array, volume); break;
+        case SampleType::UInt32: copySamples<std::uint32_t>(array, volume); break;
+        case SampleType::Int32: copySamples<std::int32_t>(array, volume); break;
+        case SampleType::Float32: copySamples<float>(array, volume); break;
+        case SampleType::Float64: copySamples<double>(array, volume); break;
+    }
+    return volume;
+}
+
+/// nibabel's 4x4 affine (world = A (i, j, k, 1)^T) as OpenVDB's row-vector matrix.
+openvdb::math::Mat4d matrixFromAffine(const py::array& affine) {
+    const auto a = py::array_t<double, py::array::forcecast>::ensure(affine);
+    if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) throw InputError("affine", "must be a 4x4 array");
+    const auto m = a.unchecked<2>();
+    double rows[3][4];
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) rows[r][c] = m(r, c);
+    return worldFromIndexRows(rows);
+}
+
+Volume volumeFromNumpy(const py::array& array, std::optional<std::array<double, 3>> spacing,
+                       const std::optional<py::array>& affine, std::optional<double> threshold,
+                       const std::string& modality) {
+    if (spacing && affine) throw InputError("spacing", "give spacing or affine, not both");
+    DenseVolume dense = denseFromArray(array);
+    if (spacing) dense.worldFromIndex = worldFromSpacing({(*spacing)[0], (*spacing)[1], (*spacing)[2]});
+    if (affine) dense.worldFromIndex = matrixFromAffine(*affine);
+    if (!modality.empty()) dense.modality = modality;
+    GridBuildSettings settings;
+    settings.sourceFile = "array";
+    settings.threshold = threshold;
+    py::gil_scoped_release release;
+    return {buildGrid(dense, settings)};
+}
+
+// ---- numpy out ----
+
+/// The index of the grid's first sample, where to_numpy() starts.
+openvdb::CoordBBox boxOf(const Volume& volume) { return volumeBox(*volume.grid); }
+
+py::array volumeToNumpy(const Volume& volume) {
+    auto samples = std::make_unique<FloatVolume>();
+    {
+        py::gil_scoped_release release;
+        *samples = sampleGrid(*volume.grid, boxOf(volume));
+    }
+    const FloatVolume& v = *samples;
+    const py::ssize_t c = v.channels, item = sizeof(float);
+    std::vector<py::ssize_t> shape{v.dims.x(), v.dims.y(), v.dims.z()};
+    std::vector<py::ssize_t> strides{c * item, c * item * v.dims.x(), c * item * v.dims.x() * v.dims.y()};
+    if (c > 1) {
+        shape.push_back(c);
+        strides.push_back(item);
+    }
+    const float* data = v.values.data();
+    // The array owns the samples: no copy on the way out.
+    py::capsule owner(samples.release(), [](void* p) { delete static_cast<FloatVolume*>(p); });
+    return py::array(py::dtype::of<float>(), shape, strides, data, owner);
+}
+
+py::array affineOf(const Volume& volume) {
+    openvdb::math::Mat4d shift = openvdb::math::Mat4d::identity();
+    shift.setTranslation(boxOf(volume).min().asVec3d());
+    const openvdb::math::Mat4d m = shift * volume.grid->transform().baseMap()->getAffineMap()->getMat4();
+    py::array_t<double> affine(std::vector<py::ssize_t>{4, 4});
+    auto a = affine.mutable_unchecked<2>();
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) a(r, c) = m(c, r);  // row-vector to column-vector convention
+    return affine;
+}
+
+py::dict metadataOf(const Volume& volume) {
+    py::dict out;
+    out["grid"] = volume.grid->getName();
+    const auto m = readVolumeMetadata(*volume.grid);
+    if (!m) return out;
+    out["source_file"] = m->sourceFile;
+    out["modality"] = m->modality;
+    out["source_type"] = m->sourceType;
+    out["channels"] = m->channels;
+    out["dims"] = py::make_tuple(m->dims.x(), m->dims.y(), m->dims.z());
+    out["spacing_mm"] = py::make_tuple(m->spacingMm.x(), m->spacingMm.y(), m->spacingMm.z());
+    out["value_min"] = m->valueMin;
+    out["value_max"] = m->valueMax;
+    out["background"] = m->background;
+    out["threshold"] = m->threshold ? py::object(py::float_(*m->threshold)) : py::object(py::none());
+    out["raw_bytes"] = m->rawSourceBytes();
+    return out;
+}
+
+Volume ingestPath(const std::string& path, std::optional<double> threshold,
+                  std::optional<std::array<double, 3>> spacing, std::optional<float> nanTo, int volumeIndex) {
+    IngestOptions options;
+    options.build.threshold = threshold;
+    options.build.nanTo = nanTo;
+    options.read.volumeIndex = volumeIndex;
+    if (spacing) options.read.spacingMm = openvdb::Vec3d((*spacing)[0], (*spacing)[1], (*spacing)[2]);
+    py::gil_scoped_release release;
+    return {loadOrIngest(path, options).grid};
+}
+
+// ---- fit ----
+
+GaussianAsset fit(const Volume& volume, double ratio, double seconds, std::size_t gaussians,
+                  std::size_t iterations, std::uint64_t seed, const std::string& ablation,
+                  const std::optional<py::function>& progress) {
+    CompressOptions options;
+    options.ratio = ratio;
+    options.gaussians = gaussians;
+    options.ablation = ablation;
+    options.settings.seed = seed;
+    options.settings.iterations = iterations;
+    options.settings.seconds = iterations > 0 ? 0.0 : seconds;
+    const FitObserver observer = [&](const FitProgress& p) {
+        py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) throw PythonErrorPending{};  // Ctrl-C
+        if (!progress) return;
+        try {
+            py::dict state;
+            state["iteration"] = p.iteration;
+            state["seconds"] = p.seconds;
+            state["fraction"] = p.fraction;
+            state["gaussians"] = p.gaussians;
+            state["held_out_psnr_db"] = p.heldOutEvaluated ? py::object(py::float_(p.heldOutPsnr)) : py::object(py::none());
+            (*progress)(state);
+        } catch (py::error_already_set& error) {
+            error.restore();
+            throw PythonErrorPending{};
+        }
+    };
+    try {
+        py::gil_scoped_release release;
+        return compress(volume.grid, "volume", options, observer).asset;
+    } catch (const PythonErrorPending&) {
+        throw py::error_already_set();
+    }
+}
+
+// ---- assets ----
+
+std::map<int, std::string> structuresOf(const GaussianAsset& asset) {
+    return {asset.labelTable.names.begin(), asset.labelTable.names.end()};
+}
+
+Volume exportVolume(const GaussianAsset& asset, const std::optional<Volume>& like, std::optional<double> voxelSize) {
+    if (like && voxelSize) throw InputError("voxel_size", "give like or voxel_size, not both");
+    ExportSettings settings;
+    if (like) settings.lattice = latticeOf(*like->grid, "like");
+    if (voxelSize) settings.lattice = resizedLattice(asset.worldFromIndex, asset.source.dims, *voxelSize);
+    py::gil_scoped_release release;
+    return {exportAsset(asset, settings).grids.front()};
+}
+
+py::array probe(const GaussianAsset& asset, const py::array& points) {
+    const auto p = py::array_t<double, py::array::forcecast>::ensure(points);
+    if (!p || p.ndim() != 2 || p.shape(1) != 3) throw InputError("points", "must be an (n, 3) array of voxel indices");
+    const auto in = p.unchecked<2>();
+    AssetProbe field(asset);
+    py::array_t<double> values(std::vector<py::ssize_t>{p.shape(0), field.channels()});
+    auto out = values.mutable_unchecked<2>();
+    for (py::ssize_t n = 0; n < p.shape(0); ++n) {
+        const AssetProbe::Sample sample = field.at({in(n, 0), in(n, 1), in(n, 2)});
+        for (int c = 0; c < field.channels(); ++c) out(n, c) = sample.value[c];
+    }
+    return values;
+}
+
+// ---- render and evaluate ----
+
+using Renderable = std::variant<GaussianAsset, Volume>;
+
+py::array render(const Renderable& what, double azimuth, double elevation, std::pair<int, int> size,
+                 const std::string& tf) {
+    const auto [width, height] = size;
+    if (width < 1 || height < 1 || width > 16384 || height > 16384) {
+        throw InputError("size", "must be (width, height) in 1 to 16384 pixels");
+    }
+    Framebuffer image;
+    {
+        py::gil_scoped_release release;
+        const ShearWarpSettings settings;
+        std::unique_ptr<RenderVolume> volume;
+        if (const auto* asset = std::get_if<GaussianAsset>(&what)) {
+            // As gvr render: Gaussians thinner than half a slice are widened, keeping their mass.
+            volume = std::make_unique<GaussianRenderVolume>(*asset, float(0.5 * settings.sliceSpacingVoxels));
+        } else {
+            volume = std::make_unique<GridRenderVolume>(std::get<Volume>(what).grid);
+        }
+        const OrthoCamera camera =
+            makeCamera({azimuth, elevation}, worldCorners(volume->worldFromIndex(), volume->box()), width, height);
+        ShearWarpRenderer renderer(*volume, presetClassifier(*volume, tf), settings);
+        image = renderer.render(camera);
+    }
+    py::array_t<float> rgba(std::vector<py::ssize_t>{height, width, 4});
+    std::copy(image.rgba.begin(), image.rgba.end(), rgba.mutable_data());
+    return rgba;
+}
+
+using Comparable = std::variant<GaussianAsset, Volume, std::string>;
+
+ComparisonInput comparisonInput(const Comparable& input) {
+    if (const auto* asset = std::get_if<GaussianAsset>(&input)) {
+        return comparisonInputOf(*exportAsset(*asset, ExportSettings{}).grids.front());
+    }
+    if (const auto* volume = std::get_if<Volume>(&input)) return comparisonInputOf(*volume->grid);
+    return loadComparisonInput(std::get<std::string>(input), IngestOptions{});
+}
+
+py::object evaluatePair(const Comparable& reference, const Comparable& test, bool resample, std::optional<double> peak) {
+    EvalOptions options;
+    options.resample = resample;
+    options.peak = peak;
+    std::string json;
+    {
+        py::gil_scoped_release release;
+        json = evalResultJson(evaluate(comparisonInput(reference), comparisonInput(test), options, "reference", "test"))
+                   .dump();
+    }
+    return py::module_::import("json").attr("loads")(json);
+}
+
+}  // namespace
+}  // namespace gvr
+
+PYBIND11_MODULE(gvr, m) {
+    using namespace gvr;
+    using namespace pybind11::literals;
+    openvdb::initialize();
+    m.doc() = "gvr: medical volumes as compact sets of 3D Gaussians, rendered with shear-warp";
+    py::register_exception<InputError>(m, "Error", PyExc_ValueError);
+
+    py::class_<Volume>(m, "Volume",
+                       "A volume as gvr holds it: a sparse OpenVDB grid in physical units (HU stays HU), "
+                       "placed in world millimetres. Arrays are indexed [i, j, k] (x, y, z), as nibabel's "
+                       "get_fdata() gives them, with RGB as a last axis of 3.")
+        .def_static("from_numpy", &volumeFromNumpy, "array"_a, "spacing"_a = py::none(), "affine"_a = py::none(),
+                    "threshold"_a = py::none(), "modality"_a = "",
+                    "A volume from a 3-D array (x, y, z) or (x, y, z, 3) of uint8 to float64. Give the voxel "
+                    "spacing in mm or nibabel's 4x4 affine (default: 1 mm voxels at the origin). Voxels at or "
+                    "below threshold (default: the minimum) are inactive. The samples are copied once, in "
+                    "their own type; NaN or Inf raises gvr.Error.")
+        .def("to_numpy", &volumeToNumpy,
+             "The samples as float32 in physical units, shape (x, y, z) or (x, y, z, 3), inactive voxels "
+             "at the background value; the array owns them (no further copy).")
+        .def_property_readonly("affine", &affineOf, "nibabel's convention: world mm = affine @ (i, j, k, 1)")
+        .def_property_readonly("metadata", &metadataOf, "Where the volume came from, its value range and type")
+        .def_property_readonly("shape", [](const Volume& v) {
+            const openvdb::Coord d = boxOf(v).dim();
+            return py::make_tuple(d.x(), d.y(), d.z());
+        })
+        .def("save", [](const Volume& v, const std::string& path) { writeGridFile(path, {v.grid}); }, "path"_a,
+             "Write the grid as a .vdb file (atomically)");
+
+    m.def("ingest", &ingestPath, "path"_a, "threshold"_a = py::none(), "spacing"_a = py::none(),
+          "nan_to"_a = py::none(), "volume"_a = 0,
+          "Read any volume gvr ingest reads (NIfTI, DICOM series, MetaImage, MGH, image stacks, raw, .vdb) "
+          "into a Volume, as `gvr ingest` does");
+
+    py::class_<GaussianAsset>(m, "Asset", "Fitted Gaussians with what places them and maps their values")
+        .def_static("load", &readAsset, "path"_a, "Read a .gvr asset (format 1 or 2)")
+        .def("save", [](GaussianAsset& a, const std::string& path) { writeAsset(path, a); }, "path"_a,
+             "Write the asset (atomically), in storage order")
+        .def_property_readonly("count", [](const GaussianAsset& a) { return a.params.count(); })
+        .def_property_readonly("channels", [](const GaussianAsset& a) { return a.params.channels; })
+        .def_property_readonly("structures", &structuresOf, "Structure names by label id (empty unless fitted by label)")
+        .def("export", &exportVolume, "like"_a = py::none(), "voxel_size"_a = py::none(),
+             "The field on a grid: the source's own (default), another Volume's (like=), or voxels of "
+             "voxel_size mm over the source's extent")
+        .def("probe", &probe, "points"_a, "Values in physical units at an (n, 3) array of source voxel indices");
+
+    m.def("fit", &fit, "volume"_a, "ratio"_a = 10.0, "seconds"_a = 60.0, "gaussians"_a = 0, "iterations"_a = 0,
+          "seed"_a = 1, "ablation"_a = "full", "progress"_a = py::none(),
+          "Fit Gaussians to a Volume, as `gvr fit` does: as many as fit in the raw bytes / ratio (or exactly "
+          "`gaussians`), within `seconds` (or exactly `iterations`, reproducible byte for byte). `progress` "
+          "is called with a dict after each iteration. Ctrl-C stops the fit with KeyboardInterrupt.");
+    m.def("render", &render, "what"_a, "azimuth"_a = 30.0, "elevation"_a = 15.0,
+          "size"_a = std::pair<int, int>(512, 512), "tf"_a = "",
+          "A shear-warp view of an Asset or a Volume as premultiplied RGBA float32, shape (height, width, 4), "
+          "as `gvr render` draws it; tf: ct, ct-bone, mri or rgb (default: by the data)");
+    m.def("evaluate", &evaluatePair, "reference"_a, "test"_a, "resample"_a = false, "peak"_a = py::none(),
+          "Compare two Volumes, Assets or files: a dict with the keys of `gvr eval --json`");
+}

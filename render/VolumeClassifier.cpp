@@ -1,0 +1,15 @@
+#include "VolumeClassifier.h"
+
+namespace gvr {
+
+Classifier volumeClassifier(const RenderVolume& volume, const TransferFunction& tf) {
+    return Classifier(tf, volume.channels(), 1.0 / volume.valueMax());
+}
+
+Classifier presetClassifier(const RenderVolume& volume, const std::string& preset) {
+    const VolumeStatistics statistics = volume.statistics();
+    const std::string name = preset.empty() ? defaultPreset(volume.channels(), statistics) : preset;
+    return volumeClassifier(volume, presetTransferFunction(name, statistics));
+}
+
+}  // namespace gvr

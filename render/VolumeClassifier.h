@@ -1,0 +1,21 @@
+/// @file VolumeClassifier.h
+/// @brief The classifier that maps one render volume's values to colour and opacity.
+#pragma once
+
+#include "Classifier.h"
+#include "RenderVolume.h"
+#include "TransferPresets.h"
+
+#include <string>
+
+namespace gvr {
+
+/// @a tf over @a volume's values (RGB colours scaled by its largest value).
+Classifier volumeClassifier(const RenderVolume& volume, const TransferFunction& tf);
+
+/// The preset @a preset (ct, ct-bone, mri, rgb) fitted to @a volume's statistics;
+/// empty: the preset for data like these (defaultPreset).
+/// @throw InputError naming an unknown preset.
+Classifier presetClassifier(const RenderVolume& volume, const std::string& preset);
+
+}  // namespace gvr

@@ -1,0 +1,199 @@
+"""The gvr Python module against the gvr command and against nibabel.
+
+Run by ctest (tests/CMakeLists.txt) as
+    GVR_EXECUTABLE=build/cli/gvr PYTHONPATH=build/python /usr/bin/python3 -m pytest tests/python
+"""
+import json
+import os
+import resource
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import nibabel
+import numpy as np
+import pytest
+from PIL import Image
+
+import gvr
+
+GVR = os.environ["GVR_EXECUTABLE"]
+CH2 = "/usr/share/mricron/templates/ch2.nii.gz"
+
+
+def run(*args):
+    return subprocess.run([GVR, *args], check=True, capture_output=True, text=True).stdout
+
+
+@pytest.fixture(scope="module")
+def work(tmp_path_factory):
+    return tmp_path_factory.mktemp("gvr-python")
+
+
+@pytest.fixture(scope="module")
+def ch2_vdb(work):
+    path = str(work / "ch2.vdb")
+    run("ingest", "-q", CH2, "-o", path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def cli_asset(work, ch2_vdb):
+    path = str(work / "cli.gvr")
+    run("fit", "-q", ch2_vdb, "-o", path, "--ratio", "40", "--iterations", "30", "--seed", "3")
+    return path
+
+
+def test_a_nibabel_array_and_affine_round_trip():
+    image = nibabel.load(CH2)
+    samples = np.asarray(image.dataobj)
+    volume = gvr.Volume.from_numpy(samples, affine=image.affine)
+    assert volume.shape == samples.shape
+    np.testing.assert_array_equal(volume.to_numpy(), samples.astype(np.float32))
+    np.testing.assert_allclose(volume.affine, image.affine, atol=1e-6)
+    assert volume.metadata["source_type"] == "uint8"
+
+
+def test_ingest_reads_what_nibabel_reads():
+    image = nibabel.load(CH2)
+    volume = gvr.ingest(CH2)
+    np.testing.assert_array_equal(volume.to_numpy(), np.asarray(image.dataobj).astype(np.float32))
+    np.testing.assert_allclose(volume.affine, image.affine, atol=1e-5)
+
+
+def test_anisotropic_hounsfield_int16_keeps_values_and_spacing():
+    ramp = (np.arange(4 * 5 * 6, dtype=np.int16).reshape(4, 5, 6) * 37 - 1024)
+    volume = gvr.Volume.from_numpy(ramp, spacing=(0.5, 0.5, 3.0))
+    np.testing.assert_array_equal(volume.to_numpy(), ramp.astype(np.float32))
+    np.testing.assert_allclose(np.diag(volume.affine)[:3], [0.5, 0.5, 3.0])
+    assert volume.metadata["value_min"] == -1024
+
+
+def test_rgb_arrays_keep_their_channels():
+    rgb = np.random.default_rng(5).integers(0, 255, size=(6, 7, 4, 3), dtype=np.uint8)
+    rgb[0, 0, 0] = 0  # one voxel at black, the minimum: inactive, read back as the background
+    volume = gvr.Volume.from_numpy(rgb)
+    back = volume.to_numpy()
+    assert back.shape == (6, 7, 4, 3)
+    np.testing.assert_array_equal(back[1:], rgb[1:].astype(np.float32))
+
+
+def test_to_numpy_hands_over_its_buffer_without_a_copy():
+    array = gvr.ingest(CH2).to_numpy()
+    assert not array.flags.owndata and array.base is not None
+    assert array.dtype == np.float32
+
+
+def test_a_fit_from_python_is_the_command_line_fit_byte_for_byte(work, ch2_vdb, cli_asset):
+    asset = gvr.fit(gvr.ingest(ch2_vdb), ratio=40, iterations=30, seed=3)
+    path = str(work / "python.gvr")
+    asset.save(path)
+    with open(path, "rb") as a, open(cli_asset, "rb") as b:
+        assert a.read() == b.read()
+    assert gvr.Asset.load(path).count == asset.count
+
+
+def test_a_render_is_gvr_render(work, cli_asset):
+    png = str(work / "cli.png")
+    run("render", cli_asset, "-o", png, "--size", "160x120", "--azimuth", "40", "--elevation", "10", "--tf", "mri")
+    rgba = gvr.render(gvr.Asset.load(cli_asset), azimuth=40, elevation=10, size=(160, 120), tf="mri")
+    assert rgba.shape == (120, 160, 4)
+    alpha = rgba[..., 3:]
+    straight = np.where(alpha > 0, rgba[..., :3] / np.maximum(alpha, 1e-30), 0.0)
+    ours = np.round(np.clip(np.concatenate([straight, alpha], axis=2), 0, 1) * 255)
+    theirs = np.asarray(Image.open(png).convert("RGBA"), dtype=np.float64)
+    assert np.abs(ours - theirs).max() <= 1
+    assert np.abs(ours - theirs).mean() < 0.01
+    assert alpha.max() > 0.5  # the head is there
+
+
+def test_evaluate_has_the_keys_and_figures_of_gvr_eval(ch2_vdb, cli_asset):
+    ours = gvr.evaluate(gvr.ingest(ch2_vdb), gvr.Asset.load(cli_asset))
+    theirs = json.loads(run("eval", ch2_vdb, cli_asset, "--json"))
+    assert set(ours) == set(theirs) - {"reference", "test"}
+    for key in ("mse", "psnr", "fg_psnr", "ssim", "ms_ssim", "peak", "fg_voxels"):
+        assert ours[key] == pytest.approx(theirs[key], rel=1e-12), key
+    assert gvr.evaluate(ch2_vdb, cli_asset)["psnr"] == pytest.approx(theirs["psnr"], rel=1e-12)
+
+
+def test_export_and_probe_agree(cli_asset):
+    asset = gvr.Asset.load(cli_asset)
+    exported = asset.export().to_numpy()
+    points = np.array([[45.0, 60.0, 40.0], [10.0, 10.0, 10.0], [90.0, 100.0, 80.0]])
+    probed = asset.probe(points)[:, 0]
+    on_grid = exported[tuple(points.astype(int).T)]
+    background = asset.export().metadata["background"]
+    for p, g in zip(probed, on_grid):
+        # Export keeps voxels at or below the threshold inactive, at the background.
+        assert g == pytest.approx(p, abs=1e-3) or g == pytest.approx(background)
+
+
+def test_a_progress_callback_sees_the_fit_and_its_exception_stops_it(ch2_vdb):
+    volume = gvr.ingest(ch2_vdb)
+    seen = []
+
+    def stop_after_three(state):
+        seen.append(state["iteration"])
+        if len(seen) == 3:
+            raise RuntimeError("enough")
+
+    start = time.monotonic()
+    with pytest.raises(RuntimeError, match="enough"):
+        gvr.fit(volume, ratio=40, seconds=600, progress=stop_after_three)
+    assert seen == [1, 2, 3]
+    assert time.monotonic() - start < 120
+
+
+def test_ctrl_c_stops_a_fit_with_keyboard_interrupt(work, ch2_vdb, cli_asset):
+    # A save first: writing files must leave Python's own SIGINT handler in place.
+    gvr.Asset.load(cli_asset).save(str(work / "saved-before-ctrl-c.gvr"))
+    volume = gvr.ingest(ch2_vdb)
+    # As a user's Ctrl-C: the signal arrives while the fit runs in C++ without the GIL.
+    timer = threading.Timer(2.0, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        gvr.fit(volume, ratio=40, seconds=600)
+    assert time.monotonic() - start < 60
+
+
+@pytest.mark.parametrize("array, problem", [
+    (np.zeros((4, 4, 4), dtype=np.complex64), "dtype complex64 is not supported"),
+    (np.zeros((4, 4, 4), dtype=bool), "dtype bool is not supported"),
+    (np.zeros((4, 4), dtype=np.float32), "shape (4, 4) is neither"),
+    (np.zeros((4, 4, 4, 2), dtype=np.float32), "shape (4, 4, 4, 2) is neither"),
+    (np.zeros((0, 4, 4), dtype=np.float32), "is empty"),
+    (np.full((4, 4, 4), np.nan, dtype=np.float32), "NaN"),
+])
+def test_bad_arrays_raise_one_line_errors(array, problem):
+    with pytest.raises(gvr.Error) as error:
+        gvr.Volume.from_numpy(array)
+    message = str(error.value)
+    assert message.startswith("array: ") and problem in message and "\n" not in message
+
+
+def test_bad_files_raise_the_command_lines_message(work):
+    missing = str(work / "missing.nii.gz")
+    with pytest.raises(gvr.Error) as error:
+        gvr.ingest(missing)
+    cli = subprocess.run([GVR, "ingest", missing, "-o", str(work / "x.vdb")], capture_output=True, text=True)
+    assert cli.returncode == 2 and str(error.value) in cli.stderr
+
+
+def test_from_numpy_copies_the_samples_once(work):
+    # In a fresh interpreter, so that the peak is this call's own.
+    script = """
+import resource, numpy as np, gvr
+array = np.random.default_rng(1).integers(1, 255, size=(256, 256, 256), dtype=np.uint8)
+before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+volume = gvr.Volume.from_numpy(array)
+after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+print((after - before) * 1024)
+"""
+    grown = int(subprocess.run([sys.executable, "-c", script], check=True, capture_output=True, text=True,
+                               env=os.environ).stdout)
+    voxels = 256 ** 3
+    # One copy in the array's own type (1 byte a voxel), the float32 grid (4), and slack.
+    assert grown < voxels * (1 + 4) + 32 * 2 ** 20, f"{grown / 2**20:.0f} MiB"
