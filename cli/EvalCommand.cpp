@@ -63,7 +63,10 @@ void addEvalCommand(CLI::App& app) {
     command->add_flag("--resample", flags->options.resample,
                       "Resample the test volume trilinearly onto the reference's grid when they differ");
     command->add_option("--labels", flags->options.labels,
-                        "Also report PSNR and SSIM per structure, from the label grid in this .vdb (gvr ingest --labels)");
+                        "Also report PSNR and SSIM per structure: the label grid in a .vdb from gvr ingest --labels, "
+                        "or a label volume such as an atlas (any format ingest reads; nearest neighbour onto the reference)");
+    command->add_option("--label-names", flags->options.labelNames,
+                        "With a label volume: structure names, one 'ID NAME' per line (AAL .txt, FreeSurfer LUT)");
     command->add_option("--structures", flags->options.structures,
                         "With --labels: the structures to report, IDs or names (default: a labelled asset's own, else all)");
     addSourceFlags(*command, flags->source, /*withThreshold=*/false);

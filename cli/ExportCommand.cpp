@@ -114,7 +114,7 @@ void addExportCommand(CLI::App& app) {
                                           "(default: the source grid)");
     auto* resolution = command->add_option("--resolution", flags->resolution,
                                            "Voxels along the longest world axis")->excludes(voxelSize);
-    command->add_option("--like", flags->like, "Sample on the grid of this .vdb file")
+    command->add_option("--like", flags->like, "Sample on the grid of this volume (.vdb, or anything ingest reads)")
         ->excludes(voxelSize)->excludes(resolution);
     command->add_option("--threshold", flags->threshold,
                         "Voxels at or below this (physical units; luminance for RGB) stay inactive "

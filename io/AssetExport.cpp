@@ -3,6 +3,7 @@
 #include "Error.h"
 #include "FloatVolume.h"
 #include "GridFile.h"
+#include "Ingest.h"
 #include "Luminance.h"
 #include "MemoryBudget.h"
 #include "VolumeBorder.h"
@@ -82,7 +83,7 @@ Lattice latticeOf(const openvdb::GridBase& grid, const std::string& name) {
 }
 
 Lattice latticeLike(const std::string& path) {
-    return latticeOf(*chooseVolumeGrid(*readGridFile(path), path), path);
+    return latticeOf(*loadOrIngest(path, IngestOptions{}).grid, path);
 }
 
 }  // namespace gvr

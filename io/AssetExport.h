@@ -48,9 +48,9 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
 /// no voxels.
 Lattice latticeOf(const openvdb::GridBase& grid, const std::string& name);
 
-/// The lattice of the volume grid in the .vdb file @a path (its gvr dimensions, or
-/// its active voxels), moved so that its first voxel has index (0, 0, 0).
-/// @throw InputError naming @a path when it holds no volume grid or no voxels.
+/// The lattice of the volume in @a path (a .vdb, or anything ingest reads), moved so
+/// that its first voxel has index (0, 0, 0).
+/// @throw InputError naming @a path when it cannot be read or holds no voxels.
 Lattice latticeLike(const std::string& path);
 
 }  // namespace gvr

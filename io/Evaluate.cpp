@@ -94,12 +94,30 @@ std::vector<int> labelsOnSamples(const FloatVolume& ref, const openvdb::Int32Gri
 
 /// Per-structure quality over the labels of --labels: the structures --structures
 /// names, else those of a labelled test asset, else all.
-void evaluateStructures(const EvalOptions& options, const FloatVolume& ref, const FloatVolume& test, EvalResult& e) {
-    const openvdb::Int32Grid::Ptr labels = findLabelGrid(*readGridFile(options.labels), options.labels);
-    e.labelTable = labelTableOf(*labels);
+void evaluateStructures(const EvalOptions& options, const openvdb::Int32Grid& labels, const FloatVolume& ref,
+                        const FloatVolume& test, EvalResult& e) {
+    e.labelTable = labelTableOf(labels);
     const std::string spec = options.structures.empty() ? "all" : options.structures;
     const std::vector<int> ids = selectLabels(e.labelTable, spec, options.structures.empty() ? options.labels : "--structures");
-    e.structures = structureQuality(ref, test, labelsOnSamples(ref, *labels), ids, e.peak);
+    e.structures = structureQuality(ref, test, labelsOnSamples(ref, labels), ids, e.peak);
+}
+
+/// The label grid that ingest --labels stored in the .vdb options.labels, or, for
+/// @a referencePath, any label volume ingest reads, placed onto the reference's
+/// voxels (nearest neighbour when its lattice differs: eval maps voxels by world
+/// position anyway).
+openvdb::Int32Grid::Ptr loadLabelGrid(const EvalOptions& options, const std::string& referencePath) {
+    if (isVdbFile(options.labels)) return findLabelGrid(*readGridFile(options.labels), options.labels);
+    if (referencePath.empty()) {
+        throw InputError(options.labels, "labels for volumes in memory must be a .vdb from gvr ingest --labels");
+    }
+    LabelGridSettings settings;
+    if (!options.labelNames.empty()) settings.names = readLabelNames(options.labelNames);
+    settings.resample = true;
+    ReadOptions read = options.ingest.read;
+    read.volumeIndex = 0;
+    read.progress = {};
+    return buildLabelGrid(options.labels, read, *loadOrIngest(referencePath, options.ingest).grid, settings);
 }
 
 /// The structures of a labelled asset at @a path, as a --structures list; else "".
@@ -110,10 +128,9 @@ std::string assetStructures(const std::string& path) {
     return spec;
 }
 
-}  // namespace
-
-EvalResult evaluate(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
-                    const std::string& referenceName, const std::string& testName) {
+/// The comparison itself; @a labels (may be null) only with options.labels.
+EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
+                   const openvdb::Int32Grid* labels, const std::string& referenceName, const std::string& testName) {
     const auto start = std::chrono::steady_clock::now();
     matchGeometry(testName, options.resample, reference, test);
     EvalResult e;
@@ -132,17 +149,30 @@ EvalResult evaluate(const ComparisonInput& reference, ComparisonInput test, cons
     ssimSettings.dataRange = e.peak;
     e.ssim = ssim(reference.volume, test.volume, ssimSettings);
     e.msSsim = msSsim(reference.volume, test.volume, ssimSettings);
-    if (!options.labels.empty()) evaluateStructures(options, reference.volume, test.volume, e);
+    if (labels) evaluateStructures(options, *labels, reference.volume, test.volume, e);
     e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return e;
+}
+
+}  // namespace
+
+EvalResult evaluate(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
+                    const std::string& referenceName, const std::string& testName) {
+    openvdb::Int32Grid::Ptr labels;
+    if (!options.labels.empty()) labels = loadLabelGrid(options, "");
+    return compare(reference, std::move(test), options, labels.get(), referenceName, testName);
 }
 
 EvalResult evaluate(const std::string& referencePath, const std::string& testPath, const EvalOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     EvalOptions resolved = options;
-    if (!options.labels.empty() && options.structures.empty()) resolved.structures = assetStructures(testPath);
-    EvalResult e = evaluate(loadComparisonInput(referencePath, options.ingest),
-                            loadComparisonInput(testPath, options.ingest), resolved, referencePath, testPath);
+    openvdb::Int32Grid::Ptr labels;
+    if (!options.labels.empty()) {
+        labels = loadLabelGrid(options, referencePath);
+        if (options.structures.empty()) resolved.structures = assetStructures(testPath);
+    }
+    EvalResult e = compare(loadComparisonInput(referencePath, options.ingest), loadComparisonInput(testPath, options.ingest),
+                           resolved, labels.get(), referencePath, testPath);
     e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();  // reading included
     return e;
 }

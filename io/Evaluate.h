@@ -21,7 +21,10 @@ struct EvalOptions {
     std::optional<double> threshold;   ///< foreground = reference above this (physical; luminance for RGB)
     std::optional<double> peak;        ///< PSNR peak; default: the reference's data range
     bool resample = false;             ///< resample the test onto the reference when they differ
-    std::string labels;                ///< a .vdb with a label grid: also report per structure
+    /// Also report per structure, from the label grid that ingest --labels stored in
+    /// this .vdb, or from a label volume ingest reads (an atlas such as aal.nii.gz).
+    std::string labels;
+    std::string labelNames;            ///< with a label volume: "ID NAME" lines (as ingest --label-names)
     /// With @a labels, the structures to report (ids or names); default: those of a
     /// labelled test asset, else all.
     std::string structures;

@@ -203,6 +203,24 @@ TEST_F(CliLabels, EvalReportsEachStructure) {
     EXPECT_EQ(nlohmann::json::parse(self.out)["structures"][0]["psnr"], "inf");
 }
 
+TEST_F(CliLabels, EvalTakesTheAtlasAsTheUserHasIt) {
+    ASSERT_EQ(fit("all", "both.gvr").exitCode, 0);
+    const std::string compare = "eval '" + scene.grid + "' '" + dir.path("both.gvr") + "' --json --labels ";
+    const test::CommandResult fromGrid = runGvr(compare + "'" + scene.grid + "'", dir);
+    const test::CommandResult fromAtlas =
+        runGvr(compare + "'" + scene.labels + "' --label-names '" + scene.names + "'", dir);
+    ASSERT_EQ(fromGrid.exitCode, 0) << fromGrid.err;
+    ASSERT_EQ(fromAtlas.exitCode, 0) << fromAtlas.err;
+    EXPECT_EQ(nlohmann::json::parse(fromAtlas.out)["structures"], nlohmann::json::parse(fromGrid.out)["structures"]);
+    // export --like takes the source volume as well as its ingested grid.
+    for (const std::string& like : {scene.image, scene.grid}) {
+        const test::CommandResult exported = runGvr("export -q '" + dir.path("both.gvr") + "' -o '" +
+                                                        dir.path("like.vdb") + "' --like '" + like + "' --json", dir);
+        ASSERT_EQ(exported.exitCode, 0) << exported.err;
+        EXPECT_EQ(nlohmann::json::parse(exported.out)["dims"], (nlohmann::json{32, 20, 16})) << exported.out;
+    }
+}
+
 TEST_F(CliLabels, LabelStylesRecolourAndFadeOneStructure) {
     ASSERT_EQ(fit("all", "both.gvr").exitCode, 0);
     const std::vector<float> everything = render("both.gvr", "", "all.png");
