@@ -360,7 +360,12 @@ PYBIND11_MODULE(gvr, m) {
         .def("export", &exportVolume, "like"_a = py::none(), "voxel_size"_a = py::none(),
              "The field on a grid: the source's own (default), another Volume's (like=), or voxels of "
              "voxel_size mm over the source's extent")
-        .def("probe", &probe, "points"_a, "Values in physical units at an (n, 3) array of source voxel indices");
+        .def("probe", &probe, "points"_a, "Values in physical units at an (n, 3) array of source voxel indices")
+        .def("show", [](const GaussianAsset& a, const std::string& show, const std::string& hide) {
+                 return selectStructures(a, show, hide, "asset");
+             }, "structures"_a = "", "hide"_a = "",
+             "The asset with only these structures of a fit by label (ids or names, comma-separated; empty: "
+             "all), less those in hide, as gvr render --show and --hide select them");
 
     m.def("fit", &fit, "volume"_a, "ratio"_a = 10.0, "seconds"_a = 60.0, "gaussians"_a = 0, "iterations"_a = 0,
           "seed"_a = 1, "ablation"_a = "full", "progress"_a = py::none(),

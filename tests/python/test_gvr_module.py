@@ -130,6 +130,29 @@ def test_export_and_probe_agree(cli_asset):
         assert g == pytest.approx(p, abs=1e-3) or g == pytest.approx(background)
 
 
+def test_show_keeps_the_named_structures_of_a_labelled_asset(work):
+    # Two labelled blobs, ingested and fitted by structure with the command line.
+    i, j, k = np.meshgrid(np.arange(32), np.arange(20), np.arange(16), indexing="ij")
+    left = (i - 9) ** 2 + (j - 10) ** 2 + (k - 8) ** 2
+    right = (i - 23) ** 2 + (j - 10) ** 2 + (k - 8) ** 2
+    image = (200 * np.exp(-left / 18) + 120 * np.exp(-right / 12)).astype(np.float32)
+    labels = np.where(left < 36, 1, np.where(right < 25, 2, 0)).astype(np.int16)
+    for name, array in (("blobs.nii", image), ("labels.nii", labels)):
+        nibabel.save(nibabel.Nifti1Image(array, np.eye(4)), str(work / name))
+    (work / "names.txt").write_text("1 Left\n2 Right\n")
+    run("ingest", "-q", str(work / "blobs.nii"), "-o", str(work / "blobs.vdb"), "--labels", str(work / "labels.nii"),
+        "--label-names", str(work / "names.txt"))
+    run("fit", "-q", str(work / "blobs.vdb"), "-o", str(work / "blobs.gvr"), "--labels", "all", "--iterations", "20")
+    asset = gvr.Asset.load(str(work / "blobs.gvr"))
+    assert asset.structures == {1: "Left", 2: "Right"}
+    left_only = asset.show("Left")
+    assert left_only.structures == {1: "Left"}
+    assert 0 < left_only.count < asset.count
+    assert asset.show(hide="Left").count == asset.count - left_only.count
+    with pytest.raises(gvr.Error, match="Middle"):
+        asset.show("Middle")
+
+
 def test_a_progress_callback_sees_the_fit_and_its_exception_stops_it(ch2_vdb):
     volume = gvr.ingest(ch2_vdb)
     seen = []
