@@ -160,7 +160,7 @@ void runFit(FitFlags& flags) {
     {
         FitLog log(flags.logPath, target.peak());
         ProgressBar bar("fitting", !flags.quiet);
-        result = compress(loaded.grid, flags.input, flags.options, progressObserver(bar, log), labels.get());
+        result = compress(target, flags.input, flags.options, progressObserver(bar, log), labels.get());
     }
     writeAsset(flags.output, result.asset);
     ProgressBar measuring("measuring", !flags.quiet);

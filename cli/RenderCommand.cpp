@@ -51,7 +51,7 @@ std::pair<int, int> parseSize(const std::string& text) {
 }
 
 float minScale(const RenderFlags& flags) {
-    return float(flags.minScale.value_or(0.5 * flags.shearWarp.sliceSpacingVoxels));
+    return flags.minScale ? float(*flags.minScale) : flags.shearWarp.minimumFootprintVoxels();
 }
 
 /// The shown structures of the input, when it is a Gaussian asset.

@@ -2,7 +2,6 @@
 
 #include "Error.h"
 #include "FloatVolume.h"
-#include "GridFile.h"
 #include "Ingest.h"
 #include "Luminance.h"
 #include "MemoryBudget.h"

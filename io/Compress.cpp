@@ -121,17 +121,23 @@ FitSettings checkedSettings(const CompressOptions& options) {
 
 CompressResult compress(const openvdb::GridBase::Ptr& grid, const std::string& name, const CompressOptions& options,
                         const FitObserver& observer, const openvdb::Int32Grid* labels) {
+    checkedSettings(options);  // before the target reads the grid
+    return compress(VolumeTarget(grid, name), name, options, observer, labels);
+}
+
+CompressResult compress(const VolumeTarget& target, const std::string& name, const CompressOptions& options,
+                        const FitObserver& observer, const openvdb::Int32Grid* labels) {
     FitSettings settings = checkedSettings(options);
     if (!options.labels.empty() && !labels) throw InputError(name, "--labels needs a .vdb from gvr ingest --labels");
 
-    const VolumeTarget target(grid, name);
+    const openvdb::GridBase& grid = target.grid();
     CompressResult result;
-    result.asset = assetSkeleton(*grid, target, settings, options, name);
+    result.asset = assetSkeleton(grid, target, settings, options, name);
     if (target.activeVoxelCount() == 0) return result;
     if (labels && !options.labels.empty()) {
         // Structures are stored together, over ranges and a budget that no single
         // structure knows, so their fits skip the solve on the stored geometry.
-        fitByLabel(*grid, *labels, settings, options, observer, result);
+        fitByLabel(grid, *labels, settings, options, observer, result);
         return result;
     }
     settings.gaussians = budgetedGaussians(result.asset, options, result.maxBytes);

@@ -53,4 +53,9 @@ FitSettings checkedSettings(const CompressOptions& options);
 CompressResult compress(const openvdb::GridBase::Ptr& grid, const std::string& name, const CompressOptions& options,
                         const FitObserver& observer = {}, const openvdb::Int32Grid* labels = nullptr);
 
+/// The same, for a caller that holds the grid's VolumeTarget already (to measure the
+/// result against it, say): the target's grid is fitted.
+CompressResult compress(const VolumeTarget& target, const std::string& name, const CompressOptions& options,
+                        const FitObserver& observer = {}, const openvdb::Int32Grid* labels = nullptr);
+
 }  // namespace gvr

@@ -275,8 +275,7 @@ py::array render(const Renderable& what, double azimuth, double elevation, std::
         const ShearWarpSettings settings;
         std::unique_ptr<RenderVolume> volume;
         if (const auto* asset = std::get_if<GaussianAsset>(&what)) {
-            // As gvr render: Gaussians thinner than half a slice are widened, keeping their mass.
-            volume = std::make_unique<GaussianRenderVolume>(*asset, float(0.5 * settings.sliceSpacingVoxels));
+            volume = std::make_unique<GaussianRenderVolume>(*asset, settings.minimumFootprintVoxels());
         } else {
             volume = std::make_unique<GridRenderVolume>(std::get<Volume>(what).grid);
         }

@@ -19,6 +19,9 @@ struct ShearWarpSettings {
     float terminationOpacity = 0.98f;  ///< a pixel stops accumulating at this opacity; (0, 1]
     /// @return an empty string, or what is wrong, naming the flag.
     std::string validate() const;
+    /// How thin a Gaussian may be before GaussianRenderVolume widens it: half a slice,
+    /// so that none falls between two slices.
+    float minimumFootprintVoxels() const { return float(0.5 * sliceSpacingVoxels); }
 };
 
 /// What one frame cost, as `gvr render --stats` writes it.
