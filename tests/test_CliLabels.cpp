@@ -277,4 +277,19 @@ TEST_F(CliLabels, BadLabelInputsAreOneLineErrorsWithoutOutput) {
     const test::CommandResult evalNoLabels = runGvr("eval '" + plain + "' '" + plain + "' --labels '" + plain + "'", dir);
     EXPECT_EQ(evalNoLabels.exitCode, 2);
     EXPECT_EQ(test::lineCount(evalNoLabels.err), 1u) << evalNoLabels.err;
+
+    // A label volume that is missing, or whose samples are not labels, names itself.
+    const std::string missing = dir.path("missing.nii");
+    for (const auto& [labels, problem] : {std::pair<std::string, std::string>{missing, missing},
+                                          std::pair<std::string, std::string>{scene.image, scene.image}}) {
+        const test::CommandResult run = runGvr("eval '" + plain + "' '" + plain + "' --labels '" + labels + "'", dir);
+        EXPECT_EQ(run.exitCode, 2) << labels;
+        EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
+        EXPECT_NE(run.err.find(problem + ":"), std::string::npos) << run.err;
+    }
+    const test::CommandResult like = runGvr("export -q '" + plain + "' -o '" + dir.path("like.vdb") + "' --like '" +
+                                                missing + "'", dir);
+    EXPECT_EQ(like.exitCode, 2);
+    EXPECT_EQ(test::lineCount(like.err), 1u) << like.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("like.vdb")));
 }

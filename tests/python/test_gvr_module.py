@@ -197,6 +197,21 @@ def test_bad_arrays_raise_one_line_errors(array, problem):
     assert message.startswith("array: ") and problem in message and "\n" not in message
 
 
+def test_bad_arguments_raise_one_line_errors(cli_asset):
+    samples = np.zeros((4, 4, 4), dtype=np.uint8)
+    asset = gvr.Asset.load(cli_asset)
+    for call, problem in [
+        (lambda: gvr.Volume.from_numpy(samples, affine=np.eye(3)), "affine: must be a 4x4 array"),
+        (lambda: gvr.Volume.from_numpy(samples, spacing=(1, 1, 1), affine=np.eye(4)), "spacing: give spacing or affine"),
+        (lambda: gvr.render(asset, size=(0, 64)), "size: must be"),
+        (lambda: asset.probe(np.zeros((5, 2))), "points: must be an (n, 3) array"),
+        (lambda: asset.export(voxel_size=-1.0), "voxel"),
+    ]:
+        with pytest.raises(gvr.Error) as error:
+            call()
+        assert problem in str(error.value) and "\n" not in str(error.value)
+
+
 def test_bad_files_raise_the_command_lines_message(work):
     missing = str(work / "missing.nii.gz")
     with pytest.raises(gvr.Error) as error:
