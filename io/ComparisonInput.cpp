@@ -63,14 +63,15 @@ ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions
     // A Gaussian asset is compared as what it exports onto its source grid.
     const openvdb::GridBase::Ptr grid = isAssetFile(path) ? exportAsset(readAsset(path), ExportSettings{}).grids.front()
                                                           : loadOrIngest(path, options).grid;
-    return comparisonInputOf(*grid);
+    return comparisonInputOf(grid);
 }
 
-ComparisonInput comparisonInputOf(const openvdb::GridBase& grid) {
+ComparisonInput comparisonInputOf(openvdb::GridBase::ConstPtr grid) {
     ComparisonInput input;
-    input.volume = sampleGrid(grid, volumeBox(grid));
-    const auto metadata = readVolumeMetadata(grid);
+    input.volume = sampleGrid(*grid, volumeBox(*grid));
+    const auto metadata = readVolumeMetadata(*grid);
     input.dataRange = metadata ? metadata->valueMax - metadata->valueMin : sampleRange(input.volume);
+    input.grid = std::move(grid);
     return input;
 }
 

@@ -16,6 +16,8 @@ struct ComparisonInput {
     /// The data range: the one gvr recorded at ingest, else max - min of the samples.
     double dataRange = 0.0;
     bool isImage = false;  ///< a single 2D image (PNG, EXR, ...), depth 1, every channel kept
+    /// The grid the samples came from (null for an image): what labels are placed on.
+    openvdb::GridBase::ConstPtr grid;
 };
 
 /// @throw InputError naming @a path when it cannot be read.
@@ -23,6 +25,6 @@ ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions
 
 /// A grid in memory (float, double or Vec3s), over the voxels it stands for.
 /// @throw InputError for any other value type.
-ComparisonInput comparisonInputOf(const openvdb::GridBase& grid);
+ComparisonInput comparisonInputOf(openvdb::GridBase::ConstPtr grid);
 
 }  // namespace gvr

@@ -108,6 +108,15 @@ void fitByLabel(const openvdb::GridBase& image, const openvdb::Int32Grid& labels
     result.structures = std::move(fitted.structures);
 }
 
+/// @a observer, after a check of the cancel flag at every iteration.
+FitObserver cancellable(const FitObserver& observer, const std::atomic<bool>* cancel, const std::string& name) {
+    if (!cancel) return observer;
+    return [observer, cancel, name](const FitProgress& progress) {
+        if (cancel->load()) throw Cancelled(name);
+        if (observer) observer(progress);
+    };
+}
+
 }  // namespace
 
 FitSettings checkedSettings(const CompressOptions& options) {
@@ -126,8 +135,10 @@ CompressResult compress(const openvdb::GridBase::Ptr& grid, const std::string& n
 }
 
 CompressResult compress(const VolumeTarget& target, const std::string& name, const CompressOptions& options,
-                        const FitObserver& observer, const openvdb::Int32Grid* labels) {
+                        const FitObserver& userObserver, const openvdb::Int32Grid* labels) {
     FitSettings settings = checkedSettings(options);
+    if (options.cancel && options.cancel->load()) throw Cancelled(name);
+    const FitObserver observer = cancellable(userObserver, options.cancel, name);
     if (!options.labels.empty() && !labels) throw InputError(name, "--labels needs a .vdb from gvr ingest --labels");
 
     const openvdb::GridBase& grid = target.grid();

@@ -9,6 +9,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,9 @@ struct CompressOptions {
     /// Structures to fit one by one from a label grid ("all", or ids and names,
     /// comma-separated); empty: the whole volume.
     std::string labels;
+    /// Set it (from any thread) to stop the fit at its next iteration; compress()
+    /// then throws Cancelled. Null: the fit runs to its budget.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 struct CompressResult {
@@ -49,7 +53,8 @@ FitSettings checkedSettings(const CompressOptions& options);
 /// `ingest --labels` stored beside the image, needed when options.labels is set.
 /// An empty grid gives an empty asset.
 /// @throw InputError for settings that validate() refuses, a ratio below 1 or too
-///        high for one Gaussian, or labels asked for without a label grid.
+///        high for one Gaussian, or labels asked for without a label grid;
+///        Cancelled once options.cancel is set.
 CompressResult compress(const openvdb::GridBase::Ptr& grid, const std::string& name, const CompressOptions& options,
                         const FitObserver& observer = {}, const openvdb::Int32Grid* labels = nullptr);
 

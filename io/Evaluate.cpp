@@ -102,22 +102,19 @@ void evaluateStructures(const EvalOptions& options, const openvdb::Int32Grid& la
     e.structures = structureQuality(ref, test, labelsOnSamples(ref, labels), ids, e.peak);
 }
 
-/// The label grid that ingest --labels stored in the .vdb options.labels, or, for
-/// @a referencePath, any label volume ingest reads, placed onto the reference's
-/// voxels (nearest neighbour when its lattice differs: eval maps voxels by world
-/// position anyway).
-openvdb::Int32Grid::Ptr loadLabelGrid(const EvalOptions& options, const std::string& referencePath) {
+/// The label grid that ingest --labels stored in the .vdb options.labels, or any
+/// label volume ingest reads, placed onto @a reference's voxels (nearest neighbour
+/// when its lattice differs: eval maps voxels by world position anyway).
+openvdb::Int32Grid::Ptr loadLabelGrid(const EvalOptions& options, const ComparisonInput& reference) {
     if (isVdbFile(options.labels)) return findLabelGrid(*readGridFile(options.labels), options.labels);
-    if (referencePath.empty()) {
-        throw InputError(options.labels, "labels for volumes in memory must be a .vdb from gvr ingest --labels");
-    }
+    if (!reference.grid) throw InputError(options.labels, "labels apply to volumes, not to 2D images");
     LabelGridSettings settings;
     if (!options.labelNames.empty()) settings.names = readLabelNames(options.labelNames);
     settings.resample = true;
     ReadOptions read = options.ingest.read;
     read.volumeIndex = 0;
     read.progress = {};
-    return buildLabelGrid(options.labels, read, *loadOrIngest(referencePath, options.ingest).grid, settings);
+    return buildLabelGrid(options.labels, read, *reference.grid, settings);
 }
 
 /// The structures of a labelled asset at @a path, as a --structures list; else "".
@@ -159,20 +156,16 @@ EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const
 EvalResult evaluate(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
                     const std::string& referenceName, const std::string& testName) {
     openvdb::Int32Grid::Ptr labels;
-    if (!options.labels.empty()) labels = loadLabelGrid(options, "");
+    if (!options.labels.empty()) labels = loadLabelGrid(options, reference);
     return compare(reference, std::move(test), options, labels.get(), referenceName, testName);
 }
 
 EvalResult evaluate(const std::string& referencePath, const std::string& testPath, const EvalOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     EvalOptions resolved = options;
-    openvdb::Int32Grid::Ptr labels;
-    if (!options.labels.empty()) {
-        labels = loadLabelGrid(options, referencePath);
-        if (options.structures.empty()) resolved.structures = assetStructures(testPath);
-    }
-    EvalResult e = compare(loadComparisonInput(referencePath, options.ingest), loadComparisonInput(testPath, options.ingest),
-                           resolved, labels.get(), referencePath, testPath);
+    if (!options.labels.empty() && options.structures.empty()) resolved.structures = assetStructures(testPath);
+    EvalResult e = evaluate(loadComparisonInput(referencePath, options.ingest), loadComparisonInput(testPath, options.ingest),
+                            resolved, referencePath, testPath);
     e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();  // reading included
     return e;
 }

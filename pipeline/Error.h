@@ -1,5 +1,6 @@
 /// @file Error.h
-/// @brief The exception type for problems with what the user gave us.
+/// @brief The exception types: problems with what the user gave us, and work the
+/// caller cancelled.
 #pragma once
 
 #include <stdexcept>
@@ -25,6 +26,13 @@ private:
         }
         return text;
     }
+};
+
+/// A long call stopped because its caller asked it to (a cancel flag), not
+/// because anything failed.
+class Cancelled : public std::runtime_error {
+public:
+    explicit Cancelled(const std::string& what) : std::runtime_error(what + ": cancelled") {}
 };
 
 }  // namespace gvr

@@ -13,12 +13,14 @@
 #include "GridFile.h"
 #include "Ingest.h"
 #include "ShearWarp.h"
+#include "TransferFunctionFile.h"
 #include "VolumeClassifier.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <variant>
@@ -262,9 +264,23 @@ py::array probe(const GaussianAsset& asset, const py::array& points) {
 // ---- render and evaluate ----
 
 using Renderable = std::variant<GaussianAsset, Volume>;
+/// A preset name or a JSON file as `gvr render --tf` takes them, or the file's
+/// points themselves: [[value, r, g, b, a], ...].
+using TransferSpec = std::variant<std::string, std::vector<std::array<double, 5>>>;
+
+Classifier classifierOf(const RenderVolume& volume, const TransferSpec& tf) {
+    if (const auto* points = std::get_if<std::vector<std::array<double, 5>>>(&tf)) {
+        std::vector<TransferPoint> converted;
+        for (const auto& [value, r, g, b, a] : *points) converted.push_back({value, {float(r), float(g), float(b), float(a)}});
+        return volumeClassifier(volume, TransferFunction(std::move(converted), "tf"));
+    }
+    const std::string& name = std::get<std::string>(tf);
+    if (!name.empty() && std::filesystem::is_regular_file(name)) return volumeClassifier(volume, readTransferFunction(name));
+    return presetClassifier(volume, name);
+}
 
 py::array render(const Renderable& what, double azimuth, double elevation, std::pair<int, int> size,
-                 const std::string& tf) {
+                 const TransferSpec& tf) {
     const auto [width, height] = size;
     if (width < 1 || height < 1 || width > 16384 || height > 16384) {
         throw InputError("size", "must be (width, height) in 1 to 16384 pixels");
@@ -281,7 +297,7 @@ py::array render(const Renderable& what, double azimuth, double elevation, std::
         }
         const OrthoCamera camera =
             makeCamera({azimuth, elevation}, worldCorners(volume->worldFromIndex(), volume->box()), width, height);
-        ShearWarpRenderer renderer(*volume, presetClassifier(*volume, tf), settings);
+        ShearWarpRenderer renderer(*volume, classifierOf(*volume, tf), settings);
         image = renderer.render(camera);
     }
     py::array_t<float> rgba(std::vector<py::ssize_t>{height, width, 4});
@@ -293,16 +309,13 @@ using Comparable = std::variant<GaussianAsset, Volume, std::string>;
 
 ComparisonInput comparisonInput(const Comparable& input) {
     if (const auto* asset = std::get_if<GaussianAsset>(&input)) {
-        return comparisonInputOf(*exportAsset(*asset, ExportSettings{}).grids.front());
+        return comparisonInputOf(exportAsset(*asset, ExportSettings{}).grids.front());
     }
-    if (const auto* volume = std::get_if<Volume>(&input)) return comparisonInputOf(*volume->grid);
+    if (const auto* volume = std::get_if<Volume>(&input)) return comparisonInputOf(volume->grid);
     return loadComparisonInput(std::get<std::string>(input), IngestOptions{});
 }
 
-py::object evaluatePair(const Comparable& reference, const Comparable& test, bool resample, std::optional<double> peak) {
-    EvalOptions options;
-    options.resample = resample;
-    options.peak = peak;
+py::object evaluatePair(const Comparable& reference, const Comparable& test, EvalOptions options) {
     std::string json;
     {
         py::gil_scoped_release release;
@@ -374,7 +387,25 @@ PYBIND11_MODULE(gvr, m) {
     m.def("render", &render, "what"_a, "azimuth"_a = 30.0, "elevation"_a = 15.0,
           "size"_a = std::pair<int, int>(512, 512), "tf"_a = "",
           "A shear-warp view of an Asset or a Volume as premultiplied RGBA float32, shape (height, width, 4), "
-          "as `gvr render` draws it; tf: ct, ct-bone, mri or rgb (default: by the data)");
-    m.def("evaluate", &evaluatePair, "reference"_a, "test"_a, "resample"_a = false, "peak"_a = py::none(),
-          "Compare two Volumes, Assets or files: a dict with the keys of `gvr eval --json`");
+          "as `gvr render` draws it. tf: a preset (ct, ct-bone, mri, rgb; default: by the data), a JSON file "
+          "as `gvr render --tf` and `--save-tf` use, or its points [[value, r, g, b, a], ...] in physical units");
+    m.def("evaluate",
+          [](const Comparable& reference, const Comparable& test, bool resample, std::optional<double> peak,
+             const std::string& mask, std::optional<double> threshold, const std::string& labels,
+             const std::string& labelNames, const std::string& structures) {
+              EvalOptions options;
+              options.resample = resample;
+              options.peak = peak;
+              options.mask = mask;
+              options.threshold = threshold;
+              options.labels = labels;
+              options.labelNames = labelNames;
+              options.structures = structures;
+              return evaluatePair(reference, test, options);
+          },
+          "reference"_a, "test"_a, "resample"_a = false, "peak"_a = py::none(), "mask"_a = "",
+          "threshold"_a = py::none(), "labels"_a = "", "label_names"_a = "", "structures"_a = "",
+          "Compare two Volumes, Assets or files: a dict with the keys of `gvr eval --json`. The options are "
+          "eval's: mask and labels are files (a .vdb or any volume ingest reads, e.g. an atlas such as "
+          "aal.nii.gz), label_names an \"ID NAME\" list for an atlas, structures ids or names to report.");
 }

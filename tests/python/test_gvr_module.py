@@ -130,8 +130,10 @@ def test_export_and_probe_agree(cli_asset):
         assert g == pytest.approx(p, abs=1e-3) or g == pytest.approx(background)
 
 
-def test_show_keeps_the_named_structures_of_a_labelled_asset(work):
-    # Two labelled blobs, ingested and fitted by structure with the command line.
+@pytest.fixture(scope="module")
+def labelled_scene(work):
+    """Two labelled blobs as NIfTI files, ingested with their atlas and fitted by
+    structure with the command line."""
     i, j, k = np.meshgrid(np.arange(32), np.arange(20), np.arange(16), indexing="ij")
     left = (i - 9) ** 2 + (j - 10) ** 2 + (k - 8) ** 2
     right = (i - 23) ** 2 + (j - 10) ** 2 + (k - 8) ** 2
@@ -143,6 +145,11 @@ def test_show_keeps_the_named_structures_of_a_labelled_asset(work):
     run("ingest", "-q", str(work / "blobs.nii"), "-o", str(work / "blobs.vdb"), "--labels", str(work / "labels.nii"),
         "--label-names", str(work / "names.txt"))
     run("fit", "-q", str(work / "blobs.vdb"), "-o", str(work / "blobs.gvr"), "--labels", "all", "--iterations", "20")
+    return work
+
+
+def test_show_keeps_the_named_structures_of_a_labelled_asset(labelled_scene):
+    work = labelled_scene
     asset = gvr.Asset.load(str(work / "blobs.gvr"))
     assert asset.structures == {1: "Left", 2: "Right"}
     left_only = asset.show("Left")
@@ -151,6 +158,35 @@ def test_show_keeps_the_named_structures_of_a_labelled_asset(work):
     assert asset.show(hide="Left").count == asset.count - left_only.count
     with pytest.raises(gvr.Error, match="Middle"):
         asset.show("Middle")
+
+
+def test_evaluate_takes_the_atlas_as_the_user_has_it(labelled_scene):
+    work = labelled_scene
+    atlas, names = str(work / "labels.nii"), str(work / "names.txt")
+    theirs = json.loads(run("eval", str(work / "blobs.vdb"), str(work / "blobs.gvr"), "--json", "--labels", atlas,
+                            "--label-names", names))
+    reference = gvr.Volume.from_numpy(nibabel.load(str(work / "blobs.nii")).get_fdata(dtype=np.float32))
+    ours = gvr.evaluate(reference, gvr.Asset.load(str(work / "blobs.gvr")), labels=atlas, label_names=names)
+    assert [s["name"] for s in ours["structures"]] == ["Left", "Right"]
+    for a, b in zip(ours["structures"], theirs["structures"]):
+        assert a["psnr"] == pytest.approx(b["psnr"], rel=1e-9)
+    right = gvr.evaluate(reference, str(work / "blobs.gvr"), labels=atlas, label_names=names, structures="Right")
+    assert [s["name"] for s in right["structures"]] == ["Right"]
+
+
+def test_render_takes_a_transfer_function_file_or_its_points(work, cli_asset):
+    tf = str(work / "mri-tf.json")
+    run("render", cli_asset, "-o", str(work / "tf.png"), "--size", "64x48", "--tf", "mri", "--save-tf", tf)
+    asset = gvr.Asset.load(cli_asset)
+    preset = gvr.render(asset, size=(64, 48), tf="mri")
+    from_file = gvr.render(asset, size=(64, 48), tf=tf)
+    points = json.load(open(tf))["points"]
+    np.testing.assert_allclose(from_file, preset, atol=1e-6)
+    np.testing.assert_array_equal(gvr.render(asset, size=(64, 48), tf=points), from_file)
+    opaque = [[p[0], 1.0, 1.0, 1.0, 1.0] for p in points]
+    assert gvr.render(asset, size=(64, 48), tf=opaque)[..., 3].sum() > preset[..., 3].sum()
+    with pytest.raises(gvr.Error, match="tf"):
+        gvr.render(asset, tf=[[1.0, 0, 0, 0, 0], [0.0, 0, 0, 0, 0]])  # values must increase
 
 
 def test_a_progress_callback_sees_the_fit_and_its_exception_stops_it(ch2_vdb):
