@@ -15,7 +15,4 @@ add_library(gvr_nifti INTERFACE)
 target_include_directories(gvr_nifti SYSTEM INTERFACE ${NIFTI_INCLUDE_DIR})
 target_link_libraries(gvr_nifti INTERFACE ${NIFTI2_LIBRARY} ${ZNZ_LIBRARY} ZLIB::ZLIB m)
 
-# Benchmark manifests may be TOML as well as JSON.
-find_package(tomlplusplus 3 REQUIRED CONFIG)
-
 find_package(GTest REQUIRED CONFIG)

@@ -23,3 +23,6 @@ find_package(zfp REQUIRED CONFIG)  # needs the C language enabled in the project
 # The asset's entropy coder. Debian 12's libzstd-dev ships no CMake config.
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)
+
+# Benchmark manifests may be TOML as well as JSON.
+find_package(tomlplusplus 3 REQUIRED CONFIG)

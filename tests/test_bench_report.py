@@ -1,4 +1,4 @@
-"""Tests the rate-distortion crossover of cli/bench_report.py on made-up rows.
+"""Tests the rate-distortion crossover of bench/bench_report.py on made-up rows.
 
 Usage: test_bench_report.py REPORT_SCRIPT
 """

@@ -1,0 +1,179 @@
+#include "Benchmark.h"
+
+#include "BenchManifest.h"
+#include "BenchReportScript.h"
+#include "BenchRun.h"
+#include "ChildProcess.h"
+#include "Error.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <thread>
+
+namespace gvr {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Units grouped by volume, in manifest order: a volume's units share its ingest
+/// and reference views, so one job runs them all.
+std::vector<std::vector<BenchUnit>> groupByVolume(const std::vector<BenchUnit>& units) {
+    std::map<std::size_t, std::vector<BenchUnit>> byVolume;
+    for (const BenchUnit& unit : units) byVolume[unit.volume].push_back(unit);
+    std::vector<std::vector<BenchUnit>> groups;
+    for (auto& [volume, group] : byVolume) groups.push_back(std::move(group));
+    return groups;
+}
+
+std::size_t pendingRuns(const BenchManifest& manifest, const std::vector<std::vector<BenchUnit>>& groups,
+                        const ResultsTable& table) {
+    std::size_t pending = 0;
+    for (const auto& group : groups) {
+        for (const BenchUnit& unit : group) {
+            for (const std::string& method : unit.methods) {
+                pending += !table.find(benchRowKey(manifest.volumes[unit.volume].name, ratioText(unit.ratio), method));
+            }
+        }
+    }
+    return pending;
+}
+
+void checkOptions(const BenchOptions& options) {
+    if (options.shards < 1 || options.shard < 0 || options.shard >= options.shards) {
+        throw InputError("shard", std::to_string(options.shard) + "/" + std::to_string(options.shards) +
+                                      " is not I/N with 0 <= I < N");
+    }
+    if (options.jobs < 1) throw InputError("jobs", "must be at least 1");
+    if (options.retryFailed && !options.resume) throw InputError("retry failed", "applies with resume only");
+    if (options.executable.empty() || !fs::is_regular_file(options.executable)) {
+        throw InputError(options.executable.empty() ? "executable" : options.executable,
+                         "the gvr command is needed to run each step of the benchmark");
+    }
+}
+
+/// Runs the volumes' groups on @a jobs threads, each group on one thread.
+void runGroups(const BenchContext& context, const std::vector<std::vector<BenchUnit>>& groups, unsigned jobs) {
+    std::atomic<std::size_t> next{0};
+    const auto worker = [&] {
+        for (std::size_t g = next++; g < groups.size(); g = next++) runVolumeUnits(context, groups[g]);
+    };
+    std::vector<std::thread> threads;
+    for (unsigned j = 1; j < std::min<std::size_t>(jobs, groups.size()); ++j) threads.emplace_back(worker);
+    worker();
+    for (std::thread& t : threads) t.join();
+}
+
+std::size_t failedRows(const std::vector<BenchRow>& rows) {
+    return std::size_t(std::count_if(rows.begin(), rows.end(), [](const BenchRow& r) { return r.get("status") != "ok"; }));
+}
+
+/// The manifest a results folder was run from, as its results.json records it.
+std::string recordedManifest(const fs::path& folder) {
+    std::ifstream in(folder / "results.json");
+    const nlohmann::json document = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    if (document.is_discarded() || !document.contains("manifest") || !document["manifest"].is_string()) return "";
+    return document["manifest"];
+}
+
+/// @a row with its file references made relative to @a to instead of @a from.
+BenchRow movedRow(BenchRow row, const fs::path& from, const fs::path& to) {
+    const auto moved = [&](const std::string& p) { return (from / p).lexically_relative(to).string(); };
+    if (!row.get("fit_log").empty()) row.set("fit_log", moved(row.get("fit_log")));
+    for (const char* column : {"views", "truth_views"}) {
+        std::vector<std::string> paths;
+        for (const std::string& p : row.list(column)) paths.push_back(moved(p));
+        row.setList(column, paths);
+    }
+    return row;
+}
+
+/// gvr carries the report script inside it and leaves a copy beside the results at
+/// the start, so that a long run's report can be drawn at any time.
+std::string writeReportScript(const std::string& folder) {
+    const std::string script = folder + "/bench_report.py";
+    std::ofstream out(script);
+    out << reinterpret_cast<const char*>(kBenchReportScript);
+    if (!out.flush()) throw InputError(script, "cannot write the report script");
+    return script;
+}
+
+}  // namespace
+
+std::string writeBenchReport(const std::string& folder) {
+    const std::string script = writeReportScript(folder);
+    const std::string python = "/usr/bin/python3";
+    if (!fs::exists(python)) throw InputError(python, "not found: install python3 and python3-matplotlib for the report");
+    const ChildResult result = runChild({python, script, folder}, folder + "/report.log");
+    if (!result.ok()) throw InputError(folder + "/report.md", "the report script failed: " + result.lastError);
+    return result.output;
+}
+
+BenchSummary runBenchmark(const BenchOptions& options) {
+    checkOptions(options);
+    const BenchManifest manifest = readBenchManifest(options.manifest);
+    BenchSummary summary;
+    summary.folder = fs::absolute(options.folder).lexically_normal().string();
+    ResultsTable table(summary.folder, fs::absolute(options.manifest).string(), options.resume, options.retryFailed);
+    const std::vector<std::vector<BenchUnit>> groups =
+        groupByVolume(benchUnits(manifest, options.shard, options.shards));
+    writeReportScript(summary.folder);
+
+    const std::size_t pending = pendingRuns(manifest, groups, table);
+    std::atomic<std::size_t> done{0};
+    std::mutex reporting;
+    BenchContext context;
+    context.manifest = &manifest;
+    context.folder = summary.folder;
+    context.executable = options.executable;
+    context.table = &table;
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    context.fitThreads = options.jobs > 1 ? int(std::max(1u, cores / options.jobs)) : 0;
+    context.onRow = [&](const BenchRow& row) {
+        const std::size_t finished = ++done;
+        if (!options.onRow) return;
+        std::lock_guard<std::mutex> lock(reporting);
+        options.onRow(row, finished, pending);
+    };
+    runGroups(context, groups, options.jobs);
+
+    summary.reportOutput = writeBenchReport(summary.folder);
+    summary.rows = table.rows();
+    summary.failed = failedRows(summary.rows);
+    return summary;
+}
+
+BenchSummary mergeBenchResults(const std::vector<std::string>& folders, const std::string& folder) {
+    const fs::path out = fs::absolute(folder).lexically_normal();
+    if (fs::exists(out / "results.csv")) throw InputError(out.string(), "already holds results; merge into a new folder");
+    BenchSummary summary;
+    summary.folder = out.string();
+    std::set<std::string> keys;
+    std::string manifest;
+    for (const std::string& dir : folders) {
+        const fs::path from = fs::absolute(dir).lexically_normal();
+        if (manifest.empty()) manifest = recordedManifest(from);
+        for (const BenchRow& row : readResultsCsv((from / "results.csv").string())) {
+            if (!keys.insert(row.key()).second) {
+                ++summary.duplicates;
+                continue;
+            }
+            summary.rows.push_back(movedRow(row, from, out));
+        }
+    }
+    fs::create_directories(out);
+    writeResultsCsv((out / "results.csv").string(), summary.rows);
+    writeResultsJson((out / "results.json").string(), manifest, summary.rows);
+    summary.reportOutput = writeBenchReport(summary.folder);
+    summary.failed = failedRows(summary.rows);
+    return summary;
+}
+
+}  // namespace gvr

@@ -1,0 +1,76 @@
+// The benchmark as a library call: rows reach the callback and the table, a merge
+// of the folder is the same table, and bad options are refused before any work.
+
+#include "Benchmark.h"
+#include "Error.h"
+#include "TestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace gvr;
+
+namespace {
+
+std::string writeManifest(const test::TempDir& dir, const std::string& grid) {
+    const std::string path = dir.path("bench.json");
+    std::ofstream(path) << R"({
+  "methods": ["vdb-half", "down2"],
+  "render": {"size": "24x24", "views": 1},
+  "volumes": [{"name": "blobs", "input": ")" + grid + R"("}]
+})";
+    return path;
+}
+
+BenchOptions optionsFor(const test::TempDir& dir, const std::string& folder) {
+    BenchOptions options;
+    options.manifest = writeManifest(dir, test::smallGrid(dir));
+    options.folder = dir.path(folder);
+    options.executable = GVR_EXECUTABLE;
+    return options;
+}
+
+TEST(Benchmark, RunsEachMethodOnceAndReportsEveryRow) {
+    test::TempDir dir;
+    BenchOptions options = optionsFor(dir, "results");
+    std::vector<std::string> seen;
+    options.onRow = [&](const BenchRow& row, std::size_t done, std::size_t pending) {
+        seen.push_back(row.get("method"));
+        EXPECT_EQ(done, seen.size());
+        EXPECT_EQ(pending, 2u);
+    };
+    const BenchSummary summary = runBenchmark(options);
+    EXPECT_EQ(seen, (std::vector<std::string>{"vdb-half", "down2"}));
+    ASSERT_EQ(summary.rows.size(), 2u);
+    EXPECT_EQ(summary.failed, 0u) << summary.rows[0].get("message") << summary.rows[1].get("message");
+    EXPECT_GT(summary.rows[1].number("psnr").value_or(0.0), 10.0);
+    EXPECT_TRUE(std::filesystem::exists(summary.folder + "/report.md"));
+
+    // Nothing left to run on resume; a merge of the one folder is the same table.
+    options.resume = true;
+    options.onRow = [](const BenchRow&, std::size_t, std::size_t) { ADD_FAILURE() << "nothing should run again"; };
+    EXPECT_EQ(runBenchmark(options).rows.size(), 2u);
+    const BenchSummary merged = mergeBenchResults({summary.folder}, dir.path("merged"));
+    ASSERT_EQ(merged.rows.size(), 2u);
+    EXPECT_EQ(merged.rows[1].get("psnr"), summary.rows[1].get("psnr"));
+    EXPECT_EQ(merged.duplicates, 0u);
+}
+
+TEST(Benchmark, RefusesBadOptionsBeforeAnyWork) {
+    test::TempDir dir;
+    BenchOptions options = optionsFor(dir, "results");
+    options.executable = dir.path("no-gvr");
+    EXPECT_THROW(runBenchmark(options), InputError);
+    options = optionsFor(dir, "results");
+    options.shard = 2;
+    options.shards = 2;
+    EXPECT_THROW(runBenchmark(options), InputError);
+    options = optionsFor(dir, "results");
+    options.retryFailed = true;
+    EXPECT_THROW(runBenchmark(options), InputError);
+    EXPECT_FALSE(std::filesystem::exists(dir.path("results")));
+}
+
+}  // namespace
