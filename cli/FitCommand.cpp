@@ -30,7 +30,7 @@ namespace gvr {
 namespace {
 
 struct FitFlags {
-    std::string input, output, logPath;
+    std::string input, output, logPath, labelVolume, labelNames;
     std::size_t threads = 0;
     bool json = false, quiet = false;
     CompressOptions options;
@@ -138,19 +138,13 @@ void runFit(FitFlags& flags) {
     tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                                 flags.threads > 0 ? flags.threads : tbb::this_task_arena::max_concurrency());
     checkedSettings(flags.options);  // bad flags are refused before anything is read
-    checkOutputPath("-o", flags.output, {flags.input});
+    checkOutputPath("-o", flags.output, {flags.input, flags.labelVolume, flags.labelNames});
     if (!flags.logPath.empty()) checkOutputPath("--log", flags.logPath, {flags.input, flags.output});
 
-    IngestResult loaded;
-    openvdb::Int32Grid::Ptr labels;
-    if (flags.options.labels.empty()) {
-        loaded = loadOrIngest(flags.input, toIngestOptions(flags.source));
-    } else {  // the image and its label grid, from one read of the file
-        if (!isVdbFile(flags.input)) throw InputError(flags.input, "--labels needs a .vdb from gvr ingest --labels");
-        const openvdb::GridPtrVecPtr grids = readGridFile(flags.input);
-        loaded.grid = chooseVolumeGrid(*grids, flags.input);
-        labels = findLabelGrid(*grids, flags.input);
-    }
+    IngestOptions ingestOptions = toIngestOptions(flags.source);
+    ingestOptions.labels = flags.labelVolume;
+    ingestOptions.labelNames = flags.labelNames;
+    const IngestResult loaded = loadOrIngest(flags.input, ingestOptions);
     for (const std::string& warning : loaded.warnings) diagnostics() << "gvr: warning: " << warning << "\n";
     const VolumeTarget target(loaded.grid, flags.input);
     if (target.activeVoxelCount() == 0) {
@@ -160,7 +154,7 @@ void runFit(FitFlags& flags) {
     {
         FitLog log(flags.logPath, target.peak());
         ProgressBar bar("fitting", !flags.quiet);
-        result = compress(target, flags.input, flags.options, progressObserver(bar, log), labels.get());
+        result = compress(target, flags.input, flags.options, progressObserver(bar, log), loaded.labels.get());
     }
     writeAsset(flags.output, result.asset);
     ProgressBar measuring("measuring", !flags.quiet);
@@ -230,11 +224,18 @@ void addFitCommand(CLI::App& app) {
     command->add_option("--seed", flags->options.settings.seed, "Random seed")->capture_default_str();
     command->add_option("--ablation", flags->options.ablation, "full, A1, A2, A3, A4 or A5")->capture_default_str();
     command->add_option("--log", flags->logPath, "Write error against run time as CSV");
-    command->add_option("--labels", flags->options.labels,
-                        "Fit by structure from the label grid that ingest --labels stored: all, or IDs and names "
+    auto* labels = command->add_option("--labels", flags->options.labels,
+                        "Fit by structure from the label grid that ingest --labels stored (or --label-volume): all, "
+                        "or IDs and names "
                         "(comma-separated). Each structure gets Gaussians in proportion to its voxels (at least " +
                             std::to_string(kStructureFloor) + "), its own samples and seed; other voxels are "
                             "left out. --ratio then applies to each structure's own voxels");
+    auto* labelVolume = command->add_option("--label-volume", flags->labelVolume,
+                        "With --labels: the label volume (an atlas such as aal.nii.gz, anything ingest reads) on "
+                        "the input's voxels, when the input is not a .vdb from ingest --labels")->needs(labels);
+    command->add_option("--label-names", flags->labelNames,
+                        "With --label-volume: names of its labels, one \"ID NAME\" per line (AAL .txt, FreeSurfer LUT)")
+        ->needs(labelVolume);
     command->add_option("--threads", flags->threads, "Worker threads (default: all cores)")->check(CLI::Range(0, 1024));
     addTuningFlags(*command, flags->options.settings);
     addEncodingFlags(*command, flags->options.encoding);

@@ -33,6 +33,9 @@ void printWarnings(const std::vector<std::string>& warnings) {
 void runIngest(const IngestFlags& flags) {
     checkOutputPath("-o", flags.output, {flags.input, flags.labels, flags.labelNames});
     IngestOptions options = toIngestOptions(flags.source);
+    options.labels = flags.labels;
+    options.labelNames = flags.labelNames;
+    options.resampleLabels = flags.resampleLabels;
     IngestResult result;
     {
         ProgressBar reading("reading", !flags.quiet);
@@ -47,16 +50,9 @@ void runIngest(const IngestFlags& flags) {
     }
     openvdb::GridCPtrVec grids{result.grid};
     LabelTable labelTable;
-    if (!flags.labels.empty()) {
-        LabelGridSettings settings;
-        if (!flags.labelNames.empty()) settings.names = readLabelNames(flags.labelNames);
-        settings.resample = flags.resampleLabels;
-        ReadOptions read = options.read;
-        read.volumeIndex = 0;
-        read.progress = {};
-        const openvdb::Int32Grid::Ptr labels = buildLabelGrid(flags.labels, read, *result.grid, settings);
-        labelTable = labelTableOf(*labels);
-        grids.push_back(labels);
+    if (result.labels) {
+        labelTable = labelTableOf(*result.labels);
+        grids.push_back(result.labels);
     }
     writeGridFile(flags.output, grids);
     const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);

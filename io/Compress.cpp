@@ -139,7 +139,7 @@ CompressResult compress(const VolumeTarget& target, const std::string& name, con
     FitSettings settings = checkedSettings(options);
     if (options.cancel && options.cancel->load()) throw Cancelled(name);
     const FitObserver observer = cancellable(userObserver, options.cancel, name);
-    if (!options.labels.empty() && !labels) throw InputError(name, "--labels needs a .vdb from gvr ingest --labels");
+    if (!options.labels.empty() && !labels) throw InputError(name, "holds no label grid; ingest the image with --labels LABELS, or give the label volume");
 
     const openvdb::GridBase& grid = target.grid();
     CompressResult result;

@@ -108,13 +108,11 @@ void evaluateStructures(const EvalOptions& options, const openvdb::Int32Grid& la
 openvdb::Int32Grid::Ptr loadLabelGrid(const EvalOptions& options, const ComparisonInput& reference) {
     if (isVdbFile(options.labels)) return findLabelGrid(*readGridFile(options.labels), options.labels);
     if (!reference.grid) throw InputError(options.labels, "labels apply to volumes, not to 2D images");
-    LabelGridSettings settings;
-    if (!options.labelNames.empty()) settings.names = readLabelNames(options.labelNames);
-    settings.resample = true;
-    ReadOptions read = options.ingest.read;
-    read.volumeIndex = 0;
-    read.progress = {};
-    return buildLabelGrid(options.labels, read, *reference.grid, settings);
+    IngestOptions atlas = options.ingest;
+    atlas.labels = options.labels;
+    atlas.labelNames = options.labelNames;
+    atlas.resampleLabels = true;
+    return readLabels(atlas, *reference.grid);
 }
 
 /// The structures of a labelled asset at @a path, as a --structures list; else "".

@@ -2,6 +2,7 @@
 
 #include "Error.h"
 #include "GridFile.h"
+#include "LabelGrid.h"
 #include "MemoryBudget.h"
 
 #include <filesystem>
@@ -18,6 +19,7 @@ IngestResult ingest(const std::string& input, IngestOptions options) {
         IngestResult result;
         result.grid = buildGrid(volume, options.build, options.buildProgress);
         result.warnings = std::move(volume.warnings);
+        if (!options.labels.empty()) result.labels = readLabels(options, *result.grid);
         return result;
     } catch (const std::bad_alloc&) {
         // The memory check passed, so the machine changed under us or a library
@@ -31,11 +33,23 @@ IngestResult ingest(const std::string& input, IngestOptions options) {
 
 IngestResult loadOrIngest(const std::string& input, const IngestOptions& options) {
     if (std::filesystem::is_regular_file(input) && isVdbFile(input)) {
+        const openvdb::GridPtrVecPtr grids = readGridFile(input);
         IngestResult result;
-        result.grid = chooseVolumeGrid(*readGridFile(input), input);
+        result.grid = chooseVolumeGrid(*grids, input);
+        result.labels = options.labels.empty() ? storedLabelGrid(*grids) : readLabels(options, *result.grid);
         return result;
     }
     return ingest(input, options);
+}
+
+openvdb::Int32Grid::Ptr readLabels(const IngestOptions& options, const openvdb::GridBase& image) {
+    LabelGridSettings settings;
+    if (!options.labelNames.empty()) settings.names = readLabelNames(options.labelNames);
+    settings.resample = options.resampleLabels;
+    ReadOptions read = options.read;
+    read.volumeIndex = 0;
+    read.progress = {};
+    return buildLabelGrid(options.labels, read, image, settings);
 }
 
 }  // namespace gvr

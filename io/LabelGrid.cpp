@@ -138,12 +138,17 @@ LabelTable labelTableOf(const openvdb::GridBase& labels) {
     return table;
 }
 
-openvdb::Int32Grid::Ptr findLabelGrid(const openvdb::GridPtrVec& grids, const std::string& path) {
+openvdb::Int32Grid::Ptr storedLabelGrid(const openvdb::GridPtrVec& grids) {
     for (const auto& grid : grids) {
         if (grid->getName() == kLabelGridName && grid->isType<openvdb::Int32Grid>()) {
             return openvdb::gridPtrCast<openvdb::Int32Grid>(grid);
         }
     }
+    return nullptr;
+}
+
+openvdb::Int32Grid::Ptr findLabelGrid(const openvdb::GridPtrVec& grids, const std::string& path) {
+    if (openvdb::Int32Grid::Ptr labels = storedLabelGrid(grids)) return labels;
     throw InputError(path, "holds no label grid; ingest the image with --labels LABELS");
 }
 

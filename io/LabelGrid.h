@@ -34,6 +34,9 @@ openvdb::Int32Grid::Ptr buildLabelGrid(const std::string& path, const ReadOption
 /// The names stored on a label grid.
 LabelTable labelTableOf(const openvdb::GridBase& labels);
 
+/// The label grid among @a grids; null when there is none.
+openvdb::Int32Grid::Ptr storedLabelGrid(const openvdb::GridPtrVec& grids);
+
 /// The label grid among @a grids. @throw InputError naming @a path when there is none.
 openvdb::Int32Grid::Ptr findLabelGrid(const openvdb::GridPtrVec& grids, const std::string& path);
 

@@ -12,6 +12,7 @@
 #include "GridBuilder.h"
 #include "GridFile.h"
 #include "Ingest.h"
+#include "LabelGrid.h"
 #include "ShearWarp.h"
 #include "TransferFunctionFile.h"
 #include "VolumeClassifier.h"
@@ -33,6 +34,7 @@ namespace {
 /// A volume: an OpenVDB grid in physical units, as ingest makes it.
 struct Volume {
     openvdb::GridBase::Ptr grid;
+    openvdb::Int32Grid::Ptr labels;  ///< structure labels on the same voxels, or null
 };
 
 /// Raised inside a fit's progress callback to stop the fit, once Python's error
@@ -185,22 +187,30 @@ py::dict metadataOf(const Volume& volume) {
 }
 
 Volume ingestPath(const std::string& path, std::optional<double> threshold,
-                  std::optional<std::array<double, 3>> spacing, std::optional<float> nanTo, int volumeIndex) {
+                  std::optional<std::array<double, 3>> spacing, std::optional<float> nanTo, int volumeIndex,
+                  const std::string& labels, const std::string& labelNames, bool resampleLabels) {
     IngestOptions options;
+    options.labels = labels;
+    options.labelNames = labelNames;
+    options.resampleLabels = resampleLabels;
     options.build.threshold = threshold;
     options.build.nanTo = nanTo;
     options.read.volumeIndex = volumeIndex;
     if (spacing) options.read.spacingMm = openvdb::Vec3d((*spacing)[0], (*spacing)[1], (*spacing)[2]);
     py::gil_scoped_release release;
-    return {loadOrIngest(path, options).grid};
+    const IngestResult result = loadOrIngest(path, options);
+    return {result.grid, result.labels};
 }
+
+std::map<int, std::string> labelNamesOf(const LabelTable& table) { return {table.names.begin(), table.names.end()}; }
 
 // ---- fit ----
 
 GaussianAsset fit(const Volume& volume, double ratio, double seconds, std::size_t gaussians,
-                  std::size_t iterations, std::uint64_t seed, const std::string& ablation,
+                  std::size_t iterations, std::uint64_t seed, const std::string& ablation, const std::string& labels,
                   const std::optional<py::function>& progress) {
     CompressOptions options;
+    options.labels = labels;
     options.ratio = ratio;
     options.gaussians = gaussians;
     options.ablation = ablation;
@@ -226,7 +236,7 @@ GaussianAsset fit(const Volume& volume, double ratio, double seconds, std::size_
     };
     try {
         py::gil_scoped_release release;
-        return compress(volume.grid, "volume", options, observer).asset;
+        return compress(volume.grid, "volume", options, observer, volume.labels.get()).asset;
     } catch (const PythonErrorPending&) {
         throw py::error_already_set();
     }
@@ -234,9 +244,7 @@ GaussianAsset fit(const Volume& volume, double ratio, double seconds, std::size_
 
 // ---- assets ----
 
-std::map<int, std::string> structuresOf(const GaussianAsset& asset) {
-    return {asset.labelTable.names.begin(), asset.labelTable.names.end()};
-}
+std::map<int, std::string> structuresOf(const GaussianAsset& asset) { return labelNamesOf(asset.labelTable); }
 
 Volume exportVolume(const GaussianAsset& asset, const std::optional<Volume>& like, std::optional<double> voxelSize) {
     if (like && voxelSize) throw InputError("voxel_size", "give like or voxel_size, not both");
@@ -354,13 +362,20 @@ PYBIND11_MODULE(gvr, m) {
             const openvdb::Coord d = boxOf(v).dim();
             return py::make_tuple(d.x(), d.y(), d.z());
         })
-        .def("save", [](const Volume& v, const std::string& path) { writeGridFile(path, {v.grid}); }, "path"_a,
-             "Write the grid as a .vdb file (atomically)");
+        .def_property_readonly("structures", [](const Volume& v) {
+                 return v.labels ? labelNamesOf(labelTableOf(*v.labels)) : std::map<int, std::string>{};
+             }, "Structure names by label id (empty without labels)")
+        .def("save", [](const Volume& v, const std::string& path) {
+                 openvdb::GridCPtrVec grids{v.grid};
+                 if (v.labels) grids.push_back(v.labels);
+                 writeGridFile(path, grids);
+             }, "path"_a, "Write the grid, and its labels, as a .vdb file (atomically), as gvr ingest writes it");
 
     m.def("ingest", &ingestPath, "path"_a, "threshold"_a = py::none(), "spacing"_a = py::none(),
-          "nan_to"_a = py::none(), "volume"_a = 0,
+          "nan_to"_a = py::none(), "volume"_a = 0, "labels"_a = "", "label_names"_a = "", "resample_labels"_a = false,
           "Read any volume gvr ingest reads (NIfTI, DICOM series, MetaImage, MGH, image stacks, raw, .vdb) "
-          "into a Volume, as `gvr ingest` does");
+          "into a Volume, as `gvr ingest` does; labels: a label volume (an atlas) on the same voxels, named "
+          "from label_names (\"ID NAME\" lines), for fit(labels=...). A .vdb keeps the labels ingest stored.");
 
     py::class_<GaussianAsset>(m, "Asset", "Fitted Gaussians with what places them and maps their values")
         .def_static("load", &readAsset, "path"_a, "Read a .gvr asset (format 1 or 2)")
@@ -380,10 +395,11 @@ PYBIND11_MODULE(gvr, m) {
              "all), less those in hide, as gvr render --show and --hide select them");
 
     m.def("fit", &fit, "volume"_a, "ratio"_a = 10.0, "seconds"_a = 60.0, "gaussians"_a = 0, "iterations"_a = 0,
-          "seed"_a = 1, "ablation"_a = "full", "progress"_a = py::none(),
+          "seed"_a = 1, "ablation"_a = "full", "labels"_a = "", "progress"_a = py::none(),
           "Fit Gaussians to a Volume, as `gvr fit` does: as many as fit in the raw bytes / ratio (or exactly "
           "`gaussians`), within `seconds` (or exactly `iterations`, reproducible byte for byte). `progress` "
-          "is called with a dict after each iteration. Ctrl-C stops the fit with KeyboardInterrupt.");
+          "is called with a dict after each iteration. Ctrl-C stops the fit with KeyboardInterrupt. labels: fit "
+          "by structure (all, or ids and names) from the volume's labels, as `gvr fit --labels`.");
     m.def("render", &render, "what"_a, "azimuth"_a = 30.0, "elevation"_a = 15.0,
           "size"_a = std::pair<int, int>(512, 512), "tf"_a = "",
           "A shear-warp view of an Asset or a Volume as premultiplied RGBA float32, shape (height, width, 4), "

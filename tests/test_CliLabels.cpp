@@ -221,6 +221,21 @@ TEST_F(CliLabels, EvalTakesTheAtlasAsTheUserHasIt) {
     }
 }
 
+TEST_F(CliLabels, FitTakesTheSourceAndItsAtlasAsTheUserHasThem) {
+    ASSERT_EQ(fit("all", "from-grid.gvr").exitCode, 0);
+    const test::CommandResult fromSource =
+        runGvr("fit -q '" + scene.image + "' -o '" + dir.path("from-source.gvr") + "' --labels all --label-volume '" +
+                   scene.labels + "' --label-names '" + scene.names + "' --iterations 40 --batch 2048 --threads 1",
+               dir);
+    ASSERT_EQ(fromSource.exitCode, 0) << fromSource.err;
+    EXPECT_EQ(test::readBytes(dir.path("from-source.gvr")), test::readBytes(dir.path("from-grid.gvr")));
+    const test::CommandResult namesAlone =
+        runGvr("fit -q '" + scene.image + "' -o '" + dir.path("x.gvr") + "' --labels all --label-names '" +
+                   scene.names + "' --iterations 5", dir);
+    EXPECT_EQ(namesAlone.exitCode, 2);
+    EXPECT_NE(namesAlone.err.find("--label-volume"), std::string::npos) << namesAlone.err;
+}
+
 TEST_F(CliLabels, LabelStylesRecolourAndFadeOneStructure) {
     ASSERT_EQ(fit("all", "both.gvr").exitCode, 0);
     const std::vector<float> everything = render("both.gvr", "", "all.png");

@@ -160,6 +160,21 @@ def test_show_keeps_the_named_structures_of_a_labelled_asset(labelled_scene):
         asset.show("Middle")
 
 
+def test_a_fit_by_structure_from_an_atlas_is_the_command_line_fit(labelled_scene):
+    work = labelled_scene
+    volume = gvr.ingest(str(work / "blobs.nii"), labels=str(work / "labels.nii"), label_names=str(work / "names.txt"))
+    assert volume.structures == {1: "Left", 2: "Right"}
+    ours = str(work / "python-blobs.gvr")
+    gvr.fit(volume, labels="all", iterations=20).save(ours)
+    with open(ours, "rb") as a, open(str(work / "blobs.gvr"), "rb") as b:
+        assert a.read() == b.read()
+    # The labels travel with the volume through save and ingest.
+    volume.save(str(work / "python-blobs.vdb"))
+    assert gvr.ingest(str(work / "python-blobs.vdb")).structures == volume.structures
+    with pytest.raises(gvr.Error, match="no label grid"):
+        gvr.fit(gvr.ingest(str(work / "blobs.nii")), labels="all", iterations=5)
+
+
 def test_evaluate_takes_the_atlas_as_the_user_has_it(labelled_scene):
     work = labelled_scene
     atlas, names = str(work / "labels.nii"), str(work / "names.txt")
