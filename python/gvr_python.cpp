@@ -246,10 +246,14 @@ GaussianAsset fit(const Volume& volume, double ratio, double seconds, std::size_
 
 std::map<int, std::string> structuresOf(const GaussianAsset& asset) { return labelNamesOf(asset.labelTable); }
 
-Volume exportVolume(const GaussianAsset& asset, const std::optional<Volume>& like, std::optional<double> voxelSize) {
+Volume exportVolume(const GaussianAsset& asset, const std::optional<std::variant<Volume, std::string>>& like,
+                    std::optional<double> voxelSize) {
     if (like && voxelSize) throw InputError("voxel_size", "give like or voxel_size, not both");
     ExportSettings settings;
-    if (like) settings.lattice = latticeOf(*like->grid, "like");
+    if (like) {
+        const auto* volume = std::get_if<Volume>(&*like);
+        settings.lattice = volume ? latticeOf(*volume->grid, "like") : latticeLike(std::get<std::string>(*like));
+    }
     if (voxelSize) settings.lattice = resizedLattice(asset.worldFromIndex, asset.source.dims, *voxelSize);
     py::gil_scoped_release release;
     return {exportAsset(asset, settings).grids.front()};
@@ -271,7 +275,8 @@ py::array probe(const GaussianAsset& asset, const py::array& points) {
 
 // ---- render and evaluate ----
 
-using Renderable = std::variant<GaussianAsset, Volume>;
+/// An Asset, a Volume, or a file of either (an asset, a .vdb, anything ingest reads).
+using Renderable = std::variant<GaussianAsset, Volume, std::string>;
 /// A preset name or a JSON file as `gvr render --tf` takes them, or the file's
 /// points themselves: [[value, r, g, b, a], ...].
 using TransferSpec = std::variant<std::string, std::vector<std::array<double, 5>>>;
@@ -298,10 +303,13 @@ py::array render(const Renderable& what, double azimuth, double elevation, std::
         py::gil_scoped_release release;
         const ShearWarpSettings settings;
         std::unique_ptr<RenderVolume> volume;
+        const auto* path = std::get_if<std::string>(&what);
         if (const auto* asset = std::get_if<GaussianAsset>(&what)) {
             volume = std::make_unique<GaussianRenderVolume>(*asset, settings.minimumFootprintVoxels());
+        } else if (path && isAssetFile(*path)) {
+            volume = std::make_unique<GaussianRenderVolume>(readAsset(*path), settings.minimumFootprintVoxels());
         } else {
-            volume = std::make_unique<GridRenderVolume>(std::get<Volume>(what).grid);
+            volume = std::make_unique<GridRenderVolume>(path ? loadOrIngest(*path, {}).grid : std::get<Volume>(what).grid);
         }
         const OrthoCamera camera =
             makeCamera({azimuth, elevation}, worldCorners(volume->worldFromIndex(), volume->box()), width, height);
@@ -385,8 +393,8 @@ PYBIND11_MODULE(gvr, m) {
         .def_property_readonly("channels", [](const GaussianAsset& a) { return a.params.channels; })
         .def_property_readonly("structures", &structuresOf, "Structure names by label id (empty unless fitted by label)")
         .def("export", &exportVolume, "like"_a = py::none(), "voxel_size"_a = py::none(),
-             "The field on a grid: the source's own (default), another Volume's (like=), or voxels of "
-             "voxel_size mm over the source's extent")
+             "The field on a grid: the source's own (default), another volume's (like= a Volume or a file "
+             "ingest reads), or voxels of voxel_size mm over the source's extent")
         .def("probe", &probe, "points"_a, "Values in physical units at an (n, 3) array of source voxel indices")
         .def("show", [](const GaussianAsset& a, const std::string& show, const std::string& hide) {
                  return selectStructures(a, show, hide, "asset");
@@ -402,7 +410,7 @@ PYBIND11_MODULE(gvr, m) {
           "by structure (all, or ids and names) from the volume's labels, as `gvr fit --labels`.");
     m.def("render", &render, "what"_a, "azimuth"_a = 30.0, "elevation"_a = 15.0,
           "size"_a = std::pair<int, int>(512, 512), "tf"_a = "",
-          "A shear-warp view of an Asset or a Volume as premultiplied RGBA float32, shape (height, width, 4), "
+          "A shear-warp view of an Asset, a Volume or a file of either as premultiplied RGBA float32, shape (height, width, 4), "
           "as `gvr render` draws it. tf: a preset (ct, ct-bone, mri, rgb; default: by the data), a JSON file "
           "as `gvr render --tf` and `--save-tf` use, or its points [[value, r, g, b, a], ...] in physical units");
     m.def("evaluate",

@@ -189,6 +189,13 @@ def test_evaluate_takes_the_atlas_as_the_user_has_it(labelled_scene):
     assert [s["name"] for s in right["structures"]] == ["Right"]
 
 
+def test_volumes_can_be_given_as_files_wherever_they_are_taken(work, ch2_vdb, cli_asset):
+    asset = gvr.Asset.load(cli_asset)
+    np.testing.assert_array_equal(gvr.render(cli_asset, size=(32, 24)), gvr.render(asset, size=(32, 24)))
+    np.testing.assert_array_equal(gvr.render(CH2, size=(32, 24)), gvr.render(gvr.ingest(CH2), size=(32, 24)))
+    np.testing.assert_array_equal(asset.export(like=CH2).to_numpy(), asset.export(like=gvr.ingest(CH2)).to_numpy())
+
+
 def test_render_takes_a_transfer_function_file_or_its_points(work, cli_asset):
     tf = str(work / "mri-tf.json")
     run("render", cli_asset, "-o", str(work / "tf.png"), "--size", "64x48", "--tf", "mri", "--save-tf", tf)
