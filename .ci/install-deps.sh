@@ -48,6 +48,10 @@ packages=(
   pybind11-dev
   python3-pybind11
   python3-dev
+  # gvr view: the window, its HUD text and font.
+  libsdl2-dev
+  libsdl2-ttf-dev
+  fonts-dejavu-core
 
   # The embedded default volume (Colin27 T1 MRI).
   mricron-data
@@ -62,6 +66,10 @@ packages=(
   python3-matplotlib
   python3-pytest
   blender
+  # gvr view's test drives the window on a virtual display.
+  xvfb
+  xauth
+  xdotool
 )
 apt-get update -qq
 apt-get install -y -qq --no-install-recommends "${packages[@]}" > /dev/null

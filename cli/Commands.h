@@ -13,6 +13,7 @@ void addExportCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addProbeCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
+void addViewCommand(CLI::App& app);
 void addBaselineCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 

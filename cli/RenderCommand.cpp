@@ -1,20 +1,19 @@
 // gvr render INPUT -o frame.png: shear-warp (or ray-marched) images of an asset or grid.
 
-#include "AssetExport.h"
-#include "AssetFile.h"
 #include "AtomicFile.h"
 #include "Commands.h"
+#include "Diagnostics.h"
 #include "Error.h"
 #include "FramePath.h"
 #include "ImageFile.h"
 #include "LabelStyleFile.h"
 #include "ProgressBar.h"
 #include "RayMarcher.h"
+#include "RenderInput.h"
 #include "ShearWarp.h"
 #include "SourceOptions.h"
 #include "StyledLayers.h"
 #include "TransferFunctionFile.h"
-#include "VolumeClassifier.h"
 
 #include <algorithm>
 #include <chrono>
@@ -22,7 +21,6 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -52,36 +50,6 @@ std::pair<int, int> parseSize(const std::string& text) {
 
 float minScale(const RenderFlags& flags) {
     return flags.minScale ? float(*flags.minScale) : flags.shearWarp.minimumFootprintVoxels();
-}
-
-/// The shown structures of the input, when it is a Gaussian asset.
-std::optional<GaussianAsset> loadAsset(const RenderFlags& flags) {
-    if (!isAssetFile(flags.input)) return std::nullopt;
-    return selectStructures(readAsset(flags.input), flags.show, flags.hide, flags.input);
-}
-
-/// The asset's field, or a grid; the ray marcher always gets a grid.
-std::unique_ptr<RenderVolume> loadVolume(const RenderFlags& flags, const std::optional<GaussianAsset>& loaded) {
-    if (loaded) {
-        const GaussianAsset& asset = *loaded;
-        if (flags.renderer == "raymarch") {  // march the asset's field exported onto its source grid, unthresholded
-            ExportSettings everything;
-            everything.threshold = -std::numeric_limits<double>::infinity();
-            return std::make_unique<GridRenderVolume>(exportAsset(asset, everything).grids.front());
-        }
-        return std::make_unique<GaussianRenderVolume>(asset, minScale(flags));
-    }
-    if (!flags.show.empty() || !flags.hide.empty()) {
-        throw InputError(flags.input, "--show and --hide select the structures of a Gaussian asset fitted with --labels");
-    }
-    return std::make_unique<GridRenderVolume>(loadOrIngest(flags.input, toIngestOptions(flags.source)).grid);
-}
-
-Classifier classifierFor(const RenderFlags& flags, const RenderVolume& volume) {
-    if (!flags.tf.empty() && std::filesystem::is_regular_file(flags.tf)) {
-        return volumeClassifier(volume, readTransferFunction(flags.tf));
-    }
-    return presetClassifier(volume, flags.tf);
 }
 
 /// The layers of --label-style, or none without it.
@@ -117,9 +85,13 @@ void runRender(RenderFlags& flags) {
     checkOutputPath("-o", flags.output, {flags.input, flags.tf});
     if (!flags.statsPath.empty()) checkOutputPath("--stats", flags.statsPath, {flags.input, flags.output});
     const auto [width, height] = parseSize(flags.size);
-    const std::optional<GaussianAsset> asset = loadAsset(flags);
-    const std::unique_ptr<RenderVolume> volume = loadVolume(flags, asset);
-    const Classifier classifier = classifierFor(flags, *volume);
+    const RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, minScale(flags),
+                                              toIngestOptions(flags.source), flags.renderer == "raymarch");
+    const std::optional<GaussianAsset>& asset = input.asset;
+    const std::unique_ptr<RenderVolume>& volume = input.volume;
+    std::string mismatch;
+    const Classifier classifier = classifierFor(flags.tf, *volume, &mismatch);
+    if (!mismatch.empty()) diagnostics() << "gvr: warning: --tf " << mismatch << "\n";
     if (!flags.saveTf.empty()) writeTransferFunction(flags.saveTf, classifier.transferFunction());
     const auto corners = worldCorners(volume->worldFromIndex(), volume->box());
     StyledLayers styled = labelStyleLayers(flags, asset, classifier);

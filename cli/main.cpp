@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
     gvr::addEvalCommand(app);
     gvr::addProbeCommand(app);
     gvr::addRenderCommand(app);
+    gvr::addViewCommand(app);
     gvr::addBaselineCommand(app);
     gvr::addBenchCommand(app);
     gvr::refuseNegativeUnsignedValues(app);

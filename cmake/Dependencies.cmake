@@ -15,4 +15,8 @@ add_library(gvr_nifti INTERFACE)
 target_include_directories(gvr_nifti SYSTEM INTERFACE ${NIFTI_INCLUDE_DIR})
 target_link_libraries(gvr_nifti INTERFACE ${NIFTI2_LIBRARY} ${ZNZ_LIBRARY} ZLIB::ZLIB m)
 
+# gvr view: the window and its HUD text.
+find_package(SDL2 REQUIRED CONFIG)
+find_package(SDL2_ttf REQUIRED CONFIG)
+
 find_package(GTest REQUIRED CONFIG)

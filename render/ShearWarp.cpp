@@ -149,12 +149,20 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
         frame.buildMs = millisecondsSince(start);
         frame.gaussiansTouched = mStack->gaussiansTouched();
     }
+    Framebuffer image = shearWarpFrame(*mStack, camera, mSettings.terminationOpacity, frame);
+    frame.totalMs = millisecondsSince(start);
+    if (stats) *stats = frame;
+    return image;
+}
+
+Framebuffer shearWarpFrame(const SliceStack& stack, const OrthoCamera& camera, float terminationOpacity,
+                           FrameStats& stats) {
     const auto composited = std::chrono::steady_clock::now();
-    const Intermediate intermediate = compositeSlices(*mStack, camera.direction, mSettings.terminationOpacity);
-    frame.compositeMs = millisecondsSince(composited);
+    const Intermediate intermediate = compositeSlices(stack, camera.direction, terminationOpacity);
+    stats.compositeMs = millisecondsSince(composited);
 
     const auto warped = std::chrono::steady_clock::now();
-    const StackGeometry& g = mStack->geometry();
+    const StackGeometry& g = stack.geometry();
     const double dn = camera.direction.dot(g.normal);
     Framebuffer image(camera.width, camera.height);
     tbb::parallel_for(0, camera.height, [&](int y) {
@@ -175,9 +183,7 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
             }
         }
     });
-    frame.warpMs = millisecondsSince(warped);
-    frame.totalMs = millisecondsSince(start);
-    if (stats) *stats = frame;
+    stats.warpMs = millisecondsSince(warped);
     return image;
 }
 

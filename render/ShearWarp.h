@@ -30,7 +30,16 @@ struct FrameStats {
     bool reused = false;  ///< the stack was kept from an earlier frame
     double buildMs = 0, compositeMs = 0, warpMs = 0, totalMs = 0;
     std::size_t gaussiansTouched = 0;  ///< Gaussians evaluated to build the stack (0 when reused)
+    /// Drawn from a stack built for another view or scene, or the last frame
+    /// repeated, while the right stack builds in the background (ViewSession).
+    bool stale = false;
 };
+
+/// Composites @a stack for @a camera's view and warps it to the image, whatever
+/// the stack's direction (up to the grazing angles where the shear runs away);
+/// fills in stats.compositeMs and warpMs.
+Framebuffer shearWarpFrame(const SliceStack& stack, const OrthoCamera& camera, float terminationOpacity,
+                           FrameStats& stats);
 
 class ShearWarpRenderer {
 public:

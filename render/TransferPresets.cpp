@@ -75,4 +75,24 @@ std::string defaultPreset(int channels, const VolumeStatistics& statistics) {
     return statistics.hounsfield ? "ct" : "mri";
 }
 
+bool presetTakes(const std::string& name, int channels) { return (name == "rgb") == (channels == 3); }
+
+std::string presetMismatch(const std::string& name, int channels, const VolumeStatistics& statistics) {
+    const std::string fits = defaultPreset(channels, statistics);
+    if (!presetTakes(name, channels)) {
+        return name + (channels == 3 ? " is for grey data, these are colour" : " is for colour data, these are grey") +
+               "; " + fits + " fits them";
+    }
+    if ((name == "ct" || name == "ct-bone") && !statistics.hounsfield) {
+        const auto [lo, hi] = std::minmax_element(statistics.values.begin(), statistics.values.end());
+        std::string range;
+        if (lo != statistics.values.end()) {
+            range = " (" + std::to_string(int(std::floor(*lo))) + " to " + std::to_string(int(std::ceil(*hi))) + ")";
+        }
+        return name + " is in Hounsfield units, but these values never reach below -500" + range +
+               ", so they are not CT in HU; " + fits + " fits them";
+    }
+    return "";
+}
+
 }  // namespace gvr

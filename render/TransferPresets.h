@@ -34,4 +34,12 @@ TransferFunction presetTransferFunction(const std::string& name, const VolumeSta
 /// The preset for data like this: rgb for colour, ct for HU, else mri.
 std::string defaultPreset(int channels, const VolumeStatistics& statistics);
 
+/// Whether preset @a name can classify data of @a channels: rgb colour, the others grey.
+bool presetTakes(const std::string& name, int channels);
+
+/// Why preset @a name does not suit these data, naming the one that does; empty
+/// when it suits them. A Hounsfield preset (ct, ct-bone) on data that never reach
+/// below -500 (air in HU) would turn everything into one opaque block.
+std::string presetMismatch(const std::string& name, int channels, const VolumeStatistics& statistics);
+
 }  // namespace gvr

@@ -6,10 +6,12 @@ Classifier volumeClassifier(const RenderVolume& volume, const TransferFunction& 
     return Classifier(tf, volume.channels(), 1.0 / volume.valueMax());
 }
 
-Classifier presetClassifier(const RenderVolume& volume, const std::string& preset) {
+Classifier presetClassifier(const RenderVolume& volume, const std::string& preset, std::string* mismatch) {
     const VolumeStatistics statistics = volume.statistics();
     const std::string name = preset.empty() ? defaultPreset(volume.channels(), statistics) : preset;
-    return volumeClassifier(volume, presetTransferFunction(name, statistics));
+    Classifier classifier = volumeClassifier(volume, presetTransferFunction(name, statistics));
+    if (mismatch) *mismatch = presetMismatch(name, volume.channels(), statistics);
+    return classifier;
 }
 
 }  // namespace gvr

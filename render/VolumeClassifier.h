@@ -14,8 +14,9 @@ namespace gvr {
 Classifier volumeClassifier(const RenderVolume& volume, const TransferFunction& tf);
 
 /// The preset @a preset (ct, ct-bone, mri, rgb) fitted to @a volume's statistics;
-/// empty: the preset for data like these (defaultPreset).
+/// empty: the preset for data like these (defaultPreset). @a mismatch, when given,
+/// receives presetMismatch()'s word on a preset that does not suit the data.
 /// @throw InputError naming an unknown preset.
-Classifier presetClassifier(const RenderVolume& volume, const std::string& preset);
+Classifier presetClassifier(const RenderVolume& volume, const std::string& preset, std::string* mismatch = nullptr);
 
 }  // namespace gvr

@@ -1,0 +1,34 @@
+/// @file RenderInput.h
+/// @brief What `gvr render` and `gvr view` draw: a Gaussian asset (the structures
+/// shown) or a grid, and the transfer function given by preset or file.
+#pragma once
+
+#include "Classifier.h"
+#include "GaussianAsset.h"
+#include "Ingest.h"
+#include "RenderVolume.h"
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace gvr {
+
+struct RenderInput {
+    std::optional<GaussianAsset> asset;    ///< the shown structures, when the input is an asset
+    std::unique_ptr<RenderVolume> volume;  ///< the asset's field, or the grid
+};
+
+/// Reads @a path: an asset (with only the structures that @a show names, less
+/// @a hide) or anything loadOrIngest reads. With @a assetAsGrid, an asset becomes
+/// its field exported onto its source grid, unthresholded (for the ray marcher).
+/// @param minScale  as for GaussianRenderVolume
+/// @throw InputError naming the file, or --show/--hide for a grid.
+RenderInput loadRenderInput(const std::string& path, const std::string& show, const std::string& hide, float minScale,
+                            const IngestOptions& ingest, bool assetAsGrid = false);
+
+/// The classifier of --tf: a JSON file, else a preset fitted to @a volume (empty:
+/// the preset for data like these). @a mismatch: as for presetClassifier.
+Classifier classifierFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch = nullptr);
+
+}  // namespace gvr

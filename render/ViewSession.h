@@ -1,0 +1,59 @@
+/// @file ViewSession.h
+/// @brief Shear-warp frames for an interactive window: when the view leaves the
+/// stack's cone (or the scene changes), the new stack is built in the background
+/// while frames keep coming from the old one, so the window never waits for a build.
+#pragma once
+
+#include "ShearWarp.h"
+#include "StyledLayers.h"
+
+#include <future>
+#include <memory>
+
+namespace gvr {
+
+/// What a session draws: the layers and the volumes they point into.
+using Scene = std::shared_ptr<const StyledLayers>;
+
+class ViewSession {
+public:
+    ViewSession(Scene scene, const ShearWarpSettings& settings);
+    ~ViewSession();  ///< waits for a build in progress
+
+    /// Draw @a scene from the next frame on (its stack is built in the background).
+    void setScene(Scene scene);
+
+    /// A frame of @a camera's view. Waits only for the very first stack; later,
+    /// frames that need another stack come from the current one (stats.stale) until
+    /// the new one is ready, or repeat the last frame where the current one cannot
+    /// be sheared that far.
+    Framebuffer render(const OrthoCamera& camera, FrameStats* stats = nullptr);
+
+    /// The same, from the stack built for this view and scene: waits for builds as
+    /// needed (for screenshots, which must show what `gvr render` would).
+    Framebuffer renderSettled(const OrthoCamera& camera, FrameStats* stats = nullptr);
+
+    bool building() const { return mBuild.valid(); }
+    int stacksBuilt() const { return mStacksBuilt; }
+
+private:
+    struct BuiltStack {
+        Scene scene;
+        std::unique_ptr<SliceStack> stack;
+        double buildMs = 0;
+    };
+
+    bool fits(const OrthoCamera& camera) const;
+    bool shearableFor(const OrthoCamera& camera) const;
+    void startBuild(const OrthoCamera& camera);
+    void adoptFinishedBuild(FrameStats& frame);
+
+    Scene mScene;
+    ShearWarpSettings mSettings;
+    BuiltStack mCurrent;
+    std::future<BuiltStack> mBuild;
+    Framebuffer mLastFrame;
+    int mFrames = 0, mStacksBuilt = 0;
+};
+
+}  // namespace gvr

@@ -1,0 +1,104 @@
+// The interactive session: the same frames as the renderer once settled, stale
+// frames (never a wait) while a stack builds, and rebuilds on scene and zoom changes.
+
+#include "TestHelpers.h"
+#include "ViewSession.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace gvr {
+namespace {
+
+std::shared_ptr<GridRenderVolume> blob() {
+    const auto value = [](int i, int j, int k) {
+        const double x = i - 20.0, y = j - 16.0, z = k - 12.0;
+        return float(1000.0 * std::exp(-(x * x / 60.0 + y * y / 20.0 + z * z / 30.0)));
+    };
+    return std::make_shared<GridRenderVolume>(test::makeGrid({40, 32, 24}, value));
+}
+
+Scene sceneOf(const RenderVolume& volume, float opacity) {
+    auto scene = std::make_shared<StyledLayers>();
+    const TransferFunction tf({{50.0, {0.2f, 0.1f, 0.0f, 0.0f}}, {1000.0, {1.0f, 0.9f, 0.7f, opacity}}}, "test");
+    scene->layers.push_back({&volume, Classifier(tf, 1)});
+    return scene;
+}
+
+OrthoCamera cameraFor(const RenderVolume& volume, double azimuth, double zoom = 1.0, int size = 64) {
+    OrthoCamera camera = makeCamera({azimuth, 20.0}, worldCorners(volume.worldFromIndex(), volume.box()), size, size);
+    camera.pixelMm /= zoom;
+    return camera;
+}
+
+Framebuffer freshFrame(const Scene& scene, const OrthoCamera& camera) {
+    return ShearWarpRenderer(scene->layers, ShearWarpSettings{}).render(camera);
+}
+
+TEST(ViewSession, SettledFramesAreTheRenderersFrames) {
+    const auto volume = blob();
+    const Scene scene = sceneOf(*volume, 0.1f);
+    ViewSession session(scene, ShearWarpSettings{});
+    FrameStats first;
+    EXPECT_EQ(session.render(cameraFor(*volume, 30.0), &first).rgba, freshFrame(scene, cameraFor(*volume, 30.0)).rgba);
+    EXPECT_FALSE(first.stale);
+    EXPECT_FALSE(first.reused);
+    EXPECT_EQ(session.renderSettled(cameraFor(*volume, 75.0)).rgba, freshFrame(scene, cameraFor(*volume, 75.0)).rgba);
+}
+
+TEST(ViewSession, ATurnBeyondTheConeIsDrawnFromTheOldStackWhileTheNewOneBuilds) {
+    const auto volume = blob();
+    const Scene scene = sceneOf(*volume, 0.1f);
+    ViewSession session(scene, ShearWarpSettings{});
+    session.render(cameraFor(*volume, 0.0));
+    FrameStats turned;
+    const Framebuffer stale = session.render(cameraFor(*volume, 30.0), &turned);
+    EXPECT_TRUE(turned.stale);
+    EXPECT_TRUE(turned.reused);
+    EXPECT_TRUE(session.building());
+    FrameStats settled;
+    const Framebuffer rebuilt = session.renderSettled(cameraFor(*volume, 30.0), &settled);
+    EXPECT_FALSE(settled.stale);
+    EXPECT_EQ(rebuilt.rgba, freshFrame(scene, cameraFor(*volume, 30.0)).rgba);
+    EXPECT_NE(stale.rgba, rebuilt.rgba);  // another stack, though the same view
+}
+
+TEST(ViewSession, ANewSceneOrAZoomRebuildsTheStack) {
+    const auto volume = blob();
+    ViewSession session(sceneOf(*volume, 0.1f), ShearWarpSettings{});
+    session.render(cameraFor(*volume, 10.0));
+
+    const Scene denser = sceneOf(*volume, 0.6f);
+    session.setScene(denser);
+    FrameStats changed;
+    session.render(cameraFor(*volume, 10.0), &changed);
+    EXPECT_TRUE(changed.stale);
+    EXPECT_EQ(session.renderSettled(cameraFor(*volume, 10.0)).rgba, freshFrame(denser, cameraFor(*volume, 10.0)).rgba);
+
+    // A small image has pixels of several voxels; zoomed in, they shrink towards one.
+    session.renderSettled(cameraFor(*volume, 10.0, 1.0, 16));
+    FrameStats zoomed;
+    session.render(cameraFor(*volume, 10.0, 3.0, 16), &zoomed);
+    EXPECT_TRUE(zoomed.stale);
+    EXPECT_EQ(session.renderSettled(cameraFor(*volume, 10.0, 3.0, 16)).rgba,
+              freshFrame(denser, cameraFor(*volume, 10.0, 3.0, 16)).rgba);
+    // Beyond one voxel a pixel, zooming further needs no finer stack.
+    session.renderSettled(cameraFor(*volume, 10.0, 8.0, 16));
+    FrameStats further;
+    session.render(cameraFor(*volume, 10.0, 16.0, 16), &further);
+    EXPECT_FALSE(further.stale);
+}
+
+TEST(ViewSession, AViewFarFromEveryStackWaitsRatherThanShearingAtGrazingAngles) {
+    const auto volume = blob();
+    ViewSession session(sceneOf(*volume, 0.1f), ShearWarpSettings{});
+    const Framebuffer front = session.render(cameraFor(*volume, 0.0));
+    FrameStats side;
+    const Framebuffer repeated = session.render(cameraFor(*volume, 90.0), &side);
+    EXPECT_TRUE(side.stale);
+    EXPECT_EQ(repeated.rgba, front.rgba);  // the last frame again, not a shear at 90 degrees
+}
+
+}  // namespace
+}  // namespace gvr
