@@ -70,7 +70,7 @@ public:
         : mFlags(flags), mInput(std::move(input)),
           mCorners(worldCorners(mInput.volume->worldFromIndex(), mInput.volume->box())) {
         mState.view = {flags.azimuth, flags.elevation};
-        mState.tf = flags.tf;
+        mState.tf = flags.tf.empty() ? defaultPreset(mInput.volume->channels(), mInput.volume->statistics()) : flags.tf;
         mInitial = mState;
         mSession = std::make_unique<ViewSession>(scene(), flags.shearWarp);
     }
@@ -101,7 +101,7 @@ public:
                 {"screenshots", mScreenshots},
                 {"view", {{"azimuth", mState.view.azimuthDeg}, {"elevation", mState.view.elevationDeg},
                           {"zoom", mState.zoom}}},
-                {"tf", mState.tf.empty() ? "default" : mState.tf},
+                {"tf", mState.tf},
                 {"opacity_scale", mState.opacity}};
     }
 
@@ -223,7 +223,7 @@ private:
         stack << (frame.stale ? "stack: building for this view..." : frame.reused ? "stack: reused" : "stack: rebuilt")
               << "; last build " << std::fixed << std::setprecision(0) << mLastBuild.buildMs << " ms, "
               << mLastBuild.gaussiansTouched << " Gaussians touched";
-        view << "tf " << (mState.tf.empty() ? "default" : mState.tf) << " (t), opacity x" << std::setprecision(2)
+        view << std::fixed << "tf " << mState.tf << " (t), opacity x" << std::setprecision(2)
              << mState.opacity << " ([ ]), azimuth " << std::setprecision(0) << mState.view.azimuthDeg
              << ", elevation " << mState.view.elevationDeg << ", zoom x" << std::setprecision(2) << mState.zoom;
         std::vector<std::string> lines = {rate.str(), stack.str(), view.str()};
