@@ -294,7 +294,7 @@ private:
         double psnr = 0, ssim = 0;
         for (std::size_t v = 0; v < views.size(); ++v) {
             const json e = gvr("view eval", {"eval", mTruth[v], views[v]}, log);
-            psnr += jsonDouble(e["psnr"]) / views.size();
+            psnr += jsonDouble(e["rendering"]["psnr"]) / views.size();
             ssim += jsonDouble(e["ssim"]) / views.size();
         }
         row.set("render_psnr", psnr);

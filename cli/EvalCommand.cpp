@@ -37,6 +37,11 @@ void printEvaluation(const EvalFlags& flags, const EvalResult& e) {
               << "  MS-SSIM  " << e.msSsim.value << " (" << e.msSsim.scales << " scale"
               << (e.msSsim.scales == 1 ? "" : "s") << (e.msSsim.scales < 5 ? "; too small for 5" : "") << ")\n"
               << "  time     " << e.seconds << " s\n";
+    if (e.rendering) {
+        std::cout << "  as seen  " << formatDb(e.rendering->psnr) << " dB: premultiplied RGB over black ("
+                  << formatDb(e.rendering->psnrOverBlack) << " dB) and over white (" << formatDb(e.rendering->psnrOverWhite)
+                  << " dB), MSE averaged, on the " << e.rendering->coveredPixels << " pixels either image covers, peak 1\n";
+    }
     if (e.structures.empty()) return;
     std::cout << "  per structure (PSNR over its voxels; SSIM of the structure cut out):\n";
     for (const StructureQuality& q : e.structures) {

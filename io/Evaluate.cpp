@@ -123,6 +123,16 @@ std::string assetStructures(const std::string& path) {
     return spec;
 }
 
+RenderingQuality renderingQuality(const FloatVolume& reference, const FloatVolume& test) {
+    const RenderingError error = renderingError(reference, test);
+    RenderingQuality q;
+    q.coveredPixels = error.coveredPixels;
+    q.psnrOverBlack = psnrFromMse(error.overBlack, 1.0);
+    q.psnrOverWhite = psnrFromMse(error.overWhite, 1.0);
+    q.psnr = psnrFromMse(0.5 * (error.overBlack + error.overWhite), 1.0);
+    return q;
+}
+
 /// The comparison itself; @a labels (may be null) only with options.labels.
 EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
                    const openvdb::Int32Grid* labels, const std::string& referenceName, const std::string& testName) {
@@ -145,6 +155,7 @@ EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const
     e.ssim = ssim(reference.volume, test.volume, ssimSettings);
     e.msSsim = msSsim(reference.volume, test.volume, ssimSettings);
     if (labels) evaluateStructures(options, *labels, reference.volume, test.volume, e);
+    if (reference.isImage && reference.volume.channels == 4) e.rendering = renderingQuality(reference.volume, test.volume);
     e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return e;
 }
@@ -175,6 +186,12 @@ nlohmann::json evalResultJson(const EvalResult& e) {
                           {"ssim", e.ssim}, {"ms_ssim", e.msSsim.value},
                           {"ms_ssim_scales", e.msSsim.scales}, {"peak", e.peak},
                           {"seconds", e.seconds}};
+    if (e.rendering) {
+        out["rendering"] = {{"psnr", jsonNumber(e.rendering->psnr)},
+                            {"psnr_over_black", jsonNumber(e.rendering->psnrOverBlack)},
+                            {"psnr_over_white", jsonNumber(e.rendering->psnrOverWhite)},
+                            {"covered_pixels", e.rendering->coveredPixels}};
+    }
     for (const StructureQuality& q : e.structures) {
         out["structures"].push_back({{"id", q.id}, {"name", e.labelTable.nameOf(q.id)}, {"voxels", q.voxels},
                                      {"mse", q.mse}, {"psnr", jsonNumber(q.psnr)}, {"ssim", q.ssim}});

@@ -31,8 +31,17 @@ struct EvalOptions {
     IngestOptions ingest;              ///< how inputs that are not .vdb files are read
 };
 
+/// Two RGBA renderings as they are seen (see renderingError): PSNR with a peak of
+/// 1 over black, over white, and of the mean of the two errors, which is what
+/// `gvr bench` reports as render PSNR.
+struct RenderingQuality {
+    double psnr = 0, psnrOverBlack = 0, psnrOverWhite = 0;
+    std::size_t coveredPixels = 0;
+};
+
 struct EvalResult {
     double mse = 0, psnr = 0, foregroundMse = 0, foregroundPsnr = 0, ssim = 0, peak = 0, seconds = 0;
+    std::optional<RenderingQuality> rendering;  ///< for two RGBA images
     std::size_t foregroundVoxels = 0;
     MsSsim msSsim;
     std::string foregroundRule;  ///< how the foreground was chosen, in words

@@ -210,6 +210,30 @@ double meanSquaredError(const FloatVolume& a, const FloatVolume& b, const std::v
     return count > 0 ? sum / (double(count) * a.channels) : 0.0;
 }
 
+RenderingError renderingError(const FloatVolume& reference, const FloatVolume& test) {
+    requireSameShape(reference, test);
+    if (reference.channels != 4) throw std::invalid_argument("renderingError: images must be RGBA");
+    RenderingError error;
+    double black = 0.0, white = 0.0;
+    for (std::size_t n = 0; n < reference.voxelCount(); ++n) {
+        const float* a = reference.values.data() + 4 * n;
+        const float* b = test.values.data() + 4 * n;
+        if (!(a[3] > 0.0f || b[3] > 0.0f)) continue;
+        ++error.coveredPixels;
+        for (int c = 0; c < 3; ++c) {
+            const double overBlack = double(a[c]) - b[c];  // premultiplied colour over black is itself
+            const double overWhite = overBlack - (double(a[3]) - b[3]);  // plus (1 - alpha) of white
+            black += overBlack * overBlack;
+            white += overWhite * overWhite;
+        }
+    }
+    if (error.coveredPixels > 0) {
+        error.overBlack = black / (3.0 * error.coveredPixels);
+        error.overWhite = white / (3.0 * error.coveredPixels);
+    }
+    return error;
+}
+
 double ssim(const FloatVolume& a, const FloatVolume& b, const SsimSettings& settings) {
     requireSameShape(a, b);
     const Axes smoothed = smoothedAxes(a.dims, settings);

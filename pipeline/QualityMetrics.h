@@ -37,6 +37,17 @@ double meanSquaredError(const FloatVolume& a, const FloatVolume& b,
 
 double ssim(const FloatVolume& a, const FloatVolume& b, const SsimSettings& settings);
 
+/// Two renderings (premultiplied RGBA, 4 channels) compared as they are seen: RGB
+/// composited over black and over white, on the pixels that either image covers
+/// (alpha > 0). Alpha and the transparent background that both share would
+/// otherwise raise every figure.
+struct RenderingError {
+    double overBlack = 0, overWhite = 0;  ///< mean squared error per RGB channel; 0 with no pixel covered
+    std::size_t coveredPixels = 0;
+};
+/// @throw std::invalid_argument unless both have 4 channels and the same shape.
+RenderingError renderingError(const FloatVolume& reference, const FloatVolume& test);
+
 struct MsSsim {
     double value = 0.0;
     int scales = 0;  ///< M, 5 unless the fallback applied

@@ -120,3 +120,32 @@ TEST(QualityMetrics, ResamplingOntoTheSameLatticeIsExact) {
 
 }  // namespace
 }  // namespace gvr
+
+namespace gvr {
+namespace {
+
+FloatVolume rgbaImage(const std::vector<std::array<float, 4>>& pixels) {
+    FloatVolume image(openvdb::Coord(int(pixels.size()), 1, 1), 4);
+    for (std::size_t p = 0; p < pixels.size(); ++p) std::copy(pixels[p].begin(), pixels[p].end(), image.values.begin() + 4 * p);
+    return image;
+}
+
+TEST(RenderingError, CountsOnlyCoveredPixelsAsSeenOverBlackAndWhite) {
+    // Pixel 0: shared transparent background. Pixel 1: the same grey, half as opaque
+    // in the test. Pixel 2: covered by the reference only.
+    const FloatVolume reference = rgbaImage({{0, 0, 0, 0}, {0.4f, 0.4f, 0.4f, 0.8f}, {0.2f, 0.1f, 0.0f, 0.5f}});
+    const FloatVolume test = rgbaImage({{0, 0, 0, 0}, {0.2f, 0.2f, 0.2f, 0.4f}, {0, 0, 0, 0}});
+    const RenderingError error = renderingError(reference, test);
+    EXPECT_EQ(error.coveredPixels, 2u);
+    // Over black the differences are the premultiplied colours; over white each
+    // gains the difference in (1 - alpha): 0.2 - 0.4 and 0.2 - 0.5, 0.1 - 0.5, 0 - 0.5.
+    EXPECT_NEAR(error.overBlack, (3 * 0.04 + 0.04 + 0.01 + 0.0) / 6.0, 1e-6);
+    EXPECT_NEAR(error.overWhite, (3 * 0.04 + 0.09 + 0.16 + 0.25) / 6.0, 1e-6);
+    EXPECT_EQ(renderingError(reference, reference).overWhite, 0.0);
+    EXPECT_EQ(renderingError(test, test).coveredPixels, 1u);
+    EXPECT_THROW(renderingError(FloatVolume(openvdb::Coord(2, 1, 1), 3), FloatVolume(openvdb::Coord(2, 1, 1), 3)),
+                 std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace gvr
