@@ -38,16 +38,6 @@ struct RenderFlags {
     SourceFlags source;
 };
 
-std::pair<int, int> parseSize(const std::string& text) {
-    int width = 0, height = 0;
-    char x = 0;
-    std::istringstream in(text);
-    if (!(in >> width >> x >> height) || x != 'x' || !(in >> std::ws).eof()) {
-        throw InputError("--size", "'" + text + "' is not WIDTHxHEIGHT, e.g. 512x512");
-    }
-    return {width, height};
-}
-
 float minScale(const RenderFlags& flags) {
     return flags.minScale ? float(*flags.minScale) : flags.shearWarp.minimumFootprintVoxels();
 }
@@ -84,7 +74,7 @@ void runRender(RenderFlags& flags) {
     if (flags.orbit < 0 || flags.orbit > 3600) throw InputError("--orbit", "must be between 1 and 3600 frames");
     checkOutputPath("-o", flags.output, {flags.input, flags.tf});
     if (!flags.statsPath.empty()) checkOutputPath("--stats", flags.statsPath, {flags.input, flags.output});
-    const auto [width, height] = parseSize(flags.size);
+    const auto [width, height] = parseImageSize(flags.size);
     const RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, minScale(flags),
                                               toIngestOptions(flags.source), flags.renderer == "raymarch");
     const std::optional<GaussianAsset>& asset = input.asset;

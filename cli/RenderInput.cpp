@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <limits>
+#include <sstream>
 
 namespace gvr {
 
@@ -30,6 +31,17 @@ RenderInput loadRenderInput(const std::string& path, const std::string& show, co
         input.volume = std::make_unique<GaussianRenderVolume>(*input.asset, minScale);
     }
     return input;
+}
+
+std::pair<int, int> parseImageSize(const std::string& text) {
+    int width = 0, height = 0;
+    char x = 0;
+    std::istringstream in(text);
+    if (!(in >> width >> x >> height) || x != 'x' || !(in >> std::ws).eof() || width < 1 || height < 1 ||
+        width > 16384 || height > 16384) {
+        throw InputError("--size", "'" + text + "' is not WIDTHxHEIGHT of 1 to 16384 pixels each, e.g. 512x512");
+    }
+    return {width, height};
 }
 
 Classifier classifierFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch) {

@@ -27,6 +27,10 @@ struct RenderInput {
 RenderInput loadRenderInput(const std::string& path, const std::string& show, const std::string& hide, float minScale,
                             const IngestOptions& ingest, bool assetAsGrid = false);
 
+/// "512x384" as --size gives it: width and height in pixels, each 1 to 16384.
+/// @throw InputError naming --size.
+std::pair<int, int> parseImageSize(const std::string& text);
+
 /// The classifier of --tf: a JSON file, else a preset fitted to @a volume (empty:
 /// the preset for data like these). @a mismatch: as for presetClassifier.
 Classifier classifierFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch = nullptr);

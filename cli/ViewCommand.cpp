@@ -52,17 +52,6 @@ struct ViewState {
     bool hud = true;
 };
 
-std::pair<int, int> parseSize(const std::string& text) {
-    int width = 0, height = 0;
-    char x = 0;
-    std::istringstream in(text);
-    if (!(in >> width >> x >> height) || x != 'x' || !(in >> std::ws).eof() || width < 16 || height < 16 ||
-        width > 8192 || height > 8192) {
-        throw InputError("--size", "'" + text + "' is not WIDTHxHEIGHT between 16 and 8192, e.g. 800x800");
-    }
-    return {width, height};
-}
-
 /// The interactive part: input, its scene for the current state, and the frames.
 class Viewer {
 public:
@@ -255,7 +244,7 @@ private:
 void runView(const ViewFlags& flags) {
     const std::string problem = flags.shearWarp.validate();
     if (!problem.empty()) throw InputError("gvr view", problem);
-    const auto [width, height] = parseSize(flags.size);
+    const auto [width, height] = parseImageSize(flags.size);
     if (flags.input.empty() || !std::filesystem::exists(flags.input)) throw InputError(flags.input, "no such file or folder");
     RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, flags.shearWarp.minimumFootprintVoxels(),
                                         toIngestOptions(flags.source));

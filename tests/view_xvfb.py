@@ -20,6 +20,8 @@ import time
 import numpy as np
 from PIL import Image
 
+from labelled_blobs import write_labelled_blobs
+
 GVR, SHARED, WORK = sys.argv[1:4]
 CH2 = "/usr/share/mricron/templates/ch2.nii.gz"
 SIZE = "200x160"
@@ -145,22 +147,13 @@ def main():
 
 def check_structures():
     """Two labelled blobs: key 2 hides the second, as render --hide does."""
-    import nibabel
-    i, j, k = np.meshgrid(np.arange(32), np.arange(20), np.arange(16), indexing="ij")
-    left = (i - 9) ** 2 + (j - 10) ** 2 + (k - 8) ** 2
-    right = (i - 23) ** 2 + (j - 10) ** 2 + (k - 8) ** 2
-    image = (200 * np.exp(-left / 18) + 120 * np.exp(-right / 12)).astype(np.float32)
-    labels = np.where(left < 36, 1, np.where(right < 25, 2, 0)).astype(np.int16)
-    for name, array in (("blobs.nii", image), ("labels.nii", labels)):
-        nibabel.save(nibabel.Nifti1Image(array, np.eye(4)), os.path.join(WORK, name))
-    with open(os.path.join(WORK, "names.txt"), "w") as names:
-        names.write("1 Left\n2 Right\n")
+    blobs, labels, names = write_labelled_blobs(WORK)
     tf = os.path.join(WORK, "tf.json")
     with open(tf, "w") as out:
         json.dump({"points": [[5, 1, 0.8, 0.6, 0], [200, 1, 1, 1, 0.5]]}, out)
     asset = os.path.join(WORK, "blobs.gvr")
-    gvr("fit", "-q", os.path.join(WORK, "blobs.nii"), "-o", asset, "--labels", "all", "--label-volume",
-        os.path.join(WORK, "labels.nii"), "--label-names", os.path.join(WORK, "names.txt"), "--iterations", "20")
+    gvr("fit", "-q", blobs, "-o", asset, "--labels", "all", "--label-volume", labels, "--label-names", names,
+        "--iterations", "20")
     window = Window(asset, "--tf", tf)
     both = window.screenshot()
     window.key("2")

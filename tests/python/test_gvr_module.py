@@ -19,6 +19,9 @@ from PIL import Image
 
 import gvr
 
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+from labelled_blobs import write_labelled_blobs  # noqa: E402
+
 GVR = os.environ["GVR_EXECUTABLE"]
 CH2 = "/usr/share/mricron/templates/ch2.nii.gz"
 
@@ -134,14 +137,7 @@ def test_export_and_probe_agree(cli_asset):
 def labelled_scene(work):
     """Two labelled blobs as NIfTI files, ingested with their atlas and fitted by
     structure with the command line."""
-    i, j, k = np.meshgrid(np.arange(32), np.arange(20), np.arange(16), indexing="ij")
-    left = (i - 9) ** 2 + (j - 10) ** 2 + (k - 8) ** 2
-    right = (i - 23) ** 2 + (j - 10) ** 2 + (k - 8) ** 2
-    image = (200 * np.exp(-left / 18) + 120 * np.exp(-right / 12)).astype(np.float32)
-    labels = np.where(left < 36, 1, np.where(right < 25, 2, 0)).astype(np.int16)
-    for name, array in (("blobs.nii", image), ("labels.nii", labels)):
-        nibabel.save(nibabel.Nifti1Image(array, np.eye(4)), str(work / name))
-    (work / "names.txt").write_text("1 Left\n2 Right\n")
+    write_labelled_blobs(work)
     run("ingest", "-q", str(work / "blobs.nii"), "-o", str(work / "blobs.vdb"), "--labels", str(work / "labels.nii"),
         "--label-names", str(work / "names.txt"))
     run("fit", "-q", str(work / "blobs.vdb"), "-o", str(work / "blobs.gvr"), "--labels", "all", "--iterations", "20")
