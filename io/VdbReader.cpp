@@ -39,8 +39,9 @@ DenseVolume readVdb(const std::string& path, const ReadOptions& options) {
     if (box.empty()) throw InputError(path, "grid '" + grid->getName() + "' has no active voxels");
 
     DenseVolume volume;
-    const openvdb::Coord extent = box.dim();
-    volume.dims = {extent.x(), extent.y(), extent.z()};
+    // In 64 bits: a corrupt file's box may span more than an int can count, which
+    // the memory check below then refuses.
+    for (int axis = 0; axis < 3; ++axis) volume.dims[axis] = std::int64_t(box.max()[axis]) - box.min()[axis] + 1;
     volume.type = SampleType::Float32;
     volume.channels = grid->isType<openvdb::Vec3SGrid>() ? 3 : 1;
     if (const auto metadata = readVolumeMetadata(*grid)) volume.modality = metadata->modality;

@@ -284,6 +284,16 @@ TEST(BadInput, TruncatedAndForeignVdb) {
     expectMentions(ingestError(dir.path("text.vdb")), "not a VDB file");
 }
 
+TEST(BadInput, AVdbWhoseActiveVoxelsSpanMoreThanAnIntIsRefused) {
+    // What the fuzzer found: the box's extent overflowed int before any check.
+    test::TempDir dir;
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    grid->tree().setValueOn(openvdb::Coord(-1707086569, 0, 0), 1.0f);
+    grid->tree().setValueOn(openvdb::Coord(1953697792, 0, 0), 1.0f);
+    writeGridFile(dir.path("far.vdb"), {grid});
+    expectMentions(ingestError(dir.path("far.vdb")), "3660784362x1x1 are out of range");
+}
+
 TEST(BadInput, RawFileShorterThanItsDimensions) {
     test::TempDir dir;
     test::writeBytes(dir.path("short.raw"), std::string(100, '\0'));
