@@ -39,3 +39,4 @@ echo "  rendered view:       $(pwd)/out/ch2-render.png           (shear-warp fro
 echo "  render timings:      $(pwd)/out/ch2-render.json"
 echo "Installed: /usr/local/bin/gvr, find_package(gvr) from /usr/local/lib/cmake/gvr, and"
 echo "  /usr/bin/python3 -c 'import gvr' (examples/quickstart.py is the same pipeline from Python)"
+echo "Look around (on a desktop, or under xvfb-run): gvr view $(pwd)/out/ch2.gvr"
