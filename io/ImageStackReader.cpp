@@ -81,12 +81,17 @@ void addPage(const std::string& file, int subimage, const OIIO::ImageSpec& spec,
 constexpr double kMostDecodedBytesPerFileByte = 4096.0;
 
 void checkFileCanHoldItsPages(const std::string& file, const OIIO::ImageSpec& spec, std::size_t pages) {
-    const double decoded = double(spec.width) * double(spec.height) * double(std::max(spec.depth, 1)) *
+    // OpenImageIO reads a TIFF a strip at a time, into a buffer of the header's
+    // RowsPerStrip rows, however few rows the image has.
+    const double rows = std::max(double(spec.height), double(spec.get_int_attribute("tiff:RowsPerStrip", 0)));
+    const double decoded = double(spec.width) * rows * double(std::max(spec.depth, 1)) *
                            double(spec.nchannels) * double(spec.format.size()) * double(pages);
     const double fileBytes = double(std::filesystem::file_size(file));
     if (decoded > fileBytes * kMostDecodedBytesPerFileByte) {
+        const std::string strips =
+            rows > spec.height ? " in strips of " + std::to_string(std::uint64_t(rows)) + " rows" : "";
         throw InputError(file, "corrupt image header: " + std::to_string(spec.width) + "x" +
-                                   std::to_string(spec.height) + " pixels cannot come from a file of " +
+                                   std::to_string(spec.height) + " pixels" + strips + " cannot come from a file of " +
                                    std::to_string(std::uint64_t(fileBytes)) + " bytes");
     }
 }

@@ -294,6 +294,13 @@ TEST(BadInput, AVdbWhoseActiveVoxelsSpanMoreThanAnIntIsRefused) {
     expectMentions(ingestError(dir.path("far.vdb")), "3660784362x1x1 are out of range");
 }
 
+TEST(BadInput, ATiffWhoseStripsClaimMoreRowsThanTheFileHoldsCostsNoMemory) {
+    // What the fuzzer found: 10x12 pixels, but RowsPerStrip 1728053260, and
+    // OpenImageIO sizes its strip buffer by the latter.
+    const std::string file = std::string(GVR_TEST_DATA) + "/rows-per-strip-bomb.tif";
+    expectMentions(ingestError(file), "10x12 pixels in strips of 1728053260 rows cannot come from a file of 413 bytes");
+}
+
 TEST(BadInput, RawFileShorterThanItsDimensions) {
     test::TempDir dir;
     test::writeBytes(dir.path("short.raw"), std::string(100, '\0'));
