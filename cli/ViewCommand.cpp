@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <tuple>
@@ -61,8 +62,12 @@ public:
         mState.view = {flags.azimuth, flags.elevation};
         mState.tf = flags.tf.empty() ? defaultPreset(mInput.volume->channels(), mInput.volume->statistics()) : flags.tf;
         mInitial = mState;
+        classify();
         mSession = std::make_unique<ViewSession>(scene(), flags.shearWarp);
     }
+
+    /// Why the transfer function does not suit the data; empty when it does.
+    const std::string& mismatch() const { return mMismatch; }
 
     void run(SdlWindow& window) {
         const auto start = std::chrono::steady_clock::now();
@@ -113,13 +118,16 @@ private:
             scene->volumes.push_back(std::make_unique<GaussianRenderVolume>(shown, mFlags.shearWarp.minimumFootprintVoxels()));
             volume = scene->volumes.back().get();
         }
-        const Classifier base = classifierFor(mState.tf, *mInput.volume, &mMismatch);
         LabelStyle scaled;
         scaled.opacity = float(mState.opacity);
-        scene->layers.push_back({volume, Classifier(styledTransferFunction(base.transferFunction(), scaled),
-                                                    base.channels(), base.colourScale())});
+        scene->layers.push_back({volume, Classifier(styledTransferFunction(mBase->transferFunction(), scaled),
+                                                    mBase->channels(), mBase->colourScale())});
         return scene;
     }
+
+    /// The transfer function's classifier, fitted to the whole input once per
+    /// choice: opacity and structure changes reuse it.
+    void classify() { mBase = classifierFor(mState.tf, *mInput.volume, &mMismatch); }
 
     void changeScene() { mSession->setScene(scene()); }
 
@@ -164,6 +172,7 @@ private:
         std::size_t index = at == kPresets.end() ? 0 : std::size_t(at - kPresets.begin()) + 1;
         while (!presetTakes(kPresets[index % kPresets.size()], mInput.volume->channels())) ++index;
         mState.tf = kPresets[index % kPresets.size()];
+        classify();
         changeScene();
     }
 
@@ -232,7 +241,8 @@ private:
     std::array<openvdb::Vec3d, 8> mCorners;
     ViewState mState, mInitial;
     std::unique_ptr<ViewSession> mSession;
-    mutable std::string mMismatch;  ///< why the current preset does not suit the data
+    std::optional<Classifier> mBase;
+    std::string mMismatch;
     bool mQuit = false;
     int mWidth = 0, mHeight = 0;
     std::uint64_t mFrames = 0, mStaleFrames = 0;
@@ -248,11 +258,9 @@ void runView(const ViewFlags& flags) {
     if (flags.input.empty() || !std::filesystem::exists(flags.input)) throw InputError(flags.input, "no such file or folder");
     RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, flags.shearWarp.minimumFootprintVoxels(),
                                         toIngestOptions(flags.source));
-    std::string mismatch;
-    classifierFor(flags.tf, *input.volume, &mismatch);  // a bad --tf fails before a window opens
-    if (!mismatch.empty()) diagnostics() << "gvr: warning: --tf " << mismatch << "\n";
+    Viewer viewer(flags, std::move(input));  // a bad --tf fails before a window opens
+    if (!viewer.mismatch().empty()) diagnostics() << "gvr: warning: --tf " << viewer.mismatch() << "\n";
     SdlWindow window("gvr view - " + std::filesystem::path(flags.input).filename().string(), width, height);
-    Viewer viewer(flags, std::move(input));
     viewer.run(window);
     if (flags.json) std::cout << viewer.summary().dump(2) << "\n";
 }

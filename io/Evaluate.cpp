@@ -173,8 +173,15 @@ EvalResult evaluate(const std::string& referencePath, const std::string& testPat
     const auto start = std::chrono::steady_clock::now();
     EvalOptions resolved = options;
     if (!options.labels.empty() && options.structures.empty()) resolved.structures = assetStructures(testPath);
-    EvalResult e = evaluate(loadComparisonInput(referencePath, options.ingest), loadComparisonInput(testPath, options.ingest),
-                            resolved, referencePath, testPath);
+    // The grids go as soon as they are sampled (the reference's once the labels are
+    // on it): held with the samples, they would double eval's memory.
+    ComparisonInput reference = loadComparisonInput(referencePath, options.ingest);
+    openvdb::Int32Grid::Ptr labels;
+    if (!options.labels.empty()) labels = loadLabelGrid(options, reference);
+    reference.grid.reset();
+    ComparisonInput test = loadComparisonInput(testPath, options.ingest);
+    test.grid.reset();
+    EvalResult e = compare(reference, std::move(test), resolved, labels.get(), referencePath, testPath);
     e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();  // reading included
     return e;
 }
