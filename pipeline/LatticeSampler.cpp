@@ -1,12 +1,14 @@
 #include "LatticeSampler.h"
 
 #include "Error.h"
+#include "FastExp.h"
 #include "VolumeMetadata.h"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace gvr {
@@ -129,6 +131,7 @@ LatticeSampler::LatticeSampler(const GaussianField& field, const Mat4d& fieldWor
     : mField(field), mLattice(lattice), mFieldFromLattice(lattice.worldFromIndex * fieldWorldFromIndex.inverse()),
       mFieldCells(fieldBox.min().asVec3d() - Vec3d(0.5), fieldBox.max().asVec3d() + Vec3d(0.5)) {
     mReach = latticeReach(field, fieldWorldFromIndex * lattice.worldFromIndex.inverse(), lattice.box);
+    for (int a = 0; a < 3; ++a) mLatticeSteps[a] = mFieldFromLattice.transform3x3(Vec3d(a == 0, a == 1, a == 2));
 }
 
 float LatticeSampler::reachCeiling(const std::vector<std::uint32_t>& hits, const float lower[3], const float upper[3],
@@ -167,22 +170,41 @@ std::vector<Coord> blockOrigins(const CoordBBox& box) {
     return origins;
 }
 
+bool allVoxelsInside(const CoordBBox& voxels, const Mat4d& cellsFromVoxels, const openvdb::BBoxd& cells) {
+    // The box is convex, so its corners tell.
+    for (int corner = 0; corner < 8; ++corner) {
+        const Coord c(corner & 1 ? voxels.max().x() : voxels.min().x(), corner & 2 ? voxels.max().y() : voxels.min().y(),
+                      corner & 4 ? voxels.max().z() : voxels.min().z());
+        if (!cells.isInside(cellsFromVoxels.transform(c.asVec3d()))) return false;
+    }
+    return true;
+}
+
 std::vector<Coord> LatticeSampler::occupiedBlocks() const { return occupiedBlocksOf(mReach, mLattice.box); }
 
-CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums, float skipUpTo) const {
+CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums, float skipUpTo,
+                                      BlockEvaluation evaluation) const {
     CoordBBox voxels(origin, origin + Coord(kBlockDim - 1));
     voxels.intersect(mLattice.box);
     if (voxels.empty()) return voxels;
+    // -1 where a lattice voxel lies inside the field's cells, 0 elsewhere (beyond
+    // the lattice too, as rows cover whole blocks).
+    alignas(16) std::int32_t inCells[kBlockVoxels] = {};
     float points[kBlockVoxels][3];
-    bool outside[kBlockVoxels];
+    const bool exact = evaluation == BlockEvaluation::exact;
+    const bool allInCells = allVoxelsInside(voxels, mFieldFromLattice, mFieldCells);
     for (auto ijk = voxels.begin(); ijk; ++ijk) {
-        const Vec3d p = mFieldFromLattice.transform((*ijk).asVec3d());
         const int offset = blockOffset(*ijk);
+        if (allInCells && !exact) {
+            inCells[offset] = -1;
+            continue;
+        }
+        const Vec3d p = mFieldFromLattice.transform((*ijk).asVec3d());
         for (int a = 0; a < 3; ++a) points[offset][a] = float(p[a]);
-        outside[offset] = !mFieldCells.isInside(p);
+        inCells[offset] = mFieldCells.isInside(p) ? -1 : 0;
     }
     // Each reaching Gaussian in index order: the order GaussianField::evaluate sums
-    // in, so both give the same float at the same point.
+    // in, so that exact evaluation gives the same float at the same point.
     float lower[3], upper[3];
     fieldBoundsOf(voxels, mFieldFromLattice, lower, upper);
     std::vector<std::uint32_t> hits;
@@ -194,14 +216,82 @@ CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums, float sk
         CoordBBox reached = mReach[index];
         reached.intersect(voxels);
         if (reached.empty()) continue;
+        if (!exact) {
+            addRows(index, origin, reached, inCells, sums);
+            continue;
+        }
         const ActiveGaussian& g = mField.gaussians()[index];
         for (auto ijk = reached.begin(); ijk; ++ijk) {
             const int offset = blockOffset(*ijk);
-            if (outside[offset]) continue;
+            if (!inCells[offset]) continue;
             accumulateValue(g, points[offset], mField.cutoff2(), channels, sums + offset * channels);
         }
     }
     return voxels;
+}
+
+void LatticeSampler::addRows(std::uint32_t index, const Coord& origin, const CoordBBox& reached,
+                             const std::int32_t inCells[], float* sums) const {
+    // In the Gaussian's frame, u = R^T (p - mean) and q = sum_c u_c^2 / sigma_c^2. With
+    // r the lattice position relative to the block's origin, u = u0 + sum_a r_a w_a,
+    // so q = h + 2 g.r + r^T G r: a quadratic in r, and in z along each row.
+    const ActiveGaussian& g = mField.gaussians()[index];
+    const auto toFrame = [&g](const Vec3d& d, double u[3]) {
+        for (int c = 0; c < 3; ++c) u[c] = g.rotation[c] * d[0] + g.rotation[3 + c] * d[1] + g.rotation[6 + c] * d[2];
+    };
+    double u0[3], w[3][3];
+    toFrame(mFieldFromLattice.transform(origin.asVec3d()) - Vec3d(g.mean[0], g.mean[1], g.mean[2]), u0);
+    for (int a = 0; a < 3; ++a) toFrame(mLatticeSteps[a], w[a]);
+    double G[3][3], gLin[3], h = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        gLin[a] = 0.0;
+        for (int c = 0; c < 3; ++c) gLin[a] += g.invVariance[c] * w[a][c] * u0[c];
+        for (int b = 0; b < 3; ++b) {
+            G[a][b] = 0.0;
+            for (int c = 0; c < 3; ++c) G[a][b] += g.invVariance[c] * w[a][c] * w[b][c];
+        }
+    }
+    for (int c = 0; c < 3; ++c) h += g.invVariance[c] * u0[c] * u0[c];
+    const double inverseZz = 1.0 / G[2][2];
+    const float zz = float(G[2][2]), cutoff2 = mField.cutoff2();
+    const int channels = mField.channels();
+    for (int x = reached.min().x(); x <= reached.max().x(); ++x) {
+        const double rx = x - origin.x();
+        for (int y = reached.min().y(); y <= reached.max().y(); ++y) {
+            const double ry = y - origin.y();
+            // Along this row q(z) = G_zz (z - zCentre)^2 + qMin: in this form float
+            // keeps q accurate near the ellipsoid, where the terms would cancel.
+            const double zLinear = 2.0 * (G[0][2] * rx + G[1][2] * ry + gLin[2]);
+            const double constant =
+                h + 2.0 * (gLin[0] * rx + gLin[1] * ry) + G[0][0] * rx * rx + 2.0 * G[0][1] * rx * ry + G[1][1] * ry * ry;
+            const double qMin = constant - 0.25 * zLinear * zLinear * inverseZz;
+            if (qMin > cutoff2) continue;  // the row misses the ellipsoid
+            const float zCentre = float(-0.5 * zLinear * inverseZz), qMinF = float(qMin);
+            const int base = blockOffset(Coord(x, y, origin.z()));
+            alignas(16) float e[kBlockDim];
+            for (int half = 0; half < kBlockDim; half += 4) {
+                const Floats4 dz = Floats4{0.0f, 1.0f, 2.0f, 3.0f} + float(half) - zCentre;
+                const Floats4 q = zz * dz * dz + qMinF;
+                Ints4 keep;
+                std::memcpy(&keep, inCells + base + half, sizeof keep);
+                keep &= q <= splat(cutoff2);
+                if (!(keep[0] | keep[1] | keep[2] | keep[3])) {
+                    std::memset(e + half, 0, sizeof(Floats4));
+                    continue;
+                }
+                const Floats4 value = (Floats4)((Ints4)expNonPositive(-0.5f * q) & keep);
+                std::memcpy(e + half, &value, sizeof value);
+            }
+            float* row = sums + base * channels;
+            if (channels == 1) {
+                for (int z = 0; z < kBlockDim; ++z) row[z] += g.amplitude[0] * e[z];
+            } else {
+                for (int z = 0; z < kBlockDim; ++z) {
+                    for (int c = 0; c < channels; ++c) row[z * channels + c] += g.amplitude[c] * e[z];
+                }
+            }
+        }
+    }
 }
 
 }  // namespace gvr

@@ -7,6 +7,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <cstdint>
 #include <vector>
 
 namespace gvr {
@@ -40,17 +41,32 @@ constexpr int kBlockVoxels = kBlockDim * kBlockDim * kBlockDim;
 /// Origins of every block that overlaps @a box, in z, y, x order.
 std::vector<openvdb::Coord> blockOrigins(const openvdb::CoordBBox& box);
 
+/// Whether the centre of every voxel of @a voxels, placed by @a cellsFromVoxels,
+/// lies inside @a cells.
+bool allVoxelsInside(const openvdb::CoordBBox& voxels, const openvdb::math::Mat4d& cellsFromVoxels,
+                     const openvdb::BBoxd& cells);
+
 /// Offset of @a ijk inside its block: z fastest, as openvdb::tree::LeafNode numbers voxels.
 inline int blockOffset(const openvdb::Coord& ijk) {
     return ((ijk.x() & (kBlockDim - 1)) * kBlockDim + (ijk.y() & (kBlockDim - 1))) * kBlockDim + (ijk.z() & (kBlockDim - 1));
 }
 
+/// How sampleBlock() evaluates each Gaussian over a block.
+enum class BlockEvaluation {
+    /// Point by point, as GaussianField::evaluate does: the very same floats.
+    exact,
+    /// Along each row of the block as one quadratic, through an exp the compiler
+    /// vectorises: several times faster. Each term is within 1e-6 of its exact
+    /// value, relative to the Gaussian's peak, except where a sample lies within
+    /// rounding of the truncation edge and one of the two keeps a term the other cuts.
+    rows,
+};
+
 /// Evaluates @a field, which lives in the index space that @a fieldWorldFromIndex
 /// places in the world, at the voxel centres of a lattice. Each block asks the
 /// field's BVH once for the Gaussians whose truncated bounds reach it, then adds
-/// them up voxel by voxel in index order, so a voxel holds exactly what
-/// GaussianField::evaluate gives at the same point. Build once, then sample blocks
-/// from many threads.
+/// them up in index order, the order GaussianField::evaluate sums in. Build once,
+/// then sample blocks from many threads.
 class LatticeSampler {
 public:
     /// @param fieldBox  the voxels the field stands for (its source volume): lattice
@@ -69,7 +85,8 @@ public:
     /// is added and the block counts as empty: a caller that cannot see such values
     /// (a transfer function transparent there) skips the work.
     /// @return the block's voxels inside the lattice (empty if none, or skipped).
-    openvdb::CoordBBox sampleBlock(const openvdb::Coord& origin, float* sums, float skipUpTo = -1.0f) const;
+    openvdb::CoordBBox sampleBlock(const openvdb::Coord& origin, float* sums, float skipUpTo = -1.0f,
+                                   BlockEvaluation evaluation = BlockEvaluation::exact) const;
 
     int channels() const { return mField.channels(); }
     const Lattice& lattice() const { return mLattice; }
@@ -81,10 +98,14 @@ private:
     /// box [lower, upper], in any channel.
     float reachCeiling(const std::vector<std::uint32_t>& hits, const float lower[3], const float upper[3],
                        int channels) const;
+    /// Adds Gaussian @a index over @a reached, row by row (BlockEvaluation::rows).
+    void addRows(std::uint32_t index, const openvdb::Coord& origin, const openvdb::CoordBBox& reached,
+                 const std::int32_t inCells[], float* sums) const;
 
     const GaussianField& mField;
     Lattice mLattice;
     openvdb::math::Mat4d mFieldFromLattice;
+    openvdb::Vec3d mLatticeSteps[3];  ///< field-space step along each lattice axis
     openvdb::BBoxd mFieldCells;  ///< fieldBox grown by half a voxel: its cells, edge to edge
     std::vector<openvdb::CoordBBox> mReach;  ///< lattice voxels each Gaussian can reach
 };

@@ -35,6 +35,7 @@ private:
 /// Opacity of a path @a lengthRatio reference lengths long.
 inline float opacityOverLength(float alpha, double lengthRatio) {
     if (alpha >= 1.0f) return 1.0f;
+    if (lengthRatio == 1.0) return alpha;  // the common case, spared a pow per sample
     return float(1.0 - std::pow(1.0 - double(alpha), lengthRatio));
 }
 

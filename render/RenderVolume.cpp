@@ -39,7 +39,8 @@ public:
     CoordBBox sampleBlock(const Coord& origin, float* values) const override {
         const int channels = mSampler.channels();
         std::fill(values, values + kBlockVoxels * channels, 0.0f);
-        const CoordBBox voxels = mSampler.sampleBlock(origin, values, mSkipUpTo);
+        // A frame needs 16-bit opacity, not the export's bit-for-bit sums.
+        const CoordBBox voxels = mSampler.sampleBlock(origin, values, mSkipUpTo, BlockEvaluation::rows);
         for (int n = 0; n < kBlockVoxels * channels; ++n) {
             values[n] = float(mMapping.toPhysical(values[n], n % channels));
         }

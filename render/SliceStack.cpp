@@ -158,8 +158,9 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
                 sampled[l] = sources[l]->sampleBlock(origins[n], values.data() + l * kBlockVoxels * 3);
                 if (!sampled[l].empty()) voxels.expand(sampled[l]);
             }
+            const bool allInside = voxels.empty() || allVoxelsInside(voxels, volumeFromLattice, cells);
             for (auto ijk = voxels.begin(); ijk; ++ijk) {
-                if (!cells.isInside(volumeFromLattice.transform((*ijk).asVec3d()))) continue;
+                if (!allInside && !cells.isInside(volumeFromLattice.transform((*ijk).asVec3d()))) continue;
                 Combined combined;
                 for (std::size_t l = 0; l < layers.size(); ++l) {
                     if (!sampled[l].isInside(*ijk)) continue;

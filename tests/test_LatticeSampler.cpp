@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace gvr {
 namespace {
@@ -38,6 +39,40 @@ TEST(LatticeSampler, ObliqueLatticesHoldExactlyThePointEvaluation) {
         }
     }
     EXPECT_GT(nonZero, 10000u);
+}
+
+// One Gaussian at a time, so that every difference belongs to one term.
+TEST(LatticeSampler, RowEvaluationKeepsEachTermWithinItsToleranceOfExact) {
+    const GaussianParameters all = test::randomGaussians(60, 3, 12.0f, 24);
+    const Lattice lattice = obliqueLattice();
+    std::size_t nonZero = 0, atEdge = 0;
+    for (std::size_t n = 0; n < all.count(); ++n) {
+        GaussianParameters one = all;
+        std::vector<bool> keep(all.count(), false);
+        keep[n] = true;
+        one.keepOnly(keep);
+        const GaussianField field(one, 3.0f);
+        const LatticeSampler sampler(field, openvdb::math::Mat4d::identity(), lattice, openvdb::CoordBBox::inf());
+        const float peak = peakAmplitude(one, 0);
+        for (const openvdb::Coord& origin : sampler.occupiedBlocks()) {
+            float exact[kBlockVoxels * 3] = {}, rows[kBlockVoxels * 3] = {};
+            const openvdb::CoordBBox voxels = sampler.sampleBlock(origin, exact);
+            ASSERT_EQ(sampler.sampleBlock(origin, rows, -1.0f, BlockEvaluation::rows), voxels);
+            for (auto ijk = voxels.begin(); ijk; ++ijk) {
+                for (int c = 0; c < 3; ++c) {
+                    const float e = exact[blockOffset(*ijk) * 3 + c], r = rows[blockOffset(*ijk) * 3 + c];
+                    nonZero += e != 0.0f;
+                    if (std::abs(r - e) <= 1e-5f * peak) continue;
+                    // Only a term that one keeps and the other cuts, at the truncation edge.
+                    ++atEdge;
+                    ASSERT_TRUE(r == 0.0f || e == 0.0f) << *ijk << ": " << r << " against " << e;
+                    ASSERT_LE(std::abs(r - e), 1.02f * std::exp(-4.5f) * peak) << *ijk;
+                }
+            }
+        }
+    }
+    EXPECT_GT(nonZero, 100000u);
+    EXPECT_LE(atEdge, nonZero / 10000);
 }
 
 TEST(LatticeSampler, SkippedBlocksNeverHoldValuesAboveTheBound) {
