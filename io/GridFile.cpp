@@ -90,6 +90,11 @@ openvdb::GridPtrVecPtr readGrids(const std::string& path, bool voxels) {
     return grids;
 }
 
+bool holdsVolumeValues(const openvdb::GridBase& grid) {
+    return grid.isType<openvdb::FloatGrid>() || grid.isType<openvdb::DoubleGrid>() ||
+           grid.isType<openvdb::Vec3SGrid>();
+}
+
 }  // namespace
 
 openvdb::GridPtrVecPtr readGridFile(const std::string& path) { return readGrids(path, /*voxels=*/true); }
@@ -97,21 +102,22 @@ openvdb::GridPtrVecPtr readGridFile(const std::string& path) { return readGrids(
 openvdb::GridPtrVecPtr readGridMetadataFile(const std::string& path) { return readGrids(path, /*voxels=*/false); }
 
 openvdb::GridBase::Ptr chooseVolumeGrid(const openvdb::GridPtrVec& grids, const std::string& path) {
-    // gvr marks its volume with metadata, so an RGB export's colour wins over the density derived from it.
+    // Names and metadata only rank grids of a value type we read: a file may carry an
+    // integer grid called "density" (fuzz_vdb found one), or gvr's metadata on a mask.
+    openvdb::GridPtrVec candidates;
     for (const auto& grid : grids) {
+        if (holdsVolumeValues(*grid)) candidates.push_back(grid);
+    }
+    // gvr marks its volume with metadata, so an RGB export's colour wins over the density derived from it.
+    for (const auto& grid : candidates) {
         if (readVolumeMetadata(*grid)) return grid;
     }
     for (const char* name : {"density", "color", "Cd"}) {
-        for (const auto& grid : grids) {
+        for (const auto& grid : candidates) {
             if (grid->getName() == name) return grid;
         }
     }
-    for (const auto& grid : grids) {
-        if (grid->isType<openvdb::FloatGrid>() || grid->isType<openvdb::DoubleGrid>() ||
-            grid->isType<openvdb::Vec3SGrid>()) {
-            return grid;
-        }
-    }
+    if (!candidates.empty()) return candidates.front();
     std::string found;
     for (const auto& grid : grids) found += " " + grid->getName() + " (" + grid->valueType() + ")";
     throw InputError(path, "holds no float, double or Vec3s grid; found:" +

@@ -251,5 +251,24 @@ TEST(GridFile, GridTypesAndVersionsTheChecksCannotWalkAreRefused) {
     expectRefused(dir.path("old.vdb"), "VDB format version 221");
 }
 
+// Found by fuzz_vdb: an integer grid named "density" was chosen as the volume, and
+// the reader then read it as a Vec3s grid through a null pointer.
+TEST(GridFile, OnlyGridsOfAValueTypeGvrReadsAreChosenAsTheVolume) {
+    openvdb::Int32Grid::Ptr integers = openvdb::Int32Grid::create();
+    integers->setName("density");
+    writeVolumeMetadata(VolumeMetadata{}, *integers);
+    openvdb::FloatGrid::Ptr floats = openvdb::FloatGrid::create();
+    floats->setName("other");
+    EXPECT_EQ(chooseVolumeGrid({integers, floats}, "g.vdb"), floats);
+    try {
+        chooseVolumeGrid({integers}, "g.vdb");
+        ADD_FAILURE() << "an integer grid was chosen as the volume";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("holds no float, double or Vec3s grid; found: density (int32)"),
+                  std::string::npos)
+            << error.what();
+    }
+}
+
 }  // namespace
 }  // namespace gvr
