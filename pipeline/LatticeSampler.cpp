@@ -192,16 +192,19 @@ CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums, float sk
     alignas(16) std::int32_t inCells[kBlockVoxels] = {};
     float points[kBlockVoxels][3];
     const bool exact = evaluation == BlockEvaluation::exact;
-    const bool allInCells = allVoxelsInside(voxels, mFieldFromLattice, mFieldCells);
+    // Rows need only the mask; exact evaluation also needs each point.
+    const bool allInCells = !exact && allVoxelsInside(voxels, mFieldFromLattice, mFieldCells);
     for (auto ijk = voxels.begin(); ijk; ++ijk) {
         const int offset = blockOffset(*ijk);
-        if (allInCells && !exact) {
+        if (allInCells) {
             inCells[offset] = -1;
             continue;
         }
         const Vec3d p = mFieldFromLattice.transform((*ijk).asVec3d());
-        for (int a = 0; a < 3; ++a) points[offset][a] = float(p[a]);
         inCells[offset] = mFieldCells.isInside(p) ? -1 : 0;
+        if (exact) {
+            for (int a = 0; a < 3; ++a) points[offset][a] = float(p[a]);
+        }
     }
     // Each reaching Gaussian in index order: the order GaussianField::evaluate sums
     // in, so that exact evaluation gives the same float at the same point.

@@ -158,7 +158,7 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
                 sampled[l] = sources[l]->sampleBlock(origins[n], values.data() + l * kBlockVoxels * 3);
                 if (!sampled[l].empty()) voxels.expand(sampled[l]);
             }
-            const bool allInside = voxels.empty() || allVoxelsInside(voxels, volumeFromLattice, cells);
+            const bool allInside = allVoxelsInside(voxels, volumeFromLattice, cells);
             for (auto ijk = voxels.begin(); ijk; ++ijk) {
                 if (!allInside && !cells.isInside(volumeFromLattice.transform((*ijk).asVec3d()))) continue;
                 Combined combined;
