@@ -1,9 +1,18 @@
 #include "ShearWarp.h"
 
+#include "FastExp.h"
+
 #include <tbb/parallel_for.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <numeric>
 
 namespace gvr {
 
@@ -17,9 +26,9 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 
 /// Opacity and colour factor for a path 1/cos(angle) slices long, per 16-bit
 /// opacity level: the view may cross the slices obliquely when the stack is reused.
-struct ObliquityTable {
-    std::vector<float> opacity, colourFactor;
-    explicit ObliquityTable(double lengthRatio) : opacity(65536), colourFactor(65536, 1.0f) {
+class ObliquityTable {
+public:
+    explicit ObliquityTable(double lengthRatio) : mLevels(65536) {
         // ln(1 - alpha) per level never changes, so each frame needs one exp a level:
         // 1 - (1 - alpha)^r = 1 - exp(r ln(1 - alpha)).
         static const std::vector<double> logTransmittance = [] {
@@ -28,31 +37,88 @@ struct ObliquityTable {
             return table;
         }();
         for (int level = 0; level < 65536; ++level) {
-            opacity[level] = float(1.0 - std::exp(lengthRatio * logTransmittance[level]));
-            if (level > 0) colourFactor[level] = opacity[level] * 65535.0f / level;
+            const float opacity = float(1.0 - std::exp(lengthRatio * logTransmittance[level]));
+            // Colours are stored x 65535 like opacity, so the factor also scales them to [0, 1].
+            mLevels[level] = {opacity, level > 0 ? opacity / level : 1.0f / 65535.0f};
         }
     }
+
+    /// The premultiplied RGBA that a weighted sum of stored samples (x 65535)
+    /// adds over the oblique path.
+    Floats4 operator()(Floats4 stored) const {
+        const Level& level = mLevels[std::min(65535, int(stored[3] + 0.5f))];
+        Floats4 out = stored * level.colourFactor;
+        out[3] = level.opacity;
+        return out;
+    }
+
+private:
+    struct Level {
+        float opacity, colourFactor;  // side by side: one cache line per lookup
+    };
+    std::vector<Level> mLevels;
 };
 
-/// One slice row as seen through a run: zero outside it.
-struct RowView {
-    const StackSample* samples = nullptr;
-    int begin = 0, end = 0;
-    const StackSample* at(int x) const { return x >= begin && x < end ? samples + (x - begin) : nullptr; }
-};
-
-RowView rowView(const Slice& slice, int row, int height) {
-    if (row < 0 || row >= height) return {};
-    const RowRun& run = slice.rows[row];
-    return {slice.samples.data() + run.offset, int(run.begin), int(run.end)};
+Floats4 toFloats(const StackSample& sample) {
+#if defined(__SSE2__)
+    // GCC turns a generic 16-bit to float conversion into four scalar ones.
+    const __m128i bits = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(&sample));
+    return (Floats4)_mm_cvtepi32_ps(_mm_unpacklo_epi16(bits, _mm_setzero_si128()));
+#else
+    return Floats4{float(sample.r), float(sample.g), float(sample.b), float(sample.a)};
+#endif
 }
 
-void addWeighted(const StackSample* s, float w, float* sum) {
-    if (!s || w == 0.0f) return;
-    sum[0] += w * s->r;
-    sum[1] += w * s->g;
-    sum[2] += w * s->b;
-    sum[3] += w * s->a;
+/// Pixels [first, end) of an intermediate row that a slice row's run reaches.
+struct Span {
+    int first, end;
+    bool operator<(const Span& other) const { return first < other.first; }
+};
+
+/// The pixels of one intermediate row that still take light. Each pixel links to
+/// the first open pixel at or after it, so a stretch of opaque pixels is stepped
+/// over in one jump (Lacroute and Levoy's opaque-pixel links).
+class OpenPixels {
+public:
+    void reset(int width) {
+        mNext.resize(width + 1);  // the last entry is the end: always open
+        std::iota(mNext.begin(), mNext.end(), 0);
+    }
+    /// The first open pixel at or after @a p (the width when none is).
+    int next(int p) {
+        while (mNext[p] != p) {
+            mNext[p] = mNext[mNext[p]];  // halve the path for the next search
+            p = mNext[p];
+        }
+        return p;
+    }
+    void close(int p) { mNext[p] = p + 1; }
+
+private:
+    std::vector<int> mNext;
+};
+
+/// Adds slice row @a row (nothing beyond the slice) to the open pixels its runs
+/// reach, resampled: the sample in column c weighs @a right on pixel c - shift and
+/// @a left on the pixel before it. The shear is the same across one slice, so the
+/// weights are too.
+void addRow(const Slice& slice, int row, int height, int shift, float left, float right, OpenPixels& open,
+            Floats4* contribution, std::vector<Span>& spans) {
+    if (row < 0 || row >= height || left + right == 0.0f) return;
+    for (std::uint32_t r = slice.rowRuns[row]; r < slice.rowRuns[row + 1]; ++r) {
+        const RowRun& run = slice.runs[r];
+        const int begin = int(run.begin), end = int(run.end);
+        const StackSample* samples = slice.samples.data() + run.offset - begin;  // indexed by column
+        const int first = begin - shift - 1, last = end - shift;
+        for (int p = open.next(first); p <= last; p = open.next(p + 1)) {
+            const int c = p + shift;
+            Floats4 sum = contribution[p];
+            if (c >= begin && c < end) sum += right * toFloats(samples[c]);
+            if (c + 1 < end) sum += left * toFloats(samples[c + 1]);
+            contribution[p] = sum;
+        }
+        spans.push_back({first, last + 1});
+    }
 }
 
 /// The intermediate image: the slices sheared for a direction and composited front
@@ -83,46 +149,48 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     const double shiftY = direction.dot(g.e2) / dn * g.sliceMm / g.pixelMm;
     const double lastX = shiftX * (g.slices - 1), lastY = shiftY * (g.slices - 1);
     Intermediate out;
+    // The margins keep every pixel a sample reaches inside the image, whatever the shear.
     out.originX = int(std::floor(std::min(0.0, -lastX))) - 1;
     out.originY = int(std::floor(std::min(0.0, -lastY))) - 1;
     out.width = int(std::ceil(std::max(0.0, -lastX))) + g.width + 1 - out.originX;
     out.height = int(std::ceil(std::max(0.0, -lastY))) + g.height + 1 - out.originY;
     out.rgba.assign(std::size_t(out.width) * out.height * 4, 0.0f);
-    const ObliquityTable table(1.0 / dn);
-    const float scale = 1.0f / 65535.0f;
+    const ObliquityTable oblique(1.0 / dn);
 
     tbb::parallel_for(0, out.height, [&](int row) {
+        // What the current slice adds to each pixel of this row; zero between slices.
+        thread_local std::vector<Floats4> contribution;
+        thread_local std::vector<Span> spans;
+        thread_local OpenPixels open;
+        contribution.assign(out.width, Floats4{});
+        open.reset(out.width);
         float* pixels = out.rgba.data() + std::size_t(row) * out.width * 4;
         const int y = row + out.originY;
-        for (int k = 0; k < g.slices; ++k) {
+        for (int k = 0; k < g.slices && open.next(0) < out.width; ++k) {
             const Slice& slice = stack.slices()[k];
             const double sy = y + k * shiftY, sx = k * shiftX;
             const int jy = int(std::floor(sy)), ix = int(std::floor(sx));
             const float fy = float(sy - jy), fx = float(sx - ix);
-            const RowView upper = rowView(slice, jy, g.height), lower = rowView(slice, jy + 1, g.height);
-            int first = INT32_MAX, last = INT32_MIN;  // pixels that see either row's run
-            for (const RowView* r : {&upper, &lower}) {
-                if (r->begin >= r->end) continue;
-                first = std::min(first, r->begin - 1 - ix - out.originX);
-                last = std::max(last, r->end - 1 - ix - out.originX);
-            }
-            first = std::max(first, 0);
-            last = std::min(last, out.width - 1);
-            for (int p = first; p <= last; ++p) {
-                float* pixel = pixels + std::size_t(p) * 4;
-                if (pixel[3] >= terminationOpacity) continue;
-                const int x = p + out.originX + ix;
-                float sum[4] = {0, 0, 0, 0};
-                addWeighted(upper.at(x), (1 - fx) * (1 - fy), sum);
-                addWeighted(upper.at(x + 1), fx * (1 - fy), sum);
-                addWeighted(lower.at(x), (1 - fx) * fy, sum);
-                addWeighted(lower.at(x + 1), fx * fy, sum);
-                if (sum[3] <= 0.0f) continue;
-                const int level = std::min(65535, int(sum[3] + 0.5f));
-                const float alpha = table.opacity[level], factor = table.colourFactor[level] * scale;
-                const float transmit = 1.0f - pixel[3];
-                for (int c = 0; c < 3; ++c) pixel[c] += transmit * sum[c] * factor;
-                pixel[3] += transmit * alpha;
+            const int shift = out.originX + ix;
+            spans.clear();
+            addRow(slice, jy, g.height, shift, fx * (1 - fy), (1 - fx) * (1 - fy), open, contribution.data(), spans);
+            const auto upperSpans = spans.size();
+            addRow(slice, jy + 1, g.height, shift, fx * fy, (1 - fx) * fy, open, contribution.data(), spans);
+            std::inplace_merge(spans.begin(), spans.begin() + upperSpans, spans.end());
+            // Spans overlap where the two rows' runs do: each pixel is composited once.
+            int done = INT32_MIN;
+            for (const Span& span : spans) {
+                for (int p = open.next(std::max(span.first, done)); p < span.end; p = open.next(p + 1)) {
+                    const Floats4 sum = contribution[p];
+                    contribution[p] = Floats4{};
+                    if (sum[3] <= 0.0f) continue;
+                    Floats4 pixel;
+                    std::memcpy(&pixel, pixels + std::size_t(p) * 4, sizeof pixel);
+                    pixel += (1.0f - pixel[3]) * oblique(sum);
+                    std::memcpy(pixels + std::size_t(p) * 4, &pixel, sizeof pixel);
+                    if (pixel[3] >= terminationOpacity) open.close(p);
+                }
+                done = std::max(done, span.end);
             }
         }
     });

@@ -31,25 +31,37 @@ struct Slab {
     StackSample& at(int i, int j, int k) { return samples[(std::size_t(k) * height + j) * width + i]; }
 };
 
-/// Keeps the run between the first and last visible sample of every row.
+/// Keeps each row's runs of visible samples, joined across gaps shorter than kRunGap.
 Slice compress(const Slab& slab, int k) {
     Slice slice;
-    slice.rows.resize(slab.height);
+    slice.rowRuns.reserve(slab.height + 1);
     const StackSample* plane = slab.samples.data() + std::size_t(k) * slab.height * slab.width;
     std::uint32_t offset = 0;
     for (int j = 0; j < slab.height; ++j) {
+        slice.rowRuns.push_back(std::uint32_t(slice.runs.size()));
         const StackSample* row = plane + std::size_t(j) * slab.width;
-        int first = 0, last = slab.width;
-        while (first < slab.width && row[first].a == 0) ++first;
-        while (last > first && row[last - 1].a == 0) --last;
-        slice.rows[j] = {std::uint32_t(first), std::uint32_t(std::max(first, last)), offset};
-        offset += std::uint32_t(std::max(0, last - first));
+        for (int x = 0; x < slab.width;) {
+            if (row[x].a == 0) {
+                ++x;
+                continue;
+            }
+            int end = x + 1;
+            for (int next = end; next < slab.width && next - end < kRunGap; ++next) {
+                if (row[next].a != 0) end = next + 1;
+            }
+            slice.runs.push_back({std::uint32_t(x), std::uint32_t(end), offset});
+            offset += std::uint32_t(end - x);
+            x = end;
+        }
     }
+    slice.rowRuns.push_back(std::uint32_t(slice.runs.size()));
     slice.samples.resize(offset);
     for (int j = 0; j < slab.height; ++j) {
-        const RowRun& run = slice.rows[j];
-        std::copy(plane + std::size_t(j) * slab.width + run.begin, plane + std::size_t(j) * slab.width + run.end,
-                  slice.samples.begin() + run.offset);
+        const StackSample* row = plane + std::size_t(j) * slab.width;
+        for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r) {
+            const RowRun& run = slice.runs[r];
+            std::copy(row + run.begin, row + run.end, slice.samples.begin() + run.offset);
+        }
     }
     return slice;
 }
@@ -125,7 +137,7 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     : mGeometry(stackGeometryFor(*layers.front().volume, direction, sliceSpacingVoxels, pixelMm)),
       mSlices(mGeometry.slices) {
     const RenderVolume& volume = *layers.front().volume;
-    for (Slice& slice : mSlices) slice.rows.assign(mGeometry.height, RowRun{});
+    for (Slice& slice : mSlices) slice.rowRuns.assign(mGeometry.height + 1, 0);
     std::vector<std::unique_ptr<BlockSource>> sources;
     std::set<Coord> occupied;
     for (const StackLayer& layer : layers) {

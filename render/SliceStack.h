@@ -5,8 +5,8 @@
 /// Slices are sampled on a lattice in world space (pixelMm across, sliceMm apart),
 /// so any stack direction works, not only the volume's axes. Each sample holds
 /// premultiplied colour and the opacity of one slice spacing, 16 bits each; each
-/// slice row keeps only the run between its first and last visible sample, which
-/// is how compositing skips empty space.
+/// slice row keeps only its runs of visible samples (Lacroute's run-length
+/// encoding), which is how compositing skips empty space, inside the body too.
 #pragma once
 
 #include "Classifier.h"
@@ -32,13 +32,20 @@ struct StackSample {
     std::uint16_t r = 0, g = 0, b = 0, a = 0;  ///< premultiplied colour and opacity, x 65535
 };
 
+/// Transparent gaps shorter than this many samples stay inside a run: a run costs
+/// more to step over than a few empty samples cost to composite.
+constexpr int kRunGap = 4;
+
 struct RowRun {
     std::uint32_t begin = 0, end = 0;  ///< samples [begin, end) of the row are stored
     std::uint32_t offset = 0;          ///< where sample `begin` sits in Slice::samples
 };
 
 struct Slice {
-    std::vector<RowRun> rows;  ///< one per row
+    /// Row j's runs are runs[rowRuns[j]] up to runs[rowRuns[j + 1]], left to right;
+    /// every sample outside them is transparent.
+    std::vector<std::uint32_t> rowRuns;
+    std::vector<RowRun> runs;
     std::vector<StackSample> samples;
 };
 
