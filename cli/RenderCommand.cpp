@@ -146,8 +146,7 @@ void addRenderCommand(CLI::App& app) {
                         "for rendering other volumes with exactly the same one through --tf");
     command->add_option("--renderer", flags->renderer, "shear-warp, or raymarch (the reference)")
         ->check(CLI::IsMember({"shear-warp", "raymarch"}))->capture_default_str();
-    command->add_option("--reuse-angle", flags->shearWarp.reuseAngleDeg,
-                        "Reuse the slice stack while the view is within this many degrees")->capture_default_str();
+    addStackFlags(*command, flags->shearWarp);
     command->add_option("--slice-spacing", flags->shearWarp.sliceSpacingVoxels, "Slice spacing in voxels")->capture_default_str();
     command->add_option("--termination", flags->shearWarp.terminationOpacity,
                         "Early ray termination at this opacity")->capture_default_str();

@@ -7,6 +7,7 @@
 #include "VolumeClassifier.h"
 
 #include <filesystem>
+#include <map>
 #include <limits>
 #include <sstream>
 
@@ -47,6 +48,20 @@ std::pair<int, int> parseImageSize(const std::string& text) {
 Classifier classifierFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch) {
     if (!tf.empty() && std::filesystem::is_regular_file(tf)) return volumeClassifier(volume, readTransferFunction(tf));
     return presetClassifier(volume, tf, mismatch);
+}
+
+void addStackFlags(CLI::App& command, ShearWarpSettings& settings) {
+    const std::map<std::string, StackOrientation> orientations = {{"axes", StackOrientation::axes},
+                                                                  {"view", StackOrientation::view}};
+    command.add_option("--stacks", settings.stacks,
+                       "axes: slice stacks across the world axis nearest the view, each built once and kept "
+                       "(an orbit builds two or three); view: a stack across the view, rebuilt beyond --reuse-angle")
+        ->transform(CLI::CheckedTransformer(orientations).description(""))
+        ->type_name("axes|view")
+        ->default_str("axes");
+    command.add_option("--reuse-angle", settings.reuseAngleDeg,
+                       "With --stacks view: reuse the stack while the view is within this many degrees")
+        ->capture_default_str();
 }
 
 }  // namespace gvr

@@ -7,6 +7,9 @@
 #include "GaussianAsset.h"
 #include "Ingest.h"
 #include "RenderVolume.h"
+#include "ShearWarp.h"
+
+#include <CLI/CLI.hpp>
 
 #include <memory>
 #include <optional>
@@ -34,5 +37,8 @@ std::pair<int, int> parseImageSize(const std::string& text);
 /// The classifier of --tf: a JSON file, else a preset fitted to @a volume (empty:
 /// the preset for data like these). @a mismatch: as for presetClassifier.
 Classifier classifierFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch = nullptr);
+
+/// --stacks and --reuse-angle, which render and view share.
+void addStackFlags(CLI::App& command, ShearWarpSettings& settings);
 
 }  // namespace gvr

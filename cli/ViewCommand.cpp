@@ -282,8 +282,7 @@ void addViewCommand(CLI::App& app) {
     command->add_option("--size", flags->size, "Window size WIDTHxHEIGHT in pixels")->capture_default_str();
     command->add_option("--azimuth", flags->azimuth, "Starting azimuth in degrees, as gvr render's")->capture_default_str();
     command->add_option("--elevation", flags->elevation, "Starting elevation in degrees")->capture_default_str();
-    command->add_option("--reuse-angle", flags->shearWarp.reuseAngleDeg,
-                        "Reuse the slice stack while the view is within this many degrees")->capture_default_str();
+    addStackFlags(*command, flags->shearWarp);
     command->add_option("--screenshots", flags->screenshots, "Folder for the screenshots (key s)")->capture_default_str();
     command->add_option("--frames", flags->frames, "Close after this many frames (0: when the window closes)");
     addSourceFlags(*command, flags->source);

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <numeric>
 
 namespace gvr {
@@ -139,6 +140,25 @@ std::string ShearWarpSettings::validate() const {
     return {};
 }
 
+Vec3d ShearWarpSettings::stackNormalFor(const Vec3d& direction) const {
+    if (stacks == StackOrientation::view) return direction.unit();
+    // Ties go to the first axis, so that a view at exactly 45 degrees has one stack.
+    int axis = 0;
+    for (int a = 1; a < 3; ++a) {
+        if (std::abs(direction[a]) > std::abs(direction[axis])) axis = a;
+    }
+    return Vec3d(axis == 0, axis == 1, axis == 2);
+}
+
+bool ShearWarpSettings::serves(const Vec3d& normal, const Vec3d& direction) const {
+    if (stacks == StackOrientation::axes) return normal == stackNormalFor(direction);
+    return angleToStackDeg(direction, normal) <= reuseAngleDeg;
+}
+
+double angleToStackDeg(const Vec3d& direction, const Vec3d& normal) {
+    return angleBetweenDeg(direction, direction.dot(normal) < 0.0 ? -normal : normal);
+}
+
 namespace {
 
 Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, float terminationOpacity) {
@@ -155,7 +175,9 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     out.width = int(std::ceil(std::max(0.0, -lastX))) + g.width + 1 - out.originX;
     out.height = int(std::ceil(std::max(0.0, -lastY))) + g.height + 1 - out.originY;
     out.rgba.assign(std::size_t(out.width) * out.height * 4, 0.0f);
-    const ObliquityTable oblique(1.0 / dn);
+    const ObliquityTable oblique(1.0 / std::abs(dn));
+    // A view from behind the stack meets its slices last to first.
+    const bool backwards = dn < 0.0;
 
     tbb::parallel_for(0, out.height, [&](int row) {
         // What the current slice adds to each pixel of this row; zero between slices.
@@ -166,7 +188,8 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
         open.reset(out.width);
         float* pixels = out.rgba.data() + std::size_t(row) * out.width * 4;
         const int y = row + out.originY;
-        for (int k = 0; k < g.slices && open.next(0) < out.width; ++k) {
+        for (int n = 0; n < g.slices && open.next(0) < out.width; ++n) {
+            const int k = backwards ? g.slices - 1 - n : n;
             const Slice& slice = stack.slices()[k];
             const double sy = y + k * shiftY, sx = k * shiftX;
             const int jy = int(std::floor(sy)), ix = int(std::floor(sx));
@@ -210,14 +233,21 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
     const auto start = std::chrono::steady_clock::now();
     FrameStats frame;
     frame.index = mFrames++;
-    frame.reused = mStack && angleBetweenDeg(camera.direction, mStack->geometry().normal) <= mSettings.reuseAngleDeg;
+    auto serving = std::find_if(mStacks.begin(), mStacks.end(), [&](const std::unique_ptr<SliceStack>& stack) {
+        return mSettings.serves(stack->geometry().normal, camera.direction);
+    });
+    frame.reused = serving != mStacks.end();
     if (!frame.reused) {
+        // A view stack serves only its cone: the next one replaces it.
+        if (mSettings.stacks == StackOrientation::view) mStacks.clear();
         // Samples finer than the image's pixels would only be averaged away by the warp.
-        mStack = std::make_unique<SliceStack>(mLayers, camera.direction, mSettings.sliceSpacingVoxels, camera.pixelMm);
+        mStacks.push_back(std::make_unique<SliceStack>(mLayers, mSettings.stackNormalFor(camera.direction),
+                                                       mSettings.sliceSpacingVoxels, camera.pixelMm));
+        serving = std::prev(mStacks.end());
         frame.buildMs = millisecondsSince(start);
-        frame.gaussiansTouched = mStack->gaussiansTouched();
+        frame.gaussiansTouched = (*serving)->gaussiansTouched();
     }
-    Framebuffer image = shearWarpFrame(*mStack, camera, mSettings.terminationOpacity, frame);
+    Framebuffer image = shearWarpFrame(**serving, camera, mSettings.terminationOpacity, frame);
     frame.totalMs = millisecondsSince(start);
     if (stats) *stats = frame;
     return image;

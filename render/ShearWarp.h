@@ -1,8 +1,9 @@
 /// @file ShearWarp.h
-/// @brief Shear-warp rendering (Lacroute and Levoy; the paper's section 3.4): one
+/// @brief Shear-warp rendering (Lacroute and Levoy; the paper's section 3.4): a
 /// stack of slices, sheared and composited front to back into an intermediate
-/// image, then warped to the final image. The stack is reused while the view stays
-/// within a cone around the direction it was built for, and rebuilt beyond.
+/// image, then warped to the final image. Stacks lie across the world's axes and
+/// are kept, so three serve every view; or they lie across the view and are reused
+/// while it stays within a cone, and rebuilt beyond.
 #pragma once
 
 #include "Camera.h"
@@ -13,16 +14,35 @@
 
 namespace gvr {
 
+/// Which way slice stacks lie.
+enum class StackOrientation {
+    /// Across the world axis nearest the view, as Lacroute and Levoy's: the view is
+    /// at most 54.7 degrees off it, and the three stacks, each built once, serve every view.
+    axes,
+    /// Across the view itself, rebuilt when the view turns beyond reuseAngleDeg.
+    view,
+};
+
 struct ShearWarpSettings {
+    StackOrientation stacks = StackOrientation::axes;
     double sliceSpacingVoxels = 1.0;   ///< slice spacing in voxels (the smallest voxel edge); > 0
-    double reuseAngleDeg = 15.0;       ///< keep the stack while the view is within this; [0, 60]
+    double reuseAngleDeg = 15.0;       ///< view stacks: keep one while the view is within this; [0, 60]
     float terminationOpacity = 0.98f;  ///< a pixel stops accumulating at this opacity; (0, 1]
     /// @return an empty string, or what is wrong, naming the flag.
     std::string validate() const;
     /// How thin a Gaussian may be before GaussianRenderVolume widens it: half a slice,
     /// so that none falls between two slices.
     float minimumFootprintVoxels() const { return float(0.5 * sliceSpacingVoxels); }
+
+    /// The normal of the stack to build for a view along @a direction.
+    openvdb::Vec3d stackNormalFor(const openvdb::Vec3d& direction) const;
+    /// Whether a stack with @a normal serves a view along @a direction.
+    bool serves(const openvdb::Vec3d& normal, const openvdb::Vec3d& direction) const;
 };
+
+/// Degrees between a view along @a direction and the slices' normal @a normal,
+/// whichever side the view comes from: a stack is composited either way.
+double angleToStackDeg(const openvdb::Vec3d& direction, const openvdb::Vec3d& normal);
 
 /// What one frame cost, as `gvr render --stats` writes it.
 struct FrameStats {
@@ -47,16 +67,16 @@ public:
     /// Several layers in one stack (see SliceStack), e.g. structures with their own styles.
     ShearWarpRenderer(std::vector<StackLayer> layers, const ShearWarpSettings& settings);
 
-    /// Renders @a camera's view; builds a stack first when there is none or the view
-    /// is more than reuseAngleDeg from the stack's direction.
+    /// Renders @a camera's view; builds a stack first when none kept serves it.
     Framebuffer render(const OrthoCamera& camera, FrameStats* stats = nullptr);
 
-    const SliceStack* stack() const { return mStack.get(); }
+    /// The stacks kept: up to three across the axes, or the last one across a view.
+    const std::vector<std::unique_ptr<SliceStack>>& stacks() const { return mStacks; }
 
 private:
     std::vector<StackLayer> mLayers;
     ShearWarpSettings mSettings;
-    std::unique_ptr<SliceStack> mStack;
+    std::vector<std::unique_ptr<SliceStack>> mStacks;
     int mFrames = 0;
 };
 

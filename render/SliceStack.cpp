@@ -66,6 +66,14 @@ Slice compress(const Slab& slab, int k) {
     return slice;
 }
 
+/// Enough samples @a step apart to cover [lo, hi], and the first one's place:
+/// centred, so that samples along a volume's axis fall on its voxel centres
+/// whenever the step is one voxel, and never on the faces of its cells.
+std::pair<int, double> centredSamples(double lo, double hi, double step) {
+    const int count = std::max(1, int(std::ceil((hi - lo) / step - 1e-9)));
+    return {count, lo + 0.5 * ((hi - lo) - (count - 1) * step)};
+}
+
 /// The lattice of slices perpendicular to @a direction that covers the volume,
 /// @a sliceSpacingVoxels apart (a voxel is the volume's smallest voxel edge) and
 /// @a pixelMm across, but never finer than one voxel.
@@ -83,10 +91,13 @@ StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& directio
         lo = openvdb::math::minComponent(lo, p);
         hi = openvdb::math::maxComponent(hi, p);
     }
-    g.width = int(std::ceil((hi[0] - lo[0]) / g.pixelMm)) + 1;
-    g.height = int(std::ceil((hi[1] - lo[1]) / g.pixelMm)) + 1;
-    g.slices = int(std::ceil((hi[2] - lo[2]) / g.sliceMm)) + 1;
-    g.origin = g.e1 * lo[0] + g.e2 * lo[1] + g.normal * lo[2];
+    const auto [width, first1] = centredSamples(lo[0], hi[0], g.pixelMm);
+    const auto [height, first2] = centredSamples(lo[1], hi[1], g.pixelMm);
+    const auto [slices, firstN] = centredSamples(lo[2], hi[2], g.sliceMm);
+    g.width = width;
+    g.height = height;
+    g.slices = slices;
+    g.origin = g.e1 * first1 + g.e2 * first2 + g.normal * firstN;
     return g;
 }
 

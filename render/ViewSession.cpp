@@ -29,23 +29,28 @@ ViewSession::~ViewSession() {
 
 void ViewSession::setScene(Scene scene) { mScene = std::move(scene); }
 
-bool ViewSession::fits(const OrthoCamera& camera) const {
-    if (!mCurrent.stack || mCurrent.scene != mScene) return false;
-    const StackGeometry& g = mCurrent.stack->geometry();
+bool ViewSession::fits(const BuiltStack& built, const OrthoCamera& camera) const {
+    if (!built.stack || built.scene != mScene) return false;
+    const StackGeometry& g = built.stack->geometry();
     // Stacks are never finer than a voxel (SliceStack), however far the view zooms in.
-    const double wanted = std::max(camera.pixelMm, mCurrent.scene->layers.front().volume->voxelMm());
+    const double wanted = std::max(camera.pixelMm, built.scene->layers.front().volume->voxelMm());
     const double samplesPerPixel = wanted / g.pixelMm;
-    return angleBetweenDeg(camera.direction, g.normal) <= mSettings.reuseAngleDeg &&
-           samplesPerPixel * kZoomInLimit >= 1.0 && samplesPerPixel <= kZoomOutLimit;
+    return mSettings.serves(g.normal, camera.direction) && samplesPerPixel * kZoomInLimit >= 1.0 &&
+           samplesPerPixel <= kZoomOutLimit;
 }
 
 bool ViewSession::shearableFor(const OrthoCamera& camera) const {
-    return mCurrent.stack && angleBetweenDeg(camera.direction, mCurrent.stack->geometry().normal) <= kMaxStaleAngleDeg;
+    return mCurrent.stack && angleToStackDeg(camera.direction, mCurrent.stack->geometry().normal) <= kMaxStaleAngleDeg;
+}
+
+void ViewSession::recallKept(const OrthoCamera& camera) {
+    const auto kept = std::find_if(mKept.begin(), mKept.end(), [&](const BuiltStack& b) { return fits(b, camera); });
+    if (kept != mKept.end()) std::swap(*kept, mCurrent);
 }
 
 void ViewSession::startBuild(const OrthoCamera& camera) {
-    mBuild = std::async(std::launch::async, [scene = mScene, direction = camera.direction, pixelMm = camera.pixelMm,
-                                             spacing = mSettings.sliceSpacingVoxels] {
+    mBuild = std::async(std::launch::async, [scene = mScene, direction = mSettings.stackNormalFor(camera.direction),
+                                             pixelMm = camera.pixelMm, spacing = mSettings.sliceSpacingVoxels] {
         const auto start = std::chrono::steady_clock::now();
         BuiltStack built;
         built.scene = scene;
@@ -57,7 +62,15 @@ void ViewSession::startBuild(const OrthoCamera& camera) {
 
 void ViewSession::adoptFinishedBuild(FrameStats& frame) {
     if (!mBuild.valid() || mBuild.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+    if (mSettings.stacks == StackOrientation::axes) mKept.push_back(std::move(mCurrent));
     mCurrent = mBuild.get();
+    // One stack an axis, of the scene on show: a stack replaced or of another scene goes.
+    mKept.erase(std::remove_if(mKept.begin(), mKept.end(),
+                               [&](const BuiltStack& b) {
+                                   return !b.stack || b.scene != mScene ||
+                                          b.stack->geometry().normal == mCurrent.stack->geometry().normal;
+                               }),
+                mKept.end());
     ++mStacksBuilt;
     frame.reused = false;
     frame.buildMs = mCurrent.buildMs;
@@ -70,7 +83,8 @@ Framebuffer ViewSession::render(const OrthoCamera& camera, FrameStats* stats) {
     frame.index = mFrames++;
     frame.reused = true;
     adoptFinishedBuild(frame);
-    if (!fits(camera) && !mBuild.valid()) startBuild(camera);
+    if (!fits(mCurrent, camera)) recallKept(camera);
+    if (!fits(mCurrent, camera) && !mBuild.valid()) startBuild(camera);
     const bool sameSize = mLastFrame.width == camera.width && mLastFrame.height == camera.height;
     // Nothing to show meanwhile (the first frame, or a new size far off): wait.
     while (!sameSize && !shearableFor(camera)) {
@@ -78,7 +92,7 @@ Framebuffer ViewSession::render(const OrthoCamera& camera, FrameStats* stats) {
         mBuild.wait();
         adoptFinishedBuild(frame);
     }
-    frame.stale = !fits(camera);
+    frame.stale = !fits(mCurrent, camera);
     if (!frame.stale || shearableFor(camera) || !sameSize) {
         mLastFrame = shearWarpFrame(*mCurrent.stack, camera, mSettings.terminationOpacity, frame);
     }

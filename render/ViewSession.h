@@ -1,7 +1,8 @@
 /// @file ViewSession.h
-/// @brief Shear-warp frames for an interactive window: when the view leaves the
-/// stack's cone (or the scene changes), the new stack is built in the background
+/// @brief Shear-warp frames for an interactive window: when the view needs a stack
+/// it does not have (or the scene changes), the new stack is built in the background
 /// while frames keep coming from the old one, so the window never waits for a build.
+/// Stacks across the axes are kept, so that an orbit builds each at most once.
 #pragma once
 
 #include "ShearWarp.h"
@@ -9,6 +10,7 @@
 
 #include <future>
 #include <memory>
+#include <vector>
 
 namespace gvr {
 
@@ -43,14 +45,17 @@ private:
         double buildMs = 0;
     };
 
-    bool fits(const OrthoCamera& camera) const;
+    bool fits(const BuiltStack& built, const OrthoCamera& camera) const;
     bool shearableFor(const OrthoCamera& camera) const;
+    /// Makes a kept stack that fits @a camera the current one, if there is one.
+    void recallKept(const OrthoCamera& camera);
     void startBuild(const OrthoCamera& camera);
     void adoptFinishedBuild(FrameStats& frame);
 
     Scene mScene;
     ShearWarpSettings mSettings;
     BuiltStack mCurrent;
+    std::vector<BuiltStack> mKept;  ///< other axes' stacks of the current scene
     std::future<BuiltStack> mBuild;
     Framebuffer mLastFrame;
     int mFrames = 0, mStacksBuilt = 0;

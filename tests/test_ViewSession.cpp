@@ -1,5 +1,6 @@
 // The interactive session: the same frames as the renderer once settled, stale
-// frames (never a wait) while a stack builds, and rebuilds on scene and zoom changes.
+// frames (never a wait) while a stack builds, axis stacks kept, and rebuilds on
+// scene and zoom changes.
 
 #include "TestHelpers.h"
 #include "ViewSession.h"
@@ -47,10 +48,16 @@ TEST(ViewSession, SettledFramesAreTheRenderersFrames) {
     EXPECT_EQ(session.renderSettled(cameraFor(*volume, 75.0)).rgba, freshFrame(scene, cameraFor(*volume, 75.0)).rgba);
 }
 
+ShearWarpSettings viewStacks() {
+    ShearWarpSettings settings;
+    settings.stacks = StackOrientation::view;
+    return settings;
+}
+
 TEST(ViewSession, ATurnBeyondTheConeIsDrawnFromTheOldStackWhileTheNewOneBuilds) {
     const auto volume = blob();
     const Scene scene = sceneOf(*volume, 0.1f);
-    ViewSession session(scene, ShearWarpSettings{});
+    ViewSession session(scene, viewStacks());
     session.render(cameraFor(*volume, 0.0));
     FrameStats turned;
     const Framebuffer stale = session.render(cameraFor(*volume, 30.0), &turned);
@@ -60,8 +67,26 @@ TEST(ViewSession, ATurnBeyondTheConeIsDrawnFromTheOldStackWhileTheNewOneBuilds) 
     FrameStats settled;
     const Framebuffer rebuilt = session.renderSettled(cameraFor(*volume, 30.0), &settled);
     EXPECT_FALSE(settled.stale);
-    EXPECT_EQ(rebuilt.rgba, freshFrame(scene, cameraFor(*volume, 30.0)).rgba);
+    EXPECT_EQ(rebuilt.rgba, ShearWarpRenderer(scene->layers, viewStacks()).render(cameraFor(*volume, 30.0)).rgba);
     EXPECT_NE(stale.rgba, rebuilt.rgba);  // another stack, though the same view
+}
+
+TEST(ViewSession, AxisStacksAreKeptSoThatTurningBackBuildsNothing) {
+    const auto volume = blob();
+    const Scene scene = sceneOf(*volume, 0.1f);
+    ViewSession session(scene, ShearWarpSettings{});
+    session.renderSettled(cameraFor(*volume, 0.0));    // along y
+    session.renderSettled(cameraFor(*volume, 80.0));   // along x
+    session.renderSettled(cameraFor(*volume, 200.0));  // along y, from behind
+    EXPECT_EQ(session.stacksBuilt(), 2);
+    FrameStats back;
+    const Framebuffer image = session.render(cameraFor(*volume, 100.0), &back);  // x again
+    EXPECT_FALSE(back.stale);
+    EXPECT_FALSE(session.building());
+    EXPECT_EQ(session.stacksBuilt(), 2);
+    ShearWarpRenderer renderer(scene->layers, ShearWarpSettings{});
+    renderer.render(cameraFor(*volume, 80.0));  // the x stack on the same lattice as the session's
+    EXPECT_EQ(image.rgba, renderer.render(cameraFor(*volume, 100.0)).rgba);
 }
 
 TEST(ViewSession, ANewSceneOrAZoomRebuildsTheStack) {
