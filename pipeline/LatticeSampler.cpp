@@ -270,15 +270,9 @@ void LatticeSampler::addRows(std::uint32_t index, const Coord& origin, const Coo
             const double qMin = constant - 0.25 * zLinear * zLinear * inverseZz;
             if (qMin > cutoff2) continue;  // the row misses the ellipsoid
             const float zCentre = float(-0.5 * zLinear * inverseZz), qMinF = float(qMin);
-            // The chord through the ellipsoid, a little wider than rounding can move
-            // its ends: the lanes beyond it are all cut, so only lanes that meet it are evaluated.
-            const double halfChord = std::sqrt((cutoff2 - qMin) * inverseZz) + 1e-3 * (1.0 + std::abs(zCentre));
-            const int zFirst = int(std::max(0.0, std::ceil(zCentre - halfChord)));
-            const int zLast = int(std::min(kBlockDim - 1.0, std::floor(zCentre + halfChord)));
-            if (zFirst > zLast) continue;
             const int base = blockOffset(Coord(x, y, origin.z()));
-            alignas(16) float e[kBlockDim] = {};
-            for (int half = zFirst & ~3; half <= zLast; half += 4) {
+            alignas(16) float e[kBlockDim];
+            for (int half = 0; half < kBlockDim; half += 4) {
                 const Floats4 dz = Floats4{0.0f, 1.0f, 2.0f, 3.0f} + float(half) - zCentre;
                 const Floats4 q = zz * dz * dz + qMinF;
                 Ints4 keep;
@@ -293,9 +287,9 @@ void LatticeSampler::addRows(std::uint32_t index, const Coord& origin, const Coo
             }
             float* row = sums + base * channels;
             if (channels == 1) {
-                for (int z = zFirst; z <= zLast; ++z) row[z] += g.amplitude[0] * e[z];
+                for (int z = 0; z < kBlockDim; ++z) row[z] += g.amplitude[0] * e[z];
             } else {
-                for (int z = zFirst; z <= zLast; ++z) {
+                for (int z = 0; z < kBlockDim; ++z) {
                     for (int c = 0; c < channels; ++c) row[z * channels + c] += g.amplitude[c] * e[z];
                 }
             }
