@@ -22,9 +22,9 @@ def run(arguments):
     return subprocess.run([GVR] + arguments, check=True, capture_output=True, text=True).stdout
 
 
-def measured(arguments):
-    """Runs gvr with @arguments: (standard output, wall seconds, peak RSS in MiB)."""
-    probe = subprocess.run([sys.executable, "-c", _MEASURE, GVR] + arguments, capture_output=True, text=True,
+def measured(arguments, gvr=GVR):
+    """Runs @gvr with @arguments: (standard output, wall seconds, peak RSS in MiB)."""
+    probe = subprocess.run([sys.executable, "-c", _MEASURE, gvr] + arguments, capture_output=True, text=True,
                            check=True)
     result = json.loads(probe.stdout)
     if result["code"] != 0:

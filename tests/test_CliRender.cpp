@@ -24,18 +24,31 @@ TEST(CliRender, CtFrameMatchesTheStoredImage) {
     test::TempDir dir;
     const std::string grid = dir.path("ct.vdb"), frame = dir.path("ct.png");
     ASSERT_EQ(runGvr("ingest -q '" + test::sharedData("ct-head-visible-human-png") + "' -o '" + grid + "'", dir).exitCode, 0);
-    // Made once with this command and checked by eye: head above the shoulders and the table.
-    const test::CommandResult run =
-        runGvr("render -q '" + grid + "' -o '" + frame + "' --size 160x160 --azimuth 30 --elevation 15", dir);
+    // Made once with this command (view stacks were the only ones then) and checked
+    // by eye: head above the shoulders and the table.
+    const test::CommandResult run = runGvr(
+        "render -q '" + grid + "' -o '" + frame + "' --size 160x160 --azimuth 30 --elevation 15 --stacks view", dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
     EXPECT_GE(pngPsnr(frame, std::string(GVR_TEST_DATA) + "/ct_head_160.png"), 40.0);
+}
+
+TEST(CliRender, AnOrbitBuildsOneStackAnAxis) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    // Azimuth 30 + 45 f at elevation 15 looks along y, x, x, y, y, x, x, y.
+    const test::CommandResult run = runGvr("render -q '" + grid + "' -o '" + dir.path("turn.png") +
+                                               "' --size 48x48 --orbit 8 --json", dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const nlohmann::json frames = nlohmann::json::parse(run.out)["frames"];
+    ASSERT_EQ(frames.size(), 8u);
+    for (int f = 0; f < 8; ++f) EXPECT_EQ(frames[f]["reused"], f != 0 && f != 1) << f;
 }
 
 TEST(CliRender, OrbitReusesTheStackAndWritesStatistics) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
     const test::CommandResult run = runGvr("render -q '" + grid + "' -o '" + dir.path("turn.png") +
-                                               "' --size 48x48 --orbit 8 --reuse-angle 50 --stats '" +
+                                               "' --size 48x48 --orbit 8 --stacks view --reuse-angle 50 --stats '" +
                                                dir.path("stats.json") + "'", dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
     const nlohmann::json stats = nlohmann::json::parse(test::readBytes(dir.path("stats.json")));
@@ -72,6 +85,7 @@ TEST(CliRender, BadInputLeavesNoImage) {
     test::writeBytes(dir.path("bad.json"), R"({"points": [[0, 2, 0, 0, 0]]})");
     for (const std::string& flags : {std::string("--size 0x10"), std::string("--size big"), std::string("--tf bone"),
                                      "--tf '" + dir.path("bad.json") + "'", std::string("--reuse-angle 90"),
+                                     std::string("--stacks diagonal"),
                                      std::string("--slice-spacing 0"), std::string("--slice-spacing 1e-9"),
                                      std::string("--renderer raymarch --step 1e-9"), std::string("--azimuth nan")}) {
         const test::CommandResult run = runGvr("render '" + grid + "' -o '" + dir.path("out/x.png") + "' " + flags, dir);
