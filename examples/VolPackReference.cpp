@@ -60,7 +60,10 @@ private:
     vpContext* mContext;
 };
 
-void validate(const VolPackVolume& volume, int width, int height, int frames) {
+void validate(const VolPackVolume& volume, int width, int height, int frames, const std::vector<float>& opacityByValue) {
+    if (!opacityByValue.empty() && opacityByValue.size() != VP_SCALAR_MAX + 1) {
+        throw std::invalid_argument("VolPack: the opacity table needs one entry per 8-bit value");
+    }
     const long long count = 1LL * volume.nx * volume.ny * volume.nz;
     if (volume.nx < 3 || volume.ny < 3 || volume.nz < 3 || volume.nx > VP_MAX_VOLUME_DIM ||
         volume.ny > VP_MAX_VOLUME_DIM || volume.nz > VP_MAX_VOLUME_DIM || count > INT_MAX) {
@@ -77,8 +80,8 @@ void validate(const VolPackVolume& volume, int width, int height, int frames) {
     }
 }
 
-// Builds VolPack's run-length encoded, classified volume: opacity = scalar ramp x gradient ramp.
-void classify(Session& s, const VolPackVolume& volume) {
+// Builds VolPack's run-length encoded, classified volume: opacity = scalar table x gradient ramp.
+void classify(Session& s, const VolPackVolume& volume, const std::vector<float>& opacityByValue) {
     vpContext* ctx = s.context();
     s.check(vpSetVolumeSize(ctx, volume.nx, volume.ny, volume.nz), "vpSetVolumeSize");
     s.check(vpSetVoxelSize(ctx, sizeof(Voxel), 3, 1, 2), "vpSetVoxelSize");  // 3 fields: 1 shades, 2 classify
@@ -89,20 +92,28 @@ void classify(Session& s, const VolPackVolume& volume) {
     s.check(vpSetVoxelField(ctx, kGradientField, sizeof(Voxel::gradient), offsetof(Voxel, gradient), VP_GRAD_MAX),
             "vpSetVoxelField(gradient)");
 
-    // Scalar ramp: transparent at 0, opaque from 24 of 255 (the gvr issue's classification).
-    int scalarX[] = {0, 24, VP_SCALAR_MAX};
-    float scalarY[] = {0.0f, 1.0f, 1.0f};
-    s.check(vpRamp(s.scalarRamp.data(), sizeof(float), 3, scalarX, scalarY), "vpRamp(scalar)");
-    // Gradient ramp from the VolPack examples: flat regions vanish, so surfaces show.
-    int gradientX[] = {0, 5, 20, VP_GRAD_MAX};
-    float gradientY[] = {0.0f, 0.0f, 1.0f, 1.0f};
-    s.check(vpRamp(s.gradientRamp.data(), sizeof(float), 4, gradientX, gradientY), "vpRamp(gradient)");
+    if (opacityByValue.empty()) {
+        // Scalar ramp: transparent at 0, opaque from 24 of 255 (the gvr issue's classification).
+        int scalarX[] = {0, 24, VP_SCALAR_MAX};
+        float scalarY[] = {0.0f, 1.0f, 1.0f};
+        s.check(vpRamp(s.scalarRamp.data(), sizeof(float), 3, scalarX, scalarY), "vpRamp(scalar)");
+        // Gradient ramp from the VolPack examples: flat regions vanish, so surfaces show.
+        int gradientX[] = {0, 5, 20, VP_GRAD_MAX};
+        float gradientY[] = {0.0f, 0.0f, 1.0f, 1.0f};
+        s.check(vpRamp(s.gradientRamp.data(), sizeof(float), 4, gradientX, gradientY), "vpRamp(gradient)");
+    } else {
+        // The caller's table alone: the gradient factor is 1 everywhere.
+        std::copy(opacityByValue.begin(), opacityByValue.end(), s.scalarRamp.begin());
+        s.gradientRamp.fill(1.0f);
+    }
     s.check(vpSetClassifierTable(ctx, kScalarParam, kScalarField, s.scalarRamp.data(), sizeof(s.scalarRamp)),
             "vpSetClassifierTable(scalar)");
     s.check(vpSetClassifierTable(ctx, kGradientParam, kGradientField, s.gradientRamp.data(), sizeof(s.gradientRamp)),
             "vpSetClassifierTable(gradient)");
-    // Voxels below this opacity are left out of the run-length encoding altogether.
-    s.check(vpSetd(ctx, VP_MIN_VOXEL_OPACITY, 0.05), "vpSetd(VP_MIN_VOXEL_OPACITY)");
+    // Voxels below this opacity are left out of the run-length encoding altogether; with
+    // the caller's table, only those gvr's 16-bit stacks would drop too.
+    const double minimumOpacity = opacityByValue.empty() ? 0.05 : 1.0 / 65535.0;
+    s.check(vpSetd(ctx, VP_MIN_VOXEL_OPACITY, minimumOpacity), "vpSetd(VP_MIN_VOXEL_OPACITY)");
 
     // Computes gradients and normals and classifies in one pass, without a full Voxel array.
     // VolPack only reads the scalars; its C signature just lacks the const.
@@ -189,13 +200,13 @@ void setView(Session& s, const VolPackVolume& volume, const ViewAxes& view, int 
 }  // namespace
 
 VolPackResult renderWithVolPack(const VolPackVolume& volume, int width, int height, int frames, double stepDeg,
-                                double elevationDeg) {
-    validate(volume, width, height, frames);
+                                double elevationDeg, const std::vector<float>& opacityByValue) {
+    validate(volume, width, height, frames, opacityByValue);
     Session session;
     VolPackResult result;
 
     const auto classifyStart = Clock::now();
-    classify(session, volume);
+    classify(session, volume, opacityByValue);
     result.classifySeconds = secondsSince(classifyStart);
 
     setUpShadingAndImage(session, width, height);

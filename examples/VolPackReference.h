@@ -32,14 +32,17 @@ struct VolPackResult {
 /// view's window fits the volume's projected corners with a 2 % margin. Spacing scales the model
 /// matrix; VolPack's normals and gradient magnitudes stay in voxel units.
 ///
-/// Classification: scalar opacity ramp from 0 at value 0 to 1 at value 24 (of 255), multiplied by
-/// a gradient-magnitude ramp (VolPack's gradient-weighted classification, as in its examples),
-/// minimum voxel opacity 0.05, early ray termination at opacity 0.95. Shading: one directional
-/// light, grey Phong material, VP_LUMINANCE image.
+/// Classification: with @a opacityByValue (256 opacities per voxel, by 8-bit value), that
+/// table alone, and every voxel above opacity 0 is kept, as gvr's stacks keep every
+/// visible sample: the same classification as gvr's, for a like-for-like comparison.
+/// Without it, a scalar opacity ramp from 0 at value 0 to 1 at value 24 (of 255),
+/// multiplied by a gradient-magnitude ramp (VolPack's gradient-weighted classification,
+/// as in its examples), minimum voxel opacity 0.05. Early ray termination at opacity
+/// 0.95. Shading: one directional light, grey Phong material, VP_LUMINANCE image.
 ///
-/// @throw std::invalid_argument if the volume or the image size is unusable.
+/// @throw std::invalid_argument if the volume, the image size or the table is unusable.
 /// @throw std::runtime_error with VolPack's error string on failure.
 VolPackResult renderWithVolPack(const VolPackVolume& volume, int width, int height, int frames,
-                                double stepDeg, double elevationDeg);
+                                double stepDeg, double elevationDeg, const std::vector<float>& opacityByValue = {});
 
 }  // namespace gvr
