@@ -63,7 +63,7 @@ public:
         mState.tf = flags.tf.empty() ? defaultPreset(mInput.volume->channels(), mInput.volume->statistics()) : flags.tf;
         mInitial = mState;
         classify();
-        mSession = std::make_unique<ViewSession>(scene(), flags.shearWarp);
+        mSession = std::make_unique<ViewSession>(scene(), flags.shearWarp, Prefetch::nextAxis);
     }
 
     /// Why the transfer function does not suit the data; empty when it does.

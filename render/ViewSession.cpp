@@ -20,8 +20,8 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-ViewSession::ViewSession(Scene scene, const ShearWarpSettings& settings)
-    : mScene(std::move(scene)), mSettings(settings) {}
+ViewSession::ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch)
+    : mScene(std::move(scene)), mSettings(settings), mPrefetch(prefetch) {}
 
 ViewSession::~ViewSession() {
     if (mBuild.valid()) mBuild.wait();
@@ -48,30 +48,59 @@ void ViewSession::recallKept(const OrthoCamera& camera) {
     if (kept != mKept.end()) std::swap(*kept, mCurrent);
 }
 
-void ViewSession::startBuild(const OrthoCamera& camera) {
-    mBuild = std::async(std::launch::async, [scene = mScene, direction = mSettings.stackNormalFor(camera.direction),
-                                             pixelMm = camera.pixelMm, spacing = mSettings.sliceSpacingVoxels] {
+void ViewSession::keep(BuiltStack built) {
+    const auto replaced = [&](const BuiltStack& b) {
+        return !b.stack || b.scene != mScene || b.stack->geometry().normal == built.stack->geometry().normal;
+    };
+    mKept.erase(std::remove_if(mKept.begin(), mKept.end(), replaced), mKept.end());
+    if (built.stack && built.scene == mScene) mKept.push_back(std::move(built));
+}
+
+void ViewSession::startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal) {
+    mBuild = std::async(std::launch::async, [scene = mScene, normal, pixelMm = camera.pixelMm,
+                                             spacing = mSettings.sliceSpacingVoxels] {
         const auto start = std::chrono::steady_clock::now();
         BuiltStack built;
         built.scene = scene;
-        built.stack = std::make_unique<SliceStack>(scene->layers, direction, spacing, pixelMm);
+        built.stack = std::make_unique<SliceStack>(scene->layers, normal, spacing, pixelMm);
         built.buildMs = millisecondsSince(start);
         return built;
     });
 }
 
-void ViewSession::adoptFinishedBuild(FrameStats& frame) {
+void ViewSession::prefetchNextAxis(const OrthoCamera& camera) {
+    if (mPrefetch != Prefetch::nextAxis || mSettings.stacks != StackOrientation::axes || mBuild.valid() ||
+        !fits(mCurrent, camera)) {
+        return;
+    }
+    const openvdb::Vec3d& d = camera.direction;
+    const openvdb::Vec3d nearest = mSettings.stackNormalFor(d);
+    int next = -1;
+    for (int a = 0; a < 3; ++a) {
+        if (nearest[a] == 0.0 && (next < 0 || std::abs(d[a]) > std::abs(d[next]))) next = a;
+    }
+    const openvdb::Vec3d normal(next == 0, next == 1, next == 2);
+    const bool held = std::any_of(mKept.begin(), mKept.end(), [&](const BuiltStack& b) {
+        return b.stack && b.scene == mScene && b.stack->geometry().normal == normal;
+    });
+    if (!held) startBuild(camera, normal);
+}
+
+void ViewSession::adoptFinishedBuild(const OrthoCamera& camera, FrameStats& frame) {
     if (!mBuild.valid() || mBuild.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
-    if (mSettings.stacks == StackOrientation::axes) mKept.push_back(std::move(mCurrent));
-    mCurrent = mBuild.get();
-    // One stack an axis, of the scene on show: a stack replaced or of another scene goes.
-    mKept.erase(std::remove_if(mKept.begin(), mKept.end(),
-                               [&](const BuiltStack& b) {
-                                   return !b.stack || b.scene != mScene ||
-                                          b.stack->geometry().normal == mCurrent.stack->geometry().normal;
-                               }),
-                mKept.end());
+    BuiltStack built = mBuild.get();
     ++mStacksBuilt;
+    if (!fits(built, camera) && fits(mCurrent, camera)) {
+        if (mSettings.stacks == StackOrientation::axes) keep(std::move(built));
+        return;
+    }
+    if (mSettings.stacks == StackOrientation::axes && mCurrent.stack) keep(std::move(mCurrent));
+    mCurrent = std::move(built);
+    // One stack an axis: the current one replaces any kept across its axis.
+    const openvdb::Vec3d normal = mCurrent.stack->geometry().normal;
+    mKept.erase(std::remove_if(mKept.begin(), mKept.end(),
+                               [&](const BuiltStack& b) { return !b.stack || b.stack->geometry().normal == normal; }),
+                mKept.end());
     frame.reused = false;
     frame.buildMs = mCurrent.buildMs;
     frame.gaussiansTouched = mCurrent.stack->gaussiansTouched();
@@ -82,20 +111,23 @@ Framebuffer ViewSession::render(const OrthoCamera& camera, FrameStats* stats) {
     FrameStats frame;
     frame.index = mFrames++;
     frame.reused = true;
-    adoptFinishedBuild(frame);
+    adoptFinishedBuild(camera, frame);
     if (!fits(mCurrent, camera)) recallKept(camera);
-    if (!fits(mCurrent, camera) && !mBuild.valid()) startBuild(camera);
+    const openvdb::Vec3d normal = mSettings.stackNormalFor(camera.direction);
+    if (!fits(mCurrent, camera) && !mBuild.valid()) startBuild(camera, normal);
     const bool sameSize = mLastFrame.width == camera.width && mLastFrame.height == camera.height;
     // Nothing to show meanwhile (the first frame, or a new size far off): wait.
     while (!sameSize && !shearableFor(camera)) {
-        if (!mBuild.valid()) startBuild(camera);
+        if (!mBuild.valid()) startBuild(camera, normal);
         mBuild.wait();
-        adoptFinishedBuild(frame);
+        adoptFinishedBuild(camera, frame);
+        if (!fits(mCurrent, camera)) recallKept(camera);
     }
     frame.stale = !fits(mCurrent, camera);
     if (!frame.stale || shearableFor(camera) || !sameSize) {
         mLastFrame = shearWarpFrame(*mCurrent.stack, camera, mSettings.terminationOpacity, frame);
     }
+    prefetchNextAxis(camera);
     frame.totalMs = millisecondsSince(start);
     if (stats) *stats = frame;
     return mLastFrame;

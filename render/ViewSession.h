@@ -17,9 +17,17 @@ namespace gvr {
 /// What a session draws: the layers and the volumes they point into.
 using Scene = std::shared_ptr<const StyledLayers>;
 
+/// What a session with axis stacks builds while it has nothing else to build.
+enum class Prefetch {
+    none,
+    /// The stack across the axis the view is second nearest to, where a turn goes
+    /// next: crossing to it then draws at once, not from a stale stack.
+    nextAxis,
+};
+
 class ViewSession {
 public:
-    ViewSession(Scene scene, const ShearWarpSettings& settings);
+    ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch = Prefetch::none);
     ~ViewSession();  ///< waits for a build in progress
 
     /// Draw @a scene from the next frame on (its stack is built in the background).
@@ -49,11 +57,17 @@ private:
     bool shearableFor(const OrthoCamera& camera) const;
     /// Makes a kept stack that fits @a camera the current one, if there is one.
     void recallKept(const OrthoCamera& camera);
-    void startBuild(const OrthoCamera& camera);
-    void adoptFinishedBuild(FrameStats& frame);
+    /// Keeps @a built among the stacks of other axes, in place of any across the same axis.
+    void keep(BuiltStack built);
+    void startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal);
+    void prefetchNextAxis(const OrthoCamera& camera);
+    /// Takes a finished build: as the current stack when it serves @a camera or the
+    /// current one does not, else (a prefetched stack) among the kept ones.
+    void adoptFinishedBuild(const OrthoCamera& camera, FrameStats& frame);
 
     Scene mScene;
     ShearWarpSettings mSettings;
+    Prefetch mPrefetch;
     BuiltStack mCurrent;
     std::vector<BuiltStack> mKept;  ///< other axes' stacks of the current scene
     std::future<BuiltStack> mBuild;

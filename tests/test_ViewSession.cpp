@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 namespace gvr {
 namespace {
@@ -87,6 +89,28 @@ TEST(ViewSession, AxisStacksAreKeptSoThatTurningBackBuildsNothing) {
     ShearWarpRenderer renderer(scene->layers, ShearWarpSettings{});
     renderer.render(cameraFor(*volume, 80.0));  // the x stack on the same lattice as the session's
     EXPECT_EQ(image.rgba, renderer.render(cameraFor(*volume, 100.0)).rgba);
+}
+
+TEST(ViewSession, APrefetchedNextAxisMakesCrossingToItDrawAtOnce) {
+    const auto volume = blob();
+    const Scene scene = sceneOf(*volume, 0.1f);
+    ViewSession session(scene, ShearWarpSettings{}, Prefetch::nextAxis);
+    session.renderSettled(cameraFor(*volume, 30.0));  // along y; x is the next nearest axis
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (session.building()) {
+        ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the prefetch never finished";
+        FrameStats waiting;
+        session.render(cameraFor(*volume, 30.0), &waiting);
+        EXPECT_FALSE(waiting.stale);
+        EXPECT_TRUE(waiting.reused);  // the prefetched stack is kept aside, not shown
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    EXPECT_EQ(session.stacksBuilt(), 2);
+    FrameStats crossed;
+    session.render(cameraFor(*volume, 60.0), &crossed);  // along x
+    EXPECT_FALSE(crossed.stale);
+    EXPECT_FALSE(session.building());  // its next axis, y, is kept
+    EXPECT_EQ(session.stacksBuilt(), 2);
 }
 
 TEST(ViewSession, ANewSceneOrAZoomRebuildsTheStack) {
