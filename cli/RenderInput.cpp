@@ -7,8 +7,8 @@
 #include "VolumeClassifier.h"
 
 #include <filesystem>
-#include <map>
 #include <limits>
+#include <map>
 #include <sstream>
 
 namespace gvr {

@@ -260,13 +260,16 @@ void LatticeSampler::addRows(std::uint32_t index, const Coord& origin, const Coo
     const int channels = mField.channels();
     for (int x = reached.min().x(); x <= reached.max().x(); ++x) {
         const double rx = x - origin.x();
+        // What the rows of this x share: q's terms in y are linear and quadratic in ry.
+        const double zLinearX = 2.0 * (G[0][2] * rx + gLin[2]), zLinearY = 2.0 * G[1][2];
+        const double constantX = h + 2.0 * gLin[0] * rx + G[0][0] * rx * rx;
+        const double constantY = 2.0 * (gLin[1] + G[0][1] * rx);
         for (int y = reached.min().y(); y <= reached.max().y(); ++y) {
             const double ry = y - origin.y();
             // Along this row q(z) = G_zz (z - zCentre)^2 + qMin: in this form float
             // keeps q accurate near the ellipsoid, where the terms would cancel.
-            const double zLinear = 2.0 * (G[0][2] * rx + G[1][2] * ry + gLin[2]);
-            const double constant =
-                h + 2.0 * (gLin[0] * rx + gLin[1] * ry) + G[0][0] * rx * rx + 2.0 * G[0][1] * rx * ry + G[1][1] * ry * ry;
+            const double zLinear = zLinearX + zLinearY * ry;
+            const double constant = constantX + ry * (constantY + G[1][1] * ry);
             const double qMin = constant - 0.25 * zLinear * zLinear * inverseZz;
             if (qMin > cutoff2) continue;  // the row misses the ellipsoid
             const float zCentre = float(-0.5 * zLinear * inverseZz), qMinF = float(qMin);
