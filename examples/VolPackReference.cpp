@@ -60,7 +60,8 @@ private:
     vpContext* mContext;
 };
 
-void validate(const VolPackVolume& volume, int width, int height, int frames, const std::vector<float>& opacityByValue) {
+void validate(const VolPackVolume& volume, int width, int height, int frames,
+              const std::vector<float>& opacityByValue) {
     if (!opacityByValue.empty() && opacityByValue.size() != VP_SCALAR_MAX + 1) {
         throw std::invalid_argument("VolPack: the opacity table needs one entry per 8-bit value");
     }

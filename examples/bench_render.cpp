@@ -13,6 +13,7 @@
 // Figures are printed, never asserted.
 
 #include "AssetFile.h"
+#include "Evaluate.h"
 #include "Fitter.h"
 #include "GridFile.h"
 #include "QualityMetrics.h"
@@ -70,11 +71,9 @@ ShearWarpFigures measureShearWarp(const RenderVolume& volume, const Classifier& 
     return figures;
 }
 
-/// Render PSNR as seen (README, Evaluate): premultiplied RGB over black and over
-/// white, on the pixels either image covers, peak 1.
+/// Render PSNR as seen (README, Evaluate), as gvr eval and gvr bench report it.
 double imagePsnr(const Framebuffer& reference, const Framebuffer& test) {
-    const RenderingError error = renderingError(asVolume(reference), asVolume(test));
-    return psnrFromMse(0.5 * (error.overBlack + error.overWhite), 1.0);
+    return renderingQuality(asVolume(reference), asVolume(test)).psnr;
 }
 
 VolPackVolume denseBytes(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box) {

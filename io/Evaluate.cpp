@@ -123,16 +123,6 @@ std::string assetStructures(const std::string& path) {
     return spec;
 }
 
-RenderingQuality renderingQuality(const FloatVolume& reference, const FloatVolume& test) {
-    const RenderingError error = renderingError(reference, test);
-    RenderingQuality q;
-    q.coveredPixels = error.coveredPixels;
-    q.psnrOverBlack = psnrFromMse(error.overBlack, 1.0);
-    q.psnrOverWhite = psnrFromMse(error.overWhite, 1.0);
-    q.psnr = psnrFromMse(0.5 * (error.overBlack + error.overWhite), 1.0);
-    return q;
-}
-
 /// The comparison itself; @a labels (may be null) only with options.labels.
 EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
                    const openvdb::Int32Grid* labels, const std::string& referenceName, const std::string& testName) {
@@ -161,6 +151,16 @@ EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const
 }
 
 }  // namespace
+
+RenderingQuality renderingQuality(const FloatVolume& reference, const FloatVolume& test) {
+    const RenderingError error = renderingError(reference, test);
+    RenderingQuality q;
+    q.coveredPixels = error.coveredPixels;
+    q.psnrOverBlack = psnrFromMse(error.overBlack, 1.0);
+    q.psnrOverWhite = psnrFromMse(error.overWhite, 1.0);
+    q.psnr = psnrFromMse(0.5 * (error.overBlack + error.overWhite), 1.0);
+    return q;
+}
 
 EvalResult evaluate(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
                     const std::string& referenceName, const std::string& testName) {

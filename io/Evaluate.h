@@ -39,6 +39,9 @@ struct RenderingQuality {
     std::size_t coveredPixels = 0;
 };
 
+/// @throw std::invalid_argument unless both have 4 channels and the same shape.
+RenderingQuality renderingQuality(const FloatVolume& reference, const FloatVolume& test);
+
 struct EvalResult {
     double mse = 0, psnr = 0, foregroundMse = 0, foregroundPsnr = 0, ssim = 0, peak = 0, seconds = 0;
     std::optional<RenderingQuality> rendering;  ///< for two RGBA images

@@ -48,12 +48,14 @@ void ViewSession::recallKept(const OrthoCamera& camera) {
     if (kept != mKept.end()) std::swap(*kept, mCurrent);
 }
 
+void ViewSession::dropKept(const openvdb::Vec3d& normal) {
+    const auto dropped = [&](const BuiltStack& b) { return b.scene != mScene || b.stack->geometry().normal == normal; };
+    mKept.erase(std::remove_if(mKept.begin(), mKept.end(), dropped), mKept.end());
+}
+
 void ViewSession::keep(BuiltStack built) {
-    const auto replaced = [&](const BuiltStack& b) {
-        return !b.stack || b.scene != mScene || b.stack->geometry().normal == built.stack->geometry().normal;
-    };
-    mKept.erase(std::remove_if(mKept.begin(), mKept.end(), replaced), mKept.end());
-    if (built.stack && built.scene == mScene) mKept.push_back(std::move(built));
+    dropKept(built.stack->geometry().normal);
+    if (built.scene == mScene) mKept.push_back(std::move(built));
 }
 
 void ViewSession::startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal) {
@@ -81,7 +83,7 @@ void ViewSession::prefetchNextAxis(const OrthoCamera& camera) {
     }
     const openvdb::Vec3d normal(next == 0, next == 1, next == 2);
     const bool held = std::any_of(mKept.begin(), mKept.end(), [&](const BuiltStack& b) {
-        return b.stack && b.scene == mScene && b.stack->geometry().normal == normal;
+        return b.scene == mScene && b.stack->geometry().normal == normal;
     });
     if (!held) startBuild(camera, normal);
 }
@@ -96,11 +98,7 @@ void ViewSession::adoptFinishedBuild(const OrthoCamera& camera, FrameStats& fram
     }
     if (mSettings.stacks == StackOrientation::axes && mCurrent.stack) keep(std::move(mCurrent));
     mCurrent = std::move(built);
-    // One stack an axis: the current one replaces any kept across its axis.
-    const openvdb::Vec3d normal = mCurrent.stack->geometry().normal;
-    mKept.erase(std::remove_if(mKept.begin(), mKept.end(),
-                               [&](const BuiltStack& b) { return !b.stack || b.stack->geometry().normal == normal; }),
-                mKept.end());
+    dropKept(mCurrent.stack->geometry().normal);  // one stack an axis
     frame.reused = false;
     frame.buildMs = mCurrent.buildMs;
     frame.gaussiansTouched = mCurrent.stack->gaussiansTouched();

@@ -57,6 +57,8 @@ private:
     bool shearableFor(const OrthoCamera& camera) const;
     /// Makes a kept stack that fits @a camera the current one, if there is one.
     void recallKept(const OrthoCamera& camera);
+    /// Forgets the kept stacks across @a normal, and those of another scene.
+    void dropKept(const openvdb::Vec3d& normal);
     /// Keeps @a built among the stacks of other axes, in place of any across the same axis.
     void keep(BuiltStack built);
     void startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal);
@@ -69,7 +71,7 @@ private:
     ShearWarpSettings mSettings;
     Prefetch mPrefetch;
     BuiltStack mCurrent;
-    std::vector<BuiltStack> mKept;  ///< other axes' stacks of the current scene
+    std::vector<BuiltStack> mKept;  ///< other axes' stacks, never empty ones
     std::future<BuiltStack> mBuild;
     Framebuffer mLastFrame;
     int mFrames = 0, mStacksBuilt = 0;
