@@ -8,7 +8,6 @@
 
 #include <filesystem>
 #include <limits>
-#include <map>
 #include <sstream>
 
 namespace gvr {
@@ -51,12 +50,15 @@ Classifier classifierFor(const std::string& tf, const RenderVolume& volume, std:
 }
 
 void addStackFlags(CLI::App& command, ShearWarpSettings& settings) {
-    const std::map<std::string, StackOrientation> orientations = {{"axes", StackOrientation::axes},
-                                                                  {"view", StackOrientation::view}};
-    command.add_option("--stacks", settings.stacks,
-                       "axes: slice stacks across the world axis nearest the view, each built once and kept "
-                       "(an orbit builds two or three); view: a stack across the view, rebuilt beyond --reuse-angle")
-        ->transform(CLI::CheckedTransformer(orientations).description(""))
+    // By name only: an enum option would also take its numbers, "--stacks 1" for view.
+    command.add_option_function<std::string>(
+               "--stacks",
+               [&settings](const std::string& name) {
+                   settings.stacks = name == "view" ? StackOrientation::view : StackOrientation::axes;
+               },
+               "axes: slice stacks across the world axis nearest the view, each built once and kept "
+               "(an orbit builds two or three); view: a stack across the view, rebuilt beyond --reuse-angle")
+        ->check(CLI::IsMember({"axes", "view"}))
         ->type_name("axes|view")
         ->default_str("axes");
     command.add_option("--reuse-angle", settings.reuseAngleDeg,

@@ -85,7 +85,7 @@ TEST(CliRender, BadInputLeavesNoImage) {
     test::writeBytes(dir.path("bad.json"), R"({"points": [[0, 2, 0, 0, 0]]})");
     for (const std::string& flags : {std::string("--size 0x10"), std::string("--size big"), std::string("--tf bone"),
                                      "--tf '" + dir.path("bad.json") + "'", std::string("--reuse-angle 90"),
-                                     std::string("--stacks diagonal"),
+                                     std::string("--stacks diagonal"), std::string("--stacks 1"),
                                      std::string("--slice-spacing 0"), std::string("--slice-spacing 1e-9"),
                                      std::string("--renderer raymarch --step 1e-9"), std::string("--azimuth nan")}) {
         const test::CommandResult run = runGvr("render '" + grid + "' -o '" + dir.path("out/x.png") + "' " + flags, dir);
