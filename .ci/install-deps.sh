@@ -52,6 +52,9 @@ packages=(
   libsdl2-dev
   libsdl2-ttf-dev
   fonts-dejavu-core
+  # Bricked fitting across processes (gvr fit --bricks under mpirun).
+  libopenmpi-dev
+  openmpi-bin
 
   # The embedded default volume (Colin27 T1 MRI).
   mricron-data

@@ -9,6 +9,7 @@ namespace gvr {
 void addIngestCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addFitCommand(CLI::App& app);
+void addMergeCommand(CLI::App& app);
 void addExportCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addProbeCommand(CLI::App& app);

@@ -5,6 +5,7 @@
 #include "Compress.h"
 #include "Diagnostics.h"
 #include "Error.h"
+#include "FitBricks.h"
 #include "GaussianField.h"
 #include "GridFile.h"
 #include "GridSummary.h"
@@ -35,6 +36,7 @@ struct FitFlags {
     bool json = false, quiet = false;
     CompressOptions options;
     SourceFlags source;
+    BrickFlags bricks;
 };
 
 /// The CSV of error against run time, one row per held-out evaluation.
@@ -77,7 +79,21 @@ nlohmann::json structuresJson(const GaussianAsset& asset, const std::vector<Stru
     return out;
 }
 
-void report(const FitFlags& flags, const CompressResult& result, double peak, const VolumeError& error) {
+void reportBricks(const BrickedFitResult& bricked, const VolumeError& error) {
+    std::cout << "  seams:           " << formatDb(error.markedPsnr) << " dB within " << kSeamWidth
+              << " voxels of a face between bricks (" << error.markedVoxels << " voxels), "
+              << formatDb(error.unmarkedPsnr) << " dB elsewhere\n";
+    for (const nlohmann::json& b : bricked.bricks) {
+        std::cout << "  brick " << b["brick"] << ":" << std::setw(8) << b["gaussians"].get<std::size_t>()
+                  << " Gaussians (budget " << b["budget"] << "), rank " << b["rank"] << ", " << b["iterations"]
+                  << " iterations in " << std::setprecision(4) << b["seconds"].get<double>() << " s, rank peak "
+                  << b["rank_peak_rss_mib"].get<double>() << " MiB\n";
+    }
+    std::cout << "  merge:           " << std::setprecision(4) << bricked.mergeSeconds << " s\n";
+}
+
+void report(const FitFlags& flags, const CompressResult& result, double peak, const VolumeError& error,
+            const std::optional<BrickedFitResult>& bricked) {
     const GaussianAsset& asset = result.asset;
     const FitReport& fit = result.fit;
     const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
@@ -100,6 +116,13 @@ void report(const FitFlags& flags, const CompressResult& result, double peak, co
                               {"dropped_to_fit_budget", result.dropped}, {"peak_rss_mib", peakRssMiB()},
                               {"gaussians_allowed_by_ratio", fit.requestedGaussians}};
         if (!result.structures.empty()) out["structures"] = structuresJson(asset, result.structures);
+        if (bricked) {
+            out["bricks"] = bricked->bricks;
+            out["merge_seconds"] = bricked->mergeSeconds;
+            out["seam_voxels"] = error.markedVoxels;
+            out["seam_psnr_db"] = jsonNumber(error.markedPsnr);
+            out["interior_psnr_db"] = jsonNumber(error.unmarkedPsnr);
+        }
         std::cout << out.dump(2) << "\n";
         return;
     }
@@ -132,6 +155,39 @@ void report(const FitFlags& flags, const CompressResult& result, double peak, co
         std::cout << "  structure " << st["id"] << " " << st["name"].get<std::string>() << ": " << st["voxels"]
                   << " voxels, " << st["gaussians"] << " Gaussians\n";
     }
+    if (bricked) reportBricks(*bricked, error);
+}
+
+/// --brick I --of N: the part, written as it is, and what it holds.
+void writePart(const FitFlags& flags, const IngestResult& loaded, const VolumeTarget& target) {
+    GaussianAsset part = fitOneBrick(loaded.grid, target, flags.input, flags.options, flags.bricks, !flags.quiet);
+    writeAsset(flags.output, part);
+    const nlohmann::json run = part.fitSettings["brick"]["run"];
+    if (flags.json) {
+        std::cout << nlohmann::json{{"output", flags.output}, {"brick", *flags.bricks.only}, {"of", flags.bricks.count},
+                                    {"gaussians", part.params.count()}, {"iterations", run["iterations"]},
+                                    {"seconds", run["seconds"]}, {"peak_rss_mib", peakRssMiB()}}.dump(2)
+                  << "\n";
+        return;
+    }
+    std::cout << "wrote " << flags.output << ": brick " << *flags.bricks.only << " of " << flags.bricks.count << ", "
+              << part.params.count() << " Gaussians, " << run["iterations"] << " iterations in "
+              << std::setprecision(4) << run["seconds"].get<double>() << " s; join the parts with gvr merge\n";
+}
+
+/// The whole fit in one piece, or merged from bricks (nothing on MPI ranks but 0).
+std::optional<BrickedFitResult> fitVolume(const FitFlags& flags, const IngestResult& loaded,
+                                          const VolumeTarget& target, CompressResult& result) {
+    if (flags.bricks.any()) {
+        std::optional<BrickedFitResult> bricked =
+            fitAllBricks(loaded.grid, target, flags.input, flags.options, flags.bricks, !flags.quiet);
+        if (bricked) result = bricked->result;
+        return bricked;
+    }
+    FitLog log(flags.logPath, target.peak());
+    ProgressBar bar("fitting", !flags.quiet);
+    result = compress(target, flags.input, flags.options, progressObserver(bar, log), loaded.labels.get());
+    return std::nullopt;
 }
 
 void runFit(FitFlags& flags) {
@@ -150,17 +206,17 @@ void runFit(FitFlags& flags) {
     if (target.activeVoxelCount() == 0) {
         diagnostics() << "gvr: warning: " << flags.input << " has no active voxels; writing an empty asset\n";
     }
+    if (flags.bricks.only) return writePart(flags, loaded, target);
     CompressResult result;
-    {
-        FitLog log(flags.logPath, target.peak());
-        ProgressBar bar("fitting", !flags.quiet);
-        result = compress(target, flags.input, flags.options, progressObserver(bar, log), loaded.labels.get());
-    }
+    const std::optional<BrickedFitResult> bricked = fitVolume(flags, loaded, target, result);
+    if (flags.bricks.any() && !bricked) return;  // an MPI rank other than 0: rank 0 writes
     writeAsset(flags.output, result.asset);
     ProgressBar measuring("measuring", !flags.quiet);
     const GaussianField saved(quantisedCopy(result.asset.params, result.asset.encoding), result.asset.cutoffSigmas);
-    const VolumeError error = measureVolumeError(saved, target, measuring.callback());
-    report(flags, result, target.peak(), error);
+    VoxelMarking seams;
+    if (bricked) seams = [near = BrickSeams(bricked->layout, kSeamWidth)](const openvdb::Coord& ijk) { return near.near(ijk); };
+    const VolumeError error = measureVolumeError(saved, target, measuring.callback(), seams);
+    report(flags, result, target.peak(), error, bricked);
 }
 
 void addTuningFlags(CLI::App& command, FitSettings& s) {
@@ -223,7 +279,7 @@ void addFitCommand(CLI::App& app) {
         ->each([flags](const std::string&) { flags->options.settings.seconds = 0.0; });
     command->add_option("--seed", flags->options.settings.seed, "Random seed")->capture_default_str();
     command->add_option("--ablation", flags->options.ablation, "full, A1, A2, A3, A4 or A5")->capture_default_str();
-    command->add_option("--log", flags->logPath, "Write error against run time as CSV");
+    auto* log = command->add_option("--log", flags->logPath, "Write error against run time as CSV");
     auto* labels = command->add_option("--labels", flags->options.labels,
                         "Fit by structure from the label grid that ingest --labels stored (or --label-volume): all, "
                         "or IDs and names "
@@ -237,6 +293,9 @@ void addFitCommand(CLI::App& app) {
                         "With --label-volume: names of its labels, one \"ID NAME\" per line (AAL .txt, FreeSurfer LUT)")
         ->needs(labelVolume);
     command->add_option("--threads", flags->threads, "Worker threads (default: all cores)")->check(CLI::Range(0, 1024));
+    addBrickFlags(*command, flags->bricks);
+    command->get_option("--bricks")->excludes(log)->excludes(labels);
+    command->get_option("--brick")->excludes(log)->excludes(labels);
     addTuningFlags(*command, flags->options.settings);
     addEncodingFlags(*command, flags->options.encoding);
     addSourceFlags(*command, flags->source);

@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
     gvr::addIngestCommand(app);
     gvr::addInfoCommand(app);
     gvr::addFitCommand(app);
+    gvr::addMergeCommand(app);
     gvr::addExportCommand(app);
     gvr::addEvalCommand(app);
     gvr::addProbeCommand(app);

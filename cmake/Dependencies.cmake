@@ -20,3 +20,6 @@ find_package(SDL2 REQUIRED CONFIG)
 find_package(SDL2_ttf REQUIRED CONFIG)
 
 find_package(GTest REQUIRED CONFIG)
+
+# gvr fit --bricks under mpirun: bricks handed to ranks, parts gathered on rank 0.
+find_package(MPI REQUIRED COMPONENTS CXX)

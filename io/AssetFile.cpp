@@ -144,7 +144,8 @@ void sortForStorage(GaussianAsset& asset, const QuantisationV2& quantisation) {
     asset.params = permuted(asset.params, order);
 }
 
-/// The whole file for @a asset, which is put into storage order first.
+}  // namespace
+
 std::string encodeAsset(GaussianAsset& asset) {
     const QuantisationV2 quantisation(asset.params, asset.encoding);
     sortForStorage(asset, quantisation);
@@ -157,6 +158,8 @@ std::string encodeAsset(GaussianAsset& asset) {
     append(bytes, std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size()))));
     return bytes;
 }
+
+namespace {
 
 /// Refuses a count that the file cannot hold, before anything is allocated for it.
 void checkCountAgainstSize(std::uint32_t version, std::size_t count, int channels, std::uint64_t bodyBytes) {
@@ -248,6 +251,14 @@ GaussianAsset readAsset(const std::string& path) {
     std::string bytes(size, '\0');
     in.seekg(0);
     in.read(bytes.data(), std::streamsize(size));
+    return decodeAsset(bytes, path);
+}
+
+GaussianAsset decodeAsset(std::string_view bytes, const std::string& path) {
+    const std::uint64_t size = bytes.size();
+    if (size < kPreambleBytes + kChecksumBytes || !std::equal(kMagic, kMagic + sizeof kMagic, bytes.data())) {
+        throw InputError(path, "not a gvr asset (no GVRASSET magic)");
+    }
     const auto* cursor = reinterpret_cast<const unsigned char*>(bytes.data()) + sizeof kMagic;
     const std::uint32_t version = take<std::uint32_t>(cursor);
     if (version != 1 && version != kAssetVersion) {

@@ -30,6 +30,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace gvr {
 
@@ -56,6 +57,14 @@ std::size_t writeAsset(const std::string& path, GaussianAsset& asset, std::uint6
 /// weakest Gaussians dropped until the file fits in @a maxBytes (0: no limit).
 /// @return the number of Gaussians dropped.
 std::size_t fitAssetInto(GaussianAsset& asset, std::uint64_t maxBytes);
+
+/// The whole file for @a asset, which is put into storage order first.
+std::string encodeAsset(GaussianAsset& asset);
+
+/// An asset from the bytes of a whole file (sent over MPI, say), checked as
+/// readAsset() checks a file.
+/// @throw InputError naming @a name, as readAsset() does.
+GaussianAsset decodeAsset(std::string_view bytes, const std::string& name);
 
 /// True when the file starts with the asset magic.
 bool isAssetFile(const std::string& path);

@@ -25,9 +25,15 @@ nlohmann::json settingsJson(const FitSettings& s, const std::string& ablation) {
             {"solve_iterations", s.amplitudeSolveIterations}, {"solve_share", s.amplitudeSolveShare}};
 }
 
-/// Everything but the Gaussians.
-GaussianAsset assetSkeleton(const openvdb::GridBase& grid, const VolumeTarget& target, const FitSettings& settings,
-                            const CompressOptions& options, const std::string& name) {
+void checkRatio(double ratio) {
+    if (!(ratio >= 1.0) || !std::isfinite(ratio)) throw InputError("--ratio", "must be at least 1");
+}
+
+}  // namespace
+
+GaussianAsset assetSkeleton(const VolumeTarget& target, const FitSettings& settings, const CompressOptions& options,
+                            const std::string& name) {
+    const openvdb::GridBase& grid = target.grid();
     GaussianAsset asset;
     asset.params = GaussianParameters(0, target.channels());
     asset.cutoffSigmas = settings.cutoffSigmas;
@@ -47,11 +53,6 @@ GaussianAsset assetSkeleton(const openvdb::GridBase& grid, const VolumeTarget& t
     return asset;
 }
 
-void checkRatio(double ratio) {
-    if (!(ratio >= 1.0) || !std::isfinite(ratio)) throw InputError("--ratio", "must be at least 1");
-}
-
-/// The whole volume's count, and its byte budget (0 for an exact count).
 std::size_t budgetedGaussians(const GaussianAsset& asset, const CompressOptions& options, std::uint64_t& maxBytes) {
     maxBytes = 0;
     if (options.gaussians > 0) return options.gaussians;
@@ -63,6 +64,8 @@ std::size_t budgetedGaussians(const GaussianAsset& asset, const CompressOptions&
     }
     return capacity;
 }
+
+namespace {
 
 /// Gaussians per structure: the count split with a floor, or the ratio applied to
 /// each structure's own raw bytes.
@@ -143,7 +146,7 @@ CompressResult compress(const VolumeTarget& target, const std::string& name, con
 
     const openvdb::GridBase& grid = target.grid();
     CompressResult result;
-    result.asset = assetSkeleton(grid, target, settings, options, name);
+    result.asset = assetSkeleton(target, settings, options, name);
     if (target.activeVoxelCount() == 0) return result;
     if (labels && !options.labels.empty()) {
         // Structures are stored together, over ranges and a budget that no single

@@ -47,6 +47,16 @@ struct CompressResult {
 /// @throw InputError naming "fit settings" when FitSettings::validate() refuses them.
 FitSettings checkedSettings(const CompressOptions& options);
 
+/// The asset of a fit of @a target with everything but the Gaussians: placement,
+/// value mapping, source record, settings and encoding.
+GaussianAsset assetSkeleton(const VolumeTarget& target, const FitSettings& settings, const CompressOptions& options,
+                            const std::string& name);
+
+/// The whole volume's count for @a asset (a skeleton): options.gaussians, or what
+/// fits the ratio's byte budget, which goes to @a maxBytes (0 for an exact count).
+/// @throw InputError for a ratio below 1 or too high for one Gaussian.
+std::size_t budgetedGaussians(const GaussianAsset& asset, const CompressOptions& options, std::uint64_t& maxBytes);
+
 /// Fits @a grid (an ingested volume, or any float or Vec3s grid) and returns the
 /// asset. @a name names the volume in errors and, for a grid that gvr did not
 /// ingest, in the asset's source record. @a labels: the label grid that

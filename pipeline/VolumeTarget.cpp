@@ -30,11 +30,35 @@ Range luminanceRange(const GridT& grid) {
     return range;
 }
 
+template <typename TreeT>
+std::uint64_t activeVoxelsIn(const TreeT& tree, const openvdb::CoordBBox& region) {
+    std::uint64_t count = 0;
+    for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
+        const openvdb::CoordBBox bounds = leaf->getNodeBoundingBox();
+        if (!region.hasOverlap(bounds)) continue;
+        if (region.isInside(bounds)) {
+            count += leaf->onVoxelCount();
+            continue;
+        }
+        for (auto voxel = leaf->cbeginValueOn(); voxel; ++voxel) count += region.isInside(voxel.getCoord());
+    }
+    // Active tiles above the leaves: the value iterator, kept from descending to voxels.
+    auto tile = tree.cbeginValueOn();
+    tile.setMaxDepth(TreeT::ValueOnCIter::LEAF_DEPTH - 1);
+    for (; tile; ++tile) {
+        openvdb::CoordBBox bounds;
+        tile.getBoundingBox(bounds);
+        bounds.intersect(region);
+        if (!bounds.empty()) count += bounds.volume();
+    }
+    return count;
+}
+
 }  // namespace
 
 VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& name,
-                           const std::optional<openvdb::CoordBBox>& region)
-    : mGrid(std::move(grid)) {
+                           const std::optional<openvdb::CoordBBox>& region, const std::optional<Taper>& taper)
+    : mGrid(std::move(grid)), mTaper(taper) {
     mFloat = openvdb::GridBase::constGrid<openvdb::FloatGrid>(mGrid);
     mColour = openvdb::GridBase::constGrid<openvdb::Vec3SGrid>(mGrid);
     if (!mFloat && !mColour) {
@@ -63,15 +87,21 @@ VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& 
     mPeak = std::isfinite(range.max - range.min) && range.max > range.min
                 ? (range.max - range.min) / mMapping.scale
                 : 1.0;
+    mActiveVoxels = region ? activeVoxelCount(mBox) : mGrid->activeVoxelCount();
+}
+
+std::uint64_t VolumeTarget::activeVoxelCount(const openvdb::CoordBBox& region) const {
+    return mFloat ? activeVoxelsIn(mFloat->tree(), region) : activeVoxelsIn(mColour->tree(), region);
 }
 
 void VolumeTarget::valueAt(const openvdb::Coord& ijk, float* out) const {
+    const float weight = mTaper ? mTaper->at(ijk) : 1.0f;
     if (mFloat) {
-        out[0] = float(mMapping.toNormalised(mFloat->tree().getValue(ijk), 0));
+        out[0] = weight * float(mMapping.toNormalised(mFloat->tree().getValue(ijk), 0));
         return;
     }
     const openvdb::Vec3s v = mColour->tree().getValue(ijk);
-    for (int c = 0; c < 3; ++c) out[c] = float(mMapping.toNormalised(v[c], c));
+    for (int c = 0; c < 3; ++c) out[c] = weight * float(mMapping.toNormalised(v[c], c));
 }
 
 bool VolumeTarget::isActive(const openvdb::Coord& ijk) const {

@@ -2,6 +2,7 @@
 /// @brief The volume a fit approximates, read from an ingested grid in normalised units.
 #pragma once
 
+#include "Taper.h"
 #include "ValueMapping.h"
 
 #include <openvdb/openvdb.h>
@@ -18,9 +19,11 @@ class VolumeTarget {
 public:
     /// @param region  if given, fit only these voxels (clipped to the source's box),
     ///                e.g. one structure's bounding box
+    /// @param taper   if given, values are weighted by it: a brick's share of the volume
     /// @throw InputError naming @a name when the grid is neither float nor Vec3s.
     VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& name,
-                 const std::optional<openvdb::CoordBBox>& region = std::nullopt);
+                 const std::optional<openvdb::CoordBBox>& region = std::nullopt,
+                 const std::optional<Taper>& taper = std::nullopt);
 
     int channels() const { return mChannels; }
     /// The voxels fitted: the source volume's box in index space (or the region).
@@ -38,7 +41,10 @@ public:
 
     /// Calls @a visit for every active voxel inside box(), in a fixed order.
     void forEachActiveVoxel(const std::function<void(const openvdb::Coord&)>& visit) const;
-    std::uint64_t activeVoxelCount() const { return mGrid->activeVoxelCount(); }
+    /// Active voxels inside box().
+    std::uint64_t activeVoxelCount() const { return mActiveVoxels; }
+    /// Active voxels inside @a region, leaf by leaf.
+    std::uint64_t activeVoxelCount(const openvdb::CoordBBox& region) const;
 
     /// Normalised central-difference gradient magnitude at a voxel (first channel
     /// for grey, luminance for RGB).
@@ -52,6 +58,8 @@ private:
     openvdb::CoordBBox mBox;
     ValueMapping mMapping;
     double mPeak = 1.0;
+    std::uint64_t mActiveVoxels = 0;
+    std::optional<Taper> mTaper;
 };
 
 }  // namespace gvr

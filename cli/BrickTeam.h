@@ -1,0 +1,54 @@
+/// @file BrickTeam.h
+/// @brief The processes that share a bricked fit: the ranks of an mpirun, or this
+/// process alone. Each rank fits its share of the bricks; rank 0 gathers every
+/// brick's part (or its error) and merges.
+#pragma once
+
+#include "Bricks.h"
+
+#include <string>
+#include <vector>
+
+namespace gvr {
+
+/// How one brick went: its part asset's bytes, or what went wrong.
+struct BrickOutcome {
+    std::size_t brick = 0;
+    int rank = 0;
+    bool ok = false;
+    std::string bytes;  ///< the part (encodeAsset) when ok, else the error message
+};
+
+class BrickTeam {
+public:
+    /// Joins MPI when mpirun started this process (OpenMPI and PMIx set the rank in
+    /// the environment); otherwise a team of one that never touches MPI.
+    BrickTeam();
+    ~BrickTeam();
+    BrickTeam(const BrickTeam&) = delete;
+    BrickTeam& operator=(const BrickTeam&) = delete;
+
+    int rank() const { return mRank; }
+    int size() const { return mSize; }
+    bool isRoot() const { return mRank == 0; }
+    /// Processes of the team on this machine, to share its cores among them.
+    int localSize() const { return mLocalSize; }
+
+    /// The rank that fits each brick: largest budget first, each to the rank with
+    /// the fewest Gaussians so far. The same in every rank.
+    std::vector<int> owners(const std::vector<Brick>& bricks) const;
+
+    /// On rank 0: every brick's outcome, in brick order (its own from @a mine, the
+    /// others received). On the other ranks: sends @a mine and returns nothing.
+    std::vector<BrickOutcome> gather(std::vector<BrickOutcome> mine, const std::vector<int>& owners) const;
+
+    /// Ends every rank now, with @a code: after a failure outside any brick, when
+    /// the others would otherwise wait for this one forever.
+    [[noreturn]] void abort(int code) const;
+
+private:
+    bool mMpi = false;
+    int mRank = 0, mSize = 1, mLocalSize = 1;
+};
+
+}  // namespace gvr

@@ -1,0 +1,172 @@
+#include "FitBricks.h"
+
+#include "AssetFile.h"
+#include "BrickTeam.h"
+#include "Diagnostics.h"
+#include "Error.h"
+#include "ProgressBar.h"
+#include "Report.h"
+
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+
+namespace gvr {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+FitObserver barObserver(ProgressBar& bar, std::size_t brick) {
+    return [&bar, brick](const FitProgress& p) {
+        bar.update(p.fraction, "brick " + std::to_string(brick) + ", it " + std::to_string(p.iteration) + ", " +
+                                   std::to_string(p.gaussians) + " Gaussians");
+    };
+}
+
+/// Fits brick @a index into a part; the part's brick record also tells how the
+/// fit went (the merge drops the record).
+GaussianAsset fitPart(const openvdb::GridBase::ConstPtr& grid, const std::string& name, const BrickPlan& plan,
+                      std::size_t index, double seconds, const BrickFlags& flags, int rank, bool progress) {
+    if (flags.failing == index) throw InputError("--fail-brick", "brick " + std::to_string(index) + " failed on purpose");
+    ProgressBar bar("fitting", progress);
+    FitReport report;
+    GaussianAsset part = fitBrickPart(grid, name, plan, index, seconds, barObserver(bar, index), &report);
+    part.fitSettings["brick"]["run"] = {{"rank", rank},
+                                        {"gaussians", part.params.count()},
+                                        {"iterations", report.iterations},
+                                        {"seconds", report.seconds},
+                                        {"pruned", report.pruned},
+                                        {"respawned", report.respawned},
+                                        {"solve_iterations", report.amplitudeSolve.iterations},
+                                        {"solve_seconds", report.amplitudeSolve.seconds},
+                                        {"rank_peak_rss_mib", peakRssMiB()}};
+    return part;
+}
+
+std::vector<std::size_t> bricksOf(int rank, const std::vector<int>& owners) {
+    std::vector<std::size_t> mine;
+    for (std::size_t b = 0; b < owners.size(); ++b) {
+        if (owners[b] == rank) mine.push_back(b);
+    }
+    return mine;
+}
+
+std::vector<BrickOutcome> fitMine(const openvdb::GridBase::ConstPtr& grid, const std::string& name,
+                                  const BrickPlan& plan, const std::vector<std::size_t>& mine,
+                                  const BrickFlags& flags, int rank, bool progress) {
+    std::vector<BrickOutcome> outcomes;
+    for (std::size_t b : mine) {
+        BrickOutcome outcome{b, rank, true, {}};
+        try {
+            GaussianAsset part = fitPart(grid, name, plan, b, brickSeconds(plan, mine, b), flags, rank, progress);
+            outcome.bytes = encodeAsset(part);
+        } catch (const std::exception& error) {
+            outcome.ok = false;
+            outcome.bytes = error.what();
+        }
+        outcomes.push_back(std::move(outcome));
+    }
+    return outcomes;
+}
+
+/// The parts of all outcomes, or the first failure, named by brick and rank.
+std::vector<GaussianAsset> partsOf(const std::vector<BrickOutcome>& outcomes, std::vector<std::string>& names) {
+    std::vector<GaussianAsset> parts;
+    for (const BrickOutcome& outcome : outcomes) {
+        const std::string name = "brick " + std::to_string(outcome.brick) + " (rank " + std::to_string(outcome.rank) + ")";
+        if (!outcome.ok) throw InputError(name, outcome.bytes);
+        parts.push_back(decodeAsset(outcome.bytes, name));
+        names.push_back(name);
+    }
+    return parts;
+}
+
+BrickedFitResult merged(std::vector<GaussianAsset> parts, const std::vector<std::string>& names) {
+    BrickedFitResult out;
+    FitReport& total = out.result.fit;
+    for (const GaussianAsset& part : parts) {
+        const nlohmann::json& brick = part.fitSettings.at("brick");
+        const nlohmann::json& run = brick.at("run");
+        out.bricks.push_back({{"brick", brick.at("index")}, {"budget", brick.at("budget")}, {"rank", run.at("rank")},
+                              {"gaussians", run.at("gaussians")}, {"iterations", run.at("iterations")},
+                              {"seconds", run.at("seconds")}, {"rank_peak_rss_mib", run.at("rank_peak_rss_mib")}});
+        total.iterations += run.at("iterations").get<std::size_t>();
+        total.seconds += run.at("seconds").get<double>();
+        total.pruned += run.at("pruned").get<std::size_t>();
+        total.respawned += run.at("respawned").get<std::size_t>();
+        total.amplitudeSolve.iterations += run.at("solve_iterations").get<std::size_t>();
+        total.amplitudeSolve.seconds += run.at("solve_seconds").get<double>();
+    }
+    const auto start = Clock::now();
+    out.result.asset = mergeBrickParts(std::move(parts), names, &out.result.dropped);
+    out.mergeSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return out;
+}
+
+/// Cores of this machine shared among the team's processes on it.
+std::size_t threadsPerRank(const BrickTeam& team) {
+    const int cores = tbb::this_task_arena::max_concurrency();
+    return std::size_t(std::max(1, cores / team.localSize()));
+}
+
+}  // namespace
+
+void addBrickFlags(CLI::App& command, BrickFlags& flags) {
+    auto* bricks = command.add_option("--bricks", flags.count,
+                        "Fit in N bricks of whole 8^3 leaves, each with its own seed and a share of the Gaussians in "
+                        "proportion to its active voxels, then merge them into one asset. Under mpirun the ranks "
+                        "share the bricks and rank 0 writes")
+        ->check(CLI::Range(std::size_t(1), std::size_t(1) << 20));
+    command.add_option("--halo", flags.halo, "Voxels around a brick that its fit also sees")
+        ->check(CLI::Range(0, 256))->capture_default_str();
+    auto* only = command.add_option("--brick", flags.only,
+                        "Fit only brick I of --of N and write it as a part, for a job array; gvr merge joins the parts")
+        ->excludes(bricks);
+    command.add_option("--of", flags.count, "With --brick: the number of bricks")
+        ->check(CLI::Range(std::size_t(1), std::size_t(1) << 20))->needs(only);
+    only->needs("--of");
+    command.add_option("--fail-brick", flags.failing, "Testing: make this brick's fit fail")->group("");
+}
+
+std::optional<BrickedFitResult> fitAllBricks(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
+                                             const std::string& name, const CompressOptions& options,
+                                             const BrickFlags& flags, bool progress) {
+    BrickTeam team;
+    const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, threadsPerRank(team));
+    std::vector<BrickOutcome> outcomes;
+    std::vector<Brick> layout;
+    try {
+        const BrickPlan plan = planBrickedFit(target, name, options, {flags.count, flags.halo});
+        const std::vector<int> owners = team.owners(plan.bricks);
+        const std::vector<std::size_t> mine = bricksOf(team.rank(), owners);
+        outcomes = fitMine(grid, name, plan, mine, flags, team.rank(), progress && team.isRoot());
+        outcomes = team.gather(std::move(outcomes), owners);
+        layout = plan.bricks;
+    } catch (const std::exception& error) {
+        // Before the gather, the other ranks would wait for this one forever.
+        if (team.size() == 1) throw;
+        diagnostics() << "gvr: error (rank " << team.rank() << " of " << team.size() << "): " << error.what() << "\n";
+        team.abort(2);
+    }
+    if (!team.isRoot()) return std::nullopt;
+    std::vector<std::string> names;
+    std::vector<GaussianAsset> parts = partsOf(outcomes, names);
+    BrickedFitResult result = merged(std::move(parts), names);
+    result.layout = std::move(layout);
+    return result;
+}
+
+GaussianAsset fitOneBrick(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
+                          const std::string& name, const CompressOptions& options, const BrickFlags& flags,
+                          bool progress) {
+    const BrickPlan plan = planBrickedFit(target, name, options, {flags.count, flags.halo});
+    const std::size_t index = *flags.only;
+    if (index >= plan.bricks.size()) {
+        throw InputError("--brick", std::to_string(index) + " is not below --of " + std::to_string(plan.bricks.size()));
+    }
+    return fitPart(grid, name, plan, index, plan.settings.seconds, flags, 0, progress);
+}
+
+}  // namespace gvr

@@ -1,0 +1,51 @@
+/// @file FitBricks.h
+/// @brief `gvr fit` in bricks: all of them in this process or across the ranks of
+/// an mpirun (--bricks N), or one of them for a job array (--brick I --of N).
+#pragma once
+
+#include "BrickedFit.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <optional>
+
+namespace gvr {
+
+struct BrickFlags {
+    std::size_t count = 0;  ///< --bricks, or --of with --brick
+    int halo = kDefaultBrickHalo;
+    std::optional<std::size_t> only;  ///< --brick I: fit this one and write its part
+    /// A brick whose fit is made to fail: tests check that the failure is reported
+    /// with its brick and rank, and that nothing is written.
+    std::optional<std::size_t> failing;
+
+    bool any() const { return count > 0; }
+};
+
+void addBrickFlags(CLI::App& command, BrickFlags& flags);
+
+/// A bricked fit as `gvr fit` reports it.
+struct BrickedFitResult {
+    CompressResult result;
+    nlohmann::json bricks = nlohmann::json::array();  ///< a row per brick: rank, Gaussians, time, memory
+    double mergeSeconds = 0.0;
+    std::vector<Brick> layout;  ///< the plan's bricks, for seam errors
+};
+
+/// Voxels this close to a face between bricks count as seam voxels in fit reports.
+constexpr int kSeamWidth = 4;
+
+/// --bricks N: this process's share of the bricks (all of them, or its rank's under
+/// mpirun). Rank 0 gets the merged result; the other ranks get nothing.
+/// @throw InputError naming the brick and rank of the first brick that failed.
+std::optional<BrickedFitResult> fitAllBricks(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
+                                             const std::string& name, const CompressOptions& options,
+                                             const BrickFlags& flags, bool progress);
+
+/// --brick I --of N: fits brick I and returns its part asset, for writeAsset().
+GaussianAsset fitOneBrick(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
+                          const std::string& name, const CompressOptions& options, const BrickFlags& flags,
+                          bool progress);
+
+}  // namespace gvr

@@ -1,0 +1,140 @@
+#include "Bricks.h"
+#include "BrickedFit.h"
+#include "Error.h"
+#include "TestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace gvr {
+namespace {
+
+openvdb::GridBase::Ptr blobGrid(std::array<int, 3> dims) {
+    return test::makeGrid(dims, [dims](int i, int j, int k) {
+        const double x = i - 0.5 * dims[0], y = j - 0.5 * dims[1], z = k - 0.5 * dims[2];
+        return float(20.0 + 200.0 * std::exp(-(x * x + y * y + z * z) / 90.0) + 30.0 * std::sin(0.4 * i));
+    });
+}
+
+TEST(Bricks, LatticeCutsTheLongAxisOfAnElongatedVolume) {
+    const openvdb::CoordBBox box(openvdb::Coord(0), openvdb::Coord(63, 63, 255));
+    EXPECT_EQ(brickLattice(box, 4), openvdb::Coord(1, 1, 4));
+    EXPECT_EQ(brickLattice(box, 8), openvdb::Coord(1, 1, 8));
+    const openvdb::CoordBBox cube(openvdb::Coord(0), openvdb::Coord(127));
+    EXPECT_EQ(brickLattice(cube, 8), openvdb::Coord(2, 2, 2));
+}
+
+TEST(Bricks, MoreBricksThanLeavesIsRefusedNamingTheFlag) {
+    const openvdb::CoordBBox box(openvdb::Coord(0), openvdb::Coord(15, 15, 15));  // 2 x 2 x 2 leaves
+    EXPECT_NO_THROW(brickLattice(box, 8));
+    try {
+        brickLattice(box, 16);
+        FAIL() << "16 bricks of a 2 x 2 x 2-leaf volume were accepted";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("--bricks"), std::string::npos) << error.what();
+    }
+    EXPECT_THROW(brickLattice(box, 7), InputError);  // 7 is prime and above 2
+}
+
+TEST(Bricks, CoresTileTheVolumeOnLeafBoundariesAndBudgetsAddUp) {
+    const VolumeTarget target(blobGrid({45, 37, 30}), "blobs");
+    const std::vector<Brick> bricks = planBricks(target, openvdb::Coord(3, 2, 2), 4, 1000);
+    ASSERT_EQ(bricks.size(), 12u);
+    std::uint64_t voxels = 0, active = 0;
+    std::size_t budget = 0;
+    for (const Brick& brick : bricks) {
+        voxels += brick.core.volume();
+        active += brick.coreActiveVoxels;
+        budget += brick.budget;
+        for (int a = 0; a < 3; ++a) {
+            if (brick.core.min()[a] > 0) EXPECT_EQ(brick.core.min()[a] % 8, 0) << brick.index;
+            EXPECT_LE(brick.fitted.min()[a], brick.core.min()[a]);
+            EXPECT_GE(brick.fitted.min()[a], 0);
+        }
+        for (const Brick& other : bricks) {
+            if (other.index != brick.index) EXPECT_FALSE(brick.core.hasOverlap(other.core));
+        }
+    }
+    EXPECT_EQ(voxels, target.box().volume());
+    EXPECT_EQ(active, target.activeVoxelCount());
+    EXPECT_EQ(budget, 1000u);
+}
+
+TEST(Bricks, TapersAddUpToOneAtEveryVoxel) {
+    const VolumeTarget target(blobGrid({45, 37, 30}), "blobs");
+    for (int halo : {0, 3, 8}) {
+        const std::vector<Brick> bricks = planBricks(target, openvdb::Coord(3, 2, 2), halo, 100);
+        for (auto ijk = target.box().begin(); ijk; ++ijk) {
+            double sum = 0.0;
+            for (const Brick& brick : bricks) {
+                const float w = brick.taper().at(*ijk);
+                EXPECT_GE(w, 0.0f);
+                if (w > 0.0f) EXPECT_TRUE(brick.fitted.isInside(*ijk)) << "halo " << halo << " at " << *ijk;
+                sum += w;
+            }
+            ASSERT_NEAR(sum, 1.0, 1e-5) << "halo " << halo << " at " << *ijk;
+        }
+    }
+}
+
+TEST(Bricks, SeamsMarkTheVoxelsNearInnerFacesOnly) {
+    const VolumeTarget target(blobGrid({32, 16, 16}), "blobs");
+    const std::vector<Brick> bricks = planBricks(target, openvdb::Coord(2, 1, 1), 4, 100);  // cut at x = 16
+    const BrickSeams seams(bricks, 4);
+    for (int x = 0; x < 32; ++x) {
+        EXPECT_EQ(seams.near(openvdb::Coord(x, 5, 5)), x >= 12 && x <= 19) << x;
+    }
+}
+
+/// With an iteration budget, fitting the bricks one by one as parts and merging
+/// them is the same whatever order the parts come in.
+TEST(Bricks, MergeIsTheSameWhateverTheOrderOfTheParts) {
+    const openvdb::GridBase::Ptr grid = blobGrid({40, 24, 24});
+    const VolumeTarget target(grid, "blobs");
+    CompressOptions options;
+    options.settings.seconds = 0.0;
+    options.settings.iterations = 15;
+    options.gaussians = 200;
+    const BrickPlan plan = planBrickedFit(target, "blobs", options, {2, 4});
+    std::vector<GaussianAsset> parts;
+    for (std::size_t b = 0; b < plan.bricks.size(); ++b) parts.push_back(fitBrickPart(grid, "blobs", plan, b, 0.0));
+    GaussianAsset forward = mergeBrickParts(parts, {"a", "b"});
+    GaussianAsset backward = mergeBrickParts({parts[1], parts[0]}, {"b", "a"});
+    EXPECT_EQ(forward.params.count(), 200u);
+    EXPECT_EQ(encodeAsset(forward), encodeAsset(backward));
+    EXPECT_FALSE(forward.fitSettings.contains("brick"));
+    EXPECT_EQ(forward.fitSettings.at("bricks").at("count"), 2);
+}
+
+TEST(Bricks, MergeRefusesMissingRepeatedAndForeignParts) {
+    const openvdb::GridBase::Ptr grid = blobGrid({40, 24, 24});
+    const VolumeTarget target(grid, "blobs");
+    CompressOptions options;
+    options.settings.seconds = 0.0;
+    options.settings.iterations = 5;
+    options.gaussians = 100;
+    const BrickPlan plan = planBrickedFit(target, "blobs", options, {2, 4});
+    const GaussianAsset first = fitBrickPart(grid, "blobs", plan, 0, 0.0);
+    const GaussianAsset second = fitBrickPart(grid, "blobs", plan, 1, 0.0);
+    const auto refusal = [](std::vector<GaussianAsset> parts, std::vector<std::string> names) {
+        try {
+            mergeBrickParts(std::move(parts), names);
+        } catch (const InputError& error) {
+            return std::string(error.what());
+        }
+        return std::string("accepted");
+    };
+    EXPECT_NE(refusal({first}, {"p0"}).find("bricks 1 of 2 are missing"), std::string::npos);
+    EXPECT_NE(refusal({first, first}, {"p0", "again"}).find("again: repeats brick 0"), std::string::npos);
+    options.settings.seed = 7;
+    const BrickPlan other = planBrickedFit(target, "blobs", options, {2, 4});
+    EXPECT_NE(refusal({first, fitBrickPart(grid, "blobs", other, 1, 0.0)}, {"p0", "seed7"}).find("seed7: is a brick of another fit"),
+              std::string::npos);
+    GaussianAsset whole = first;
+    whole.fitSettings.erase("brick");
+    EXPECT_NE(refusal({whole, second}, {"whole", "p1"}).find("whole: is not a brick part"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gvr
