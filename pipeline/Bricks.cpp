@@ -120,6 +120,17 @@ GaussianParameters fitBrick(const openvdb::GridBase::ConstPtr& grid, const std::
     if (brick.budget == 0) return GaussianParameters(0, target.channels());
     FitSettings one = settings;
     one.gaussians = brick.budget;
+    // Adam needs as many steps in a brick as in the whole volume, so a brick draws its
+    // share of each iteration's samples: iterations cost that share of the time, and
+    // the bricks together draw what one whole-volume fit would.
+    const double share = double(brick.fitted.volume()) / double(brick.volume.volume());
+    const auto scaled = [share](std::size_t count, std::size_t least) {
+        return std::max(least, std::size_t(std::llround(double(count) * share)));
+    };
+    one.voxelBatch = scaled(settings.voxelBatch, 1024);
+    one.slicePixels = scaled(settings.slicePixels, 256);
+    one.heldOutVoxels = scaled(settings.heldOutVoxels, 1024);
+    one.meanRateSide = brick.volume.dim().asVec3d().length() / std::sqrt(3.0);
     one.seed = settings.seed + 1000003ull * std::uint64_t(brick.index + 1);
     return fitGaussians(target, one, observer, report);
 }

@@ -62,8 +62,9 @@ private:
 };
 
 /// Fits brick.budget Gaussians to @a grid over the brick's fitted box, weighted by
-/// its taper, with a seed of its own (settings.seed and the brick's index).
-/// settings.gaussians is ignored.
+/// its taper, with a seed of its own (settings.seed and the brick's index). The
+/// samples per iteration (voxels, slice pixels, held-out voxels) are the brick's
+/// share of settings' by volume. settings.gaussians is ignored.
 GaussianParameters fitBrick(const openvdb::GridBase::ConstPtr& grid, const std::string& name, const Brick& brick,
                             const FitSettings& settings, const FitObserver& observer = {},
                             FitReport* report = nullptr);

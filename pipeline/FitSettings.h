@@ -53,6 +53,10 @@ struct FitSettings {
     /// voxels, so their rate is also multiplied by the longest side of the volume.
     double learningRate = 5e-4;
     std::array<double, kGroupCount> rateScale{1.0, 2.0, 10.0, 100.0, 10.0};
+    /// The side, in voxels, that multiplies the means' rate; 0: the root mean square
+    /// side of the fitted box. A brick takes its whole volume's, so that its means
+    /// move as they would in a fit of the whole volume.
+    double meanRateSide = 0.0;
     double finalRateFactor = 0.1;  ///< rates decay exponentially to this factor at the end
 
     float cutoffSigmas = kDefaultCutoffSigmas;

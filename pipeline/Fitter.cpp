@@ -155,7 +155,9 @@ private:
     }
 
     std::array<double, kGroupCount> rates(double fraction) const {
-        const double longestSide = double(mTarget.box().dim().asVec3d().length() / std::sqrt(3.0));
+        const double longestSide = mSettings.meanRateSide > 0.0
+                                       ? mSettings.meanRateSide
+                                       : double(mTarget.box().dim().asVec3d().length() / std::sqrt(3.0));
         const double decay = std::pow(mSettings.finalRateFactor, fraction);
         std::array<double, kGroupCount> rates;
         for (int g = 0; g < kGroupCount; ++g) {
