@@ -15,7 +15,8 @@ import sys
 
 GVR, WORK = sys.argv[1:3]
 CH2 = "/usr/share/mricron/templates/ch2.nii.gz"
-FIT = ["fit", "-q", CH2, "--bricks", "4", "--ratio", "60", "--iterations", "25", "--seed", "9", "--batch", "4096"]
+FIT = ["fit", "-q", CH2, "--bricks", "4", "--ratio", "60", "--iterations", "15", "--seed", "9", "--batch", "4096",
+       "--held-out", "4096", "--solve-iterations", "2"]
 # mpirun refuses root unless told twice; --oversubscribe allows two ranks on one core.
 MPIRUN = ["mpirun", "--oversubscribe", "-np", "2"]
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
