@@ -62,12 +62,6 @@ nlohmann::json sharedRecord(const GaussianAsset& part) {
     return shared;
 }
 
-void append(GaussianParameters& all, const GaussianParameters& more) {
-    for (int g = 0; g < kGroupCount; ++g) {
-        all.values[g].insert(all.values[g].end(), more.values[g].begin(), more.values[g].end());
-    }
-}
-
 /// Refuses @a part when it belongs to another fit than @a first.
 void checkSameFit(const GaussianAsset& first, const GaussianAsset& part, const std::string& name) {
     if (sharedRecord(part) != sharedRecord(first) || part.params.channels != first.params.channels ||
@@ -147,7 +141,7 @@ GaussianAsset mergeBrickParts(std::vector<GaussianAsset> parts, const std::vecto
     const nlohmann::json record = parts.front().fitSettings.at("brick");
     GaussianAsset merged = parts.front();
     merged.params = GaussianParameters(0, merged.params.channels);
-    for (std::size_t b = 0; b < of; ++b) append(merged.params, parts[order[b]].params);
+    for (std::size_t b = 0; b < of; ++b) merged.params.append(parts[order[b]].params);
     merged.fitSettings = sharedRecord(merged);
     merged.formatVersion = 0;
     std::uint64_t maxBytes = 0;

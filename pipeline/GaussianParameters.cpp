@@ -44,6 +44,10 @@ void GaussianParameters::keepOnly(const std::vector<bool>& keep) {
     }
 }
 
+void GaussianParameters::append(const GaussianParameters& more) {
+    for (int g = 0; g < kGroupCount; ++g) values[g].insert(values[g].end(), more.values[g].begin(), more.values[g].end());
+}
+
 void GaussianParameters::add(const GaussianParameters& other) {
     for (int g = 0; g < kGroupCount; ++g) {
         std::vector<float>& group = values[g];

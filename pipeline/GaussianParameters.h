@@ -47,6 +47,8 @@ struct GaussianParameters {
     void keepOnly(const std::vector<bool>& keep);
     /// Adds @a other element-wise; both must have the same count and channels.
     void add(const GaussianParameters& other);
+    /// Puts @a more's Gaussians after these; both must have the same channels.
+    void append(const GaussianParameters& more);
     bool allFinite() const;
 };
 

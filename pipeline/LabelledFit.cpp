@@ -46,12 +46,6 @@ openvdb::CoordBBox boundsWithMargin(const std::vector<openvdb::Coord>& voxels) {
     return box;
 }
 
-void append(GaussianParameters& all, const GaussianParameters& more) {
-    for (int g = 0; g < kGroupCount; ++g) {
-        all.values[g].insert(all.values[g].end(), more.values[g].begin(), more.values[g].end());
-    }
-}
-
 }  // namespace
 
 std::vector<std::uint64_t> countLabelVoxels(const openvdb::Int32Grid& labels, const std::vector<int>& ids) {
@@ -96,7 +90,7 @@ LabelledFitResult fitStructures(const openvdb::GridBase& image, const openvdb::I
             observer(whole);
         };
         const GaussianParameters fitted = fitGaussians(target, one, relay, &s.report);
-        append(result.params, fitted);
+        result.params.append(fitted);
         result.labels.insert(result.labels.end(), fitted.count(), s.id);
         done.iteration += s.report.iterations;
         done.seconds += s.report.seconds;

@@ -91,14 +91,19 @@ TEST(Bricks, SeamsMarkTheVoxelsNearInnerFacesOnly) {
 
 /// With an iteration budget, fitting the bricks one by one as parts and merging
 /// them is the same whatever order the parts come in.
+/// Two bricks of a 40 x 24 x 24 blob volume, @a gaussians fitted for @a iterations.
+CompressOptions twoBrickOptions(std::size_t gaussians, std::size_t iterations) {
+    CompressOptions options;
+    options.settings.seconds = 0.0;
+    options.settings.iterations = iterations;
+    options.gaussians = gaussians;
+    return options;
+}
+
 TEST(Bricks, MergeIsTheSameWhateverTheOrderOfTheParts) {
     const openvdb::GridBase::Ptr grid = blobGrid({40, 24, 24});
     const VolumeTarget target(grid, "blobs");
-    CompressOptions options;
-    options.settings.seconds = 0.0;
-    options.settings.iterations = 15;
-    options.gaussians = 200;
-    const BrickPlan plan = planBrickedFit(target, "blobs", options, {2, 4});
+    const BrickPlan plan = planBrickedFit(target, "blobs", twoBrickOptions(200, 15), {2, 4});
     std::vector<GaussianAsset> parts;
     for (std::size_t b = 0; b < plan.bricks.size(); ++b) parts.push_back(fitBrickPart(grid, "blobs", plan, b, 0.0));
     GaussianAsset forward = mergeBrickParts(parts, {"a", "b"});
@@ -112,10 +117,7 @@ TEST(Bricks, MergeIsTheSameWhateverTheOrderOfTheParts) {
 TEST(Bricks, MergeRefusesMissingRepeatedAndForeignParts) {
     const openvdb::GridBase::Ptr grid = blobGrid({40, 24, 24});
     const VolumeTarget target(grid, "blobs");
-    CompressOptions options;
-    options.settings.seconds = 0.0;
-    options.settings.iterations = 5;
-    options.gaussians = 100;
+    CompressOptions options = twoBrickOptions(100, 5);
     const BrickPlan plan = planBrickedFit(target, "blobs", options, {2, 4});
     const GaussianAsset first = fitBrickPart(grid, "blobs", plan, 0, 0.0);
     const GaussianAsset second = fitBrickPart(grid, "blobs", plan, 1, 0.0);

@@ -17,7 +17,7 @@ namespace {
 TEST(Cli, HelpOnEveryCommand) {
     test::TempDir dir;
     for (const char* command : {"--help", "ingest --help", "info --help", "fit --help", "export --help", "eval --help",
-                                "probe --help"}) {
+                                "probe --help", "merge --help"}) {
         const test::CommandResult run = test::runGvr(command, dir);
         EXPECT_EQ(run.exitCode, 0) << command;
         EXPECT_NE(run.out.find("Usage"), std::string::npos) << command;
