@@ -19,6 +19,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -37,6 +38,33 @@ struct FitFlags {
     CompressOptions options;
     SourceFlags source;
     BrickFlags bricks;
+};
+
+/// Wall seconds of each step of the command, in order, for the report.
+class Phases {
+public:
+    /// Ends the step that began at the last call (or at construction) as @a name.
+    void lap(const std::string& name) {
+        const auto now = std::chrono::steady_clock::now();
+        mSteps.emplace_back(name, std::chrono::duration<double>(now - mLast).count());
+        mLast = now;
+    }
+    nlohmann::json json() const {
+        nlohmann::json out = nlohmann::json::object();
+        for (const auto& [name, seconds] : mSteps) out[name] = seconds;
+        return out;
+    }
+    std::string text() const {
+        std::ostringstream out;
+        for (const auto& [name, seconds] : mSteps) {
+            out << (&name == &mSteps.front().first ? "" : ", ") << name << " " << std::setprecision(4) << seconds << " s";
+        }
+        return out.str();
+    }
+
+private:
+    std::chrono::steady_clock::time_point mLast = std::chrono::steady_clock::now();
+    std::vector<std::pair<std::string, double>> mSteps;
 };
 
 /// The CSV of error against run time, one row per held-out evaluation.
@@ -93,7 +121,7 @@ void reportBricks(const BrickedFitResult& bricked, const VolumeError& error) {
 }
 
 void report(const FitFlags& flags, const CompressResult& result, double peak, const VolumeError& error,
-            const std::optional<BrickedFitResult>& bricked) {
+            const std::optional<BrickedFitResult>& bricked, const Phases& phases) {
     const GaussianAsset& asset = result.asset;
     const FitReport& fit = result.fit;
     const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
@@ -114,7 +142,8 @@ void report(const FitFlags& flags, const CompressResult& result, double peak, co
                                                    {"psnr_before_db", jsonNumber(psnrFromMse(fit.amplitudeSolve.mseBefore, peak))},
                                                    {"psnr_after_db", jsonNumber(psnrFromMse(fit.amplitudeSolve.mseAfter, peak))}}},
                               {"dropped_to_fit_budget", result.dropped}, {"peak_rss_mib", peakRssMiB()},
-                              {"gaussians_allowed_by_ratio", fit.requestedGaussians}};
+                              {"gaussians_allowed_by_ratio", fit.requestedGaussians},
+                              {"phase_seconds", phases.json()}};
         if (!result.structures.empty()) out["structures"] = structuresJson(asset, result.structures);
         if (bricked) {
             out["bricks"] = bricked->bricks;
@@ -150,7 +179,8 @@ void report(const FitFlags& flags, const CompressResult& result, double peak, co
               << "  PSNR (as saved): " << formatDb(error.psnr) << " dB whole volume, "
               << formatDb(error.foregroundPsnr) << " dB foreground (" << error.foregroundVoxels
               << " voxels above the ingest threshold); peak = " << peak << " (normalised data range)\n"
-              << "  peak memory:     " << std::setprecision(5) << peakRssMiB() << " MiB\n";
+              << "  peak memory:     " << std::setprecision(5) << peakRssMiB() << " MiB\n"
+              << "  wall time:       " << phases.text() << "\n";
     for (const nlohmann::json& st : structuresJson(asset, result.structures)) {
         std::cout << "  structure " << st["id"] << " " << st["name"].get<std::string>() << ": " << st["voxels"]
                   << " voxels, " << st["gaussians"] << " Gaussians\n";
@@ -197,6 +227,7 @@ void runFit(FitFlags& flags) {
     checkOutputPath("-o", flags.output, {flags.input, flags.labelVolume, flags.labelNames});
     if (!flags.logPath.empty()) checkOutputPath("--log", flags.logPath, {flags.input, flags.output});
 
+    Phases phases;
     IngestOptions ingestOptions = toIngestOptions(flags.source);
     ingestOptions.labels = flags.labelVolume;
     ingestOptions.labelNames = flags.labelNames;
@@ -206,17 +237,21 @@ void runFit(FitFlags& flags) {
     if (target.activeVoxelCount() == 0) {
         diagnostics() << "gvr: warning: " << flags.input << " has no active voxels; writing an empty asset\n";
     }
+    phases.lap("load");
     if (flags.bricks.only) return writePart(flags, loaded, target);
     CompressResult result;
     const std::optional<BrickedFitResult> bricked = fitVolume(flags, loaded, target, result);
     if (flags.bricks.any() && !bricked) return;  // an MPI rank other than 0: rank 0 writes
+    phases.lap("fit");
     writeAsset(flags.output, result.asset);
+    phases.lap("write");
     ProgressBar measuring("measuring", !flags.quiet);
     const GaussianField saved(quantisedCopy(result.asset.params, result.asset.encoding), result.asset.cutoffSigmas);
     VoxelMarking seams;
     if (bricked) seams = [near = BrickSeams(bricked->layout, kSeamWidth)](const openvdb::Coord& ijk) { return near.near(ijk); };
     const VolumeError error = measureVolumeError(saved, target, measuring.callback(), seams);
-    report(flags, result, target.peak(), error, bricked);
+    phases.lap("measure");
+    report(flags, result, target.peak(), error, bricked, phases);
 }
 
 void addTuningFlags(CLI::App& command, FitSettings& s) {
