@@ -95,13 +95,18 @@ std::uint64_t VolumeTarget::activeVoxelCount(const openvdb::CoordBBox& region) c
 }
 
 void VolumeTarget::valueAt(const openvdb::Coord& ijk, float* out) const {
-    const float weight = mTaper ? mTaper->at(ijk) : 1.0f;
     if (mFloat) {
-        out[0] = weight * float(mMapping.toNormalised(mFloat->tree().getValue(ijk), 0));
-        return;
+        out[0] = float(mMapping.toNormalised(mFloat->tree().getValue(ijk), 0));
+    } else {
+        const openvdb::Vec3s v = mColour->tree().getValue(ijk);
+        for (int c = 0; c < 3; ++c) out[c] = float(mMapping.toNormalised(v[c], c));
     }
-    const openvdb::Vec3s v = mColour->tree().getValue(ijk);
-    for (int c = 0; c < 3; ++c) out[c] = weight * float(mMapping.toNormalised(v[c], c));
+    if (mTaper) applyTaper(ijk, out);
+}
+
+void VolumeTarget::applyTaper(const openvdb::Coord& ijk, float* out) const {
+    const float weight = mTaper->at(ijk);
+    for (int c = 0; c < mChannels; ++c) out[c] *= weight;
 }
 
 bool VolumeTarget::isActive(const openvdb::Coord& ijk) const {

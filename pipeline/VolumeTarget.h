@@ -51,6 +51,9 @@ public:
     float gradientMagnitude(const openvdb::Coord& ijk) const;
 
 private:
+    /// Kept out of valueAt(), which every fit calls for every sample.
+    void applyTaper(const openvdb::Coord& ijk, float* out) const;
+
     openvdb::GridBase::ConstPtr mGrid;
     openvdb::FloatGrid::ConstPtr mFloat;
     openvdb::Vec3SGrid::ConstPtr mColour;
