@@ -4,7 +4,6 @@
 #include "Error.h"
 
 #include <algorithm>
-#include <numeric>
 
 namespace gvr {
 
