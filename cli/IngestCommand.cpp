@@ -7,9 +7,12 @@
 #include "GridSummary.h"
 #include "LabelGrid.h"
 #include "ProgressBar.h"
+#include "Report.h"
 #include "SourceOptions.h"
 
+#include <chrono>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
 
 namespace gvr {
@@ -37,6 +40,7 @@ void runIngest(const IngestFlags& flags) {
     options.labelNames = flags.labelNames;
     options.resampleLabels = flags.resampleLabels;
     IngestResult result;
+    const auto start = std::chrono::steady_clock::now();
     {
         ProgressBar reading("reading", !flags.quiet);
         ProgressBar building("building grid", !flags.quiet);
@@ -44,6 +48,7 @@ void runIngest(const IngestFlags& flags) {
         options.buildProgress = building.callback();
         result = ingest(flags.input, options);
     }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     printWarnings(result.warnings);
     if (result.grid->activeVoxelCount() == 0) {
         diagnostics() << "gvr: warning: no voxel is above the threshold; the grid is empty\n";
@@ -61,6 +66,8 @@ void runIngest(const IngestFlags& flags) {
         nlohmann::json report = {{"output", flags.output},
                                  {"file_bytes", fileBytes},
                                  {"grid", toJson(summary)},
+                                 {"seconds", seconds},
+                                 {"peak_rss_mib", peakRssMiB()},
                                  {"warnings", result.warnings}};
         if (!flags.labels.empty()) {
             nlohmann::json names = nlohmann::json::object();
@@ -69,8 +76,10 @@ void runIngest(const IngestFlags& flags) {
         }
         std::cout << report.dump(2) << "\n";
     } else {
-        std::cout << "wrote " << flags.output << " (" << formatBytes(fileBytes) << ")\n"
-                  << toText(summary);
+        std::cout << "wrote " << flags.output << " (" << formatBytes(fileBytes) << ") in " << std::fixed
+                  << std::setprecision(1) << seconds << " s, peak memory " << std::setprecision(0) << peakRssMiB()
+                  << " MiB\n"
+                  << std::defaultfloat << toText(summary);
         if (!flags.labels.empty()) {
             std::cout << "labels: " << labelTable.names.size() << " structures from " << flags.labels << "\n";
         }

@@ -1,18 +1,19 @@
 // A DICOM series (one folder) through GDCM, compressed transfer syntaxes included.
 //
 // Headers are read first (without pixel data) to sort the slices along the slice
-// normal and to check that the series is consistent; only then is the volume
-// allocated and the slices decoded, in parallel.
+// normal and to check that the series is consistent; only then are slices
+// decoded, a slab at a time, in parallel.
 
 #include "DicomStructure.h"
 #include "Error.h"
+#include "MemoryBudget.h"
 #include "Readers.h"
+#include "SliceSource.h"
 
 #include <gdcmImageHelper.h>
 #include <gdcmImageReader.h>
 #include <gdcmReader.h>
 #include <gdcmTrace.h>
-#include <tbb/parallel_for.h>
 
 #include <openvdb/Types.h>
 
@@ -222,9 +223,9 @@ void checkPixelDataComplete(const gdcm::DataSet& dataSet, const std::string& fil
     }
 }
 
-/// Decodes one slice and stores it at its place, rescaled to float when the series
-/// mixes rescale parameters.
-void decodeSlice(const SeriesHeader& series, std::size_t index, DenseVolume& volume,
+/// Decodes one slice into @a destination, rescaled to float when the series mixes
+/// rescale parameters.
+void decodeSlice(const SeriesHeader& series, std::size_t index, unsigned char* destination,
                  bool perSliceRescale) {
     const SliceHeader& slice = series.slices[index];
     gdcm::ImageReader reader;
@@ -238,21 +239,40 @@ void decodeSlice(const SeriesHeader& series, std::size_t index, DenseVolume& vol
         throw InputError(slice.file, "pixel data holds " + std::to_string(image.GetBufferLength()) +
                                          " bytes, expected " + std::to_string(storedBytes));
     }
+    if (!perSliceRescale) {
+        if (!image.GetBuffer(reinterpret_cast<char*>(destination))) {
+            throw InputError(slice.file, "truncated or undecodable DICOM pixel data");
+        }
+        return;
+    }
     std::vector<char> stored(storedBytes);
     if (!image.GetBuffer(stored.data())) {
         throw InputError(slice.file, "truncated or undecodable DICOM pixel data");
     }
-    if (!perSliceRescale) {
-        std::copy(stored.begin(), stored.end(), volume.samples.begin() + index * storedBytes);
-        return;
-    }
-    float* out = volume.data<float>() + index * samples;
+    float* out = reinterpret_cast<float*>(destination);
     dispatchSampleType(series.type, [&](auto sample) {
         using T = decltype(sample);
         const T* in = reinterpret_cast<const T*>(stored.data());
         for (std::size_t s = 0; s < samples; ++s) out[s] = float(slice.slope * in[s] + slice.intercept);
     });
 }
+
+class DicomSeries : public SliceSource {
+public:
+    DicomSeries(DenseVolume layout, const std::string& folder, SeriesHeader series, bool perSliceRescale)
+        : SliceSource(std::move(layout), folder), mSeries(std::move(series)), mPerSliceRescale(perSliceRescale) {}
+
+private:
+    void readSlices(std::int64_t first, std::int64_t count, unsigned char* destination,
+                    const ProgressFn& progress) const override {
+        decodeEachSlice(first, count, destination, progress, [this](std::int64_t index, unsigned char* slice) {
+            decodeSlice(mSeries, std::size_t(index), slice, mPerSliceRescale);
+        });
+    }
+
+    SeriesHeader mSeries;
+    bool mPerSliceRescale;
+};
 
 }  // namespace
 
@@ -264,32 +284,26 @@ bool isDicomFile(const std::string& path) {
     return in && std::string(magic, 4) == "DICM";
 }
 
-DenseVolume readDicomSeries(const std::string& folder, const ReadOptions& options) {
+std::unique_ptr<SliceSource> openDicomSeries(const std::string& folder, const ReadOptions&) {
     // GDCM's warnings and errors would add lines to gvr's one-line messages; the
     // checks here report what matters about a file, in that one line.
     gdcm::Trace::WarningOff();
     gdcm::Trace::ErrorOff();
-    const SeriesHeader series = readSeriesHeader(folder);
-    DenseVolume volume;
-    volume.dims = {series.columns, series.rows, std::int64_t(series.slices.size())};
-    volume.channels = int(series.samplesPerPixel);
-    volume.modality = series.modality;
-    setGeometry(series, volume);
+    SeriesHeader series = readSeriesHeader(folder);
+    DenseVolume layout;
+    layout.dims = {series.columns, series.rows, std::int64_t(series.slices.size())};
+    layout.channels = int(series.samplesPerPixel);
+    layout.modality = series.modality;
+    checkDimensions(folder, layout.dims);
+    setGeometry(series, layout);
 
     const bool perSliceRescale = !rescaleIsUniform(series);
-    volume.type = perSliceRescale ? SampleType::Float32 : series.type;
+    layout.type = perSliceRescale ? SampleType::Float32 : series.type;
     if (!perSliceRescale) {
-        volume.slope = series.slices.front().slope;
-        volume.intercept = series.slices.front().intercept;
+        layout.slope = series.slices.front().slope;
+        layout.intercept = series.slices.front().intercept;
     }
-    allocateSamples(volume, folder);
-
-    ProgressCounter progress(options.progress, series.slices.size());
-    tbb::parallel_for(std::size_t(0), series.slices.size(), [&](std::size_t index) {
-        decodeSlice(series, index, volume, perSliceRescale);
-        progress.advance();
-    });
-    return volume;
+    return std::make_unique<DicomSeries>(std::move(layout), folder, std::move(series), perSliceRescale);
 }
 
 }  // namespace gvr

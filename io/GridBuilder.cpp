@@ -4,13 +4,16 @@
 #include "LatticeSampler.h"
 #include "LeafAssembly.h"
 #include "Luminance.h"
+#include "MemoryBudget.h"
 #include "VolumeMetadata.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -20,6 +23,9 @@ namespace gvr {
 namespace {
 
 using openvdb::Coord;
+
+/// readSlab(first, count): slices [first, first + count) of the volume.
+using ReadSlab = std::function<const DenseVolume&(std::int64_t first, std::int64_t count)>;
 
 /// Physical values of a dense volume stored as T, with NaN/Inf replaced when asked.
 template <typename T>
@@ -124,40 +130,44 @@ ValueT voxelValue(const Values& values, std::size_t voxel) {
     }
 }
 
-/// Fills the leaf at @a origin; returns null when none of its voxels is active.
+/// Fills the leaf at @a origin from @a slab, which holds the slices from @a firstSlice
+/// on; null when none of the leaf's voxels is active.
 template <typename LeafT, typename Values>
-std::unique_ptr<LeafT> buildLeaf(const Values& values, const DenseVolume& volume,
-                                 const Coord& origin, double cut,
-                                 const typename LeafT::ValueType& background) {
-    auto leaf = std::make_unique<LeafT>(origin, background, false);
-    const Coord end = Coord::minComponent(origin + Coord(LeafT::DIM),
-                                          Coord(int(volume.dims[0]), int(volume.dims[1]),
-                                                int(volume.dims[2])));
+std::unique_ptr<LeafT> buildLeaf(const Values& values, const DenseVolume& slab, std::int64_t firstSlice,
+                                 const Coord& origin, double cut, const typename LeafT::ValueType& background) {
+    std::unique_ptr<LeafT> leaf;  // made at the first active voxel: most leaves of a large volume stay empty
+    const Coord end = Coord::minComponent(
+        origin + Coord(LeafT::DIM),
+        Coord(int(slab.dims[0]), int(slab.dims[1]), int(firstSlice + slab.dims[2])));
     for (int k = origin.z(); k < end.z(); ++k) {
         for (int j = origin.y(); j < end.y(); ++j) {
-            std::size_t voxel = (std::size_t(k) * volume.dims[1] + j) * volume.dims[0] + origin.x();
+            std::size_t voxel = (std::size_t(k - firstSlice) * slab.dims[1] + j) * slab.dims[0] + origin.x();
             for (int i = origin.x(); i < end.x(); ++i, ++voxel) {
                 if (values.key(voxel) <= cut) continue;
+                if (!leaf) leaf = std::make_unique<LeafT>(origin, background, false);
                 leaf->setValueOn(LeafT::coordToOffset(Coord(i, j, k)),
                                  voxelValue<typename LeafT::ValueType>(values, voxel));
             }
         }
     }
-    return leaf->isEmpty() ? nullptr : std::move(leaf);
+    return leaf;
 }
 
-/// Every leaf of the volume's box, made in parallel.
+/// The leaves of a slab's slices. A slab starts on a leaf boundary, so no leaf is
+/// shared with another slab.
 template <typename GridT, typename Values>
-typename GridT::Ptr buildSparseGrid(const Values& values, const DenseVolume& volume, double cut,
-                                    const typename GridT::ValueType& background,
-                                    const ProgressFn& progress) {
+void addSlabLeaves(GridT& grid, const Values& values, const DenseVolume& slab, std::int64_t firstSlice,
+                   double cut, ProgressCounter& counter) {
     using LeafT = typename GridT::TreeType::LeafNodeType;
-    const std::vector<Coord> origins = blockOrigins(
-        openvdb::CoordBBox(Coord(0), Coord(int(volume.dims[0]), int(volume.dims[1]), int(volume.dims[2])) - Coord(1)));
-    return assembleGrid<GridT>(
-        origins, background,
-        [&](const Coord& origin) { return buildLeaf<LeafT>(values, volume, origin, cut, background); },
-        progress);
+    const std::vector<Coord> origins = blockOrigins(openvdb::CoordBBox(
+        Coord(0, 0, int(firstSlice)),
+        Coord(int(slab.dims[0]) - 1, int(slab.dims[1]) - 1, int(firstSlice + slab.dims[2]) - 1)));
+    const typename GridT::ValueType placeholder = grid.background();
+    addLeaves(grid, origins,
+              [&](const Coord& origin) {
+                  return buildLeaf<LeafT>(values, slab, firstSlice, origin, cut, placeholder);
+              },
+              counter);
 }
 
 openvdb::math::Transform::Ptr transformOf(const DenseVolume& volume, const std::string& file) {
@@ -176,61 +186,178 @@ openvdb::math::Transform::Ptr transformOf(const DenseVolume& volume, const std::
     }
 }
 
-template <typename T>
-openvdb::GridBase::Ptr buildTyped(const DenseVolume& volume, const GridBuildSettings& settings,
-                                  const ProgressFn& progress) {
-    const PhysicalValues<T> values(volume, settings.nanTo);
-    const std::size_t voxelCount = volume.voxelCount();
-    const Range range = scanRange(values, voxelCount, settings.nanTo.has_value());
-    if (range.nonFinite > 0) {
-        throw InputError(settings.sourceFile,
-                         std::to_string(range.nonFinite) +
-                             " voxels are NaN or Inf; pass --nan-to VALUE to replace them");
-    }
-    const double cut = settings.threshold.value_or(range.min);
-    const ChannelSum inactive = sumInactive(values, voxelCount, cut);
-    const openvdb::Vec3d fallback(volume.channels == 1 ? range.min : 0.0);
-    const openvdb::Vec3d background =
-        inactive.count > 0 ? inactive.sum / double(inactive.count) : fallback;
+/// What became of one slab: the cut its leaves were built with and the sum of the
+/// voxels that cut left inactive.
+struct SlabRecord {
+    std::int64_t first = 0, count = 0;
+    double cut = 0;
+    ChannelSum inactive;
+};
 
-    openvdb::GridBase::Ptr grid;
-    if (volume.channels == 1) {
-        grid = buildSparseGrid<openvdb::FloatGrid>(values, volume, cut, float(background[0]), progress);
-        grid->setName("density");
-        grid->setGridClass(openvdb::GRID_FOG_VOLUME);  // what Blender and Houdini expect of density
-    } else {
-        grid = buildSparseGrid<openvdb::Vec3SGrid>(values, volume, cut, openvdb::Vec3s(background),
-                                                   progress);
-        grid->setName("color");
+/// Builds the grid one slab at a time, so that only one slab of dense samples is
+/// held. Without a threshold the cut is the volume's minimum, which is known only
+/// at the end: each slab is cut at the minimum seen so far, and the few slabs read
+/// before the minimum fell (usually none: padding and air come early) are read
+/// and built again at the final cut.
+template <typename T, typename GridT>
+class SlabBuild {
+public:
+    SlabBuild(const DenseVolume& layout, const GridBuildSettings& settings, const ProgressFn& progress)
+        : mLayout(layout), mSettings(settings),
+          mGrid(GridT::create()),  // its background is set once the inactive voxels are known
+          mCounter(progress, leafCount(layout)) {}
+
+    /// @param readSlab  readSlab(first, count) returns those slices as a DenseVolume
+    typename GridT::Ptr run(std::int64_t slabSlices, const ReadSlab& readSlab) {
+        const std::int64_t slices = mLayout.dims[2];
+        for (std::int64_t first = 0; first < slices; first += slabSlices) {
+            const std::int64_t count = std::min(slabSlices, slices - first);
+            mRecords.push_back(addSlab(readSlab(first, count), first, count));
+        }
+        if (mRange.nonFinite > 0) {
+            throw InputError(mSettings.sourceFile,
+                             std::to_string(mRange.nonFinite) +
+                                 " voxels are NaN or Inf; pass --nan-to VALUE to replace them");
+        }
+        for (SlabRecord& record : mRecords) {
+            if (record.cut != finalCut()) record = rebuildSlab(readSlab(record.first, record.count), record);
+        }
+        mGrid->tree().root().setBackground(backgroundValue(), /*updateChildNodes=*/true);
+        return mGrid;
     }
-    grid->setTransform(transformOf(volume, settings.sourceFile));
+
+    const Range& range() const { return mRange; }
+    double finalCut() const { return mSettings.threshold.value_or(mRange.min); }
+
+    /// The mean of the inactive voxels, or the minimum (black for RGB) when none are.
+    openvdb::Vec3d background() const {
+        ChannelSum inactive;
+        for (const SlabRecord& record : mRecords) {
+            inactive.sum += record.inactive.sum;
+            inactive.count += record.inactive.count;
+        }
+        if (inactive.count == 0) return openvdb::Vec3d(mLayout.channels == 1 ? mRange.min : 0.0);
+        return inactive.sum / double(inactive.count);
+    }
+
+private:
+    static std::size_t leafCount(const DenseVolume& layout) {
+        std::size_t leaves = 1;
+        for (std::int64_t d : layout.dims) leaves *= std::size_t((d + kBlockDim - 1) / kBlockDim);
+        return leaves;
+    }
+
+    SlabRecord addSlab(const DenseVolume& slab, std::int64_t first, std::int64_t count) {
+        const PhysicalValues<T> values(slab, mSettings.nanTo);
+        mRange = mRange.merged(scanRange(values, slab.voxelCount(), mSettings.nanTo.has_value()));
+        SlabRecord record{first, count, finalCut(), {}};
+        record.inactive = sumInactive(values, slab.voxelCount(), record.cut);
+        addSlabLeaves(*mGrid, values, slab, first, record.cut, mCounter);
+        return record;
+    }
+
+    SlabRecord rebuildSlab(const DenseVolume& slab, SlabRecord record) {
+        const PhysicalValues<T> values(slab, mSettings.nanTo);
+        record.cut = finalCut();
+        record.inactive = sumInactive(values, slab.voxelCount(), record.cut);
+        const ProgressFn none;  // the first pass already counted these leaves
+        ProgressCounter silent(none, 0);
+        addSlabLeaves(*mGrid, values, slab, record.first, record.cut, silent);
+        return record;
+    }
+
+    typename GridT::ValueType backgroundValue() const {
+        const openvdb::Vec3d value = background();
+        if constexpr (std::is_same_v<typename GridT::ValueType, openvdb::Vec3s>) {
+            return openvdb::Vec3s(value);
+        } else {
+            return float(value[0]);
+        }
+    }
+
+    const DenseVolume& mLayout;
+    const GridBuildSettings& mSettings;
+    typename GridT::Ptr mGrid;
+    ProgressCounter mCounter;
+    Range mRange;
+    std::vector<SlabRecord> mRecords;
+};
+
+void describeGrid(const DenseVolume& layout, const GridBuildSettings& settings, const Range& range,
+                  const openvdb::Vec3d& background, openvdb::GridBase& grid) {
+    if (layout.channels == 1) {
+        grid.setName("density");
+        grid.setGridClass(openvdb::GRID_FOG_VOLUME);  // what Blender and Houdini expect of density
+    } else {
+        grid.setName("color");
+    }
+    grid.setTransform(transformOf(layout, settings.sourceFile));
 
     VolumeMetadata metadata;
     metadata.sourceFile = settings.sourceFile;
-    metadata.modality = settings.modality.empty() ? volume.modality : settings.modality;
-    metadata.sourceType = sampleTypeName(volume.type);
-    metadata.channels = volume.channels;
-    metadata.dims = openvdb::Vec3i(int(volume.dims[0]), int(volume.dims[1]), int(volume.dims[2]));
-    metadata.spacingMm = axisSpacing(volume.worldFromIndex);
+    metadata.modality = settings.modality.empty() ? layout.modality : settings.modality;
+    metadata.sourceType = sampleTypeName(layout.type);
+    metadata.channels = layout.channels;
+    metadata.dims = openvdb::Vec3i(int(layout.dims[0]), int(layout.dims[1]), int(layout.dims[2]));
+    metadata.spacingMm = axisSpacing(layout.worldFromIndex);
     metadata.valueMin = range.min;
     metadata.valueMax = range.max;
-    metadata.background = volume.channels == 1 ? background[0] : luminance(background);
+    metadata.background = layout.channels == 1 ? background[0] : luminance(background);
     metadata.threshold = settings.threshold;
-    writeVolumeMetadata(metadata, *grid);
+    writeVolumeMetadata(metadata, grid);
+}
+
+template <typename T, typename GridT>
+openvdb::GridBase::Ptr buildTyped(const DenseVolume& layout, std::int64_t slabSlices, const ReadSlab& readSlab,
+                                  const GridBuildSettings& settings, const ProgressFn& progress) {
+    transformOf(layout, settings.sourceFile);  // a bad matrix fails before any slab is read
+    SlabBuild<T, GridT> build(layout, settings, progress);
+    typename GridT::Ptr grid = build.run(slabSlices, readSlab);
+    describeGrid(layout, settings, build.range(), build.background(), *grid);
     return grid;
+}
+
+openvdb::GridBase::Ptr buildFromSlabs(const DenseVolume& layout, std::int64_t slabSlices, const ReadSlab& readSlab,
+                                      const GridBuildSettings& settings, const ProgressFn& progress) {
+    if (layout.channels != 1 && layout.channels != 3) {
+        throw InputError(settings.sourceFile, "has " + std::to_string(layout.channels) +
+                                                  " channels; gvr handles grey (1) or RGB (3)");
+    }
+    return dispatchSampleType(layout.type, [&](auto sample) {
+        using T = decltype(sample);
+        if (layout.channels == 1) return buildTyped<T, openvdb::FloatGrid>(layout, slabSlices, readSlab, settings, progress);
+        return buildTyped<T, openvdb::Vec3SGrid>(layout, slabSlices, readSlab, settings, progress);
+    });
+}
+
+/// Slabs of whole leaves, about @a slabBytes of samples each.
+std::int64_t slabSlicesFor(const SliceSource& source, std::uint64_t slabBytes) {
+    const std::uint64_t leafBytes = source.sliceBytes() * kBlockDim;
+    return std::max<std::int64_t>(1, std::int64_t(slabBytes / leafBytes)) * kBlockDim;
 }
 
 }  // namespace
 
 openvdb::GridBase::Ptr buildGrid(const DenseVolume& volume, const GridBuildSettings& settings,
                                  const ProgressFn& progress) {
-    if (volume.channels != 1 && volume.channels != 3) {
-        throw InputError(settings.sourceFile, "has " + std::to_string(volume.channels) +
-                                                  " channels; gvr handles grey (1) or RGB (3)");
-    }
-    return dispatchSampleType(volume.type, [&](auto sample) {
-        return buildTyped<decltype(sample)>(volume, settings, progress);
-    });
+    const auto wholeVolume = [&](std::int64_t, std::int64_t) -> const DenseVolume& { return volume; };
+    return buildFromSlabs(volume, volume.dims[2], wholeVolume, settings, progress);
+}
+
+openvdb::GridBase::Ptr buildGrid(const SliceSource& source, const GridBuildSettings& settings,
+                                 const ProgressFn& progress) {
+    const DenseVolume& layout = source.layout();
+    checkDimensions(source.culprit(), layout.dims);
+    DenseVolume slab;
+    const auto nextSlab = [&](std::int64_t first, std::int64_t count) -> const DenseVolume& {
+        checkSlabFitsInMemory(source.culprit(), {layout.dims[0], layout.dims[1], count}, layout.channels,
+                              bytesPerSample(layout.type),
+                              " (slices " + std::to_string(first) + " on, of " + std::to_string(layout.dims[2]) +
+                                  "; a higher --threshold keeps fewer voxels)");
+        source.readSlab(first, count, slab);
+        return slab;
+    };
+    return buildFromSlabs(layout, slabSlicesFor(source, settings.slabBytes), nextSlab, settings, progress);
 }
 
 }  // namespace gvr

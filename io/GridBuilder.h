@@ -4,9 +4,11 @@
 
 #include "DenseVolume.h"
 #include "Progress.h"
+#include "SliceSource.h"
 
 #include <openvdb/openvdb.h>
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -20,6 +22,9 @@ struct GridBuildSettings {
     /// Value that replaces NaN and Inf samples. Unset: such samples are an error.
     std::optional<float> nanTo;
     std::string modality;  ///< overrides what the file says, when not empty
+    /// A streamed build reads about this many bytes of samples at a time (at least
+    /// one leaf's 8 slices).
+    std::uint64_t slabBytes = 64u << 20;
 };
 
 /// Builds a float grid named "density" (grey) or a Vec3s grid named "color" (RGB)
@@ -29,6 +34,13 @@ struct GridBuildSettings {
 /// @throw InputError naming the source file for NaN/Inf samples without nanTo, or
 ///        for a degenerate orientation matrix.
 openvdb::GridBase::Ptr buildGrid(const DenseVolume& volume, const GridBuildSettings& settings,
+                                 const ProgressFn& progress = {});
+
+/// The same grid, built from @a source a slab at a time: the dense samples held at
+/// any moment are one slab's (settings.slabBytes), whatever the volume's size.
+/// @throw InputError as above, and naming the source when a slab no longer fits
+///        in the memory that the grid leaves.
+openvdb::GridBase::Ptr buildGrid(const SliceSource& source, const GridBuildSettings& settings,
                                  const ProgressFn& progress = {});
 
 }  // namespace gvr

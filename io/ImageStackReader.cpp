@@ -3,10 +3,11 @@
 
 #include "Error.h"
 #include "ImageFraming.h"
+#include "MemoryBudget.h"
 #include "Readers.h"
+#include "SliceSource.h"
 
 #include <OpenImageIO/imageio.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -111,38 +112,42 @@ StackLayout readLayout(const std::vector<std::string>& files) {
     return layout;
 }
 
-void readPage(const StackLayout& layout, std::size_t index, DenseVolume& volume) {
-    const Page& page = layout.pages[index];
-    auto input = openImage(page.file);
-    const std::size_t pageBytes = std::size_t(layout.width) * layout.height * layout.channels *
-                                  bytesPerSample(layout.type);
-    unsigned char* destination = volume.samples.data() + index * pageBytes;
-    if (!input->read_image(page.subimage, 0, 0, layout.channels, typeDescOf(layout.type),
-                           destination)) {
-        throw InputError(page.file, "truncated or corrupt image: " + input->geterror());
+class ImageStack : public SliceSource {
+public:
+    ImageStack(DenseVolume layout, const std::string& culprit, StackLayout stack)
+        : SliceSource(std::move(layout), culprit), mStack(std::move(stack)) {}
+
+private:
+    void readSlices(std::int64_t first, std::int64_t count, unsigned char* destination,
+                    const ProgressFn& progress) const override {
+        decodeEachSlice(first, count, destination, progress,
+                        [this](std::int64_t index, unsigned char* slice) { readPage(mStack.pages[index], slice); });
     }
-}
+
+    void readPage(const Page& page, unsigned char* destination) const {
+        auto input = openImage(page.file);
+        if (!input->read_image(page.subimage, 0, 0, mStack.channels, typeDescOf(mStack.type), destination)) {
+            throw InputError(page.file, "truncated or corrupt image: " + input->geterror());
+        }
+    }
+
+    StackLayout mStack;
+};
 
 }  // namespace
 
-DenseVolume readImageStack(const std::vector<std::string>& files, const std::string& culprit,
-                           const ReadOptions& options) {
+std::unique_ptr<SliceSource> openImageStack(const std::vector<std::string>& files, const std::string& culprit,
+                                            const ReadOptions& options) {
     if (files.empty()) throw InputError(culprit, "no image files found");
-    const StackLayout layout = readLayout(files);
+    StackLayout stack = readLayout(files);
 
-    DenseVolume volume;
-    volume.dims = {layout.width, layout.height, std::int64_t(layout.pages.size())};
-    volume.channels = layout.channels;
-    volume.type = layout.type;
-    setGivenSpacing(options, volume);
-    allocateSamples(volume, culprit);
-
-    ProgressCounter progress(options.progress, layout.pages.size());
-    tbb::parallel_for(std::size_t(0), layout.pages.size(), [&](std::size_t index) {
-        readPage(layout, index, volume);
-        progress.advance();
-    });
-    return volume;
+    DenseVolume layout;
+    layout.dims = {stack.width, stack.height, std::int64_t(stack.pages.size())};
+    layout.channels = stack.channels;
+    layout.type = stack.type;
+    checkDimensions(culprit, layout.dims);
+    setGivenSpacing(options, layout);
+    return std::make_unique<ImageStack>(std::move(layout), culprit, std::move(stack));
 }
 
 }  // namespace gvr

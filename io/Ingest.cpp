@@ -9,16 +9,32 @@
 
 namespace gvr {
 
+namespace {
+
+/// Formats that keep their slices apart stream a slab at a time; the rest are
+/// decoded whole first.
+IngestResult buildImageGrid(const std::string& input, const IngestOptions& options, std::size_t& decodedBytes) {
+    IngestResult result;
+    if (const auto source = openSliceSource(input, options.read)) {
+        result.grid = buildGrid(*source, options.build, options.buildProgress);
+        result.warnings = source->layout().warnings;
+        return result;
+    }
+    DenseVolume volume = readVolume(input, options.read);
+    decodedBytes = volume.samples.size();
+    result.grid = buildGrid(volume, options.build, options.buildProgress);
+    result.warnings = std::move(volume.warnings);
+    return result;
+}
+
+}  // namespace
+
 IngestResult ingest(const std::string& input, IngestOptions options) {
     initializeOpenVdb();
+    options.build.sourceFile = input;
     std::size_t decodedBytes = 0;
     try {
-        DenseVolume volume = readVolume(input, options.read);
-        decodedBytes = volume.samples.size();
-        options.build.sourceFile = input;
-        IngestResult result;
-        result.grid = buildGrid(volume, options.build, options.buildProgress);
-        result.warnings = std::move(volume.warnings);
+        IngestResult result = buildImageGrid(input, options, decodedBytes);
         if (!options.labels.empty()) result.labels = readLabels(options, *result.grid);
         return result;
     } catch (const std::bad_alloc&) {

@@ -57,8 +57,7 @@ std::uint64_t availableMemoryBytes() {
 
 void setMemoryCeiling(std::uint64_t bytes) { gCeiling.store(bytes); }
 
-void checkVolumeFitsInMemory(const std::string& file, const std::array<std::int64_t, 3>& dims,
-                             int channels, std::size_t bytesPerSample, const std::string& task) {
+void checkDimensions(const std::string& file, const std::array<std::int64_t, 3>& dims) {
     for (std::int64_t d : dims) {
         if (d < 1 || d > kMaxDimension) {
             throw InputError(file, "dimensions " + std::to_string(dims[0]) + "x" +
@@ -67,15 +66,36 @@ void checkVolumeFitsInMemory(const std::string& file, const std::array<std::int6
                                        std::to_string(kMaxDimension) + ")");
         }
     }
+}
+
+void checkVolumeFitsInMemory(const std::string& file, const std::array<std::int64_t, 3>& dims,
+                             int channels, std::size_t bytesPerSample, const std::string& task) {
+    checkDimensions(file, dims);
     // long double: the product of three 2^30 dimensions overflows 64 bits.
     const long double samples = (long double)dims[0] * dims[1] * dims[2] * channels;
     const long double needed = samples * bytesPerSample + samples * sizeof(float);
     const long double available = availableMemoryBytes();
     if (needed > available) {
+        const std::string hint = task != "ingest" ? ""
+                                                  : "; NIfTI, MGH, MetaImage and VDB volumes are read whole, while raw "
+                                                    "files (--raw-dims), image stacks and DICOM series are streamed "
+                                                    "slab by slab and need memory only for their active voxels";
         throw InputError(file, "a volume of " + std::to_string(dims[0]) + "x" +
                                    std::to_string(dims[1]) + "x" + std::to_string(dims[2]) +
                                    " voxels needs " + gibibytes(needed) + " to " + task + ", but only " +
-                                   gibibytes(available) + " is available");
+                                   gibibytes(available) + " is available" + hint);
+    }
+}
+
+void checkSlabFitsInMemory(const std::string& file, const std::array<std::int64_t, 3>& slab, int channels,
+                           std::size_t bytesPerSample, const std::string& context) {
+    const long double samples = (long double)slab[0] * slab[1] * slab[2] * channels;
+    const long double needed = samples * bytesPerSample + samples * sizeof(float);
+    const long double available = availableMemoryBytes();
+    if (needed > available) {
+        throw InputError(file, "one slab of " + std::to_string(slab[2]) + " slices of " + std::to_string(slab[0]) +
+                                   "x" + std::to_string(slab[1]) + " voxels needs " + gibibytes(needed) +
+                                   " to stream, but only " + gibibytes(available) + " is available" + context);
     }
 }
 

@@ -9,9 +9,11 @@
 
 #include "DenseVolume.h"
 #include "Progress.h"
+#include "SliceSource.h"
 
 #include <openvdb/Types.h>
 
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -41,11 +43,6 @@ struct ReadOptions {
 DenseVolume readNifti(const std::string& path, const ReadOptions& options);
 /// True when @a path carries the DICOM Part 10 magic ("DICM" after the preamble).
 bool isDicomFile(const std::string& path);
-DenseVolume readDicomSeries(const std::string& folder, const ReadOptions& options);
-/// @param files slices in stacking order; one file may hold many pages (multi-page TIFF).
-DenseVolume readImageStack(const std::vector<std::string>& files, const std::string& culprit,
-                           const ReadOptions& options);
-DenseVolume readRaw(const std::string& path, const ReadOptions& options);
 DenseVolume readMetaImage(const std::string& path, const ReadOptions& options);
 DenseVolume readMgh(const std::string& path, const ReadOptions& options);
 DenseVolume readVdb(const std::string& path, const ReadOptions& options);
@@ -54,8 +51,13 @@ DenseVolume readVdb(const std::string& path, const ReadOptions& options);
 bool isImageFile(const std::string& path);
 
 /// Picks the reader for @a input: a file, a folder (DICOM series or image stack) or a
-/// glob pattern of images, and applies it.
+/// glob pattern of images, and reads the whole volume.
 DenseVolume readVolume(const std::string& input, const ReadOptions& options);
+
+/// The slab-by-slab source for @a input when its format can stream (raw files,
+/// image stacks, DICOM series; see SliceSource.h), else null.
+/// @throw InputError naming the input when it does not exist or its headers are bad.
+std::unique_ptr<SliceSource> openSliceSource(const std::string& input, const ReadOptions& options);
 
 /// For formats that carry no geometry: axis-aligned voxels of --spacing, or of
 /// 1 mm with a warning when none was given.

@@ -85,17 +85,18 @@ bool folderHasDicom(const std::string& folder) {
     return false;
 }
 
-DenseVolume readFolder(const std::string& folder, const ReadOptions& options) {
+std::unique_ptr<SliceSource> openFolder(const std::string& folder, const ReadOptions& options) {
     if (fs::is_empty(folder)) throw InputError(folder, "folder is empty");
-    if (folderHasDicom(folder)) return readDicomSeries(folder, options);
+    if (folderHasDicom(folder)) return openDicomSeries(folder, options);
     const std::vector<std::string> images = imagesInFolder(folder);
     if (images.empty()) {
         throw InputError(folder, "folder holds neither DICOM files nor images "
                                  "(.png, .tif, .tiff, .jpg, .jpeg, .bmp, .exr)");
     }
-    return readImageStack(images, folder, options);
+    return openImageStack(images, folder, options);
 }
 
+/// The formats that are read whole.
 DenseVolume readFile(const std::string& path, const ReadOptions& options) {
     if (isVdbFile(path)) return readVdb(path, options);
     const std::string name = lowerCase(path);
@@ -103,7 +104,6 @@ DenseVolume readFile(const std::string& path, const ReadOptions& options) {
     if (endsWith(name, ".mgh") || endsWith(name, ".mgz")) return readMgh(path, options);
     if (endsWith(name, ".mha") || endsWith(name, ".mhd")) return readMetaImage(path, options);
     if (endsWith(name, ".vdb")) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
-    if (isImageFile(path)) return readImageStack({path}, path, options);
     throw InputError(path, "unknown volume format; gvr reads .nii/.nii.gz, .mgh/.mgz, .mha/.mhd, "
                            ".vdb, a DICOM folder, image stacks, or raw data with --raw-dims");
 }
@@ -126,15 +126,21 @@ void setGivenSpacing(const ReadOptions& options, DenseVolume& volume) {
     volume.worldFromIndex = worldFromSpacing(options.spacingMm.value_or(openvdb::Vec3d(1.0)));
 }
 
-DenseVolume readVolume(const std::string& input, const ReadOptions& options) {
+std::unique_ptr<SliceSource> openSliceSource(const std::string& input, const ReadOptions& options) {
     if (input.find_first_of("*?[") != std::string::npos && !fs::exists(input)) {
         const std::vector<std::string> files = globFiles(input);
         if (files.empty()) throw InputError(input, "pattern matches no files");
-        return readImageStack(files, input, options);
+        return openImageStack(files, input, options);
     }
     if (!fs::exists(input)) throw InputError(input, "no such file or folder");
-    if (options.raw) return readRaw(input, options);
-    if (fs::is_directory(input)) return readFolder(input, options);
+    if (options.raw) return openRawSource(input, options);
+    if (fs::is_directory(input)) return openFolder(input, options);
+    if (!isVdbFile(input) && isImageFile(input)) return openImageStack({input}, input, options);
+    return nullptr;
+}
+
+DenseVolume readVolume(const std::string& input, const ReadOptions& options) {
+    if (const auto source = openSliceSource(input, options)) return readWholeVolume(*source, options.progress);
     return readFile(input, options);
 }
 

@@ -366,6 +366,19 @@ TEST(BadInput, TheMemoryCeilingIsHonouredAndNamedInTheMessage) {
     setMemoryCeiling(0);
     expectMentions(message, "ch2.nii.gz: a volume of 181x217x181 voxels needs");
     expectMentions(message, "but only 0.0156 GiB is available");
+    expectMentions(message, "NIfTI, MGH, MetaImage and VDB volumes are read whole");
+    expectMentions(message, "image stacks and DICOM series are streamed");
+}
+
+TEST(BadInput, AStreamedVolumeIsRefusedWhenOneSlabDoesNotFit) {
+    test::TempDir dir;
+    test::writeBytes(dir.path("v.raw"), std::string(64 * 64 * 16, '\1'));
+    IngestOptions options;
+    options.read.raw = RawLayout{{64, 64, 16}, SampleType::UInt8, 1, false, 0};
+    setMemoryCeiling(1024);
+    const std::string message = ingestError(dir.path("v.raw"), options);
+    setMemoryCeiling(0);
+    expectMentions(message, "v.raw: one slab of 16 slices of 64x64 voxels needs");
 }
 
 }  // namespace

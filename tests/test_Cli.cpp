@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <sstream>
 
 namespace gvr {
@@ -76,6 +77,30 @@ TEST(Cli, UnknownFlagsAndBadSpacingAreUsageErrors) {
     const test::CommandResult run = test::runGvr("ingest x.raw -o y.vdb --raw-dims 2,2,2 --raw-type uint8 --spacing 1,0,1", dir);
     EXPECT_EQ(run.exitCode, 2);
     EXPECT_NE(run.err.find("--spacing"), std::string::npos) << run.err;
+}
+
+TEST(Cli, IngestStreamsARawVolumeInLessMemoryThanHalfItsSamples) {
+    // 1024 x 1024 x 512 uint8, 512 MiB of samples: zero but for a 64^3 cube of 200s.
+    // The file is sparse, so writing it costs no disk.
+    test::TempDir dir;
+    const std::string raw = dir.path("big.raw");
+    {
+        std::ofstream out(raw, std::ios::binary);
+        const std::string row(64, char(200));
+        for (int k = 300; k < 364; ++k) {
+            for (int j = 500; j < 564; ++j) {
+                out.seekp(std::streamoff((std::int64_t(k) * 1024 + j) * 1024 + 400));
+                out.write(row.data(), std::streamsize(row.size()));
+            }
+        }
+    }
+    std::filesystem::resize_file(raw, std::uintmax_t(1024) * 1024 * 512);
+    const test::CommandResult run = test::runGvr("ingest '" + raw + "' --raw-dims 1024,1024,512 --raw-type uint8 -o '" +
+                                                     dir.path("big.vdb") + "' --json -q", dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const nlohmann::json report = nlohmann::json::parse(run.out);
+    EXPECT_EQ(report["grid"]["active_voxels"], 64 * 64 * 64);
+    EXPECT_LT(report["peak_rss_mib"].get<double>(), 256.0) << "MiB of peak memory for 512 MiB of samples";
 }
 
 TEST(Cli, IngestThenInfoAsJson) {

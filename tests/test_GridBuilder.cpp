@@ -1,10 +1,12 @@
 #include "Error.h"
 #include "GridBuilder.h"
+#include "Readers.h"
 #include "TestHelpers.h"
 #include "VolumeMetadata.h"
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 namespace gvr {
 namespace {
@@ -122,6 +124,104 @@ TEST(GridBuilder, LeafBordersAndPartialLeavesKeepEveryVoxel) {
         }
     }
     EXPECT_EQ(grid->activeVoxelCount(), values.size() - 1);
+}
+
+// Streamed builds: one slab of slices at a time must give the grid that the whole
+// volume gives, voxel for voxel.
+
+/// Every active voxel, value and the background agree, and so does the metadata.
+template <typename GridT>
+void expectSameGrids(const openvdb::GridBase::Ptr& wholeBase, const openvdb::GridBase::Ptr& streamedBase) {
+    const auto whole = openvdb::GridBase::grid<GridT>(wholeBase);
+    const auto streamed = openvdb::GridBase::grid<GridT>(streamedBase);
+    ASSERT_TRUE(whole && streamed);
+    EXPECT_EQ(streamed->activeVoxelCount(), whole->activeVoxelCount());
+    EXPECT_EQ(streamed->background(), whole->background());
+    auto accessor = streamed->getConstAccessor();
+    for (auto voxel = whole->cbeginValueOn(); voxel; ++voxel) {
+        ASSERT_TRUE(accessor.isValueOn(voxel.getCoord())) << voxel.getCoord();
+        ASSERT_EQ(accessor.getValue(voxel.getCoord()), *voxel) << voxel.getCoord();
+    }
+    for (auto leaf = streamed->tree().cbeginLeaf(); leaf; ++leaf) {
+        for (auto off = leaf->cbeginValueOff(); off; ++off) ASSERT_EQ(*off, streamed->background());
+    }
+    const VolumeMetadata a = *readVolumeMetadata(*whole), b = *readVolumeMetadata(*streamed);
+    EXPECT_EQ(b.valueMin, a.valueMin);
+    EXPECT_EQ(b.valueMax, a.valueMax);
+    EXPECT_EQ(b.background, a.background);
+    EXPECT_EQ(b.dims, a.dims);
+    EXPECT_EQ(b.sourceType, a.sourceType);
+}
+
+/// Both builds of @a input: whole, and streamed in slabs of one leaf (8 slices).
+std::pair<openvdb::GridBase::Ptr, openvdb::GridBase::Ptr> wholeAndStreamed(const std::string& input,
+                                                                           const ReadOptions& read,
+                                                                           GridBuildSettings settings) {
+    const openvdb::GridBase::Ptr whole = buildGrid(readVolume(input, read), settings);
+    settings.slabBytes = 1;
+    const auto source = openSliceSource(input, read);
+    EXPECT_TRUE(source);
+    return {whole, buildGrid(*source, settings)};
+}
+
+TEST(GridBuilder, AStreamedBuildEqualsTheWholeBuildAlsoWhenTheMinimumComesLast) {
+    // 21 x 13 x 37 int16 HU: five slabs, partial leaves on every axis. Slab 0 holds
+    // -2000 and only the last slab the volume's minimum, -3024, so slab 0 is cut at
+    // -2000 at first and must be built again at -3024.
+    test::TempDir dir;
+    const std::array<std::int64_t, 3> dims{21, 13, 37};
+    std::vector<std::int16_t> values(std::size_t(dims[0] * dims[1] * dims[2]));
+    std::mt19937 random(7);
+    std::uniform_int_distribution<int> hu(-1000, 3000);
+    for (auto& v : values) v = std::int16_t(hu(random));
+    values[5] = -2000;
+    values[values.size() - 3] = -3024;
+    test::writeBytes(dir.path("ct.raw"),
+                     std::string(reinterpret_cast<const char*>(values.data()), values.size() * 2));
+    ReadOptions read;
+    read.raw = RawLayout{dims, SampleType::Int16, 1, false, 0};
+    read.spacingMm = openvdb::Vec3d(0.7, 0.7, 1.25);
+
+    for (const std::optional<double> threshold : {std::optional<double>(), std::optional<double>(100.0)}) {
+        GridBuildSettings settings;
+        settings.threshold = threshold;
+        const auto [whole, streamed] = wholeAndStreamed(dir.path("ct.raw"), read, settings);
+        expectSameGrids<openvdb::FloatGrid>(whole, streamed);
+        if (!threshold) EXPECT_TRUE(asFloat(streamed)->tree().isValueOn(openvdb::Coord(5, 0, 0)));
+    }
+}
+
+TEST(GridBuilder, AStreamedColourStackEqualsTheWholeStack) {
+    GVR_REQUIRE_SHARED_DATA();
+    const auto [whole, streamed] =
+        wholeAndStreamed(test::sharedData("rgb-brainmaps54-cryosection"), {}, GridBuildSettings{});
+    expectSameGrids<openvdb::Vec3SGrid>(whole, streamed);
+}
+
+TEST(GridBuilder, AStreamedDicomSeriesEqualsTheWholeSeries) {
+    GVR_REQUIRE_SHARED_DATA();
+    GridBuildSettings settings;
+    settings.threshold = -500.0;
+    const auto [whole, streamed] = wholeAndStreamed(test::sharedData("ct-chest-ricord-512"), {}, settings);
+    expectSameGrids<openvdb::FloatGrid>(whole, streamed);
+}
+
+TEST(GridBuilder, AStreamedBuildCountsNonFiniteVoxelsInEverySlab) {
+    test::TempDir dir;
+    std::vector<float> values(4 * 4 * 20, 1.0f);
+    values[3] = std::nanf("");
+    values[values.size() - 1] = INFINITY;
+    test::writeBytes(dir.path("v.raw"), std::string(reinterpret_cast<const char*>(values.data()), values.size() * 4));
+    ReadOptions read;
+    read.raw = RawLayout{{4, 4, 20}, SampleType::Float32, 1, false, 0};
+    GridBuildSettings settings;
+    settings.slabBytes = 1;
+    try {
+        buildGrid(*openSliceSource(dir.path("v.raw"), read), settings);
+        ADD_FAILURE() << "NaN and Inf were accepted";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("2 voxels are NaN or Inf"), std::string::npos) << error.what();
+    }
 }
 
 }  // namespace

@@ -41,10 +41,33 @@ TEST(RawReader, ReadsBigEndianSignedAfterAHeader) {
     ReadOptions options;
     options.raw = RawLayout{{3, 2, 1}, SampleType::Int16, 1, true, 16};
     options.spacingMm = openvdb::Vec3d(0.5, 0.5, 2.0);
-    const DenseVolume volume = readRaw(dir.path("ct.raw"), options);
+    const DenseVolume volume = readVolume(dir.path("ct.raw"), options);
     for (std::size_t v = 0; v < values.size(); ++v) EXPECT_EQ(volume.data<std::int16_t>()[v], values[v]);
     expectNear(worldOf(volume, {1, 1, 1}), {0.5, 0.5, 2.0});
     EXPECT_TRUE(volume.warnings.empty());
+}
+
+TEST(RawReader, ASlabIsItsSlicesOfTheWholeVolume) {
+    test::TempDir dir;
+    std::string bytes;
+    for (int v = 0; v < 3 * 2 * 5; ++v) appendWord(bytes, std::uint16_t(1000 + v), true);
+    test::writeBytes(dir.path("v.raw"), bytes);
+    ReadOptions options;
+    options.raw = RawLayout{{3, 2, 5}, SampleType::UInt16, 1, true, 0};
+    const auto source = openSliceSource(dir.path("v.raw"), options);
+    ASSERT_TRUE(source);
+    DenseVolume slab;
+    source->readSlab(2, 3, slab);
+    ASSERT_EQ(slab.dims, (std::array<std::int64_t, 3>{3, 2, 3}));
+    for (int v = 0; v < 3 * 2 * 3; ++v) EXPECT_EQ(slab.data<std::uint16_t>()[v], 1000 + 2 * 3 * 2 + v);
+    EXPECT_THROW(source->readSlab(4, 2, slab), std::out_of_range);
+}
+
+TEST(Readers, OnlyFormatsWithSeparateSlicesStream) {
+    GVR_REQUIRE_SHARED_DATA();
+    EXPECT_TRUE(openSliceSource(test::sharedData("ct-chest-ricord-512"), {}));
+    EXPECT_TRUE(openSliceSource(test::sharedData("rgb-brainmaps54-cryosection"), {}));
+    EXPECT_FALSE(openSliceSource(test::sharedData("mri-colin27-aal/ch2.nii.gz"), {}));
 }
 
 TEST(RawReader, DefaultSpacingWarns) {
@@ -52,7 +75,7 @@ TEST(RawReader, DefaultSpacingWarns) {
     test::writeBytes(dir.path("v.raw"), std::string(8, '\1'));
     ReadOptions options;
     options.raw = RawLayout{{2, 2, 2}, SampleType::UInt8, 1, false, 0};
-    const DenseVolume volume = readRaw(dir.path("v.raw"), options);
+    const DenseVolume volume = readVolume(dir.path("v.raw"), options);
     ASSERT_EQ(volume.warnings.size(), 1u);
     EXPECT_NE(volume.warnings[0].find("spacing is unknown"), std::string::npos);
 }
