@@ -1,6 +1,9 @@
 #include "BrickTeam.h"
 
+#include "Diagnostics.h"
+
 #include <mpi.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <climits>
@@ -43,6 +46,9 @@ BrickOutcome receive(std::size_t brick, int from) {
     MPI_Recv(outcome.bytes.data(), int(header[1]), MPI_CHAR, from, kBytesTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     return outcome;
 }
+
+/// Where rank @a rank's share of @a slices begins, when @a ranks share them.
+int shareStart(int slices, int rank, int ranks) { return int(std::int64_t(slices) * rank / ranks); }
 
 }  // namespace
 
@@ -88,9 +94,48 @@ std::vector<BrickOutcome> BrickTeam::gather(std::vector<BrickOutcome> mine, cons
     return all;
 }
 
-void BrickTeam::abort(int code) const {
-    if (mMpi) MPI_Abort(MPI_COMM_WORLD, code);
-    std::exit(code);
+void BrickTeam::broadcast(std::string& bytes) const {
+    if (!mMpi) return;
+    std::uint64_t size = bytes.size();
+    MPI_Bcast(&size, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+    if (size > std::uint64_t(INT_MAX)) throw std::runtime_error("an asset of " + std::to_string(size) + " bytes is too large for one MPI message");
+    bytes.resize(size);
+    MPI_Bcast(bytes.data(), int(size), MPI_CHAR, 0, MPI_COMM_WORLD);
+}
+
+std::pair<int, int> BrickTeam::share(int slices) const {
+    const int first = shareStart(slices, mRank, mSize);
+    return {first, shareStart(slices, mRank + 1, mSize) - first};
+}
+
+std::vector<SliceError> BrickTeam::gatherSlices(std::vector<SliceError> mine, int slices) const {
+    if (!mMpi) return mine;
+    constexpr int kDoubles = sizeof(SliceError) / sizeof(double);
+    static_assert(sizeof(SliceError) == kDoubles * sizeof(double), "SliceError travels as plain doubles");
+    std::vector<SliceError> all(isRoot() ? std::size_t(slices) : 0);
+    std::vector<int> counts, offsets;
+    if (isRoot()) {
+        for (int rank = 0; rank < mSize; ++rank) {
+            const int first = shareStart(slices, rank, mSize);
+            counts.push_back((shareStart(slices, rank + 1, mSize) - first) * kDoubles);
+            offsets.push_back(first * kDoubles);
+        }
+    }
+    MPI_Gatherv(mine.data(), int(mine.size()) * kDoubles, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
+                MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    return all;
+}
+
+void BrickTeam::abortUnlessAlone(const std::exception& error) const {
+    if (mSize == 1) return;
+    diagnostics() << "gvr: error (rank " << mRank << " of " << mSize << "): " << error.what() << "\n";
+    MPI_Abort(MPI_COMM_WORLD, 2);
+    std::exit(2);  // MPI_Abort does not return; this tells the compiler so
+}
+
+std::size_t BrickTeam::threadsPerRank() const {
+    const int cores = tbb::this_task_arena::max_concurrency();
+    return std::size_t(std::max(1, cores / mLocalSize));
 }
 
 }  // namespace gvr

@@ -1,12 +1,16 @@
 /// @file BrickTeam.h
 /// @brief The processes that share a bricked fit: the ranks of an mpirun, or this
 /// process alone. Each rank fits its share of the bricks; rank 0 gathers every
-/// brick's part (or its error) and merges.
+/// brick's part (or its error) and merges. Then every rank measures a share of the
+/// merged asset's error, and rank 0 adds it up.
 #pragma once
 
 #include "Bricks.h"
+#include "VolumeError.h"
 
+#include <exception>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gvr {
@@ -31,8 +35,8 @@ public:
     int rank() const { return mRank; }
     int size() const { return mSize; }
     bool isRoot() const { return mRank == 0; }
-    /// Processes of the team on this machine, to share its cores among them.
-    int localSize() const { return mLocalSize; }
+    /// This machine's cores shared among the team's processes on it.
+    std::size_t threadsPerRank() const;
 
     /// The rank that fits each brick: largest budget first, each to the rank with
     /// the fewest Gaussians so far. The same in every rank.
@@ -42,9 +46,22 @@ public:
     /// others received). On the other ranks: sends @a mine and returns nothing.
     std::vector<BrickOutcome> gather(std::vector<BrickOutcome> mine, const std::vector<int>& owners) const;
 
-    /// Ends every rank now, with @a code: after a failure outside any brick, when
-    /// the others would otherwise wait for this one forever.
-    [[noreturn]] void abort(int code) const;
+    /// Rank 0's @a bytes, in every rank.
+    void broadcast(std::string& bytes) const;
+
+    /// This rank's share of @a slices items: [first, first + count), contiguous and
+    /// in rank order.
+    std::pair<int, int> share(int slices) const;
+
+    /// On rank 0: every rank's slice errors joined in rank order, so that in slice
+    /// order when each rank measured its share(). On the other ranks: sends @a mine
+    /// and returns nothing.
+    std::vector<SliceError> gatherSlices(std::vector<SliceError> mine, int slices) const;
+
+    /// In a team of more than one: reports @a error with this rank and ends every
+    /// rank with exit code 2, for a failure that would leave the others waiting for
+    /// this one forever. Alone: returns, so that the caller rethrows.
+    void abortUnlessAlone(const std::exception& error) const;
 
 private:
     bool mMpi = false;

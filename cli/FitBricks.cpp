@@ -2,13 +2,10 @@
 
 #include "AssetFile.h"
 #include "BrickTeam.h"
-#include "Diagnostics.h"
 #include "Error.h"
+#include "GaussianField.h"
 #include "ProgressBar.h"
 #include "Report.h"
-
-#include <tbb/global_control.h>
-#include <tbb/task_arena.h>
 
 #include <chrono>
 
@@ -105,12 +102,6 @@ BrickedFitResult merged(std::vector<GaussianAsset> parts, const std::vector<std:
     return out;
 }
 
-/// Cores of this machine shared among the team's processes on it.
-std::size_t threadsPerRank(const BrickTeam& team) {
-    const int cores = tbb::this_task_arena::max_concurrency();
-    return std::size_t(std::max(1, cores / team.localSize()));
-}
-
 }  // namespace
 
 void addBrickFlags(CLI::App& command, BrickFlags& flags) {
@@ -130,32 +121,46 @@ void addBrickFlags(CLI::App& command, BrickFlags& flags) {
     command.add_option("--fail-brick", flags.failing, "Testing: make this brick's fit fail")->group("");
 }
 
-std::optional<BrickedFitResult> fitAllBricks(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
-                                             const std::string& name, const CompressOptions& options,
-                                             const BrickFlags& flags, bool progress) {
-    BrickTeam team;
-    const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, threadsPerRank(team));
+BrickedFitResult fitAllBricks(const BrickTeam& team, const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
+                              const std::string& name, const CompressOptions& options, const BrickFlags& flags,
+                              bool progress) {
     std::vector<BrickOutcome> outcomes;
-    std::vector<Brick> layout;
+    BrickedFitResult result;
     try {
         const BrickPlan plan = planBrickedFit(target, name, options, {flags.count, flags.halo});
         const std::vector<int> owners = team.owners(plan.bricks);
         const std::vector<std::size_t> mine = bricksOf(team.rank(), owners);
         outcomes = fitMine(grid, name, plan, mine, flags, team.rank(), progress && team.isRoot());
         outcomes = team.gather(std::move(outcomes), owners);
-        layout = plan.bricks;
+        result.layout = plan.bricks;
     } catch (const std::exception& error) {
-        // Before the gather, the other ranks would wait for this one forever.
-        if (team.size() == 1) throw;
-        diagnostics() << "gvr: error (rank " << team.rank() << " of " << team.size() << "): " << error.what() << "\n";
-        team.abort(2);
+        team.abortUnlessAlone(error);  // before the gather, the other ranks would wait for this one forever
+        throw;
     }
-    if (!team.isRoot()) return std::nullopt;
+    if (!team.isRoot()) return result;
     std::vector<std::string> names;
     std::vector<GaussianAsset> parts = partsOf(outcomes, names);
-    BrickedFitResult result = merged(std::move(parts), names);
-    result.layout = std::move(layout);
-    return result;
+    BrickedFitResult merge = merged(std::move(parts), names);
+    merge.layout = std::move(result.layout);
+    return merge;
+}
+
+VolumeError measureAcrossTeam(const BrickTeam& team, const std::string& saved, const VolumeTarget& target,
+                              const std::vector<Brick>& layout, bool progress) {
+    try {
+        const GaussianAsset asset = decodeAsset(saved, "the merged asset");
+        const GaussianField field(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas);
+        const BrickSeams seams(layout, kSeamWidth);
+        const int slices = target.box().dim().z();
+        const auto [first, count] = team.share(slices);
+        ProgressBar bar("measuring", progress && team.isRoot());
+        std::vector<SliceError> mine = measureSliceErrors(field, target, first, count, bar.callback(),
+                                                          [&](const openvdb::Coord& ijk) { return seams.near(ijk); });
+        return volumeErrorOf(team.gatherSlices(std::move(mine), slices), target);
+    } catch (const std::exception& error) {
+        team.abortUnlessAlone(error);  // the others would wait in the gather
+        throw;
+    }
 }
 
 GaussianAsset fitOneBrick(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,

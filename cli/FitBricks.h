@@ -3,7 +3,9 @@
 /// an mpirun (--bricks N), or one of them for a job array (--brick I --of N).
 #pragma once
 
+#include "BrickTeam.h"
 #include "BrickedFit.h"
+#include "VolumeError.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -37,11 +39,17 @@ struct BrickedFitResult {
 constexpr int kSeamWidth = 4;
 
 /// --bricks N: this process's share of the bricks (all of them, or its rank's under
-/// mpirun). Rank 0 gets the merged result; the other ranks get nothing.
+/// mpirun), merged on rank 0. Other ranks get only the layout.
 /// @throw InputError naming the brick and rank of the first brick that failed.
-std::optional<BrickedFitResult> fitAllBricks(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
-                                             const std::string& name, const CompressOptions& options,
-                                             const BrickFlags& flags, bool progress);
+BrickedFitResult fitAllBricks(const BrickTeam& team, const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
+                              const std::string& name, const CompressOptions& options, const BrickFlags& flags,
+                              bool progress);
+
+/// The error of the merged asset as saved (@a saved: its bytes, in every rank), with
+/// the voxels near brick faces marked. Each rank measures its share of the slices;
+/// the result is complete on rank 0 only, and the same for any number of ranks.
+VolumeError measureAcrossTeam(const BrickTeam& team, const std::string& saved, const VolumeTarget& target,
+                              const std::vector<Brick>& layout, bool progress);
 
 /// --brick I --of N: fits brick I and returns its part asset, for writeAsset().
 GaussianAsset fitOneBrick(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,

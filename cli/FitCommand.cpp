@@ -121,7 +121,7 @@ void reportBricks(const BrickedFitResult& bricked, const VolumeError& error) {
 }
 
 void report(const FitFlags& flags, const CompressResult& result, double peak, const VolumeError& error,
-            const std::optional<BrickedFitResult>& bricked, const Phases& phases) {
+            const BrickedFitResult* bricked, const Phases& phases) {
     const GaussianAsset& asset = result.asset;
     const FitReport& fit = result.fit;
     const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
@@ -205,19 +205,31 @@ void writePart(const FitFlags& flags, const IngestResult& loaded, const VolumeTa
               << std::setprecision(4) << run["seconds"].get<double>() << " s; join the parts with gvr merge\n";
 }
 
-/// The whole fit in one piece, or merged from bricks (nothing on MPI ranks but 0).
-std::optional<BrickedFitResult> fitVolume(const FitFlags& flags, const IngestResult& loaded,
-                                          const VolumeTarget& target, CompressResult& result) {
-    if (flags.bricks.any()) {
-        std::optional<BrickedFitResult> bricked =
-            fitAllBricks(loaded.grid, target, flags.input, flags.options, flags.bricks, !flags.quiet);
-        if (bricked) result = bricked->result;
-        return bricked;
+/// --bricks N, alone or across the ranks of an mpirun: rank 0 merges, writes and
+/// reports; every rank measures a share of the saved asset's error.
+void runBrickedFit(const FitFlags& flags, const IngestResult& loaded, const VolumeTarget& target, Phases& phases) {
+    BrickTeam team;
+    const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, team.threadsPerRank());
+    BrickedFitResult bricked;
+    std::string saved;  // the asset's bytes as written; empty while rank 0 has none
+    try {
+        bricked = fitAllBricks(team, loaded.grid, target, flags.input, flags.options, flags.bricks, !flags.quiet);
+        phases.lap("fit");
+        if (team.isRoot()) {
+            writeAsset(flags.output, bricked.result.asset);
+            saved = encodeAsset(bricked.result.asset);
+        }
+        phases.lap("write");
+    } catch (const std::exception&) {
+        std::string none;
+        if (team.isRoot()) team.broadcast(none);  // the others stop waiting; this rank says why
+        throw;
     }
-    FitLog log(flags.logPath, target.peak());
-    ProgressBar bar("fitting", !flags.quiet);
-    result = compress(target, flags.input, flags.options, progressObserver(bar, log), loaded.labels.get());
-    return std::nullopt;
+    team.broadcast(saved);
+    if (saved.empty()) return;
+    const VolumeError error = measureAcrossTeam(team, saved, target, bricked.layout, !flags.quiet);
+    phases.lap("measure");
+    if (team.isRoot()) report(flags, bricked.result, target.peak(), error, &bricked, phases);
 }
 
 void runFit(FitFlags& flags) {
@@ -239,19 +251,22 @@ void runFit(FitFlags& flags) {
     }
     phases.lap("load");
     if (flags.bricks.only) return writePart(flags, loaded, target);
+    if (flags.bricks.any()) return runBrickedFit(flags, loaded, target, phases);
+
+    FitLog log(flags.logPath, target.peak());
     CompressResult result;
-    const std::optional<BrickedFitResult> bricked = fitVolume(flags, loaded, target, result);
-    if (flags.bricks.any() && !bricked) return;  // an MPI rank other than 0: rank 0 writes
+    {
+        ProgressBar bar("fitting", !flags.quiet);
+        result = compress(target, flags.input, flags.options, progressObserver(bar, log), loaded.labels.get());
+    }
     phases.lap("fit");
     writeAsset(flags.output, result.asset);
     phases.lap("write");
     ProgressBar measuring("measuring", !flags.quiet);
     const GaussianField saved(quantisedCopy(result.asset.params, result.asset.encoding), result.asset.cutoffSigmas);
-    VoxelMarking seams;
-    if (bricked) seams = [near = BrickSeams(bricked->layout, kSeamWidth)](const openvdb::Coord& ijk) { return near.near(ijk); };
-    const VolumeError error = measureVolumeError(saved, target, measuring.callback(), seams);
+    const VolumeError error = measureVolumeError(saved, target, measuring.callback());
     phases.lap("measure");
-    report(flags, result, target.peak(), error, bricked, phases);
+    report(flags, result, target.peak(), error, nullptr, phases);
 }
 
 void addTuningFlags(CLI::App& command, FitSettings& s) {

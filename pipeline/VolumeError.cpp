@@ -6,51 +6,63 @@
 
 namespace gvr {
 
-VolumeError measureVolumeError(const GaussianField& field, const VolumeTarget& target,
-                               const ProgressFn& progress, const VoxelMarking& marked) {
+namespace {
+
+SliceError measureSlice(const GaussianField& field, const VolumeTarget& target, int z, const VoxelMarking& marked) {
     const openvdb::CoordBBox& box = target.box();
-    const int slices = box.dim().z();
     const int channels = target.channels();
-    std::vector<double> all(slices, 0.0), foreground(slices, 0.0);
-    std::vector<double> markedSum(slices, 0.0);
-    std::vector<std::uint64_t> foregroundCount(slices, 0), markedCount(slices, 0);
-    ProgressCounter counter(progress, std::size_t(slices));
-    tbb::parallel_for(0, slices, [&](int slice) {
-        std::vector<std::uint32_t> hits;
-        float value[3], expected[3];
-        const int z = box.min().z() + slice;
-        for (int y = box.min().y(); y <= box.max().y(); ++y) {
-            for (int x = box.min().x(); x <= box.max().x(); ++x) {
-                const openvdb::Coord ijk(x, y, z);
-                const float point[3] = {float(x), float(y), float(z)};
-                field.evaluate(point, value, hits);
-                target.valueAt(ijk, expected);
-                double squared = 0.0;
-                for (int c = 0; c < channels; ++c) squared += double(value[c] - expected[c]) * (value[c] - expected[c]);
-                squared /= channels;
-                all[slice] += squared;
-                if (target.isActive(ijk)) {
-                    foreground[slice] += squared;
-                    ++foregroundCount[slice];
-                }
-                if (marked && marked(ijk)) {
-                    markedSum[slice] += squared;
-                    ++markedCount[slice];
-                }
+    SliceError error;
+    std::vector<std::uint32_t> hits;
+    float value[3], expected[3];
+    for (int y = box.min().y(); y <= box.max().y(); ++y) {
+        for (int x = box.min().x(); x <= box.max().x(); ++x) {
+            const openvdb::Coord ijk(x, y, z);
+            const float point[3] = {float(x), float(y), float(z)};
+            field.evaluate(point, value, hits);
+            target.valueAt(ijk, expected);
+            double squared = 0.0;
+            for (int c = 0; c < channels; ++c) squared += double(value[c] - expected[c]) * (value[c] - expected[c]);
+            squared /= channels;
+            error.all += squared;
+            if (target.isActive(ijk)) {
+                error.foreground += squared;
+                ++error.foregroundVoxels;
+            }
+            if (marked && marked(ijk)) {
+                error.marked += squared;
+                ++error.markedVoxels;
             }
         }
+    }
+    return error;
+}
+
+}  // namespace
+
+std::vector<SliceError> measureSliceErrors(const GaussianField& field, const VolumeTarget& target, int first,
+                                           int count, const ProgressFn& progress, const VoxelMarking& marked) {
+    std::vector<SliceError> slices(std::size_t(std::max(count, 0)));
+    ProgressCounter counter(progress, slices.size());
+    tbb::parallel_for(0, int(slices.size()), [&](int s) {
+        slices[s] = measureSlice(field, target, target.box().min().z() + first + s, marked);
         counter.advance();
     });
+    return slices;
+}
+
+VolumeError volumeErrorOf(const std::vector<SliceError>& slices, const VolumeTarget& target) {
     VolumeError error;
-    double sumAll = 0.0, sumForeground = 0.0, sumMarked = 0.0;
-    for (int s = 0; s < slices; ++s) {
-        sumAll += all[s];
-        sumForeground += foreground[s];
-        sumMarked += markedSum[s];
-        error.foregroundVoxels += foregroundCount[s];
-        error.markedVoxels += markedCount[s];
+    double sumAll = 0.0, sumForeground = 0.0, sumMarked = 0.0, foregroundVoxels = 0.0, markedVoxels = 0.0;
+    for (const SliceError& slice : slices) {
+        sumAll += slice.all;
+        sumForeground += slice.foreground;
+        sumMarked += slice.marked;
+        foregroundVoxels += slice.foregroundVoxels;
+        markedVoxels += slice.markedVoxels;
     }
-    error.voxels = box.volume();
+    error.foregroundVoxels = std::uint64_t(foregroundVoxels);
+    error.markedVoxels = std::uint64_t(markedVoxels);
+    error.voxels = target.box().volume();
     error.mse = sumAll / double(error.voxels);
     error.foregroundMse = error.foregroundVoxels > 0 ? sumForeground / double(error.foregroundVoxels) : 0.0;
     error.psnr = psnrFromMse(error.mse, target.peak());
@@ -62,6 +74,11 @@ VolumeError measureVolumeError(const GaussianField& field, const VolumeTarget& t
         error.unmarkedPsnr = psnrFromMse(error.unmarkedMse, target.peak());
     }
     return error;
+}
+
+VolumeError measureVolumeError(const GaussianField& field, const VolumeTarget& target, const ProgressFn& progress,
+                               const VoxelMarking& marked) {
+    return volumeErrorOf(measureSliceErrors(field, target, 0, target.box().dim().z(), progress, marked), target);
 }
 
 }  // namespace gvr

@@ -7,6 +7,7 @@
 #include "VolumeTarget.h"
 
 #include <functional>
+#include <vector>
 
 namespace gvr {
 
@@ -25,9 +26,26 @@ struct VolumeError {
 /// Picks voxels whose error is also summed on its own.
 using VoxelMarking = std::function<bool(const openvdb::Coord&)>;
 
+/// One z-slice's squared errors (channel mean) and voxel counts. Plain doubles, so
+/// that processes that measure different slices can send them as they are.
+struct SliceError {
+    double all = 0.0, foreground = 0.0, marked = 0.0;
+    double foregroundVoxels = 0.0, markedVoxels = 0.0;  // counts, exact in a double
+};
+
 /// Evaluates the field at every voxel centre of target.box(), in parallel over
 /// z-slices; the result does not depend on the thread count.
 VolumeError measureVolumeError(const GaussianField& field, const VolumeTarget& target,
                                const ProgressFn& progress = {}, const VoxelMarking& marked = {});
+
+/// The part of measureVolumeError() for slices [first, first + count) of
+/// target.box() (0 is its lowest z), for a measurement shared among processes.
+std::vector<SliceError> measureSliceErrors(const GaussianField& field, const VolumeTarget& target, int first,
+                                           int count, const ProgressFn& progress = {},
+                                           const VoxelMarking& marked = {});
+
+/// The error of the whole box from every slice's sums, added in slice order, so
+/// that how the slices were shared out does not change a bit of it.
+VolumeError volumeErrorOf(const std::vector<SliceError>& slices, const VolumeTarget& target);
 
 }  // namespace gvr

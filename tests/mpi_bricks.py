@@ -5,6 +5,8 @@ Usage: python3 mpi_bricks.py GVR WORK
 - Two ranks give the same asset, byte for byte, as one process fitting the same
   bricks with the same seed and iterations, and rank 0 reports every brick with
   the rank that fitted it.
+- The ranks share the dense measurement of the saved asset, and their report's
+  PSNR figures equal one process's to the last bit.
 - A brick that fails is named with its rank, the exit code is not zero, and no
   asset is written.
 """
@@ -33,8 +35,9 @@ def main():
         if os.path.exists(path):
             os.remove(path)
 
-    single = run([GVR, *FIT, "-o", alone])
+    single = run([GVR, *FIT, "-o", alone, "--json"])
     assert single.returncode == 0, single.stderr
+    alone_report = json.loads(single.stdout)
     spread = run([*MPIRUN, GVR, *FIT, "-o", ranked, "--json"])
     assert spread.returncode == 0, spread.stderr
     report = json.loads(spread.stdout)  # only rank 0 prints
@@ -42,8 +45,11 @@ def main():
     assert ranks == [0, 1], report["bricks"]
     with open(alone, "rb") as a, open(ranked, "rb") as b:
         assert a.read() == b.read(), "the two-rank asset differs from the one-process asset"
+    figures = ["psnr_db", "fg_psnr_db", "seam_psnr_db", "interior_psnr_db", "seam_voxels"]
+    for figure in figures:
+        assert report[figure] == alone_report[figure], (figure, report[figure], alone_report[figure])
     print(f"2 ranks: {len(report['bricks'])} bricks, byte-identical to one process "
-          f"({os.path.getsize(ranked)} bytes)")
+          f"({os.path.getsize(ranked)} bytes), the same {report['psnr_db']} dB")
 
     failed_path = os.path.join(WORK, "failed.gvr")
     failed = run([*MPIRUN, GVR, *FIT, "-o", failed_path, "--fail-brick", "2"])
