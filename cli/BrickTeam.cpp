@@ -47,9 +47,6 @@ BrickOutcome receive(std::size_t brick, int from) {
     return outcome;
 }
 
-/// Where rank @a rank's share of @a slices begins, when @a ranks share them.
-int shareStart(int slices, int rank, int ranks) { return int(std::int64_t(slices) * rank / ranks); }
-
 }  // namespace
 
 BrickTeam::BrickTeam() {
@@ -101,29 +98,6 @@ void BrickTeam::broadcast(std::string& bytes) const {
     if (size > std::uint64_t(INT_MAX)) throw std::runtime_error("an asset of " + std::to_string(size) + " bytes is too large for one MPI message");
     bytes.resize(size);
     MPI_Bcast(bytes.data(), int(size), MPI_CHAR, 0, MPI_COMM_WORLD);
-}
-
-std::pair<int, int> BrickTeam::share(int slices) const {
-    const int first = shareStart(slices, mRank, mSize);
-    return {first, shareStart(slices, mRank + 1, mSize) - first};
-}
-
-std::vector<SliceError> BrickTeam::gatherSlices(std::vector<SliceError> mine, int slices) const {
-    if (!mMpi) return mine;
-    constexpr int kDoubles = sizeof(SliceError) / sizeof(double);
-    static_assert(sizeof(SliceError) == kDoubles * sizeof(double), "SliceError travels as plain doubles");
-    std::vector<SliceError> all(isRoot() ? std::size_t(slices) : 0);
-    std::vector<int> counts, offsets;
-    if (isRoot()) {
-        for (int rank = 0; rank < mSize; ++rank) {
-            const int first = shareStart(slices, rank, mSize);
-            counts.push_back((shareStart(slices, rank + 1, mSize) - first) * kDoubles);
-            offsets.push_back(first * kDoubles);
-        }
-    }
-    MPI_Gatherv(mine.data(), int(mine.size()) * kDoubles, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
-                MPI_DOUBLE, 0, MPI_COMM_WORLD);
-    return all;
 }
 
 void BrickTeam::abortUnlessAlone(const std::exception& error) const {

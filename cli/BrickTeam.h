@@ -1,26 +1,24 @@
 /// @file BrickTeam.h
 /// @brief The processes that share a bricked fit: the ranks of an mpirun, or this
 /// process alone. Each rank fits its share of the bricks; rank 0 gathers every
-/// brick's part (or its error) and merges. Then every rank measures a share of the
-/// merged asset's error, and rank 0 adds it up.
+/// brick's part (or its error) and merges. Then every rank measures the merged
+/// asset's error on its bricks, and rank 0 gathers that too.
 #pragma once
 
 #include "Bricks.h"
-#include "VolumeError.h"
 
 #include <exception>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace gvr {
 
-/// How one brick went: its part asset's bytes, or what went wrong.
+/// How one brick went: its result's bytes (a part asset, say), or what went wrong.
 struct BrickOutcome {
     std::size_t brick = 0;
     int rank = 0;
     bool ok = false;
-    std::string bytes;  ///< the part (encodeAsset) when ok, else the error message
+    std::string bytes;  ///< the result when ok, else the error message
 };
 
 class BrickTeam {
@@ -48,15 +46,6 @@ public:
 
     /// Rank 0's @a bytes, in every rank.
     void broadcast(std::string& bytes) const;
-
-    /// This rank's share of @a slices items: [first, first + count), contiguous and
-    /// in rank order.
-    std::pair<int, int> share(int slices) const;
-
-    /// On rank 0: every rank's slice errors joined in rank order, so that in slice
-    /// order when each rank measured its share(). On the other ranks: sends @a mine
-    /// and returns nothing.
-    std::vector<SliceError> gatherSlices(std::vector<SliceError> mine, int slices) const;
 
     /// In a team of more than one: reports @a error with this rank and ends every
     /// rank with exit code 2, for a failure that would leave the others waiting for

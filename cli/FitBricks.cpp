@@ -8,6 +8,7 @@
 #include "Report.h"
 
 #include <chrono>
+#include <cstring>
 
 namespace gvr {
 
@@ -133,6 +134,7 @@ BrickedFitResult fitAllBricks(const BrickTeam& team, const openvdb::GridBase::Co
         outcomes = fitMine(grid, name, plan, mine, flags, team.rank(), progress && team.isRoot());
         outcomes = team.gather(std::move(outcomes), owners);
         result.layout = plan.bricks;
+        result.owners = owners;
     } catch (const std::exception& error) {
         team.abortUnlessAlone(error);  // before the gather, the other ranks would wait for this one forever
         throw;
@@ -142,21 +144,70 @@ BrickedFitResult fitAllBricks(const BrickTeam& team, const openvdb::GridBase::Co
     std::vector<GaussianAsset> parts = partsOf(outcomes, names);
     BrickedFitResult merge = merged(std::move(parts), names);
     merge.layout = std::move(result.layout);
+    merge.owners = std::move(result.owners);
     return merge;
 }
 
+namespace {
+
+std::string bytesOf(const std::vector<SliceError>& slices) {
+    return std::string(reinterpret_cast<const char*>(slices.data()), slices.size() * sizeof(SliceError));
+}
+
+std::vector<SliceError> slicesOf(const std::string& bytes) {
+    std::vector<SliceError> slices(bytes.size() / sizeof(SliceError));
+    std::memcpy(slices.data(), bytes.data(), slices.size() * sizeof(SliceError));
+    return slices;
+}
+
+/// This rank's bricks' cores measured, one outcome per brick.
+std::vector<BrickOutcome> measureMine(const GaussianField& field, const VolumeTarget& target,
+                                     const BrickedFitResult& fit, const std::vector<std::size_t>& mine, int rank,
+                                     bool progress) {
+    const BrickSeams seams(fit.layout, kSeamWidth);
+    const VoxelMarking nearFace = [&](const openvdb::Coord& ijk) { return seams.near(ijk); };
+    ProgressBar bar("measuring", progress);
+    std::vector<BrickOutcome> outcomes;
+    for (std::size_t n = 0; n < mine.size(); ++n) {
+        const auto share = [&](double fraction) { bar.update((double(n) + fraction) / double(mine.size())); };
+        const Brick& brick = fit.layout[mine[n]];
+        outcomes.push_back({brick.index, rank, true, bytesOf(measureSliceErrors(field, target, brick.core, share, nearFace))});
+    }
+    return outcomes;
+}
+
+/// Every brick core's slices added into the whole box's, in brick order: the same
+/// sums, bit for bit, whichever rank measured which brick.
+std::vector<SliceError> wholeBoxSlices(const std::vector<BrickOutcome>& outcomes, const std::vector<Brick>& layout,
+                                       const VolumeTarget& target) {
+    std::vector<SliceError> whole(std::size_t(target.box().dim().z()));
+    for (const BrickOutcome& outcome : outcomes) {
+        openvdb::CoordBBox core = layout[outcome.brick].core;
+        core.intersect(target.box());
+        const std::vector<SliceError> slices = slicesOf(outcome.bytes);
+        for (std::size_t s = 0; s < slices.size(); ++s) {
+            SliceError& total = whole[std::size_t(core.min().z() - target.box().min().z()) + s];
+            total.all += slices[s].all;
+            total.foreground += slices[s].foreground;
+            total.marked += slices[s].marked;
+            total.foregroundVoxels += slices[s].foregroundVoxels;
+            total.markedVoxels += slices[s].markedVoxels;
+        }
+    }
+    return whole;
+}
+
+}  // namespace
+
 VolumeError measureAcrossTeam(const BrickTeam& team, const std::string& saved, const VolumeTarget& target,
-                              const std::vector<Brick>& layout, bool progress) {
+                              const BrickedFitResult& fit, bool progress) {
     try {
         const GaussianAsset asset = decodeAsset(saved, "the merged asset");
         const GaussianField field(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas);
-        const BrickSeams seams(layout, kSeamWidth);
-        const int slices = target.box().dim().z();
-        const auto [first, count] = team.share(slices);
-        ProgressBar bar("measuring", progress && team.isRoot());
-        std::vector<SliceError> mine = measureSliceErrors(field, target, first, count, bar.callback(),
-                                                          [&](const openvdb::Coord& ijk) { return seams.near(ijk); });
-        return volumeErrorOf(team.gatherSlices(std::move(mine), slices), target);
+        std::vector<BrickOutcome> outcomes = measureMine(field, target, fit, bricksOf(team.rank(), fit.owners),
+                                                         team.rank(), progress && team.isRoot());
+        outcomes = team.gather(std::move(outcomes), fit.owners);
+        return team.isRoot() ? volumeErrorOf(wholeBoxSlices(outcomes, fit.layout, target), target) : VolumeError{};
     } catch (const std::exception& error) {
         team.abortUnlessAlone(error);  // the others would wait in the gather
         throw;

@@ -205,11 +205,35 @@ void writePart(const FitFlags& flags, const IngestResult& loaded, const VolumeTa
               << std::setprecision(4) << run["seconds"].get<double>() << " s; join the parts with gvr merge\n";
 }
 
+/// The input as a grid (ingested first unless it is a .vdb), warnings printed.
+/// @param vdbOnDemand  a .vdb's voxels are read as they are first touched
+IngestResult loadInput(const FitFlags& flags, bool vdbOnDemand) {
+    IngestOptions ingestOptions = toIngestOptions(flags.source);
+    ingestOptions.labels = flags.labelVolume;
+    ingestOptions.labelNames = flags.labelNames;
+    ingestOptions.vdbOnDemand = vdbOnDemand;
+    IngestResult loaded = loadOrIngest(flags.input, ingestOptions);
+    for (const std::string& warning : loaded.warnings) diagnostics() << "gvr: warning: " << warning << "\n";
+    return loaded;
+}
+
+VolumeTarget targetOf(const FitFlags& flags, const IngestResult& loaded) {
+    VolumeTarget target(loaded.grid, flags.input);
+    if (target.activeVoxelCount() == 0) {
+        diagnostics() << "gvr: warning: " << flags.input << " has no active voxels; writing an empty asset\n";
+    }
+    return target;
+}
+
 /// --bricks N, alone or across the ranks of an mpirun: rank 0 merges, writes and
-/// reports; every rank measures a share of the saved asset's error.
-void runBrickedFit(const FitFlags& flags, const IngestResult& loaded, const VolumeTarget& target, Phases& phases) {
+/// reports; every rank measures the saved asset's error on its own bricks. Ranks
+/// of a team read a .vdb input on demand, so each holds little more than its bricks.
+void runBrickedFit(const FitFlags& flags, Phases& phases) {
     BrickTeam team;
     const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, team.threadsPerRank());
+    const IngestResult loaded = loadInput(flags, /*vdbOnDemand=*/team.size() > 1);
+    const VolumeTarget target = targetOf(flags, loaded);
+    phases.lap("load");
     BrickedFitResult bricked;
     std::string saved;  // the asset's bytes as written; empty while rank 0 has none
     try {
@@ -227,7 +251,7 @@ void runBrickedFit(const FitFlags& flags, const IngestResult& loaded, const Volu
     }
     team.broadcast(saved);
     if (saved.empty()) return;
-    const VolumeError error = measureAcrossTeam(team, saved, target, bricked.layout, !flags.quiet);
+    const VolumeError error = measureAcrossTeam(team, saved, target, bricked, !flags.quiet);
     phases.lap("measure");
     if (team.isRoot()) report(flags, bricked.result, target.peak(), error, &bricked, phases);
 }
@@ -240,18 +264,11 @@ void runFit(FitFlags& flags) {
     if (!flags.logPath.empty()) checkOutputPath("--log", flags.logPath, {flags.input, flags.output});
 
     Phases phases;
-    IngestOptions ingestOptions = toIngestOptions(flags.source);
-    ingestOptions.labels = flags.labelVolume;
-    ingestOptions.labelNames = flags.labelNames;
-    const IngestResult loaded = loadOrIngest(flags.input, ingestOptions);
-    for (const std::string& warning : loaded.warnings) diagnostics() << "gvr: warning: " << warning << "\n";
-    const VolumeTarget target(loaded.grid, flags.input);
-    if (target.activeVoxelCount() == 0) {
-        diagnostics() << "gvr: warning: " << flags.input << " has no active voxels; writing an empty asset\n";
-    }
+    if (flags.bricks.any() && !flags.bricks.only) return runBrickedFit(flags, phases);
+    const IngestResult loaded = loadInput(flags, /*vdbOnDemand=*/false);
+    const VolumeTarget target = targetOf(flags, loaded);
     phases.lap("load");
     if (flags.bricks.only) return writePart(flags, loaded, target);
-    if (flags.bricks.any()) return runBrickedFit(flags, loaded, target, phases);
 
     FitLog log(flags.logPath, target.peak());
     CompressResult result;

@@ -70,14 +70,36 @@ void checkTransforms(const openvdb::GridPtrVec& grids, const std::string& path) 
     }
 }
 
-openvdb::GridPtrVecPtr readGrids(const std::string& path, bool voxels) {
+/// io::File with delayed loading: each leaf's voxels are read from a memory map of
+/// the file when first touched.
+openvdb::GridPtrVecPtr mappedGrids(const std::string& path) {
+    openvdb::io::File file(path);
+    file.setCopyMaxBytes(0);  // map the file itself; OpenVDB would copy one under 500 MB to a temporary
+    file.open(/*delayLoad=*/true);
+    openvdb::GridPtrVecPtr grids = file.getGrids();
+    file.close();  // the grids keep the mapping
+    return grids;
+}
+
+enum class Voxels { Now, OnDemand, None };
+
+openvdb::GridPtrVecPtr loadGrids(const std::string& path, Voxels voxels, bool hasGridOffsets) {
+    switch (voxels) {
+        case Voxels::Now: return streamGrids(path);
+        case Voxels::OnDemand: return hasGridOffsets ? mappedGrids(path) : streamGrids(path);
+        case Voxels::None: return gridMetadata(path, hasGridOffsets);
+    }
+    return nullptr;
+}
+
+openvdb::GridPtrVecPtr readGrids(const std::string& path, Voxels voxels) {
     initializeOpenVdb();
     if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
     if (!isVdbFile(path)) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
     const bool hasGridOffsets = checkVdbLengths(path);
     openvdb::GridPtrVecPtr grids;
     try {
-        grids = voxels ? streamGrids(path) : gridMetadata(path, hasGridOffsets);
+        grids = loadGrids(path, voxels, hasGridOffsets);
     } catch (const openvdb::Exception& error) {
         throw InputError(path, std::string("corrupt or truncated VDB file: ") + error.what());
     } catch (const std::ios_base::failure&) {
@@ -97,9 +119,11 @@ bool holdsVolumeValues(const openvdb::GridBase& grid) {
 
 }  // namespace
 
-openvdb::GridPtrVecPtr readGridFile(const std::string& path) { return readGrids(path, /*voxels=*/true); }
+openvdb::GridPtrVecPtr readGridFile(const std::string& path) { return readGrids(path, Voxels::Now); }
 
-openvdb::GridPtrVecPtr readGridMetadataFile(const std::string& path) { return readGrids(path, /*voxels=*/false); }
+openvdb::GridPtrVecPtr readGridFileOnDemand(const std::string& path) { return readGrids(path, Voxels::OnDemand); }
+
+openvdb::GridPtrVecPtr readGridMetadataFile(const std::string& path) { return readGrids(path, Voxels::None); }
 
 openvdb::GridBase::Ptr chooseVolumeGrid(const openvdb::GridPtrVec& grids, const std::string& path) {
     // Names and metadata only rank grids of a value type we read: a file may carry an

@@ -17,6 +17,14 @@ bool isVdbFile(const std::string& path);
 /// @throw InputError naming @a path when it is missing, truncated or not a VDB file.
 openvdb::GridPtrVecPtr readGridFile(const std::string& path);
 
+/// As readGridFile, but each leaf's voxels stay in the file until first touched
+/// (OpenVDB's delayed loading, from a memory map): a process that uses part of a
+/// large grid, such as an MPI rank fitting some of its bricks, reads only that
+/// part. The file must stay unchanged while the grids are in use. Every length in
+/// it is checked first, as readGridFile does. A file written without grid offsets
+/// is read whole.
+openvdb::GridPtrVecPtr readGridFileOnDemand(const std::string& path);
+
 /// The grids of @a path with their metadata and transforms but no voxels: cheap
 /// however large the file. @throw InputError as readGridFile.
 openvdb::GridPtrVecPtr readGridMetadataFile(const std::string& path);

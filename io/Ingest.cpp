@@ -49,7 +49,7 @@ IngestResult ingest(const std::string& input, IngestOptions options) {
 
 IngestResult loadOrIngest(const std::string& input, const IngestOptions& options) {
     if (std::filesystem::is_regular_file(input) && isVdbFile(input)) {
-        const openvdb::GridPtrVecPtr grids = readGridFile(input);
+        const openvdb::GridPtrVecPtr grids = options.vdbOnDemand ? readGridFileOnDemand(input) : readGridFile(input);
         IngestResult result;
         result.grid = chooseVolumeGrid(*grids, input);
         result.labels = options.labels.empty() ? storedLabelGrid(*grids) : readLabels(options, *result.grid);

@@ -8,8 +8,8 @@ namespace gvr {
 
 namespace {
 
-SliceError measureSlice(const GaussianField& field, const VolumeTarget& target, int z, const VoxelMarking& marked) {
-    const openvdb::CoordBBox& box = target.box();
+SliceError measureSlice(const GaussianField& field, const VolumeTarget& target, const openvdb::CoordBBox& box, int z,
+                        const VoxelMarking& marked) {
     const int channels = target.channels();
     SliceError error;
     std::vector<std::uint32_t> hits;
@@ -39,12 +39,14 @@ SliceError measureSlice(const GaussianField& field, const VolumeTarget& target, 
 
 }  // namespace
 
-std::vector<SliceError> measureSliceErrors(const GaussianField& field, const VolumeTarget& target, int first,
-                                           int count, const ProgressFn& progress, const VoxelMarking& marked) {
-    std::vector<SliceError> slices(std::size_t(std::max(count, 0)));
+std::vector<SliceError> measureSliceErrors(const GaussianField& field, const VolumeTarget& target,
+                                           openvdb::CoordBBox part, const ProgressFn& progress,
+                                           const VoxelMarking& marked) {
+    part.intersect(target.box());
+    std::vector<SliceError> slices(part.empty() ? 0 : std::size_t(part.dim().z()));
     ProgressCounter counter(progress, slices.size());
     tbb::parallel_for(0, int(slices.size()), [&](int s) {
-        slices[s] = measureSlice(field, target, target.box().min().z() + first + s, marked);
+        slices[s] = measureSlice(field, target, part, part.min().z() + s, marked);
         counter.advance();
     });
     return slices;
@@ -78,7 +80,7 @@ VolumeError volumeErrorOf(const std::vector<SliceError>& slices, const VolumeTar
 
 VolumeError measureVolumeError(const GaussianField& field, const VolumeTarget& target, const ProgressFn& progress,
                                const VoxelMarking& marked) {
-    return volumeErrorOf(measureSliceErrors(field, target, 0, target.box().dim().z(), progress, marked), target);
+    return volumeErrorOf(measureSliceErrors(field, target, target.box(), progress, marked), target);
 }
 
 }  // namespace gvr

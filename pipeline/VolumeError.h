@@ -38,14 +38,14 @@ struct SliceError {
 VolumeError measureVolumeError(const GaussianField& field, const VolumeTarget& target,
                                const ProgressFn& progress = {}, const VoxelMarking& marked = {});
 
-/// The part of measureVolumeError() for slices [first, first + count) of
-/// target.box() (0 is its lowest z), for a measurement shared among processes.
-std::vector<SliceError> measureSliceErrors(const GaussianField& field, const VolumeTarget& target, int first,
-                                           int count, const ProgressFn& progress = {},
+/// The part of measureVolumeError() inside @a part (clipped to target.box()): one
+/// entry per z-slice of the clipped part, lowest z first, for a measurement shared
+/// out by region (an MPI rank's bricks, say).
+std::vector<SliceError> measureSliceErrors(const GaussianField& field, const VolumeTarget& target,
+                                           openvdb::CoordBBox part, const ProgressFn& progress = {},
                                            const VoxelMarking& marked = {});
 
-/// The error of the whole box from every slice's sums, added in slice order, so
-/// that how the slices were shared out does not change a bit of it.
+/// The error of the whole box from the sums of each of its z-slices, lowest first.
 VolumeError volumeErrorOf(const std::vector<SliceError>& slices, const VolumeTarget& target);
 
 }  // namespace gvr

@@ -30,27 +30,41 @@ Range luminanceRange(const GridT& grid) {
     return range;
 }
 
-template <typename TreeT>
-std::uint64_t activeVoxelsIn(const TreeT& tree, const openvdb::CoordBBox& region) {
-    std::uint64_t count = 0;
+/// Walks the active values of @a tree inside @a region, touching only the leaves
+/// that overlap it: wholeLeaf(leaf) for a leaf inside the region, voxel(ijk) for
+/// each active voxel of a leaf across its edge, then tile(box) for each active tile
+/// above the leaves, clipped. Leaves come in tree order, voxels in leaf order.
+template <typename TreeT, typename WholeLeaf, typename Voxel, typename Tile>
+void walkActiveIn(const TreeT& tree, const openvdb::CoordBBox& region, const WholeLeaf& wholeLeaf, const Voxel& voxel,
+                  const Tile& tile) {
     for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
         const openvdb::CoordBBox bounds = leaf->getNodeBoundingBox();
         if (!region.hasOverlap(bounds)) continue;
         if (region.isInside(bounds)) {
-            count += leaf->onVoxelCount();
+            wholeLeaf(*leaf);
             continue;
         }
-        for (auto voxel = leaf->cbeginValueOn(); voxel; ++voxel) count += region.isInside(voxel.getCoord());
+        for (auto on = leaf->cbeginValueOn(); on; ++on) {
+            if (region.isInside(on.getCoord())) voxel(on.getCoord());
+        }
     }
     // Active tiles above the leaves: the value iterator, kept from descending to voxels.
-    auto tile = tree.cbeginValueOn();
-    tile.setMaxDepth(TreeT::ValueOnCIter::LEAF_DEPTH - 1);
-    for (; tile; ++tile) {
+    auto on = tree.cbeginValueOn();
+    on.setMaxDepth(TreeT::ValueOnCIter::LEAF_DEPTH - 1);
+    for (; on; ++on) {
         openvdb::CoordBBox bounds;
-        tile.getBoundingBox(bounds);
+        on.getBoundingBox(bounds);
         bounds.intersect(region);
-        if (!bounds.empty()) count += bounds.volume();
+        if (!bounds.empty()) tile(bounds);
     }
+}
+
+template <typename TreeT>
+std::uint64_t activeVoxelsIn(const TreeT& tree, const openvdb::CoordBBox& region) {
+    std::uint64_t count = 0;
+    walkActiveIn(
+        tree, region, [&](const auto& leaf) { count += leaf.onVoxelCount(); }, [&](const openvdb::Coord&) { ++count; },
+        [&](const openvdb::CoordBBox& tile) { count += tile.volume(); });
     return count;
 }
 
@@ -132,16 +146,15 @@ void VolumeTarget::trilinearAt(const float x[3], float* out) const {
 
 void VolumeTarget::forEachActiveVoxel(const std::function<void(const openvdb::Coord&)>& visit) const {
     const auto visitTree = [&](const auto& tree) {
-        for (auto voxel = tree.cbeginValueOn(); voxel; ++voxel) {
-            if (voxel.isVoxelValue()) {
-                if (mBox.isInside(voxel.getCoord())) visit(voxel.getCoord());
-                continue;
-            }
-            openvdb::CoordBBox tile;
-            voxel.getBoundingBox(tile);
-            tile.intersect(mBox);
-            for (auto ijk = tile.begin(); ijk; ++ijk) visit(*ijk);
-        }
+        walkActiveIn(
+            tree, mBox,
+            [&](const auto& leaf) {
+                for (auto on = leaf.cbeginValueOn(); on; ++on) visit(on.getCoord());
+            },
+            visit,
+            [&](const openvdb::CoordBBox& tile) {
+                for (auto ijk = tile.begin(); ijk; ++ijk) visit(*ijk);
+            });
     };
     if (mFloat) visitTree(mFloat->tree());
     else visitTree(mColour->tree());

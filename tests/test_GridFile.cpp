@@ -40,6 +40,33 @@ TEST(GridFile, RoundTripIsBitExact) {
     EXPECT_EQ(readVolumeMetadata(*reread)->modality, "CT");
 }
 
+TEST(GridFile, OnDemandReadsOnlyTheLeavesTouchedAndTheSameValues) {
+    test::TempDir dir;
+    const openvdb::GridBase::Ptr written =
+        test::makeGrid({40, 32, 24}, [](int i, int j, int k) { return float(1 + i + 100 * j + 10000 * k); });
+    writeGridFile(dir.path("g.vdb"), {written});
+    const auto original = openvdb::GridBase::grid<openvdb::FloatGrid>(written);
+    const auto mapped = openvdb::GridBase::grid<openvdb::FloatGrid>(readGridFileOnDemand(dir.path("g.vdb"))->front());
+    ASSERT_TRUE(original && mapped);
+    EXPECT_EQ(mapped->activeVoxelCount(), original->activeVoxelCount());  // from the masks alone
+
+    const auto leavesInMemory = [&] {
+        std::size_t loaded = 0;
+        for (auto leaf = mapped->tree().cbeginLeaf(); leaf; ++leaf) loaded += !leaf->buffer().isOutOfCore();
+        return loaded;
+    };
+    EXPECT_EQ(leavesInMemory(), 0u);
+    const openvdb::Coord inside(9, 17, 5);
+    EXPECT_EQ(mapped->tree().getValue(inside), original->tree().getValue(inside));
+    EXPECT_EQ(leavesInMemory(), 1u);
+
+    auto accessor = mapped->getConstAccessor();
+    for (auto value = original->cbeginValueOn(); value; ++value) {
+        ASSERT_EQ(accessor.getValue(value.getCoord()), *value) << value.getCoord();
+    }
+    EXPECT_EQ(leavesInMemory(), original->tree().leafCount());
+}
+
 TEST(GridFile, FailedWriteLeavesNoFile) {
     test::TempDir dir;
     const std::string target = dir.path("out.vdb");
