@@ -33,10 +33,19 @@ class PhysicalValues {
 public:
     PhysicalValues(const DenseVolume& volume, std::optional<float> nanTo)
         : mData(volume.data<T>()), mChannels(volume.channels), mSlope(volume.slope),
-          mIntercept(volume.intercept), mNanTo(nanTo) {}
+          mIntercept(volume.intercept), mNanTo(nanTo) {
+        if constexpr (kTabulated) {
+            mTable.resize(std::size_t(1) << (8 * sizeof(T)));
+            for (std::size_t stored = 0; stored < mTable.size(); ++stored) {
+                mTable[stored] = convert(T(static_cast<Unsigned>(stored)));
+            }
+        }
+    }
 
     float raw(std::size_t voxel, int channel) const {
-        return float(mSlope * double(mData[voxel * mChannels + channel]) + mIntercept);
+        const T stored = mData[voxel * mChannels + channel];
+        if constexpr (kTabulated) return mTable[static_cast<Unsigned>(stored)];
+        return convert(stored);
     }
 
     float value(std::size_t voxel, int channel) const {
@@ -61,10 +70,18 @@ public:
     int channels() const { return mChannels; }
 
 private:
+    /// 8- and 16-bit samples take their physical value from a table of every
+    /// stored value: ingest converts each sample several times.
+    static constexpr bool kTabulated = std::is_integral_v<T> && sizeof(T) <= 2;
+    using Unsigned = std::make_unsigned_t<std::conditional_t<std::is_integral_v<T>, T, int>>;
+
+    float convert(T stored) const { return float(mSlope * double(stored) + mIntercept); }
+
     const T* mData;
     int mChannels;
     double mSlope, mIntercept;
     std::optional<float> mNanTo;
+    std::vector<float> mTable;
 };
 
 struct Range {
@@ -101,25 +118,18 @@ struct ChannelSum {
     std::uint64_t count = 0;
 };
 
-/// Mean of the voxels at or below @a cut, per channel.
-template <typename Values>
-ChannelSum sumInactive(const Values& values, std::size_t voxelCount, double cut) {
-    return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, voxelCount), ChannelSum{},
-        [&](const tbb::blocked_range<std::size_t>& voxels, ChannelSum total) {
-            for (std::size_t v = voxels.begin(); v != voxels.end(); ++v) {
-                if (values.key(v) > cut) continue;
-                for (int c = 0; c < values.channels(); ++c) total.sum[c] += values.value(v, c);
-                ++total.count;
-            }
-            return total;
-        },
-        [](ChannelSum a, const ChannelSum& b) {
-            a.sum += b.sum;
-            a.count += b.count;
-            return a;
-        });
-}
+/// What a pass over a slab's leaves finds besides the leaves: the range of the
+/// finite values and the sum of the voxels that the cut leaves inactive.
+struct SlabTally {
+    Range range;
+    ChannelSum inactive;
+
+    void add(const SlabTally& other) {
+        range = range.merged(other.range);
+        inactive.sum += other.inactive.sum;
+        inactive.count += other.inactive.count;
+    }
+};
 
 template <typename ValueT, typename Values>
 ValueT voxelValue(const Values& values, std::size_t voxel) {
@@ -131,10 +141,11 @@ ValueT voxelValue(const Values& values, std::size_t voxel) {
 }
 
 /// Fills the leaf at @a origin from @a slab, which holds the slices from @a firstSlice
-/// on; null when none of the leaf's voxels is active.
+/// on, and tallies its voxels; null when none of them is active.
 template <typename LeafT, typename Values>
 std::unique_ptr<LeafT> buildLeaf(const Values& values, const DenseVolume& slab, std::int64_t firstSlice,
-                                 const Coord& origin, double cut, const typename LeafT::ValueType& background) {
+                                 const Coord& origin, double cut, const typename LeafT::ValueType& background,
+                                 bool replacesNonFinite, SlabTally& tally) {
     std::unique_ptr<LeafT> leaf;  // made at the first active voxel: most leaves of a large volume stay empty
     const Coord end = Coord::minComponent(
         origin + Coord(LeafT::DIM),
@@ -143,7 +154,18 @@ std::unique_ptr<LeafT> buildLeaf(const Values& values, const DenseVolume& slab, 
         for (int j = origin.y(); j < end.y(); ++j) {
             std::size_t voxel = (std::size_t(k - firstSlice) * slab.dims[1] + j) * slab.dims[0] + origin.x();
             for (int i = origin.x(); i < end.x(); ++i, ++voxel) {
-                if (values.key(voxel) <= cut) continue;
+                if (!replacesNonFinite && !values.isFinite(voxel)) {
+                    ++tally.range.nonFinite;
+                    continue;
+                }
+                const double key = values.key(voxel);
+                tally.range.min = std::min(tally.range.min, key);
+                tally.range.max = std::max(tally.range.max, key);
+                if (key <= cut) {
+                    for (int c = 0; c < values.channels(); ++c) tally.inactive.sum[c] += values.value(voxel, c);
+                    ++tally.inactive.count;
+                    continue;
+                }
                 if (!leaf) leaf = std::make_unique<LeafT>(origin, background, false);
                 leaf->setValueOn(LeafT::coordToOffset(Coord(i, j, k)),
                                  voxelValue<typename LeafT::ValueType>(values, voxel));
@@ -153,21 +175,34 @@ std::unique_ptr<LeafT> buildLeaf(const Values& values, const DenseVolume& slab, 
     return leaf;
 }
 
-/// The leaves of a slab's slices. A slab starts on a leaf boundary, so no leaf is
-/// shared with another slab.
+/// The leaves of a slab's slices, and their tally, added up leaf by leaf in a fixed
+/// order so that the sums do not depend on the threads. A slab starts on a leaf
+/// boundary, so no leaf is shared with another slab.
 template <typename GridT, typename Values>
-void addSlabLeaves(GridT& grid, const Values& values, const DenseVolume& slab, std::int64_t firstSlice,
-                   double cut, ProgressCounter& counter) {
+SlabTally addSlabLeaves(GridT& grid, const Values& values, const DenseVolume& slab, std::int64_t firstSlice,
+                        double cut, bool replacesNonFinite, ProgressCounter& counter) {
     using LeafT = typename GridT::TreeType::LeafNodeType;
+    const Coord first(0, 0, int(firstSlice));
     const std::vector<Coord> origins = blockOrigins(openvdb::CoordBBox(
-        Coord(0, 0, int(firstSlice)),
-        Coord(int(slab.dims[0]) - 1, int(slab.dims[1]) - 1, int(firstSlice + slab.dims[2]) - 1)));
+        first, Coord(int(slab.dims[0]) - 1, int(slab.dims[1]) - 1, int(firstSlice + slab.dims[2]) - 1)));
+    const Coord blocks((int(slab.dims[0]) + kBlockDim - 1) / kBlockDim, (int(slab.dims[1]) + kBlockDim - 1) / kBlockDim,
+                       (int(slab.dims[2]) + kBlockDim - 1) / kBlockDim);
+    const auto indexOf = [&](const Coord& origin) {  // blockOrigins() runs z, y, x
+        const Coord offset = origin - first;
+        return (std::size_t(offset.z() / kBlockDim) * blocks.y() + offset.y() / kBlockDim) * blocks.x() +
+               offset.x() / kBlockDim;
+    };
+    std::vector<SlabTally> tallies(origins.size());
     const typename GridT::ValueType placeholder = grid.background();
     addLeaves(grid, origins,
               [&](const Coord& origin) {
-                  return buildLeaf<LeafT>(values, slab, firstSlice, origin, cut, placeholder);
+                  return buildLeaf<LeafT>(values, slab, firstSlice, origin, cut, placeholder, replacesNonFinite,
+                                          tallies[indexOf(origin)]);
               },
               counter);
+    SlabTally total;
+    for (const SlabTally& tally : tallies) total.add(tally);
+    return total;
 }
 
 openvdb::math::Transform::Ptr transformOf(const DenseVolume& volume, const std::string& file) {
@@ -247,22 +282,26 @@ private:
         return leaves;
     }
 
+    /// Without a threshold the cut must come from this slab's minimum too, so its
+    /// range is scanned first; with one, the leaves' pass finds the range.
     SlabRecord addSlab(const DenseVolume& slab, std::int64_t first, std::int64_t count) {
         const PhysicalValues<T> values(slab, mSettings.nanTo);
-        mRange = mRange.merged(scanRange(values, slab.voxelCount(), mSettings.nanTo.has_value()));
+        const bool replacesNonFinite = mSettings.nanTo.has_value();
+        if (!mSettings.threshold) mRange = mRange.merged(scanRange(values, slab.voxelCount(), replacesNonFinite));
         SlabRecord record{first, count, finalCut(), {}};
-        record.inactive = sumInactive(values, slab.voxelCount(), record.cut);
-        addSlabLeaves(*mGrid, values, slab, first, record.cut, mCounter);
+        const SlabTally tally = addSlabLeaves(*mGrid, values, slab, first, record.cut, replacesNonFinite, mCounter);
+        if (mSettings.threshold) mRange = mRange.merged(tally.range);
+        record.inactive = tally.inactive;
         return record;
     }
 
     SlabRecord rebuildSlab(const DenseVolume& slab, SlabRecord record) {
         const PhysicalValues<T> values(slab, mSettings.nanTo);
         record.cut = finalCut();
-        record.inactive = sumInactive(values, slab.voxelCount(), record.cut);
         const ProgressFn none;  // the first pass already counted these leaves
         ProgressCounter silent(none, 0);
-        addSlabLeaves(*mGrid, values, slab, record.first, record.cut, silent);
+        record.inactive =
+            addSlabLeaves(*mGrid, values, slab, record.first, record.cut, mSettings.nanTo.has_value(), silent).inactive;
         return record;
     }
 
