@@ -29,9 +29,11 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$(pwd)/.ci/
 # bad-input sweep checks the release binary's promise of exactly one line on stderr.
 # Under mpirun, OpenMPI's own allocations that outlive MPI_Finalize would need leak
 # suppressions of their own; the single-process bricked fits run here all the same,
-# but not the seam test's nine fits of a real MRI (minutes in release).
+# but not the seam test's nine fits of a real MRI (minutes in release). The streamed-
+# ingest memory test measures the release binary's peak: ASan's shadow memory and
+# quarantine add 120 MiB or more to it (379 MiB against a 256 MiB limit, measured).
 ctest --test-dir "$build" --output-on-failure -j 2 \
-  -E "export_clients|deps_audit|example_minimal|bad_input_sweep|mpi_bricks|Bricks.SeamsOfRealMri"
+  -E "export_clients|deps_audit|example_minimal|bad_input_sweep|mpi_bricks|Bricks.SeamsOfRealMri|Cli.IngestStreamsARawVolume"
 
 seeds=$build/fuzz-seeds
 rm -rf "$seeds" "$build/fuzz-corpus"
