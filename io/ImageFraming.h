@@ -1,5 +1,5 @@
 /// @file ImageFraming.h
-/// @brief Checks that a PNG or JPEG slice is whole, before OpenImageIO decodes it.
+/// @brief Checks that a PNG, JPEG or BMP slice is whole, before OpenImageIO decodes it.
 ///
 /// libjpeg decodes a cut-off JPEG with a warning only, filling the rest with grey,
 /// and OpenImageIO passes it on as a success. libpng reports a damaged PNG through
@@ -13,9 +13,11 @@
 namespace gvr {
 
 /// A PNG (by its signature) must be a chain of chunks whose CRC-32s hold, up to
-/// IEND; a JPEG (by its SOI marker) must end with its end-of-image marker. Other
+/// IEND; a JPEG (by its SOI marker) must end with its end-of-image marker; a BMP
+/// ("BM") must be uncompressed, of a standard depth, and hold every row. Other
 /// files pass unchecked.
-/// @throw InputError naming @a file for a cut or damaged PNG or a cut JPEG.
+/// @throw InputError naming @a file for a cut or damaged PNG, a cut JPEG, or a
+///        BMP that is compressed, cut or corrupt.
 void checkImageFraming(const std::string& file);
 
 }  // namespace gvr

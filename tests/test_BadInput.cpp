@@ -337,6 +337,41 @@ TEST(BadInput, ImageHeadersClaimingHugeSlicesAreRefusedBeforeAllocating) {
     EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 100L << 10) << "KiB of peak memory for three small files";
 }
 
+/// A 10 x 12, 24-bit BMP with a 40-byte info header and @a compression.
+std::string bmp(std::uint32_t compression) {
+    const auto put32 = [](std::string& b, std::size_t at, std::uint32_t v) {
+        for (int i = 0; i < 4; ++i) b[at + i] = char((v >> (8 * i)) & 0xff);
+    };
+    const std::uint32_t rowBytes = 32, pixels = rowBytes * 12;
+    std::string b(54 + pixels, '\0');
+    b[0] = 'B';
+    b[1] = 'M';
+    put32(b, 2, std::uint32_t(b.size()));
+    put32(b, 10, 54);
+    put32(b, 14, 40);
+    put32(b, 18, 10);
+    put32(b, 22, 12);
+    b[26] = 1;   // planes
+    b[28] = 24;  // bits a pixel
+    put32(b, 30, compression);
+    put32(b, 34, pixels);
+    for (std::size_t i = 54; i < b.size(); ++i) b[i] = char(i * 7);
+    return b;
+}
+
+TEST(BadInput, CompressedOrCutBmpSlicesAreRefusedBeforeDecoding) {
+    test::TempDir dir;
+    const std::string stack = emptyFolder(dir, "stack");
+    test::writeBytes(stack + "/0.bmp", bmp(0));
+    EXPECT_NO_THROW(ingest(stack, {}));  // the header the check reads is the one writers write
+
+    // RLE4 on 24 bits: OpenImageIO's reader read before its buffer (fuzz_image).
+    test::writeBytes(stack + "/0.bmp", bmp(2));
+    expectMentions(ingestError(stack), stack + "/0.bmp: unsupported BMP: 24 bits a pixel with compression 2");
+    test::writeBytes(stack + "/0.bmp", bmp(0).substr(0, 200));
+    expectMentions(ingestError(stack), stack + "/0.bmp: truncated BMP: its pixels need 438 bytes, the file has 200");
+}
+
 TEST(BadInput, TruncatedJpegSlice) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
