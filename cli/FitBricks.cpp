@@ -186,12 +186,7 @@ std::vector<SliceError> wholeBoxSlices(const std::vector<BrickOutcome>& outcomes
         core.intersect(target.box());
         const std::vector<SliceError> slices = slicesOf(outcome.bytes);
         for (std::size_t s = 0; s < slices.size(); ++s) {
-            SliceError& total = whole[std::size_t(core.min().z() - target.box().min().z()) + s];
-            total.all += slices[s].all;
-            total.foreground += slices[s].foreground;
-            total.marked += slices[s].marked;
-            total.foregroundVoxels += slices[s].foregroundVoxels;
-            total.markedVoxels += slices[s].markedVoxels;
+            whole[std::size_t(core.min().z() - target.box().min().z()) + s].add(slices[s]);
         }
     }
     return whole;

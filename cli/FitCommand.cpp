@@ -110,7 +110,8 @@ nlohmann::json structuresJson(const GaussianAsset& asset, const std::vector<Stru
 void reportBricks(const BrickedFitResult& bricked, const VolumeError& error) {
     std::cout << "  seams:           " << formatDb(error.markedPsnr) << " dB within " << kSeamWidth
               << " voxels of a face between bricks (" << error.markedVoxels << " voxels), "
-              << formatDb(error.unmarkedPsnr) << " dB elsewhere\n";
+              << formatDb(error.unmarkedPsnr) << " dB elsewhere; over the active voxels "
+              << formatDb(error.markedForegroundPsnr) << " / " << formatDb(error.unmarkedForegroundPsnr) << " dB\n";
     for (const nlohmann::json& b : bricked.bricks) {
         std::cout << "  brick " << b["brick"] << ":" << std::setw(8) << b["gaussians"].get<std::size_t>()
                   << " Gaussians (budget " << b["budget"] << "), rank " << b["rank"] << ", " << b["iterations"]
@@ -151,6 +152,8 @@ void report(const FitFlags& flags, const CompressResult& result, double peak, co
             out["seam_voxels"] = error.markedVoxels;
             out["seam_psnr_db"] = jsonNumber(error.markedPsnr);
             out["interior_psnr_db"] = jsonNumber(error.unmarkedPsnr);
+            out["seam_fg_psnr_db"] = jsonNumber(error.markedForegroundPsnr);
+            out["interior_fg_psnr_db"] = jsonNumber(error.unmarkedForegroundPsnr);
         }
         std::cout << out.dump(2) << "\n";
         return;

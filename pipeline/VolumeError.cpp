@@ -24,13 +24,18 @@ SliceError measureSlice(const GaussianField& field, const VolumeTarget& target, 
             for (int c = 0; c < channels; ++c) squared += double(value[c] - expected[c]) * (value[c] - expected[c]);
             squared /= channels;
             error.all += squared;
-            if (target.isActive(ijk)) {
+            const bool active = target.isActive(ijk);
+            if (active) {
                 error.foreground += squared;
                 ++error.foregroundVoxels;
             }
             if (marked && marked(ijk)) {
                 error.marked += squared;
                 ++error.markedVoxels;
+                if (active) {
+                    error.markedForeground += squared;
+                    ++error.markedForegroundVoxels;
+                }
             }
         }
     }
@@ -52,28 +57,39 @@ std::vector<SliceError> measureSliceErrors(const GaussianField& field, const Vol
     return slices;
 }
 
+void SliceError::add(const SliceError& other) {
+    all += other.all;
+    foreground += other.foreground;
+    marked += other.marked;
+    markedForeground += other.markedForeground;
+    foregroundVoxels += other.foregroundVoxels;
+    markedVoxels += other.markedVoxels;
+    markedForegroundVoxels += other.markedForegroundVoxels;
+}
+
 VolumeError volumeErrorOf(const std::vector<SliceError>& slices, const VolumeTarget& target) {
+    SliceError total;
+    for (const SliceError& slice : slices) total.add(slice);
     VolumeError error;
-    double sumAll = 0.0, sumForeground = 0.0, sumMarked = 0.0, foregroundVoxels = 0.0, markedVoxels = 0.0;
-    for (const SliceError& slice : slices) {
-        sumAll += slice.all;
-        sumForeground += slice.foreground;
-        sumMarked += slice.marked;
-        foregroundVoxels += slice.foregroundVoxels;
-        markedVoxels += slice.markedVoxels;
-    }
-    error.foregroundVoxels = std::uint64_t(foregroundVoxels);
-    error.markedVoxels = std::uint64_t(markedVoxels);
+    error.foregroundVoxels = std::uint64_t(total.foregroundVoxels);
+    error.markedVoxels = std::uint64_t(total.markedVoxels);
+    error.markedForegroundVoxels = std::uint64_t(total.markedForegroundVoxels);
     error.voxels = target.box().volume();
-    error.mse = sumAll / double(error.voxels);
-    error.foregroundMse = error.foregroundVoxels > 0 ? sumForeground / double(error.foregroundVoxels) : 0.0;
+    error.mse = total.all / double(error.voxels);
+    error.foregroundMse = error.foregroundVoxels > 0 ? total.foreground / double(error.foregroundVoxels) : 0.0;
     error.psnr = psnrFromMse(error.mse, target.peak());
     error.foregroundPsnr = psnrFromMse(error.foregroundMse, target.peak());
     if (error.markedVoxels > 0 && error.markedVoxels < error.voxels) {
-        error.markedMse = sumMarked / double(error.markedVoxels);
-        error.unmarkedMse = (sumAll - sumMarked) / double(error.voxels - error.markedVoxels);
+        error.markedMse = total.marked / double(error.markedVoxels);
+        error.unmarkedMse = (total.all - total.marked) / double(error.voxels - error.markedVoxels);
         error.markedPsnr = psnrFromMse(error.markedMse, target.peak());
         error.unmarkedPsnr = psnrFromMse(error.unmarkedMse, target.peak());
+    }
+    if (error.markedForegroundVoxels > 0 && error.markedForegroundVoxels < error.foregroundVoxels) {
+        error.markedForegroundPsnr = psnrFromMse(total.markedForeground / double(error.markedForegroundVoxels), target.peak());
+        error.unmarkedForegroundPsnr =
+            psnrFromMse((total.foreground - total.markedForeground) / double(error.foregroundVoxels - error.markedForegroundVoxels),
+                        target.peak());
     }
     return error;
 }

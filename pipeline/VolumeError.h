@@ -21,6 +21,10 @@ struct VolumeError {
     std::uint64_t markedVoxels = 0;
     double markedMse = 0.0, unmarkedMse = 0.0;
     double markedPsnr = 0.0, unmarkedPsnr = 0.0;
+    /// The same split of the active voxels only: what the volume holds, without the
+    /// background, which is easy to fit and not spread evenly over the marked voxels.
+    std::uint64_t markedForegroundVoxels = 0;
+    double markedForegroundPsnr = 0.0, unmarkedForegroundPsnr = 0.0;
 };
 
 /// Picks voxels whose error is also summed on its own.
@@ -29,8 +33,10 @@ using VoxelMarking = std::function<bool(const openvdb::Coord&)>;
 /// One z-slice's squared errors (channel mean) and voxel counts. Plain doubles, so
 /// that processes that measure different slices can send them as they are.
 struct SliceError {
-    double all = 0.0, foreground = 0.0, marked = 0.0;
-    double foregroundVoxels = 0.0, markedVoxels = 0.0;  // counts, exact in a double
+    double all = 0.0, foreground = 0.0, marked = 0.0, markedForeground = 0.0;
+    double foregroundVoxels = 0.0, markedVoxels = 0.0, markedForegroundVoxels = 0.0;  // counts, exact in a double
+
+    void add(const SliceError& other);
 };
 
 /// Evaluates the field at every voxel centre of target.box(), in parallel over
