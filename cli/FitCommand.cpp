@@ -243,8 +243,8 @@ void runBrickedFit(const FitFlags& flags, Phases& phases) {
         bricked = fitAllBricks(team, loaded.grid, target, flags.input, flags.options, flags.bricks, !flags.quiet);
         phases.lap("fit");
         if (team.isRoot()) {
-            writeAsset(flags.output, bricked.result.asset);
             saved = encodeAsset(bricked.result.asset);
+            writeAssetBytes(flags.output, saved);
         }
         phases.lap("write");
     } catch (const std::exception&) {

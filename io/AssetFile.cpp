@@ -226,14 +226,17 @@ std::size_t fitAssetInto(GaussianAsset& asset, std::uint64_t maxBytes) {
 
 std::size_t writeAsset(const std::string& path, GaussianAsset& asset, std::uint64_t maxBytes) {
     const std::size_t before = asset.params.count();
-    const std::string bytes = encodeWithin(asset, maxBytes);
+    writeAssetBytes(path, encodeWithin(asset, maxBytes));
+    return before - asset.params.count();
+}
+
+void writeAssetBytes(const std::string& path, const std::string& bytes) {
     writeAtomically(path, [&](const std::string& temporary) {
         std::ofstream out(temporary, std::ios::binary);
         out.write(bytes.data(), std::streamsize(bytes.size()));
         out.close();
         if (!out) throw InputError(path, "cannot write the asset");
     });
-    return before - asset.params.count();
 }
 
 bool isAssetFile(const std::string& path) {

@@ -61,6 +61,10 @@ std::size_t fitAssetInto(GaussianAsset& asset, std::uint64_t maxBytes);
 /// The whole file for @a asset, which is put into storage order first.
 std::string encodeAsset(GaussianAsset& asset);
 
+/// Writes the bytes of encodeAsset() atomically, for a caller that also needs them
+/// (to send them to MPI ranks, say) and would otherwise encode twice.
+void writeAssetBytes(const std::string& path, const std::string& bytes);
+
 /// An asset from the bytes of a whole file (sent over MPI, say), checked as
 /// readAsset() checks a file.
 /// @throw InputError naming @a name, as readAsset() does.

@@ -36,6 +36,7 @@ public:
     void readSlab(std::int64_t first, std::int64_t count, DenseVolume& slab,
                   const ProgressFn& progress = {}) const;
 
+    /// Bytes of one decoded slice: width x height x channels x bytes a sample.
     std::uint64_t sliceBytes() const;
 
 protected:
