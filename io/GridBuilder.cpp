@@ -116,6 +116,11 @@ Range scanRange(const Values& values, std::size_t voxelCount, bool replacesNonFi
 struct ChannelSum {
     openvdb::Vec3d sum{0.0};
     std::uint64_t count = 0;
+
+    void add(const ChannelSum& other) {
+        sum += other.sum;
+        count += other.count;
+    }
 };
 
 /// What a pass over a slab's leaves finds besides the leaves: the range of the
@@ -126,8 +131,7 @@ struct SlabTally {
 
     void add(const SlabTally& other) {
         range = range.merged(other.range);
-        inactive.sum += other.inactive.sum;
-        inactive.count += other.inactive.count;
+        inactive.add(other.inactive);
     }
 };
 
@@ -267,10 +271,7 @@ public:
     /// The mean of the inactive voxels, or the minimum (black for RGB) when none are.
     openvdb::Vec3d background() const {
         ChannelSum inactive;
-        for (const SlabRecord& record : mRecords) {
-            inactive.sum += record.inactive.sum;
-            inactive.count += record.inactive.count;
-        }
+        for (const SlabRecord& record : mRecords) inactive.add(record.inactive);
         if (inactive.count == 0) return openvdb::Vec3d(mLayout.channels == 1 ? mRange.min : 0.0);
         return inactive.sum / double(inactive.count);
     }
@@ -385,8 +386,7 @@ openvdb::GridBase::Ptr buildGrid(const DenseVolume& volume, const GridBuildSetti
 
 openvdb::GridBase::Ptr buildGrid(const SliceSource& source, const GridBuildSettings& settings,
                                  const ProgressFn& progress) {
-    const DenseVolume& layout = source.layout();
-    checkDimensions(source.culprit(), layout.dims);
+    const DenseVolume& layout = source.layout();  // its dimensions were checked when the source was opened
     DenseVolume slab;
     const auto nextSlab = [&](std::int64_t first, std::int64_t count) -> const DenseVolume& {
         checkSlabFitsInMemory(source.culprit(), {layout.dims[0], layout.dims[1], count}, layout.channels,

@@ -17,10 +17,19 @@ namespace {
 constexpr char kPngSignature[] = "\x89PNG\r\n\x1a\n";
 constexpr std::size_t kPngSignatureBytes = 8;
 
-std::uint32_t bigEndian32(const std::string& bytes, std::size_t at) {
-    return std::uint32_t(std::uint8_t(bytes[at])) << 24 | std::uint32_t(std::uint8_t(bytes[at + 1])) << 16 |
-           std::uint32_t(std::uint8_t(bytes[at + 2])) << 8 | std::uint32_t(std::uint8_t(bytes[at + 3]));
+/// The unsigned integer of @a width bytes (2 or 4) at @a at, in either byte order.
+std::uint32_t wordAt(const std::string& bytes, std::size_t at, int width, bool bigEndian) {
+    std::uint32_t word = 0;
+    for (int b = 0; b < width; ++b) {
+        const int shift = 8 * (bigEndian ? width - 1 - b : b);
+        word |= std::uint32_t(std::uint8_t(bytes[at + std::size_t(b)])) << shift;
+    }
+    return word;
 }
+
+std::uint32_t bigEndian32(const std::string& bytes, std::size_t at) { return wordAt(bytes, at, 4, true); }
+std::uint32_t littleEndian32(const std::string& bytes, std::size_t at) { return wordAt(bytes, at, 4, false); }
+std::uint32_t littleEndian16(const std::string& bytes, std::size_t at) { return wordAt(bytes, at, 2, false); }
 
 std::string readBytes(std::ifstream& in, std::streamoff from, std::streamoff count) {
     std::string bytes(std::size_t(count), '\0');
@@ -55,15 +64,6 @@ void checkJpegEnd(const std::string& file, const std::string& tail) {
     if (tail.find("\xff\xd9") == std::string::npos) {
         throw InputError(file, "truncated JPEG: no end-of-image marker");
     }
-}
-
-std::uint32_t littleEndian32(const std::string& bytes, std::size_t at) {
-    return std::uint32_t(std::uint8_t(bytes[at])) | std::uint32_t(std::uint8_t(bytes[at + 1])) << 8 |
-           std::uint32_t(std::uint8_t(bytes[at + 2])) << 16 | std::uint32_t(std::uint8_t(bytes[at + 3])) << 24;
-}
-
-std::uint32_t littleEndian16(const std::string& bytes, std::size_t at) {
-    return std::uint32_t(std::uint8_t(bytes[at])) | std::uint32_t(std::uint8_t(bytes[at + 1])) << 8;
 }
 
 /// OpenImageIO's BMP reader trusts the header: an RLE compression on a 24-bit
