@@ -25,6 +25,23 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+struct ObliquityLevel {
+    float opacity, colourFactor;  // side by side: one cache line per lookup
+};
+
+/// The premultiplied RGBA that a weighted sum of stored samples (x 65535) adds
+/// over the oblique path. A plain pointer, passed by value, so that the compiler
+/// knows stores to the image leave it be.
+struct ObliquityLookup {
+    const ObliquityLevel* levels;
+    Floats4 operator()(Floats4 stored) const {
+        const ObliquityLevel level = levels[std::min(65535, int(stored[3] + 0.5f))];
+        Floats4 out = stored * level.colourFactor;
+        out[3] = level.opacity;
+        return out;
+    }
+};
+
 /// Opacity and colour factor for a path 1/cos(angle) slices long, per 16-bit
 /// opacity level: the view may cross the slices obliquely when the stack is reused.
 class ObliquityTable {
@@ -43,21 +60,10 @@ public:
             mLevels[level] = {opacity, level > 0 ? opacity / level : 1.0f / 65535.0f};
         }
     }
-
-    /// The premultiplied RGBA that a weighted sum of stored samples (x 65535)
-    /// adds over the oblique path.
-    Floats4 operator()(Floats4 stored) const {
-        const Level& level = mLevels[std::min(65535, int(stored[3] + 0.5f))];
-        Floats4 out = stored * level.colourFactor;
-        out[3] = level.opacity;
-        return out;
-    }
+    ObliquityLookup lookup() const { return {mLevels.data()}; }
 
 private:
-    struct Level {
-        float opacity, colourFactor;  // side by side: one cache line per lookup
-    };
-    std::vector<Level> mLevels;
+    std::vector<ObliquityLevel> mLevels;
 };
 
 Floats4 toFloats(const StackSample& sample) {
@@ -70,57 +76,35 @@ Floats4 toFloats(const StackSample& sample) {
 #endif
 }
 
-/// Pixels [first, end) of an intermediate row that a slice row's run reaches.
-struct Span {
-    int first, end;
-    bool operator<(const Span& other) const { return first < other.first; }
+/// Links over the pixels of one intermediate row that still take light: each
+/// pixel links to the first open pixel at or after it, so a stretch of opaque
+/// pixels is stepped over in one jump (Lacroute and Levoy's opaque-pixel links).
+/// A plain pointer, for the same reason as ObliquityLookup.
+struct OpenLinks {
+    int* links;
+    /// The first open pixel at or after @a p (the width when none is).
+    int next(int p) const {
+        while (links[p] != p) {
+            links[p] = links[links[p]];  // halve the path for the next search
+            p = links[p];
+        }
+        return p;
+    }
+    void close(int p) const { links[p] = p + 1; }
 };
 
-/// The pixels of one intermediate row that still take light. Each pixel links to
-/// the first open pixel at or after it, so a stretch of opaque pixels is stepped
-/// over in one jump (Lacroute and Levoy's opaque-pixel links).
+/// The opaque-pixel links of one intermediate row.
 class OpenPixels {
 public:
     void reset(int width) {
         mNext.resize(width + 1);  // the last entry is the end: always open
         std::iota(mNext.begin(), mNext.end(), 0);
     }
-    /// The first open pixel at or after @a p (the width when none is).
-    int next(int p) {
-        while (mNext[p] != p) {
-            mNext[p] = mNext[mNext[p]];  // halve the path for the next search
-            p = mNext[p];
-        }
-        return p;
-    }
-    void close(int p) { mNext[p] = p + 1; }
+    OpenLinks links() { return {mNext.data()}; }
 
 private:
     std::vector<int> mNext;
 };
-
-/// Adds slice row @a row (nothing beyond the slice) to the open pixels its runs
-/// reach, resampled: the sample in column c weighs @a right on pixel c - shift and
-/// @a left on the pixel before it. The shear is the same across one slice, so the
-/// weights are too.
-void addRow(const Slice& slice, int row, int height, int shift, float left, float right, OpenPixels& open,
-            Floats4* contribution, std::vector<Span>& spans) {
-    if (row < 0 || row >= height || left + right == 0.0f) return;
-    for (std::uint32_t r = slice.rowRuns[row]; r < slice.rowRuns[row + 1]; ++r) {
-        const RowRun& run = slice.runs[r];
-        const int begin = int(run.begin), end = int(run.end);
-        const StackSample* samples = slice.samples.data() + run.offset - begin;  // indexed by column
-        const int first = begin - shift - 1, last = end - shift;
-        for (int p = open.next(first); p <= last; p = open.next(p + 1)) {
-            const int c = p + shift;
-            Floats4 sum = contribution[p];
-            if (c >= begin && c < end) sum += right * toFloats(samples[c]);
-            if (c + 1 < end) sum += left * toFloats(samples[c + 1]);
-            contribution[p] = sum;
-        }
-        spans.push_back({first, last + 1});
-    }
-}
 
 /// The intermediate image: the slices sheared for a direction and composited front
 /// to back, in the stack's plane.
@@ -128,6 +112,123 @@ struct Intermediate {
     int width = 0, height = 0;
     int originX = 0, originY = 0;  ///< stack sample coordinates of pixel (0, 0)
     std::vector<float> rgba;       ///< premultiplied
+};
+
+/// What a pixel takes from one slice row, sheared: right x the sample in its
+/// column plus left x the next. The shear is the same across one slice, and so
+/// are the weights.
+struct Tap {
+    const StackSample* columns;  ///< the row's samples, indexed by column
+    Floats4 right, left;
+    Floats4 operator()(int column) const {
+        return right * toFloats(columns[column]) + left * toFloats(columns[column + 1]);
+    }
+};
+
+/// The pixels [first, last] of an intermediate row that one run of a slice row
+/// reaches when resampled; its tap reads only the run and its padding there.
+struct Reach {
+    int first, last;
+    Tap tap;
+};
+
+/// The reaches of one slice row's runs, left to right and disjoint.
+void shearRow(const Slice& slice, int row, int height, int shift, float left, float right, std::vector<Reach>& reaches) {
+    reaches.clear();
+    if (row < 0 || row >= height || left + right == 0.0f) return;
+    for (std::uint32_t r = slice.rowRuns[row]; r < slice.rowRuns[row + 1]; ++r) {
+        const RowRun& run = slice.runs[r];
+        const int begin = int(run.begin), end = int(run.end);
+        const Tap tap{slice.samples.data() + run.offset - begin, splat(right), splat(left)};
+        reaches.push_back({begin - shift - 1, end - shift - 1, tap});
+    }
+}
+
+/// How one frame composites: by value, so that the loop keeps it in registers.
+struct Compositing {
+    ObliquityLookup oblique;
+    float terminationOpacity;
+
+    /// Composites the open pixels of [first, last] of an intermediate row, each
+    /// taking the sum of @a taps at its column, pixel + shift.
+    template <typename... Taps>
+    void pixels(OpenLinks open, float* rgba, int first, int last, int shift, Taps... taps) const {
+        for (int p = open.next(first); p <= last; p = open.next(p + 1)) {
+            const Floats4 sum = (taps(p + shift) + ...);
+            if (sum[3] <= 0.0f) continue;
+            Floats4 pixel;
+            std::memcpy(&pixel, rgba + std::size_t(p) * 4, sizeof pixel);
+            pixel += (1.0f - pixel[3]) * oblique(sum);
+            std::memcpy(rgba + std::size_t(p) * 4, &pixel, sizeof pixel);
+            if (pixel[3] >= terminationOpacity) open.close(p);
+        }
+    }
+};
+
+/// Where a segment that starts inside (or before) reaches[i] ends.
+int segmentEnd(const std::vector<Reach>& reaches, std::size_t i, bool inside) {
+    if (i >= reaches.size()) return INT32_MAX;
+    return inside ? reaches[i].last : reaches[i].first - 1;
+}
+
+/// Asks the cache for the samples of rows [first, end) of @a slice.
+void prefetchRows(const Slice& slice, int first, int end) {
+    if (first >= end || slice.rowRuns[first] == slice.rowRuns[end]) return;
+    const RowRun& firstRun = slice.runs[slice.rowRuns[first]];
+    const RowRun& lastRun = slice.runs[slice.rowRuns[end] - 1];
+    const char* from = reinterpret_cast<const char*>(slice.samples.data() + firstRun.offset);
+    const char* to = reinterpret_cast<const char*>(slice.samples.data() + lastRun.offset + (lastRun.end - lastRun.begin));
+    for (; from < to; from += 64) __builtin_prefetch(from);
+}
+
+/// Rows composited together, slice by slice.
+constexpr int kBandRows = 16;
+
+/// One intermediate row, composited front to back slice by slice.
+class RowCompositor {
+public:
+    void reset(int width) {
+        mWidth = width;
+        mOpen.reset(width);
+    }
+    bool finished() { return mOpen.links().next(0) >= mWidth; }
+
+    /// Composites @a slice over @a pixels, the slice's samples sheared to start
+    /// at row @a sy and column @a sx + originX (fractional; bilinear resampling).
+    void add(const Slice& slice, double sy, double sx, int originX, int sliceHeight, const Compositing& compositing,
+             float* pixels) {
+        const int jy = int(std::floor(sy)), ix = int(std::floor(sx));
+        const float fy = float(sy - jy), fx = float(sx - ix);
+        const int shift = originX + ix;
+        shearRow(slice, jy, sliceHeight, shift, fx * (1 - fy), (1 - fx) * (1 - fy), mUpper);
+        shearRow(slice, jy + 1, sliceHeight, shift, fx * fy, (1 - fx) * fy, mLower);
+        // Walk both rows' reaches left to right, in segments that one row, or both, reach.
+        const OpenLinks open = mOpen.links();
+        std::size_t u = 0, l = 0;
+        for (int p = INT32_MIN;;) {
+            while (u < mUpper.size() && mUpper[u].last < p) ++u;
+            while (l < mLower.size() && mLower[l].last < p) ++l;
+            const bool upperLeft = u < mUpper.size(), lowerLeft = l < mLower.size();
+            if (!upperLeft && !lowerLeft) break;
+            p = std::min(upperLeft ? std::max(p, mUpper[u].first) : INT32_MAX,
+                         lowerLeft ? std::max(p, mLower[l].first) : INT32_MAX);
+            const bool inUpper = upperLeft && mUpper[u].first <= p, inLower = lowerLeft && mLower[l].first <= p;
+            const int last = std::min(segmentEnd(mUpper, u, inUpper), segmentEnd(mLower, l, inLower));
+            if (inUpper && inLower) {
+                compositing.pixels(open, pixels, p, last, shift, mUpper[u].tap, mLower[l].tap);
+            } else if (inUpper) {
+                compositing.pixels(open, pixels, p, last, shift, mUpper[u].tap);
+            } else {
+                compositing.pixels(open, pixels, p, last, shift, mLower[l].tap);
+            }
+            p = last + 1;
+        }
+    }
+
+private:
+    int mWidth = 0;
+    std::vector<Reach> mUpper, mLower;
+    OpenPixels mOpen;
 };
 
 }  // namespace
@@ -176,45 +277,35 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     out.height = int(std::ceil(std::max(0.0, -lastY))) + g.height + 1 - out.originY;
     out.rgba.assign(std::size_t(out.width) * out.height * 4, 0.0f);
     const ObliquityTable oblique(1.0 / std::abs(dn));
+    const Compositing compositing{oblique.lookup(), terminationOpacity};
     // A view from behind the stack meets its slices last to first.
     const bool backwards = dn < 0.0;
 
-    tbb::parallel_for(0, out.height, [&](int row) {
-        // What the current slice adds to each pixel of this row; zero between slices.
-        thread_local std::vector<Floats4> contribution;
-        thread_local std::vector<Span> spans;
-        thread_local OpenPixels open;
-        contribution.assign(out.width, Floats4{});
-        open.reset(out.width);
-        float* pixels = out.rgba.data() + std::size_t(row) * out.width * 4;
-        const int y = row + out.originY;
-        for (int n = 0; n < g.slices && open.next(0) < out.width; ++n) {
+    // Bands of rows, each walked slice by slice: a band's rows of one slice lie
+    // together in memory, so the stack streams in order instead of hopping between
+    // slices once per row.
+    const int bands = (out.height + kBandRows - 1) / kBandRows;
+    tbb::parallel_for(0, bands, [&](int band) {
+        thread_local RowCompositor rows[kBandRows];
+        const int firstRow = band * kBandRows, rowCount = std::min(kBandRows, out.height - firstRow);
+        for (int r = 0; r < rowCount; ++r) rows[r].reset(out.width);
+        for (int n = 0; n < g.slices; ++n) {
             const int k = backwards ? g.slices - 1 - n : n;
-            const Slice& slice = stack.slices()[k];
-            const double sy = y + k * shiftY, sx = k * shiftX;
-            const int jy = int(std::floor(sy)), ix = int(std::floor(sx));
-            const float fy = float(sy - jy), fx = float(sx - ix);
-            const int shift = out.originX + ix;
-            spans.clear();
-            addRow(slice, jy, g.height, shift, fx * (1 - fy), (1 - fx) * (1 - fy), open, contribution.data(), spans);
-            const auto upperSpans = spans.size();
-            addRow(slice, jy + 1, g.height, shift, fx * fy, (1 - fx) * fy, open, contribution.data(), spans);
-            std::inplace_merge(spans.begin(), spans.begin() + upperSpans, spans.end());
-            // Spans overlap where the two rows' runs do: each pixel is composited once.
-            int done = INT32_MIN;
-            for (const Span& span : spans) {
-                for (int p = open.next(std::max(span.first, done)); p < span.end; p = open.next(p + 1)) {
-                    const Floats4 sum = contribution[p];
-                    contribution[p] = Floats4{};
-                    if (sum[3] <= 0.0f) continue;
-                    Floats4 pixel;
-                    std::memcpy(&pixel, pixels + std::size_t(p) * 4, sizeof pixel);
-                    pixel += (1.0f - pixel[3]) * oblique(sum);
-                    std::memcpy(pixels + std::size_t(p) * 4, &pixel, sizeof pixel);
-                    if (pixel[3] >= terminationOpacity) open.close(p);
-                }
-                done = std::max(done, span.end);
+            // Fetch the band's rows of the next slice while this one composites.
+            if (n + 1 < g.slices) {
+                const int next = backwards ? k - 1 : k + 1;
+                const int row = int(std::floor(firstRow + out.originY + next * shiftY));
+                prefetchRows(stack.slices()[next], std::max(row, 0), std::min(row + rowCount + 1, g.height));
             }
+            bool open = false;
+            for (int r = 0; r < rowCount; ++r) {
+                const int row = firstRow + r;
+                if (rows[r].finished()) continue;
+                open = true;
+                rows[r].add(stack.slices()[k], row + out.originY + k * shiftY, k * shiftX, out.originX, g.height,
+                            compositing, out.rgba.data() + std::size_t(row) * out.width * 4);
+            }
+            if (!open) break;
         }
     });
     return out;

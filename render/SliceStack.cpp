@@ -31,7 +31,8 @@ struct Slab {
     StackSample& at(int i, int j, int k) { return samples[(std::size_t(k) * height + j) * width + i]; }
 };
 
-/// Keeps each row's runs of visible samples, joined across gaps shorter than kRunGap.
+/// Keeps each row's runs of visible samples, joined across gaps shorter than kRunGap,
+/// each between two transparent samples.
 Slice compress(const Slab& slab, int k) {
     Slice slice;
     slice.rowRuns.reserve(slab.height + 1);
@@ -49,13 +50,13 @@ Slice compress(const Slab& slab, int k) {
             for (int next = end; next < slab.width && next - end < kRunGap; ++next) {
                 if (row[next].a != 0) end = next + 1;
             }
-            slice.runs.push_back({std::uint32_t(x), std::uint32_t(end), offset});
-            offset += std::uint32_t(end - x);
+            slice.runs.push_back({std::uint32_t(x), std::uint32_t(end), offset + 1});
+            offset += std::uint32_t(end - x) + 2;
             x = end;
         }
     }
     slice.rowRuns.push_back(std::uint32_t(slice.runs.size()));
-    slice.samples.resize(offset);
+    slice.samples.resize(offset);  // transparent, the padding included
     for (int j = 0; j < slab.height; ++j) {
         const StackSample* row = plane + std::size_t(j) * slab.width;
         for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r) {

@@ -36,6 +36,8 @@ struct StackSample {
 /// more to step over than a few empty samples cost to composite.
 constexpr int kRunGap = 4;
 
+/// A run is stored with one transparent sample on either side, so that resampling
+/// may read a run's neighbours without a test.
 struct RowRun {
     std::uint32_t begin = 0, end = 0;  ///< samples [begin, end) of the row are stored
     std::uint32_t offset = 0;          ///< where sample `begin` sits in Slice::samples

@@ -39,7 +39,10 @@ TEST(SliceStack, RowsKeepOnlyTheirRunsOfVisibleSamples) {
                 EXPECT_GT(slice.samples[run.offset].a, 0);
                 EXPECT_GT(slice.samples[run.offset + run.end - run.begin - 1].a, 0);
                 if (r > first) EXPECT_GE(run.begin - slice.runs[r - 1].end, std::uint32_t(kRunGap));
-                if (r + 1 < end) EXPECT_EQ(slice.runs[r + 1].offset, run.offset + run.end - run.begin);
+                // Each run lies between two transparent samples.
+                EXPECT_EQ(slice.samples[run.offset - 1].a, 0);
+                EXPECT_EQ(slice.samples[run.offset + run.end - run.begin].a, 0);
+                if (r + 1 < end) EXPECT_EQ(slice.runs[r + 1].offset, run.offset + run.end - run.begin + 2);
             }
         }
     }
