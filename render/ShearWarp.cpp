@@ -311,6 +311,30 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     return out;
 }
 
+/// Where the ray of image pixel (x, y) meets the front slice, in intermediate
+/// pixels: u = u0 + x dux + y duy, and v likewise (orthographic rays, so affine).
+struct IntermediateMap {
+    double u0, dux, duy, v0, dvx, dvy;
+};
+
+IntermediateMap intermediateMap(const StackGeometry& g, const OrthoCamera& camera, const Intermediate& intermediate) {
+    const double dn = camera.direction.dot(g.normal);
+    const auto onFront = [&](double x, double y) {
+        // Follow the pixel's ray to the front slice; its position there, in samples.
+        const Vec3d p = camera.pixelPoint(x, y);
+        const Vec3d q = p + camera.direction * (g.normal.dot(g.origin - p) / dn) - g.origin;
+        return openvdb::Vec2d(q.dot(g.e1) / g.pixelMm - intermediate.originX, q.dot(g.e2) / g.pixelMm - intermediate.originY);
+    };
+    const openvdb::Vec2d origin = onFront(0, 0), alongX = onFront(1, 0) - origin, alongY = onFront(0, 1) - origin;
+    return {origin[0], alongX[0], alongY[0], origin[1], alongX[1], alongY[1]};
+}
+
+Floats4 load4(const float* values) {
+    Floats4 out;
+    std::memcpy(&out, values, sizeof out);
+    return out;
+}
+
 }  // namespace
 
 ShearWarpRenderer::ShearWarpRenderer(const RenderVolume& volume, const Classifier& classifier,
@@ -351,25 +375,21 @@ Framebuffer shearWarpFrame(const SliceStack& stack, const OrthoCamera& camera, f
     stats.compositeMs = millisecondsSince(composited);
 
     const auto warped = std::chrono::steady_clock::now();
-    const StackGeometry& g = stack.geometry();
-    const double dn = camera.direction.dot(g.normal);
+    const IntermediateMap map = intermediateMap(stack.geometry(), camera, intermediate);
     Framebuffer image(camera.width, camera.height);
     tbb::parallel_for(0, camera.height, [&](int y) {
         for (int x = 0; x < camera.width; ++x) {
-            // Follow the pixel's ray to the front slice; its position there, in samples.
-            const Vec3d p = camera.pixelPoint(x, y);
-            const Vec3d onFront = p + camera.direction * (g.normal.dot(g.origin - p) / dn) - g.origin;
-            const double u = onFront.dot(g.e1) / g.pixelMm - intermediate.originX;
-            const double v = onFront.dot(g.e2) / g.pixelMm - intermediate.originY;
-            const int i = int(std::floor(u)), j = int(std::floor(v));
-            if (i < 0 || j < 0 || i + 1 >= intermediate.width || j + 1 >= intermediate.height) continue;
+            const double u = map.u0 + x * map.dux + y * map.duy, v = map.v0 + x * map.dvx + y * map.dvy;
+            if (!(u >= 0.0 && v >= 0.0)) continue;  // so that truncation floors
+            const int i = int(u), j = int(v);
+            if (i + 1 >= intermediate.width || j + 1 >= intermediate.height) continue;
             const float fu = float(u - i), fv = float(v - j);
             const float* a = intermediate.rgba.data() + (std::size_t(j) * intermediate.width + i) * 4;
             const float* b = a + std::size_t(intermediate.width) * 4;
-            float* out = image.pixel(x, y);
-            for (int c = 0; c < 4; ++c) {
-                out[c] = (1 - fv) * ((1 - fu) * a[c] + fu * a[c + 4]) + fv * ((1 - fu) * b[c] + fu * b[c + 4]);
-            }
+            const Floats4 top = (1 - fu) * load4(a) + fu * load4(a + 4);
+            const Floats4 bottom = (1 - fu) * load4(b) + fu * load4(b + 4);
+            const Floats4 pixel = (1 - fv) * top + fv * bottom;
+            std::memcpy(image.pixel(x, y), &pixel, sizeof pixel);
         }
     });
     stats.warpMs = millisecondsSince(warped);
