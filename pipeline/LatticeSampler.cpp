@@ -258,6 +258,9 @@ void LatticeSampler::addRows(std::uint32_t index, const Coord& origin, const Coo
     const double inverseZz = 1.0 / G[2][2];
     const float zz = float(G[2][2]), cutoff2 = mField.cutoff2();
     const int channels = mField.channels();
+    // A copy: stores to the sums could otherwise alias the Gaussian's amplitudes.
+    float amplitude[3];
+    std::copy(g.amplitude, g.amplitude + channels, amplitude);
     for (int x = reached.min().x(); x <= reached.max().x(); ++x) {
         const double rx = x - origin.x();
         // What the rows of this x share: q's terms in y are linear and quadratic in ry.
@@ -290,10 +293,16 @@ void LatticeSampler::addRows(std::uint32_t index, const Coord& origin, const Coo
             }
             float* row = sums + base * channels;
             if (channels == 1) {
-                for (int z = 0; z < kBlockDim; ++z) row[z] += g.amplitude[0] * e[z];
+                for (int half = 0; half < kBlockDim; half += 4) {
+                    Floats4 sum, term;
+                    std::memcpy(&sum, row + half, sizeof sum);
+                    std::memcpy(&term, e + half, sizeof term);
+                    sum += amplitude[0] * term;
+                    std::memcpy(row + half, &sum, sizeof sum);
+                }
             } else {
                 for (int z = 0; z < kBlockDim; ++z) {
-                    for (int c = 0; c < channels; ++c) row[z * channels + c] += g.amplitude[c] * e[z];
+                    for (int c = 0; c < channels; ++c) row[z * channels + c] += amplitude[c] * e[z];
                 }
             }
         }

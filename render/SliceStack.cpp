@@ -16,7 +16,8 @@ using openvdb::Vec3d;
 
 namespace {
 
-std::uint16_t quantise(float v) { return std::uint16_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 65535.0f)); }
+/// Rounds to the nearest level (halves up; the value is never negative).
+std::uint16_t quantise(float v) { return std::uint16_t(std::clamp(v, 0.0f, 1.0f) * 65535.0f + 0.5f); }
 
 /// Any unit vector not parallel to @a normal, for the slices' in-plane axes.
 Vec3d helperAxis(const Vec3d& normal) {
