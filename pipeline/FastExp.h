@@ -12,22 +12,29 @@ namespace gvr {
 
 using Floats4 = float __attribute__((vector_size(16)));
 using Ints4 = std::int32_t __attribute__((vector_size(16)));  ///< lane masks: -1 true, 0 false
+/// Eight lanes: one AVX register, or two SSE ones where AVX is not enabled.
+using Floats8 = float __attribute__((vector_size(32)));
+using Ints8 = std::int32_t __attribute__((vector_size(32)));
 
 constexpr Floats4 splat(float v) { return Floats4{v, v, v, v}; }
 
 /// exp(t) for t <= 0, within 3e-7 relative; below -87, where float runs out, it is
-/// exp(-87) (1.6e-38). Positive t gives wrong values.
-inline Floats4 expNonPositive(Floats4 t) {
-    const Ints4 inRange = t > splat(-87.0f);
-    t = (Floats4)((inRange & (Ints4)t) | (~inRange & (Ints4)splat(-87.0f)));
+/// exp(-87) (1.6e-38). Positive t gives wrong values. Any vector of floats: Floats4,
+/// or Floats8 in code compiled for AVX.
+template <typename Floats>
+__attribute__((always_inline)) inline Floats expNonPositive(Floats t) {
+    using Ints = decltype(t < t);
+    const Floats lowest = Floats{} - 87.0f;
+    const Ints inRange = t > lowest;
+    t = (Floats)((inRange & (Ints)t) | (~inRange & (Ints)lowest));
     // The nearest integer to t / ln 2: conversion truncates towards zero, and t <= 0.
-    const Ints4 n = __builtin_convertvector(t * 1.44269504f - 0.5f, Ints4);
-    const Floats4 nf = __builtin_convertvector(n, Floats4);
+    const Ints n = __builtin_convertvector(t * 1.44269504f - 0.5f, Ints);
+    const Floats nf = __builtin_convertvector(n, Floats);
     // ln 2 in two parts, the first exact in few bits, so that n ln 2 loses nothing (Cody and Waite).
-    const Floats4 r = (t - nf * 0.693359375f) + nf * 2.12194440e-4f;
-    const Floats4 p =
+    const Floats r = (t - nf * 0.693359375f) + nf * 2.12194440e-4f;
+    const Floats p =
         1.0f + r * (1.0f + r * (0.5f + r * (1.0f / 6 + r * (1.0f / 24 + r * (1.0f / 120 + r * (1.0f / 720))))));
-    return p * (Floats4)((n + 127) << 23);  // the exponent bits of 2^n
+    return p * (Floats)((n + 127) << 23);  // the exponent bits of 2^n
 }
 
 }  // namespace gvr

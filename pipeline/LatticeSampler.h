@@ -59,7 +59,11 @@ enum class BlockEvaluation {
     /// vectorises: several times faster. Each term is within 1e-6 of its exact
     /// value, relative to the Gaussian's peak, except where a sample lies within
     /// rounding of the truncation edge and one of the two keeps a term the other cuts.
+    /// Eight samples at a time where the processor has AVX2, else four.
     rows,
+    /// As rows, but four samples at a time on any processor: what rows computes
+    /// without AVX2, so that tests can check the two agree.
+    rowsFourLanes,
 };
 
 /// Evaluates @a field, which lives in the index space that @a fieldWorldFromIndex
@@ -100,7 +104,7 @@ private:
                        int channels) const;
     /// Adds Gaussian @a index over @a reached, row by row (BlockEvaluation::rows).
     void addRows(std::uint32_t index, const openvdb::Coord& origin, const openvdb::CoordBBox& reached,
-                 const std::int32_t inCells[], float* sums) const;
+                 const std::int32_t inCells[], float* sums, bool eightLanes) const;
 
     const GaussianField& mField;
     Lattice mLattice;

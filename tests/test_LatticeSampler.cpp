@@ -75,6 +75,27 @@ TEST(LatticeSampler, RowEvaluationKeepsEachTermWithinItsToleranceOfExact) {
     EXPECT_LE(atEdge, nonZero / 10000);
 }
 
+// Rows are evaluated eight samples at a time where the processor has AVX2 and
+// four at a time elsewhere: the same floats either way, grey or colour.
+TEST(LatticeSampler, RowEvaluationIsTheSameFourOrEightSamplesAtATime) {
+    const Lattice lattice = obliqueLattice();
+    for (int channels : {1, 3}) {
+        const GaussianField field(test::randomGaussians(300, channels, 40.0f, 25), 3.0f);
+        const LatticeSampler sampler(field, openvdb::math::Mat4d::identity(), lattice, openvdb::CoordBBox::inf());
+        std::size_t nonZero = 0;
+        for (const openvdb::Coord& origin : sampler.occupiedBlocks()) {
+            float rows[kBlockVoxels * 3] = {}, fourLanes[kBlockVoxels * 3] = {};
+            const openvdb::CoordBBox voxels = sampler.sampleBlock(origin, rows, -1.0f, BlockEvaluation::rows);
+            ASSERT_EQ(sampler.sampleBlock(origin, fourLanes, -1.0f, BlockEvaluation::rowsFourLanes), voxels);
+            for (int n = 0; n < kBlockVoxels * channels; ++n) {
+                ASSERT_EQ(rows[n], fourLanes[n]) << origin << " value " << n;
+                nonZero += rows[n] != 0.0f;
+            }
+        }
+        EXPECT_GT(nonZero, 10000u) << channels << " channels";
+    }
+}
+
 TEST(LatticeSampler, SkippedBlocksNeverHoldValuesAboveTheBound) {
     const GaussianField field(test::randomGaussians(300, 1, 40.0f, 21), 3.0f);
     const Lattice lattice = obliqueLattice();
