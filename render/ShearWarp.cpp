@@ -125,24 +125,51 @@ struct Tap {
     }
 };
 
-/// The pixels [first, last] of an intermediate row that one run of a slice row
-/// reaches when resampled; its tap reads only the run and its padding there.
-struct Reach {
-    int first, last;
-    Tap tap;
+/// Where slice k lands on the intermediate image: its sample (i, j) adds to pixels
+/// (i - shift - 1, j - rowOffset - 1) and (i - shift, j - rowOffset), bilinearly.
+/// The same for every sample of the slice, so set up once a frame.
+struct SliceShear {
+    int rowOffset, shift;
+    float upperLeft, upperRight, lowerLeft, lowerRight;  ///< weights on pixel row j - rowOffset and the one above
 };
 
-/// The reaches of one slice row's runs, left to right and disjoint.
-void shearRow(const Slice& slice, int row, int height, int shift, float left, float right, std::vector<Reach>& reaches) {
-    reaches.clear();
-    if (row < 0 || row >= height || left + right == 0.0f) return;
-    for (std::uint32_t r = slice.rowRuns[row]; r < slice.rowRuns[row + 1]; ++r) {
-        const RowRun& run = slice.runs[r];
-        const int begin = int(run.begin), end = int(run.end);
-        const Tap tap{slice.samples.data() + run.offset - begin, splat(right), splat(left)};
-        reaches.push_back({begin - shift - 1, end - shift - 1, tap});
-    }
+SliceShear shearOf(int k, double shiftX, double shiftY, int originX, int originY) {
+    const double sy = originY + k * shiftY, sx = k * shiftX;
+    const int jy = int(std::floor(sy)), ix = int(std::floor(sx));
+    const float fy = float(sy - jy), fx = float(sx - ix);
+    return {jy, originX + ix, fx * (1 - fy), (1 - fx) * (1 - fy), fx * fy, (1 - fx) * fy};
 }
+
+/// One slice row's runs, seen from an intermediate row: run r reaches pixels
+/// [r.begin - shift - 1, r.end - shift - 1], and its tap reads only the run and
+/// its padding there.
+struct ShearedRuns {
+    const RowRun* runs = nullptr;
+    const RowRun* end = nullptr;
+    const StackSample* samples = nullptr;
+    int shift = 0;
+    Floats4 right{}, left{};
+
+    ShearedRuns(const Slice& slice, int row, int height, int shiftBy, float leftWeight, float rightWeight)
+        : samples(slice.samples.data()), shift(shiftBy), right(splat(rightWeight)), left(splat(leftWeight)) {
+        if (row < 0 || row >= height || leftWeight + rightWeight == 0.0f) return;
+        runs = slice.runs.data() + slice.rowRuns[row];
+        end = slice.runs.data() + slice.rowRuns[row + 1];
+    }
+    bool empty() const { return runs == end; }
+    int first() const { return int(runs->begin) - shift - 1; }
+    int last() const { return int(runs->end) - shift - 1; }
+    Tap tap() const { return {samples + runs->offset - runs->begin, right, left}; }
+    /// Steps past the runs that end before pixel @a p.
+    void skipTo(int p) {
+        while (runs != end && last() < p) ++runs;
+    }
+    /// Where a segment starting at or before the current run ends: with it, or just before it.
+    int segmentEnd(bool inside) const {
+        if (empty()) return INT32_MAX;
+        return inside ? last() : first() - 1;
+    }
+};
 
 /// How one frame composites: by value, so that the loop keeps it in registers.
 struct Compositing {
@@ -164,12 +191,6 @@ struct Compositing {
         }
     }
 };
-
-/// Where a segment that starts inside (or before) reaches[i] ends.
-int segmentEnd(const std::vector<Reach>& reaches, std::size_t i, bool inside) {
-    if (i >= reaches.size()) return INT32_MAX;
-    return inside ? reaches[i].last : reaches[i].first - 1;
-}
 
 /// Asks the cache for the samples of rows [first, end) of @a slice.
 void prefetchRows(const Slice& slice, int first, int end) {
@@ -193,33 +214,28 @@ public:
     }
     bool finished() { return mOpen.links().next(0) >= mWidth; }
 
-    /// Composites @a slice over @a pixels, the slice's samples sheared to start
-    /// at row @a sy and column @a sx + originX (fractional; bilinear resampling).
-    void add(const Slice& slice, double sy, double sx, int originX, int sliceHeight, const Compositing& compositing,
+    /// Composites @a slice over @a pixels: slice rows @a row (upper) and row + 1
+    /// (lower), sheared by @a shear.
+    void add(const Slice& slice, int row, int sliceHeight, const SliceShear& shear, const Compositing& compositing,
              float* pixels) {
-        const int jy = int(std::floor(sy)), ix = int(std::floor(sx));
-        const float fy = float(sy - jy), fx = float(sx - ix);
-        const int shift = originX + ix;
-        shearRow(slice, jy, sliceHeight, shift, fx * (1 - fy), (1 - fx) * (1 - fy), mUpper);
-        shearRow(slice, jy + 1, sliceHeight, shift, fx * fy, (1 - fx) * fy, mLower);
-        // Walk both rows' reaches left to right, in segments that one row, or both, reach.
+        ShearedRuns upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight);
+        ShearedRuns lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight);
+        // Walk both rows' runs left to right, in segments that one row, or both, reach.
         const OpenLinks open = mOpen.links();
-        std::size_t u = 0, l = 0;
         for (int p = INT32_MIN;;) {
-            while (u < mUpper.size() && mUpper[u].last < p) ++u;
-            while (l < mLower.size() && mLower[l].last < p) ++l;
-            const bool upperLeft = u < mUpper.size(), lowerLeft = l < mLower.size();
-            if (!upperLeft && !lowerLeft) break;
-            p = std::min(upperLeft ? std::max(p, mUpper[u].first) : INT32_MAX,
-                         lowerLeft ? std::max(p, mLower[l].first) : INT32_MAX);
-            const bool inUpper = upperLeft && mUpper[u].first <= p, inLower = lowerLeft && mLower[l].first <= p;
-            const int last = std::min(segmentEnd(mUpper, u, inUpper), segmentEnd(mLower, l, inLower));
+            upper.skipTo(p);
+            lower.skipTo(p);
+            if (upper.empty() && lower.empty()) break;
+            p = std::min(upper.empty() ? INT32_MAX : std::max(p, upper.first()),
+                         lower.empty() ? INT32_MAX : std::max(p, lower.first()));
+            const bool inUpper = !upper.empty() && upper.first() <= p, inLower = !lower.empty() && lower.first() <= p;
+            const int last = std::min(upper.segmentEnd(inUpper), lower.segmentEnd(inLower));
             if (inUpper && inLower) {
-                compositing.pixels(open, pixels, p, last, shift, mUpper[u].tap, mLower[l].tap);
+                compositing.pixels(open, pixels, p, last, shear.shift, upper.tap(), lower.tap());
             } else if (inUpper) {
-                compositing.pixels(open, pixels, p, last, shift, mUpper[u].tap);
+                compositing.pixels(open, pixels, p, last, shear.shift, upper.tap());
             } else {
-                compositing.pixels(open, pixels, p, last, shift, mLower[l].tap);
+                compositing.pixels(open, pixels, p, last, shear.shift, lower.tap());
             }
             p = last + 1;
         }
@@ -227,7 +243,6 @@ public:
 
 private:
     int mWidth = 0;
-    std::vector<Reach> mUpper, mLower;
     OpenPixels mOpen;
 };
 
@@ -285,6 +300,8 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     // together in memory, so the stack streams in order instead of hopping between
     // slices once per row.
     const int bands = (out.height + kBandRows - 1) / kBandRows;
+    std::vector<SliceShear> shears(g.slices);
+    for (int k = 0; k < g.slices; ++k) shears[k] = shearOf(k, shiftX, shiftY, out.originX, out.originY);
     tbb::parallel_for(0, bands, [&](int band) {
         thread_local RowCompositor rows[kBandRows];
         const int firstRow = band * kBandRows, rowCount = std::min(kBandRows, out.height - firstRow);
@@ -294,16 +311,17 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
             // Fetch the band's rows of the next slice while this one composites.
             if (n + 1 < g.slices) {
                 const int next = backwards ? k - 1 : k + 1;
-                const int row = int(std::floor(firstRow + out.originY + next * shiftY));
+                const int row = firstRow + shears[next].rowOffset;
                 prefetchRows(stack.slices()[next], std::max(row, 0), std::min(row + rowCount + 1, g.height));
             }
+            const Slice& slice = stack.slices()[k];
             bool open = false;
             for (int r = 0; r < rowCount; ++r) {
                 const int row = firstRow + r;
                 if (rows[r].finished()) continue;
                 open = true;
-                rows[r].add(stack.slices()[k], row + out.originY + k * shiftY, k * shiftX, out.originX, g.height,
-                            compositing, out.rgba.data() + std::size_t(row) * out.width * 4);
+                rows[r].add(slice, row + shears[k].rowOffset, g.height, shears[k], compositing,
+                            out.rgba.data() + std::size_t(row) * out.width * 4);
             }
             if (!open) break;
         }
