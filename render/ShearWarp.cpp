@@ -192,16 +192,6 @@ struct Compositing {
     }
 };
 
-/// Asks the cache for the samples of rows [first, end) of @a slice.
-void prefetchRows(const Slice& slice, int first, int end) {
-    if (first >= end || slice.rowRuns[first] == slice.rowRuns[end]) return;
-    const RowRun& firstRun = slice.runs[slice.rowRuns[first]];
-    const RowRun& lastRun = slice.runs[slice.rowRuns[end] - 1];
-    const char* from = reinterpret_cast<const char*>(slice.samples.data() + firstRun.offset);
-    const char* to = reinterpret_cast<const char*>(slice.samples.data() + lastRun.offset + (lastRun.end - lastRun.begin));
-    for (; from < to; from += 64) __builtin_prefetch(from);
-}
-
 /// Rows composited together, slice by slice.
 constexpr int kBandRows = 16;
 
@@ -308,12 +298,6 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
         for (int r = 0; r < rowCount; ++r) rows[r].reset(out.width);
         for (int n = 0; n < g.slices; ++n) {
             const int k = backwards ? g.slices - 1 - n : n;
-            // Fetch the band's rows of the next slice while this one composites.
-            if (n + 1 < g.slices) {
-                const int next = backwards ? k - 1 : k + 1;
-                const int row = firstRow + shears[next].rowOffset;
-                prefetchRows(stack.slices()[next], std::max(row, 0), std::min(row + rowCount + 1, g.height));
-            }
             const Slice& slice = stack.slices()[k];
             bool open = false;
             for (int r = 0; r < rowCount; ++r) {
