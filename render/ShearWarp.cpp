@@ -125,12 +125,13 @@ struct Tap {
     }
 };
 
-/// Where slice k lands on the intermediate image: its sample (i, j) adds to pixels
-/// (i - shift - 1, j - rowOffset - 1) and (i - shift, j - rowOffset), bilinearly.
-/// The same for every sample of the slice, so set up once a frame.
+/// Where slice k lands on the intermediate image: intermediate row y reads slice
+/// rows y + rowOffset (upper) and the one after (lower), and pixel p of it reads
+/// columns p + shift (right) and the one after (left), with these weights. The same
+/// for every sample of the slice, so set up once a frame.
 struct SliceShear {
     int rowOffset, shift;
-    float upperLeft, upperRight, lowerLeft, lowerRight;  ///< weights on pixel row j - rowOffset and the one above
+    float upperLeft, upperRight, lowerLeft, lowerRight;
 };
 
 SliceShear shearOf(int k, double shiftX, double shiftY, int originX, int originY) {
@@ -171,7 +172,7 @@ struct ShearedRuns {
     }
 };
 
-/// How one frame composites: by value, so that the loop keeps it in registers.
+/// How one frame composites: the oblique path's opacities, and where a pixel stops.
 struct Compositing {
     ObliquityLookup oblique;
     float terminationOpacity;
