@@ -12,9 +12,9 @@ namespace gvr {
 
 using Floats4 = float __attribute__((vector_size(16)));
 using Ints4 = std::int32_t __attribute__((vector_size(16)));  ///< lane masks: -1 true, 0 false
-/// Eight lanes: one AVX register, or two SSE ones where AVX is not enabled.
+/// Eight lanes: one AVX register, or two SSE ones where AVX is not enabled. Keep
+/// them in locals: their alignment in memory differs with and without AVX.
 using Floats8 = float __attribute__((vector_size(32)));
-using Ints8 = std::int32_t __attribute__((vector_size(32)));
 
 constexpr Floats4 splat(float v) { return Floats4{v, v, v, v}; }
 

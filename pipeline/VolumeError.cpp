@@ -86,10 +86,10 @@ VolumeError volumeErrorOf(const std::vector<SliceError>& slices, const VolumeTar
         error.unmarkedPsnr = psnrFromMse(error.unmarkedMse, target.peak());
     }
     if (error.markedForegroundVoxels > 0 && error.markedForegroundVoxels < error.foregroundVoxels) {
-        error.markedForegroundPsnr = psnrFromMse(total.markedForeground / double(error.markedForegroundVoxels), target.peak());
-        error.unmarkedForegroundPsnr =
-            psnrFromMse((total.foreground - total.markedForeground) / double(error.foregroundVoxels - error.markedForegroundVoxels),
-                        target.peak());
+        const double unmarkedSum = total.foreground - total.markedForeground;
+        const double unmarkedVoxels = total.foregroundVoxels - total.markedForegroundVoxels;
+        error.markedForegroundPsnr = psnrFromMse(total.markedForeground / total.markedForegroundVoxels, target.peak());
+        error.unmarkedForegroundPsnr = psnrFromMse(unmarkedSum / unmarkedVoxels, target.peak());
     }
     return error;
 }

@@ -25,23 +25,6 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-struct ObliquityLevel {
-    float opacity, colourFactor;  // side by side: one cache line per lookup
-};
-
-/// The premultiplied RGBA that a weighted sum of stored samples (x 65535) adds
-/// over the oblique path. A plain pointer, passed by value, so that the compiler
-/// knows stores to the image leave it be.
-struct ObliquityLookup {
-    const ObliquityLevel* levels;
-    Floats4 operator()(Floats4 stored) const {
-        const ObliquityLevel level = levels[std::min(65535, int(stored[3] + 0.5f))];
-        Floats4 out = stored * level.colourFactor;
-        out[3] = level.opacity;
-        return out;
-    }
-};
-
 /// Opacity and colour factor for a path 1/cos(angle) slices long, per 16-bit
 /// opacity level: the view may cross the slices obliquely when the stack is reused.
 class ObliquityTable {
@@ -60,10 +43,20 @@ public:
             mLevels[level] = {opacity, level > 0 ? opacity / level : 1.0f / 65535.0f};
         }
     }
-    ObliquityLookup lookup() const { return {mLevels.data()}; }
+    /// The premultiplied RGBA that a weighted sum of stored samples (x 65535)
+    /// adds over the oblique path.
+    Floats4 operator()(Floats4 stored) const {
+        const Level& level = mLevels[std::min(65535, int(stored[3] + 0.5f))];
+        Floats4 out = stored * level.colourFactor;
+        out[3] = level.opacity;
+        return out;
+    }
 
 private:
-    std::vector<ObliquityLevel> mLevels;
+    struct Level {
+        float opacity, colourFactor;  // side by side: one cache line per lookup
+    };
+    std::vector<Level> mLevels;
 };
 
 Floats4 toFloats(const StackSample& sample) {
@@ -76,31 +69,24 @@ Floats4 toFloats(const StackSample& sample) {
 #endif
 }
 
-/// Links over the pixels of one intermediate row that still take light: each
-/// pixel links to the first open pixel at or after it, so a stretch of opaque
-/// pixels is stepped over in one jump (Lacroute and Levoy's opaque-pixel links).
-/// A plain pointer, for the same reason as ObliquityLookup.
-struct OpenLinks {
-    int* links;
-    /// The first open pixel at or after @a p (the width when none is).
-    int next(int p) const {
-        while (links[p] != p) {
-            links[p] = links[links[p]];  // halve the path for the next search
-            p = links[p];
-        }
-        return p;
-    }
-    void close(int p) const { links[p] = p + 1; }
-};
-
-/// The opaque-pixel links of one intermediate row.
+/// The pixels of one intermediate row that still take light. Each pixel links to
+/// the first open pixel at or after it, so a stretch of opaque pixels is stepped
+/// over in one jump (Lacroute and Levoy's opaque-pixel links).
 class OpenPixels {
 public:
     void reset(int width) {
         mNext.resize(width + 1);  // the last entry is the end: always open
         std::iota(mNext.begin(), mNext.end(), 0);
     }
-    OpenLinks links() { return {mNext.data()}; }
+    /// The first open pixel at or after @a p (the width when none is).
+    int next(int p) {
+        while (mNext[p] != p) {
+            mNext[p] = mNext[mNext[p]];  // halve the path for the next search
+            p = mNext[p];
+        }
+        return p;
+    }
+    void close(int p) { mNext[p] = p + 1; }
 
 private:
     std::vector<int> mNext;
@@ -174,13 +160,13 @@ struct ShearedRuns {
 
 /// How one frame composites: the oblique path's opacities, and where a pixel stops.
 struct Compositing {
-    ObliquityLookup oblique;
+    const ObliquityTable& oblique;
     float terminationOpacity;
 
     /// Composites the open pixels of [first, last] of an intermediate row, each
     /// taking the sum of @a taps at its column, pixel + shift.
     template <typename... Taps>
-    void pixels(OpenLinks open, float* rgba, int first, int last, int shift, Taps... taps) const {
+    void pixels(OpenPixels& open, float* rgba, int first, int last, int shift, Taps... taps) const {
         for (int p = open.next(first); p <= last; p = open.next(p + 1)) {
             const Floats4 sum = (taps(p + shift) + ...);
             if (sum[3] <= 0.0f) continue;
@@ -203,7 +189,7 @@ public:
         mWidth = width;
         mOpen.reset(width);
     }
-    bool finished() { return mOpen.links().next(0) >= mWidth; }
+    bool finished() { return mOpen.next(0) >= mWidth; }
 
     /// Composites @a slice over @a pixels: slice rows @a row (upper) and row + 1
     /// (lower), sheared by @a shear.
@@ -212,7 +198,6 @@ public:
         ShearedRuns upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight);
         ShearedRuns lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight);
         // Walk both rows' runs left to right, in segments that one row, or both, reach.
-        const OpenLinks open = mOpen.links();
         for (int p = INT32_MIN;;) {
             upper.skipTo(p);
             lower.skipTo(p);
@@ -222,11 +207,11 @@ public:
             const bool inUpper = !upper.empty() && upper.first() <= p, inLower = !lower.empty() && lower.first() <= p;
             const int last = std::min(upper.segmentEnd(inUpper), lower.segmentEnd(inLower));
             if (inUpper && inLower) {
-                compositing.pixels(open, pixels, p, last, shear.shift, upper.tap(), lower.tap());
+                compositing.pixels(mOpen, pixels, p, last, shear.shift, upper.tap(), lower.tap());
             } else if (inUpper) {
-                compositing.pixels(open, pixels, p, last, shear.shift, upper.tap());
+                compositing.pixels(mOpen, pixels, p, last, shear.shift, upper.tap());
             } else {
-                compositing.pixels(open, pixels, p, last, shear.shift, lower.tap());
+                compositing.pixels(mOpen, pixels, p, last, shear.shift, lower.tap());
             }
             p = last + 1;
         }
@@ -283,7 +268,7 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     out.height = int(std::ceil(std::max(0.0, -lastY))) + g.height + 1 - out.originY;
     out.rgba.assign(std::size_t(out.width) * out.height * 4, 0.0f);
     const ObliquityTable oblique(1.0 / std::abs(dn));
-    const Compositing compositing{oblique.lookup(), terminationOpacity};
+    const Compositing compositing{oblique, terminationOpacity};
     // A view from behind the stack meets its slices last to first.
     const bool backwards = dn < 0.0;
 
