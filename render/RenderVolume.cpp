@@ -151,11 +151,15 @@ GaussianRenderVolume::GaussianRenderVolume(const GaussianAsset& asset, float min
                            asset.source.valueMax, asset.source.threshold.value_or(asset.source.valueMin),
                            minScaleVoxels) {}
 
-std::unique_ptr<BlockSource> GaussianRenderVolume::blocksOn(const Lattice& lattice, double invisibleUpTo) const {
-    // Luminance and value alike lie within scale * (sum of peaks) of the background's.
+double GaussianRenderVolume::backgroundKey() const {
     float background[3];
     for (int c = 0; c < channels(); ++c) background[c] = float(mMapping.toPhysical(0.0, c));
-    const double headroom = (invisibleUpTo - keyOf(background, channels())) / mMapping.scale;
+    return keyOf(background, channels());
+}
+
+std::unique_ptr<BlockSource> GaussianRenderVolume::blocksOn(const Lattice& lattice, double invisibleUpTo) const {
+    // Luminance and value alike lie within scale * (sum of peaks) of the background's.
+    const double headroom = (invisibleUpTo - backgroundKey()) / mMapping.scale;
     const float skipUpTo = std::isfinite(headroom) && headroom > 0.0 ? float(headroom) : -1.0f;
     return std::make_unique<GaussianBlocks>(mField, mWorldFromIndex, lattice, mBox, mMapping, skipUpTo,
                                             /*everyBlock=*/headroom < 0.0);

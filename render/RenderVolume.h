@@ -40,6 +40,8 @@ public:
     virtual std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const = 0;
     /// A sample of the content's values (luminance for RGB), for percentile windows.
     virtual VolumeStatistics statistics() const = 0;
+    /// What empty space holds (its luminance for RGB), in physical units.
+    virtual double backgroundKey() const = 0;
 
     const openvdb::math::Mat4d& worldFromIndex() const { return mWorldFromIndex; }
     const openvdb::CoordBBox& box() const { return mBox; }  ///< the volume's voxels, index space
@@ -71,6 +73,7 @@ public:
     int channels() const override { return mField.channels(); }
     std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override;
     VolumeStatistics statistics() const override;
+    double backgroundKey() const override;
 
 private:
     GaussianField mField;
@@ -87,9 +90,8 @@ public:
     int channels() const override { return mColour ? 3 : 1; }
     std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override;
     VolumeStatistics statistics() const override;
-
-    /// What inactive voxels hold (its luminance for RGB): the value of empty space.
-    double backgroundKey() const;
+    /// What inactive voxels hold.
+    double backgroundKey() const override;
     const openvdb::FloatGrid* floatGrid() const { return mFloat.get(); }
     const openvdb::Vec3SGrid* colourGrid() const { return mColour.get(); }
     /// Trilinear value at index-space point @a x into out[0..channels).

@@ -59,7 +59,38 @@ private:
     std::vector<Level> mLevels;
 };
 
-Floats4 toFloats(const StackSample& sample) {
+/// What a classified sample, or a sum of them, adds over the oblique path.
+struct ClassifiedLight {
+    const ObliquityTable& oblique;
+    static bool dark(Floats4 stored) { return stored[3] <= 0.0f; }
+    Floats4 operator()(Floats4 stored) const { return oblique(stored); }
+};
+
+/// What a value resampled from a stack of values adds over the oblique path: the
+/// transfer function's premultiplied colour and opacity at its level, per frame.
+class ValueLight {
+public:
+    ValueLight(const ValueLevels& levels, double lengthRatio)
+        : mLevels(levels), mLight(ValueLevels::kCount), mDarkBelow(levels.firstVisibleValue()) {
+        for (int level = 0; level < ValueLevels::kCount; ++level) {
+            const std::array<float, 4>& rgba = levels.rgba(level);
+            const float opacity = opacityOverLength(rgba[3], lengthRatio);
+            mLight[level] = Floats4{rgba[0] * opacity, rgba[1] * opacity, rgba[2] * opacity, opacity};
+        }
+    }
+    /// Values below every visible level add nothing: a comparison spares the table.
+    bool dark(float value) const { return value < mDarkBelow; }
+    Floats4 operator()(float value) const { return mLight[mLevels.levelOf(value)]; }
+
+private:
+    const ValueLevels& mLevels;
+    std::vector<Floats4> mLight;
+    float mDarkBelow;
+};
+
+float load(float value) { return value; }
+
+Floats4 load(const StackSample& sample) {
 #if defined(__SSE2__)
     // GCC turns a generic 16-bit to float conversion into four scalar ones.
     const __m128i bits = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(&sample));
@@ -103,13 +134,24 @@ struct Intermediate {
 /// What a pixel takes from one slice row, sheared: right x the sample in its
 /// column plus left x the next. The shear is the same across one slice, and so
 /// are the weights.
+template <typename Sample>
 struct Tap {
-    const StackSample* columns;  ///< the row's samples, indexed by column
-    Floats4 right, left;
-    Floats4 operator()(int column) const {
-        return right * toFloats(columns[column]) + left * toFloats(columns[column + 1]);
-    }
+    using Weighed = decltype(load(Sample{}));  ///< Floats4 for classified samples, float for values
+    const Sample* columns;                      ///< the row's samples, indexed by column
+    Weighed right, left;
+    Weighed operator()(int column) const { return right * load(columns[column]) + left * load(columns[column + 1]); }
 };
+
+template <typename Sample>
+const Sample* storedIn(const Slice& slice);
+template <>
+const StackSample* storedIn(const Slice& slice) {
+    return slice.samples.data();
+}
+template <>
+const float* storedIn(const Slice& slice) {
+    return slice.values.data();
+}
 
 /// Where slice k lands on the intermediate image: intermediate row y reads slice
 /// rows y + rowOffset (upper) and the one after (lower), and pixel p of it reads
@@ -130,15 +172,17 @@ SliceShear shearOf(int k, double shiftX, double shiftY, int originX, int originY
 /// One slice row's runs, seen from an intermediate row: run r reaches pixels
 /// [r.begin - shift - 1, r.end - shift - 1], and its tap reads only the run and
 /// its padding there.
+template <typename Sample>
 struct ShearedRuns {
+    using Weighed = typename Tap<Sample>::Weighed;
     const RowRun* runs = nullptr;
     const RowRun* end = nullptr;
-    const StackSample* samples = nullptr;
+    const Sample* samples = nullptr;
     int shift = 0;
-    Floats4 right{}, left{};
+    Weighed right{}, left{};
 
     ShearedRuns(const Slice& slice, int row, int height, int shiftBy, float leftWeight, float rightWeight)
-        : samples(slice.samples.data()), shift(shiftBy), right(splat(rightWeight)), left(splat(leftWeight)) {
+        : samples(storedIn<Sample>(slice)), shift(shiftBy), right(Weighed{} + rightWeight), left(Weighed{} + leftWeight) {
         if (row < 0 || row >= height || leftWeight + rightWeight == 0.0f) return;
         runs = slice.runs.data() + slice.rowRuns[row];
         end = slice.runs.data() + slice.rowRuns[row + 1];
@@ -146,7 +190,7 @@ struct ShearedRuns {
     bool empty() const { return runs == end; }
     int first() const { return int(runs->begin) - shift - 1; }
     int last() const { return int(runs->end) - shift - 1; }
-    Tap tap() const { return {samples + runs->offset - runs->begin, right, left}; }
+    Tap<Sample> tap() const { return {samples + runs->offset - runs->begin, right, left}; }
     /// Steps past the runs that end before pixel @a p.
     void skipTo(int p) {
         while (runs != end && last() < p) ++runs;
@@ -158,9 +202,11 @@ struct ShearedRuns {
     }
 };
 
-/// How one frame composites: the oblique path's opacities, and where a pixel stops.
+/// How one frame composites: the light a resampled sample adds over the oblique
+/// path (ClassifiedLight or ValueLight), and where a pixel stops.
+template <typename Light>
 struct Compositing {
-    const ObliquityTable& oblique;
+    const Light& light;
     float terminationOpacity;
 
     /// Composites the open pixels of [first, last] of an intermediate row, each
@@ -168,11 +214,11 @@ struct Compositing {
     template <typename... Taps>
     void pixels(OpenPixels& open, float* rgba, int first, int last, int shift, Taps... taps) const {
         for (int p = open.next(first); p <= last; p = open.next(p + 1)) {
-            const Floats4 sum = (taps(p + shift) + ...);
-            if (sum[3] <= 0.0f) continue;
+            const auto sum = (taps(p + shift) + ...);
+            if (light.dark(sum)) continue;  // what is not dark may still add nothing, harmlessly
             Floats4 pixel;
             std::memcpy(&pixel, rgba + std::size_t(p) * 4, sizeof pixel);
-            pixel += (1.0f - pixel[3]) * oblique(sum);
+            pixel += (1.0f - pixel[3]) * light(sum);
             std::memcpy(rgba + std::size_t(p) * 4, &pixel, sizeof pixel);
             if (pixel[3] >= terminationOpacity) open.close(p);
         }
@@ -191,12 +237,12 @@ public:
     }
     bool finished() { return mOpen.next(0) >= mWidth; }
 
-    /// Composites @a slice over @a pixels: slice rows @a row (upper) and row + 1
-    /// (lower), sheared by @a shear.
-    void add(const Slice& slice, int row, int sliceHeight, const SliceShear& shear, const Compositing& compositing,
-             float* pixels) {
-        ShearedRuns upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight);
-        ShearedRuns lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight);
+    /// Composites @a slice's classified samples over @a pixels: slice rows @a row
+    /// (upper) and row + 1 (lower), sheared by @a shear. A row without a run adds nothing.
+    void add(const Slice& slice, int row, int sliceHeight, const SliceShear& shear,
+             const Compositing<ClassifiedLight>& compositing, float* pixels) {
+        ShearedRuns<StackSample> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight);
+        ShearedRuns<StackSample> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight);
         // Walk both rows' runs left to right, in segments that one row, or both, reach.
         for (int p = INT32_MIN;;) {
             upper.skipTo(p);
@@ -217,7 +263,32 @@ public:
         }
     }
 
+    /// The same for a slice of values. A value needs both rows, unless one weighs
+    /// nothing: where either has no run, every value lies in cells that cannot be
+    /// seen (see SliceStack).
+    void add(const Slice& slice, int row, int sliceHeight, const SliceShear& shear,
+             const Compositing<ValueLight>& compositing, float* pixels) {
+        ShearedRuns<float> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight);
+        ShearedRuns<float> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight);
+        if (shear.lowerLeft + shear.lowerRight == 0.0f) return addAlone(upper, compositing, pixels);
+        if (shear.upperLeft + shear.upperRight == 0.0f) return addAlone(lower, compositing, pixels);
+        // Walk the stretches that both rows' runs reach, left to right.
+        for (int p = INT32_MIN;;) {
+            upper.skipTo(p);
+            lower.skipTo(p);
+            if (upper.empty() || lower.empty()) break;
+            const int first = std::max(upper.first(), lower.first()), last = std::min(upper.last(), lower.last());
+            if (first <= last) compositing.pixels(mOpen, pixels, first, last, upper.shift, upper.tap(), lower.tap());
+            p = last + 1;
+        }
+    }
+
 private:
+    /// One slice row's values, where the other row weighs nothing.
+    void addAlone(ShearedRuns<float> only, const Compositing<ValueLight>& compositing, float* pixels) {
+        for (; !only.empty(); ++only.runs) compositing.pixels(mOpen, pixels, only.first(), only.last(), only.shift, only.tap());
+    }
+
     int mWidth = 0;
     OpenPixels mOpen;
 };
@@ -253,31 +324,16 @@ double angleToStackDeg(const Vec3d& direction, const Vec3d& normal) {
 
 namespace {
 
-Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, float terminationOpacity) {
+/// Composites every slice of @a stack into @a out, sheared by @a shears, front to
+/// back: from the last slice first when @a backwards.
+template <typename Light>
+void compositeBands(const SliceStack& stack, const std::vector<SliceShear>& shears, bool backwards,
+                    const Compositing<Light>& compositing, Intermediate& out) {
     const StackGeometry& g = stack.geometry();
-    const double dn = direction.dot(g.normal);
-    // Moving one slice back shifts the ray this far across the slices, in samples.
-    const double shiftX = direction.dot(g.e1) / dn * g.sliceMm / g.pixelMm;
-    const double shiftY = direction.dot(g.e2) / dn * g.sliceMm / g.pixelMm;
-    const double lastX = shiftX * (g.slices - 1), lastY = shiftY * (g.slices - 1);
-    Intermediate out;
-    // The margins keep every pixel a sample reaches inside the image, whatever the shear.
-    out.originX = int(std::floor(std::min(0.0, -lastX))) - 1;
-    out.originY = int(std::floor(std::min(0.0, -lastY))) - 1;
-    out.width = int(std::ceil(std::max(0.0, -lastX))) + g.width + 1 - out.originX;
-    out.height = int(std::ceil(std::max(0.0, -lastY))) + g.height + 1 - out.originY;
-    out.rgba.assign(std::size_t(out.width) * out.height * 4, 0.0f);
-    const ObliquityTable oblique(1.0 / std::abs(dn));
-    const Compositing compositing{oblique, terminationOpacity};
-    // A view from behind the stack meets its slices last to first.
-    const bool backwards = dn < 0.0;
-
     // Bands of rows, each walked slice by slice: a band's rows of one slice lie
     // together in memory, so the stack streams in order instead of hopping between
     // slices once per row.
     const int bands = (out.height + kBandRows - 1) / kBandRows;
-    std::vector<SliceShear> shears(g.slices);
-    for (int k = 0; k < g.slices; ++k) shears[k] = shearOf(k, shiftX, shiftY, out.originX, out.originY);
     tbb::parallel_for(0, bands, [&](int band) {
         thread_local RowCompositor rows[kBandRows];
         const int firstRow = band * kBandRows, rowCount = std::min(kBandRows, out.height - firstRow);
@@ -296,6 +352,36 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
             if (!open) break;
         }
     });
+}
+
+Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, float terminationOpacity) {
+    const StackGeometry& g = stack.geometry();
+    const double dn = direction.dot(g.normal);
+    // Moving one slice back shifts the ray this far across the slices, in samples.
+    const double shiftX = direction.dot(g.e1) / dn * g.sliceMm / g.pixelMm;
+    const double shiftY = direction.dot(g.e2) / dn * g.sliceMm / g.pixelMm;
+    const double lastX = shiftX * (g.slices - 1), lastY = shiftY * (g.slices - 1);
+    Intermediate out;
+    // The margins keep every pixel a sample reaches inside the image, whatever the shear.
+    out.originX = int(std::floor(std::min(0.0, -lastX))) - 1;
+    out.originY = int(std::floor(std::min(0.0, -lastY))) - 1;
+    out.width = int(std::ceil(std::max(0.0, -lastX))) + g.width + 1 - out.originX;
+    out.height = int(std::ceil(std::max(0.0, -lastY))) + g.height + 1 - out.originY;
+    out.rgba.assign(std::size_t(out.width) * out.height * 4, 0.0f);
+    std::vector<SliceShear> shears(g.slices);
+    for (int k = 0; k < g.slices; ++k) shears[k] = shearOf(k, shiftX, shiftY, out.originX, out.originY);
+    // A view from behind the stack meets its slices last to first.
+    const bool backwards = dn < 0.0;
+    // The path through one slice is 1 / cos(angle) slice spacings long.
+    const double obliquity = 1.0 / std::abs(dn);
+    if (const ValueLevels* levels = stack.valueLevels()) {
+        const ValueLight light(*levels, obliquity);
+        compositeBands(stack, shears, backwards, Compositing<ValueLight>{light, terminationOpacity}, out);
+    } else {
+        const ObliquityTable oblique(obliquity);
+        const ClassifiedLight light{oblique};
+        compositeBands(stack, shears, backwards, Compositing<ClassifiedLight>{light, terminationOpacity}, out);
+    }
     return out;
 }
 

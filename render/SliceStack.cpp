@@ -25,31 +25,36 @@ Vec3d helperAxis(const Vec3d& normal) {
 }
 
 /// Eight slices of samples, dense, while they are filled block by block.
+template <typename Sample>
 struct Slab {
     int width, height;
-    std::vector<StackSample> samples;  ///< [slice][row][column]
+    std::vector<Sample> samples;  ///< [slice][row][column]
     Slab(int w, int h) : width(w), height(h), samples(std::size_t(w) * h * kBlockDim) {}
-    StackSample& at(int i, int j, int k) { return samples[(std::size_t(k) * height + j) * width + i]; }
+    Sample& at(int i, int j, int k) { return samples[(std::size_t(k) * height + j) * width + i]; }
+    const Sample* plane(int k) const { return samples.data() + std::size_t(k) * height * width; }
 };
 
-/// Keeps each row's runs of visible samples, joined across gaps shorter than kRunGap,
-/// each between two transparent samples.
-Slice compress(const Slab& slab, int k) {
+std::vector<StackSample>& storeOf(Slice& slice, StackSample) { return slice.samples; }
+std::vector<float>& storeOf(Slice& slice, float) { return slice.values; }
+
+/// Keeps the samples marked in @a keep (a slice's worth, row by row) in runs, joined
+/// across gaps shorter than kRunGap, each between its row's neighbouring samples.
+template <typename Sample>
+Slice compress(const Sample* plane, int width, int height, const std::vector<std::uint8_t>& keep, Sample outside) {
     Slice slice;
-    slice.rowRuns.reserve(slab.height + 1);
-    const StackSample* plane = slab.samples.data() + std::size_t(k) * slab.height * slab.width;
+    slice.rowRuns.reserve(height + 1);
     std::uint32_t offset = 0;
-    for (int j = 0; j < slab.height; ++j) {
+    for (int j = 0; j < height; ++j) {
         slice.rowRuns.push_back(std::uint32_t(slice.runs.size()));
-        const StackSample* row = plane + std::size_t(j) * slab.width;
-        for (int x = 0; x < slab.width;) {
-            if (row[x].a == 0) {
+        const std::uint8_t* marked = keep.data() + std::size_t(j) * width;
+        for (int x = 0; x < width;) {
+            if (!marked[x]) {
                 ++x;
                 continue;
             }
             int end = x + 1;
-            for (int next = end; next < slab.width && next - end < kRunGap; ++next) {
-                if (row[next].a != 0) end = next + 1;
+            for (int next = end; next < width && next - end < kRunGap; ++next) {
+                if (marked[next]) end = next + 1;
             }
             slice.runs.push_back({std::uint32_t(x), std::uint32_t(end), offset + 1});
             offset += std::uint32_t(end - x) + 2;
@@ -57,15 +62,43 @@ Slice compress(const Slab& slab, int k) {
         }
     }
     slice.rowRuns.push_back(std::uint32_t(slice.runs.size()));
-    slice.samples.resize(offset);  // transparent, the padding included
-    for (int j = 0; j < slab.height; ++j) {
-        const StackSample* row = plane + std::size_t(j) * slab.width;
+    std::vector<Sample>& stored = storeOf(slice, outside);
+    stored.assign(offset, outside);
+    for (int j = 0; j < height; ++j) {
+        const Sample* row = plane + std::size_t(j) * width;
         for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r) {
             const RowRun& run = slice.runs[r];
-            std::copy(row + run.begin, row + run.end, slice.samples.begin() + run.offset);
+            const int from = std::max(0, int(run.begin) - 1), to = std::min(width, int(run.end) + 1);
+            std::copy(row + from, row + to, stored.begin() + (run.offset - run.begin + from));
         }
     }
     return slice;
+}
+
+/// The classified samples a slice keeps: the visible ones.
+std::vector<std::uint8_t> visibleSamples(const StackSample* plane, int width, int height) {
+    std::vector<std::uint8_t> keep(std::size_t(width) * height);
+    for (std::size_t n = 0; n < keep.size(); ++n) keep[n] = plane[n].a != 0;
+    return keep;
+}
+
+/// The values a slice keeps: the corners of every cell (two samples of two
+/// neighbouring rows) some of whose values could be seen, since resampling may
+/// give any value between a cell's corners.
+std::vector<std::uint8_t> cornersOfVisibleCells(const float* plane, int width, int height, const ValueLevels& levels) {
+    std::vector<std::uint8_t> keep(std::size_t(width) * height, 0);
+    for (int j = 0; j + 1 < height; ++j) {
+        const float* upper = plane + std::size_t(j) * width;
+        const float* lower = upper + width;
+        for (int x = 0; x + 1 < width; ++x) {
+            const float lo = std::min({upper[x], upper[x + 1], lower[x], lower[x + 1]});
+            const float hi = std::max({upper[x], upper[x + 1], lower[x], lower[x + 1]});
+            if (!levels.anyVisible(lo, hi)) continue;
+            std::uint8_t* corners = keep.data() + std::size_t(j) * width + x;
+            corners[0] = corners[1] = corners[width] = corners[width + 1] = 1;
+        }
+    }
+    return keep;
 }
 
 /// Enough samples @a step apart to cover [lo, hi], and the first one's place:
@@ -139,6 +172,27 @@ struct Combined {
     }
 };
 
+/// Fills the slices slab by slab: @a storeBlock writes one block's samples into a
+/// slab of eight slices (in parallel over blocks), then each slice keeps the
+/// samples @a keep marks in it.
+template <typename Sample, typename StoreBlock, typename Keep>
+void buildSlices(const StackGeometry& g, const std::map<int, std::vector<Coord>>& slabs, Sample outside,
+                 ProgressCounter& counter, std::vector<Slice>& slices, StoreBlock storeBlock, Keep keep) {
+    Slab<Sample> slab(g.width, g.height);
+    for (const auto& slabEntry : slabs) {
+        // Named copies, since lambdas may not capture structured bindings in C++17.
+        const int firstSlice = slabEntry.first;
+        const std::vector<Coord>& origins = slabEntry.second;
+        std::fill(slab.samples.begin(), slab.samples.end(), outside);
+        tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) { storeBlock(origins[n], firstSlice, slab); });
+        const int count = std::min(kBlockDim, g.slices - firstSlice);
+        tbb::parallel_for(0, count, [&](int k) {
+            slices[firstSlice + k] = compress(slab.plane(k), g.width, g.height, keep(slab.plane(k)), outside);
+        });
+        counter.advance();
+    }
+}
+
 }  // namespace
 
 SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier, const Vec3d& direction,
@@ -150,6 +204,12 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     : mGeometry(stackGeometryFor(*layers.front().volume, direction, sliceSpacingVoxels, pixelMm)),
       mSlices(mGeometry.slices) {
     const RenderVolume& volume = *layers.front().volume;
+    const TransferFunction& tf = layers.front().classifier.transferFunction();
+    // Values outside the volume are not the background's but nothing at all; a
+    // visible background keeps the samples classified, so that they stay nothing.
+    if (layers.size() == 1 && volume.channels() == 1 && tf(volume.backgroundKey())[3] == 0.0f) {
+        mLevels = std::make_unique<ValueLevels>(tf, sliceSpacingVoxels);
+    }
     for (Slice& slice : mSlices) slice.rowRuns.assign(mGeometry.height + 1, 0);
     std::vector<std::unique_ptr<BlockSource>> sources;
     std::set<Coord> occupied;
@@ -159,50 +219,89 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     }
     std::map<int, std::vector<Coord>> slabs;  // block origins by their first slice
     for (const Coord& origin : occupied) slabs[origin.z()].push_back(origin);
-    const double lengthRatio = sliceSpacingVoxels;
-    const int channels = volume.channels();
     // Nothing exists outside the volume's cells, whatever a transfer function makes
     // of the background value a source returns there.
     const openvdb::math::Mat4d volumeFromLattice = mGeometry.lattice().worldFromIndex * volume.worldFromIndex().inverse();
     const openvdb::BBoxd cells(volume.box().min().asVec3d() - Vec3d(0.5), volume.box().max().asVec3d() + Vec3d(0.5));
+    const auto insideCells = [&](const openvdb::CoordBBox& voxels) {
+        const bool allInside = allVoxelsInside(voxels, volumeFromLattice, cells);
+        return [&, allInside](const Coord& ijk) {
+            return allInside || cells.isInside(volumeFromLattice.transform(ijk.asVec3d()));
+        };
+    };
     ProgressCounter counter(progress, slabs.size());
-    Slab slab(mGeometry.width, mGeometry.height);
-    for (const auto& slabEntry : slabs) {
-        // Named copies, since lambdas may not capture structured bindings in C++17.
-        const int firstSlice = slabEntry.first;
-        const std::vector<Coord>& origins = slabEntry.second;
-        std::fill(slab.samples.begin(), slab.samples.end(), StackSample{});
-        tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) {
-            // Per thread, not per block: this loop is the stack build's hot path.
-            thread_local std::vector<float> values;
-            thread_local std::vector<openvdb::CoordBBox> sampled;
-            values.resize(layers.size() * kBlockVoxels * 3);
-            sampled.assign(layers.size(), openvdb::CoordBBox());
-            openvdb::CoordBBox voxels;
-            for (std::size_t l = 0; l < layers.size(); ++l) {
-                sampled[l] = sources[l]->sampleBlock(origins[n], values.data() + l * kBlockVoxels * 3);
-                if (!sampled[l].empty()) voxels.expand(sampled[l]);
-            }
-            const bool allInside = allVoxelsInside(voxels, volumeFromLattice, cells);
-            for (auto ijk = voxels.begin(); ijk; ++ijk) {
-                if (!allInside && !cells.isInside(volumeFromLattice.transform((*ijk).asVec3d()))) continue;
-                Combined combined;
-                for (std::size_t l = 0; l < layers.size(); ++l) {
-                    if (!sampled[l].isInside(*ijk)) continue;
-                    const float* value = values.data() + l * kBlockVoxels * 3 + blockOffset(*ijk) * channels;
-                    const std::array<float, 4> rgba = layers[l].classifier(value);
-                    const float alpha = opacityOverLength(rgba[3], lengthRatio);
-                    if (alpha > 0.0f) combined.add(rgba, alpha);
-                }
-                if (combined.layers == 0) continue;
-                slab.at((*ijk).x(), (*ijk).y(), (*ijk).z() - firstSlice) = combined.sample();
-            }
-        });
-        const int count = std::min(kBlockDim, mGeometry.slices - firstSlice);
-        tbb::parallel_for(0, count, [&](int k) { mSlices[firstSlice + k] = compress(slab, k); });
-        counter.advance();
+    if (mLevels) {
+        const ValueLevels& levels = *mLevels;
+        buildSlices(mGeometry, slabs, float(volume.backgroundKey()), counter, mSlices,
+                    [&](const Coord& origin, int firstSlice, Slab<float>& slab) {
+                        thread_local std::vector<float> values;
+                        values.resize(kBlockVoxels);
+                        const openvdb::CoordBBox voxels = sources.front()->sampleBlock(origin, values.data());
+                        if (voxels.empty()) return;
+                        const auto inside = insideCells(voxels);
+                        for (auto ijk = voxels.begin(); ijk; ++ijk) {
+                            if (inside(*ijk)) slab.at((*ijk).x(), (*ijk).y(), (*ijk).z() - firstSlice) = values[blockOffset(*ijk)];
+                        }
+                    },
+                    [&](const float* plane) { return cornersOfVisibleCells(plane, mGeometry.width, mGeometry.height, levels); });
+    } else {
+        const double lengthRatio = sliceSpacingVoxels;
+        const int channels = volume.channels();
+        buildSlices(mGeometry, slabs, StackSample{}, counter, mSlices,
+                    [&](const Coord& origin, int firstSlice, Slab<StackSample>& slab) {
+                        // Per thread, not per block: this loop is the stack build's hot path.
+                        thread_local std::vector<float> values;
+                        thread_local std::vector<openvdb::CoordBBox> sampled;
+                        values.resize(layers.size() * kBlockVoxels * 3);
+                        sampled.assign(layers.size(), openvdb::CoordBBox());
+                        openvdb::CoordBBox voxels;
+                        for (std::size_t l = 0; l < layers.size(); ++l) {
+                            sampled[l] = sources[l]->sampleBlock(origin, values.data() + l * kBlockVoxels * 3);
+                            if (!sampled[l].empty()) voxels.expand(sampled[l]);
+                        }
+                        if (voxels.empty()) return;
+                        const auto inside = insideCells(voxels);
+                        for (auto ijk = voxels.begin(); ijk; ++ijk) {
+                            if (!inside(*ijk)) continue;
+                            Combined combined;
+                            for (std::size_t l = 0; l < layers.size(); ++l) {
+                                if (!sampled[l].isInside(*ijk)) continue;
+                                const float* value = values.data() + l * kBlockVoxels * 3 + blockOffset(*ijk) * channels;
+                                const std::array<float, 4> rgba = layers[l].classifier(value);
+                                const float alpha = opacityOverLength(rgba[3], lengthRatio);
+                                if (alpha > 0.0f) combined.add(rgba, alpha);
+                            }
+                            if (combined.layers == 0) continue;
+                            slab.at((*ijk).x(), (*ijk).y(), (*ijk).z() - firstSlice) = combined.sample();
+                        }
+                    },
+                    [&](const StackSample* plane) { return visibleSamples(plane, mGeometry.width, mGeometry.height); });
     }
     for (const auto& source : sources) mGaussiansTouched += source->gaussiansReaching();
+}
+
+ValueLevels::ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels)
+    : mRgba(kCount), mVisibleBelow(kCount + 1, 0) {
+    const double first = tf.points().front().value, last = tf.points().back().value;
+    mFirst = float(first);
+    mPerValue = last > first ? float((kCount - 1) / (last - first)) : 0.0f;
+    for (int level = 0; level < kCount; ++level) {
+        const double value = mPerValue > 0.0f ? first + level / double(mPerValue) : first;
+        mRgba[level] = tf(value);
+        mRgba[level][3] = opacityOverLength(mRgba[level][3], sliceSpacingVoxels);
+        mVisibleBelow[level + 1] = mVisibleBelow[level] + (mRgba[level][3] > 0.0f);
+    }
+    const auto firstVisible = std::find(mVisibleBelow.begin(), mVisibleBelow.end(), 1);
+    const int level = int(firstVisible - mVisibleBelow.begin()) - 1;  // the level whose count made 1
+    if (firstVisible == mVisibleBelow.end()) {
+        mFirstVisibleValue = INFINITY;
+    } else if (level == 0) {
+        mFirstVisibleValue = -INFINITY;
+    } else {
+        // levelOf rounds to nearest: values from half a level below reach it (nextafter keeps
+        // the rounding's edge on the visible side).
+        mFirstVisibleValue = std::nextafter(mFirst + (level - 0.5f) / mPerValue, -INFINITY);
+    }
 }
 
 }  // namespace gvr

@@ -3,17 +3,24 @@
 /// stack direction: what shear-warp builds once and composites for many views.
 ///
 /// Slices are sampled on a lattice in world space (pixelMm across, sliceMm apart),
-/// so any stack direction works, not only the volume's axes. Each sample holds
-/// premultiplied colour and the opacity of one slice spacing, 16 bits each; each
-/// slice row keeps only its runs of visible samples (Lacroute's run-length
-/// encoding), which is how compositing skips empty space, inside the body too.
+/// so any stack direction works, not only the volume's axes. A stack of one grey
+/// volume keeps each sample's value, and compositing classifies the value it
+/// resamples from them (post-classification, as the ray marcher does: an opaque
+/// surface then lies where the values cross it, not where resampled opacities
+/// do). Other stacks (colour, or several layers) keep each sample classified:
+/// premultiplied colour and the opacity of one slice spacing, 16 bits each. Each
+/// slice row keeps only its runs of samples that can be seen (Lacroute's
+/// run-length encoding), which is how compositing skips empty space, inside the
+/// body too.
 #pragma once
 
 #include "Classifier.h"
 #include "Progress.h"
 #include "RenderVolume.h"
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace gvr {
@@ -36,8 +43,9 @@ struct StackSample {
 /// more to step over than a few empty samples cost to composite.
 constexpr int kRunGap = 4;
 
-/// A run is stored with one transparent sample on either side, so that resampling
-/// may read a run's neighbours without a test.
+/// A run is stored with its row's neighbouring sample on either side (the
+/// background beyond the row's ends), so that resampling may read a run's
+/// neighbours without a test: classified samples there are transparent.
 struct RowRun {
     std::uint32_t begin = 0, end = 0;  ///< samples [begin, end) of the row are stored
     std::uint32_t offset = 0;          ///< where sample `begin` sits in Slice::samples
@@ -48,7 +56,33 @@ struct Slice {
     /// every sample outside them is transparent.
     std::vector<std::uint32_t> rowRuns;
     std::vector<RowRun> runs;
-    std::vector<StackSample> samples;
+    std::vector<StackSample> samples;  ///< classified stacks
+    std::vector<float> values;         ///< stacks of values (ValueLevels), laid out as samples are
+};
+
+/// The classification of a stack of values, in levels: the transfer function at
+/// kCount values spread evenly over its points (it is constant beyond them), with
+/// opacity over one slice spacing. A resampled value takes its nearest level.
+class ValueLevels {
+public:
+    static constexpr int kCount = 4096;
+
+    ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels);
+    int levelOf(float value) const {
+        const float level = (value - mFirst) * mPerValue + 0.5f;
+        return level <= 0.0f ? 0 : level >= float(kCount - 1) ? kCount - 1 : int(level);
+    }
+    /// Straight colour and the opacity of one slice spacing.
+    const std::array<float, 4>& rgba(int level) const { return mRgba[level]; }
+    /// The least value whose level is not transparent (infinity when none is).
+    float firstVisibleValue() const { return mFirstVisibleValue; }
+    /// Whether some value in [lo, hi] has a level that is not transparent.
+    bool anyVisible(float lo, float hi) const { return mVisibleBelow[levelOf(hi) + 1] > mVisibleBelow[levelOf(lo)]; }
+
+private:
+    float mFirst, mPerValue, mFirstVisibleValue;
+    std::vector<std::array<float, 4>> mRgba;
+    std::vector<int> mVisibleBelow;  ///< visible levels below each level: a range's count in two reads
 };
 
 /// One volume and how to classify it. A stack may hold several layers that share
@@ -62,8 +96,10 @@ struct StackLayer {
 class SliceStack {
 public:
     /// Samples @a volume on the stack's lattice (in parallel over 8^3 blocks, only
-    /// where the volume has content) and classifies every sample, with the opacity
-    /// corrected from one voxel to one slice spacing: 1 - (1 - alpha)^(sliceMm / voxelMm).
+    /// where the volume has content). Opacities are corrected from one voxel to one
+    /// slice spacing: 1 - (1 - alpha)^(sliceMm / voxelMm). The samples keep their
+    /// values when the volume is grey and its background transparent, and are
+    /// classified otherwise.
     SliceStack(const RenderVolume& volume, const Classifier& classifier, const openvdb::Vec3d& direction,
                double sliceSpacingVoxels, double pixelMm, const ProgressFn& progress = {});
 
@@ -76,9 +112,12 @@ public:
     const std::vector<Slice>& slices() const { return mSlices; }
     /// Gaussians the build evaluated (0 for grids).
     std::size_t gaussiansTouched() const { return mGaussiansTouched; }
+    /// How to classify the slices' values; null when the slices hold classified samples.
+    const ValueLevels* valueLevels() const { return mLevels.get(); }
 
 private:
     StackGeometry mGeometry;
+    std::unique_ptr<ValueLevels> mLevels;
     std::vector<Slice> mSlices;
     std::size_t mGaussiansTouched = 0;
 };

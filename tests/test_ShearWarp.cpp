@@ -71,6 +71,23 @@ TEST(ShearWarp, MatchesRayMarchingFromAxesObliqueAnd45Degrees) {
     }
 }
 
+TEST(ShearWarp, OpaqueSurfacesLieWhereTheRayMarcherPutsThem) {
+    // A steep classification. Resampling opacities instead of values moves the
+    // surface and draws rings where it crosses the slices: with classified samples
+    // these views averaged 23.1 dB (22.7, 23.8, 23.6 and 22.3), with values 26.2.
+    // Pixels a little coarser than voxels, as at 512 x 512 on a CT volume.
+    const auto volume = phantom();
+    const Classifier surface(TransferFunction({{300.0, {0.9f, 0.8f, 0.7f, 0.0f}}, {400.0, {1.0f, 0.9f, 0.8f, 0.95f}}}, "test"), 1);
+    double meanDb = 0.0;
+    for (const View view : {View{30, 20}, View{0, 45}, View{-130, -35}, View{70, 10}}) {
+        const OrthoCamera camera = cameraFor(*volume, view.azimuthDeg, view.elevationDeg, 48);
+        const Framebuffer reference = rayMarch(*volume, surface, camera, {});
+        EXPECT_GT(alphaSum(reference), 100.0) << "the surface must be seen";
+        meanDb += imagePsnr(ShearWarpRenderer(*volume, surface, {}).render(camera), reference) / 4;
+    }
+    EXPECT_GE(meanDb, 25.5);
+}
+
 TEST(ShearWarp, AxisStacksAreBuiltOnceAndServeAnOrbitFromBothSides) {
     const auto volume = phantom();
     const Classifier classifier = rampClassifier();

@@ -1,28 +1,104 @@
 // The slice stack's run-length encoding: what compositing relies on to skip
-// empty space, including the hollows inside a body.
+// empty space, including the hollows inside a body, for classified samples and
+// for values.
 
 #include "SliceStack.h"
 #include "TestHelpers.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace gvr {
 namespace {
 
-/// A hollow ball: a shell of radius 12 voxels, empty inside and out.
-GridRenderVolume hollowBall() {
-    return GridRenderVolume(test::makeGrid({40, 40, 40}, [](int i, int j, int k) {
-        const double r = std::sqrt((i - 20.0) * (i - 20.0) + (j - 20.0) * (j - 20.0) + (k - 20.0) * (k - 20.0));
-        return float(1000.0 * std::exp(-std::pow((r - 12.0) / 1.5, 2.0)));
-    }));
+/// A shell of radius 12 voxels, empty inside and out, at voxel (i, j, k).
+float hollowBallAt(int i, int j, int k) {
+    const double r = std::sqrt((i - 20.0) * (i - 20.0) + (j - 20.0) * (j - 20.0) + (k - 20.0) * (k - 20.0));
+    return float(1000.0 * std::exp(-std::pow((r - 12.0) / 1.5, 2.0)));
+}
+
+GridRenderVolume hollowBall() { return GridRenderVolume(test::makeGrid({40, 40, 40}, hollowBallAt)); }
+
+Classifier shellClassifier() {
+    return Classifier(TransferFunction({{100.0, {1, 1, 1, 0}}, {1000.0, {1, 1, 1, 0.5f}}}, "test"), 1);
+}
+
+TEST(SliceStack, GreyVolumesKeepValuesAndOtherStacksClassifiedSamples) {
+    const GridRenderVolume ball = hollowBall();
+    const SliceStack values(ball, shellClassifier(), openvdb::Vec3d(0, 0, 1), 1.0, 1.0);
+    EXPECT_NE(values.valueLevels(), nullptr);
+    // Two layers combine their classified samples; so does a visible background,
+    // whose values outside the volume would be wrongly seen.
+    const SliceStack layered({{&ball, shellClassifier()}, {&ball, shellClassifier()}}, openvdb::Vec3d(0, 0, 1), 1.0, 1.0);
+    EXPECT_EQ(layered.valueLevels(), nullptr);
+    const Classifier fog(TransferFunction({{0.0, {1, 1, 1, 0.01f}}, {1000.0, {1, 1, 1, 0.5f}}}, "test"), 1);
+    EXPECT_EQ(SliceStack(ball, fog, openvdb::Vec3d(0, 0, 1), 1.0, 1.0).valueLevels(), nullptr);
+}
+
+TEST(SliceStack, RowsOfValuesKeepEveryCellThatCanBeSeenWithItsNeighbours) {
+    const GridRenderVolume ball = hollowBall();
+    // Across z at one voxel a sample, sample (i, j) of slice k is voxel (i, j, k).
+    const SliceStack stack(ball, shellClassifier(), openvdb::Vec3d(0, 0, 1), 1.0, 1.0);
+    ASSERT_EQ(stack.geometry().width, 40);
+    ASSERT_EQ(stack.geometry().slices, 40);
+    const ValueLevels& levels = *stack.valueLevels();
+    std::size_t visibleCells = 0;
+    for (int k = 0; k < 40; ++k) {
+        const Slice& slice = stack.slices()[k];
+        // Each row's stored values by column, NaN where the row keeps none.
+        std::vector<float> stored(40 * 40, NAN);
+        for (int j = 0; j < 40; ++j) {
+            for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r) {
+                const RowRun& run = slice.runs[r];
+                // The neighbours on either side are the row's own, or the background beyond it.
+                EXPECT_EQ(slice.values[run.offset - 1], run.begin > 0 ? hollowBallAt(run.begin - 1, j, k) : 0.0f);
+                EXPECT_EQ(slice.values[run.offset + run.end - run.begin], run.end < 40 ? hollowBallAt(run.end, j, k) : 0.0f);
+                for (std::uint32_t i = run.begin; i < run.end; ++i) stored[j * 40 + i] = slice.values[run.offset + i - run.begin];
+            }
+        }
+        for (int j = 0; j + 1 < 40; ++j) {
+            for (int i = 0; i + 1 < 40; ++i) {
+                const float corners[4] = {hollowBallAt(i, j, k), hollowBallAt(i + 1, j, k), hollowBallAt(i, j + 1, k),
+                                          hollowBallAt(i + 1, j + 1, k)};
+                if (!levels.anyVisible(*std::min_element(corners, corners + 4), *std::max_element(corners, corners + 4))) continue;
+                ++visibleCells;
+                EXPECT_FLOAT_EQ(stored[j * 40 + i], corners[0]) << i << " " << j << " " << k;
+                EXPECT_FLOAT_EQ(stored[j * 40 + i + 1], corners[1]) << i << " " << j << " " << k;
+                EXPECT_FLOAT_EQ(stored[(j + 1) * 40 + i], corners[2]) << i << " " << j << " " << k;
+                EXPECT_FLOAT_EQ(stored[(j + 1) * 40 + i + 1], corners[3]) << i << " " << j << " " << k;
+            }
+        }
+    }
+    EXPECT_GT(visibleCells, 1000u);
+}
+
+TEST(SliceStack, ValueLevelsSpanTheTransferFunctionAndKnowWhereItCanBeSeen) {
+    const ValueLevels levels(TransferFunction({{-1000.0, {0, 0, 0, 0}}, {0.0, {0, 0, 0, 0}}, {3095.0, {1, 1, 1, 1}}},
+                                              "test"), 2.0);
+    EXPECT_EQ(levels.levelOf(-5000.0f), 0);
+    EXPECT_EQ(levels.levelOf(-1000.0f), 0);
+    EXPECT_EQ(levels.levelOf(3095.0f), ValueLevels::kCount - 1);
+    EXPECT_EQ(levels.levelOf(1e30f), ValueLevels::kCount - 1);
+    EXPECT_EQ(levels.levelOf(0.0f), 1000);  // one level a value here
+    // Opacity over two voxels of slice spacing, colour straight.
+    const std::array<float, 4> mid = levels.rgba(levels.levelOf(1547.5f));
+    EXPECT_NEAR(mid[0], 0.5f, 1e-3f);
+    EXPECT_NEAR(mid[3], 1.0f - 0.25f, 1e-3f);
+    EXPECT_FALSE(levels.anyVisible(-1e6f, 0.0f));
+    EXPECT_TRUE(levels.anyVisible(-1e6f, 1.0f));
+    EXPECT_TRUE(levels.anyVisible(3000.0f, 1e6f));
+    EXPECT_LE(levels.firstVisibleValue(), 0.5f);
+    EXPECT_GT(levels.firstVisibleValue(), 0.0f);
+    EXPECT_GT(levels.rgba(levels.levelOf(levels.firstVisibleValue()))[3], 0.0f);
 }
 
 TEST(SliceStack, RowsKeepOnlyTheirRunsOfVisibleSamples) {
     const GridRenderVolume ball = hollowBall();
-    const Classifier classifier(TransferFunction({{100.0, {1, 1, 1, 0}}, {1000.0, {1, 1, 1, 0.5f}}}, "test"), 1);
-    const SliceStack stack(ball, classifier, openvdb::Vec3d(0.3, 0.2, 1.0), 1.0, 1.0);
+    // Two layers keep classified samples (a grey volume alone would keep values).
+    const SliceStack stack({{&ball, shellClassifier()}, {&ball, shellClassifier()}}, openvdb::Vec3d(0.3, 0.2, 1.0), 1.0,
+                           1.0);
     std::size_t rowsWithAHollow = 0, runs = 0;
     for (const Slice& slice : stack.slices()) {
         ASSERT_EQ(slice.rowRuns.size(), std::size_t(stack.geometry().height) + 1);
