@@ -64,6 +64,7 @@ struct ClassifiedLight {
     const ObliquityTable& oblique;
     static bool dark(Floats4 stored) { return stored[3] <= 0.0f; }
     Floats4 operator()(Floats4 stored) const { return oblique(stored); }
+    ClassifiedLight lookup() const { return *this; }
 };
 
 /// What a value resampled from a stack of values adds over the oblique path: the
@@ -71,20 +72,29 @@ struct ClassifiedLight {
 class ValueLight {
 public:
     ValueLight(const ValueLevels& levels, double lengthRatio)
-        : mLevels(levels), mLight(ValueLevels::kCount), mDarkBelow(levels.firstVisibleValue()) {
+        : mLight(ValueLevels::kCount), mScale(levels.scale()), mDarkBelow(levels.firstVisibleValue()) {
         for (int level = 0; level < ValueLevels::kCount; ++level) {
             const std::array<float, 4>& rgba = levels.rgba(level);
             const float opacity = opacityOverLength(rgba[3], lengthRatio);
             mLight[level] = Floats4{rgba[0] * opacity, rgba[1] * opacity, rgba[2] * opacity, opacity};
         }
     }
-    /// Values below every visible level add nothing: a comparison spares the table.
-    bool dark(float value) const { return value < mDarkBelow; }
-    Floats4 operator()(float value) const { return mLight[mLevels.levelOf(value)]; }
+
+    /// The table's reader, held by value where pixels are composited: the compiler
+    /// must reload what a pixel's store might change, and a copy's floats it need not.
+    struct Lookup {
+        const Floats4* light;
+        ValueLevels::Scale scale;
+        float darkBelow;
+        /// Values below every visible level add nothing: a comparison spares the table.
+        bool dark(float value) const { return value < darkBelow; }
+        Floats4 operator()(float value) const { return light[scale.levelOf(value)]; }
+    };
+    Lookup lookup() const { return {mLight.data(), mScale, mDarkBelow}; }
 
 private:
-    const ValueLevels& mLevels;
     std::vector<Floats4> mLight;
+    ValueLevels::Scale mScale;
     float mDarkBelow;
 };
 
@@ -202,6 +212,9 @@ struct ShearedRuns {
     }
 };
 
+/// Four floats at a float's alignment: an RGBA pixel of the intermediate image.
+using PixelFloats = float __attribute__((vector_size(16), aligned(4)));
+
 /// How one frame composites: the light a resampled sample adds over the oblique
 /// path (ClassifiedLight or ValueLight), and where a pixel stops.
 template <typename Light>
@@ -213,14 +226,17 @@ struct Compositing {
     /// taking the sum of @a taps at its column, pixel + shift.
     template <typename... Taps>
     void pixels(OpenPixels& open, float* rgba, int first, int last, int shift, Taps... taps) const {
+        const float termination = terminationOpacity;  // a local: pixel stores cannot change it
+        const auto lookup = light.lookup();
         for (int p = open.next(first); p <= last; p = open.next(p + 1)) {
             const auto sum = (taps(p + shift) + ...);
-            if (light.dark(sum)) continue;  // what is not dark may still add nothing, harmlessly
-            Floats4 pixel;
-            std::memcpy(&pixel, rgba + std::size_t(p) * 4, sizeof pixel);
-            pixel += (1.0f - pixel[3]) * light(sum);
-            std::memcpy(rgba + std::size_t(p) * 4, &pixel, sizeof pixel);
-            if (pixel[3] >= terminationOpacity) open.close(p);
+            if (lookup.dark(sum)) continue;  // what is not dark may still add nothing, harmlessly
+            // A typed store, unlike memcpy's, tells the compiler that only floats change.
+            PixelFloats& pixel = *reinterpret_cast<PixelFloats*>(rgba + std::size_t(p) * 4);
+            Floats4 value = pixel;
+            value += (1.0f - value[3]) * lookup(sum);
+            pixel = value;
+            if (value[3] >= termination) open.close(p);
         }
     }
 };

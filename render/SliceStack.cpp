@@ -283,10 +283,9 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
 ValueLevels::ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels)
     : mRgba(kCount), mVisibleBelow(kCount + 1, 0) {
     const double first = tf.points().front().value, last = tf.points().back().value;
-    mFirst = float(first);
-    mPerValue = last > first ? float((kCount - 1) / (last - first)) : 0.0f;
+    mScale = {float(first), last > first ? float((kCount - 1) / (last - first)) : 0.0f};
     for (int level = 0; level < kCount; ++level) {
-        const double value = mPerValue > 0.0f ? first + level / double(mPerValue) : first;
+        const double value = mScale.perValue > 0.0f ? first + level / double(mScale.perValue) : first;
         mRgba[level] = tf(value);
         mRgba[level][3] = opacityOverLength(mRgba[level][3], sliceSpacingVoxels);
         mVisibleBelow[level + 1] = mVisibleBelow[level] + (mRgba[level][3] > 0.0f);
@@ -300,7 +299,7 @@ ValueLevels::ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels)
     } else {
         // levelOf rounds to nearest: values from half a level below reach it (nextafter keeps
         // the rounding's edge on the visible side).
-        mFirstVisibleValue = std::nextafter(mFirst + (level - 0.5f) / mPerValue, -INFINITY);
+        mFirstVisibleValue = std::nextafter(mScale.first + (level - 0.5f) / mScale.perValue, -INFINITY);
     }
 }
 

@@ -67,11 +67,18 @@ class ValueLevels {
 public:
     static constexpr int kCount = 4096;
 
+    /// Values to levels: small, so that compositing may keep a copy at hand.
+    struct Scale {
+        float first, perValue;  ///< the value of level 0, and levels per unit of value
+        int levelOf(float value) const {
+            const float level = (value - first) * perValue + 0.5f;
+            return level <= 0.0f ? 0 : level >= float(kCount - 1) ? kCount - 1 : int(level);
+        }
+    };
+
     ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels);
-    int levelOf(float value) const {
-        const float level = (value - mFirst) * mPerValue + 0.5f;
-        return level <= 0.0f ? 0 : level >= float(kCount - 1) ? kCount - 1 : int(level);
-    }
+    const Scale& scale() const { return mScale; }
+    int levelOf(float value) const { return mScale.levelOf(value); }
     /// Straight colour and the opacity of one slice spacing.
     const std::array<float, 4>& rgba(int level) const { return mRgba[level]; }
     /// The least value whose level is not transparent (infinity when none is).
@@ -80,7 +87,8 @@ public:
     bool anyVisible(float lo, float hi) const { return mVisibleBelow[levelOf(hi) + 1] > mVisibleBelow[levelOf(lo)]; }
 
 private:
-    float mFirst, mPerValue, mFirstVisibleValue;
+    Scale mScale;
+    float mFirstVisibleValue;
     std::vector<std::array<float, 4>> mRgba;
     std::vector<int> mVisibleBelow;  ///< visible levels below each level: a range's count in two reads
 };
