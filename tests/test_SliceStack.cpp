@@ -37,12 +37,12 @@ TEST(SliceStack, GreyVolumesKeepValuesAndOtherStacksClassifiedSamples) {
     EXPECT_EQ(SliceStack(ball, fog, openvdb::Vec3d(0, 0, 1), 1.0, 1.0).valueLevels(), nullptr);
 }
 
-TEST(SliceStack, RowsOfValuesKeepEveryCellThatCanBeSeenWithItsNeighbours) {
-    const GridRenderVolume ball = hollowBall();
-    // Across z at one voxel a sample, sample (i, j) of slice k is voxel (i, j, k).
-    const SliceStack stack(ball, shellClassifier(), openvdb::Vec3d(0, 0, 1), 1.0, 1.0);
-    ASSERT_EQ(stack.geometry().width, 40);
-    ASSERT_EQ(stack.geometry().slices, 40);
+/// Checks that every cell of @a stack (across z over hollowBall(), one voxel a
+/// sample) that @a levels can see keeps its four corners, with their true values.
+/// @return the cells that can be seen
+std::size_t checkVisibleCellsAreKept(const SliceStack& stack) {
+    EXPECT_EQ(stack.geometry().width, 40);
+    EXPECT_EQ(stack.geometry().slices, 40);
     const ValueLevels& levels = *stack.valueLevels();
     std::size_t visibleCells = 0;
     for (int k = 0; k < 40; ++k) {
@@ -71,7 +71,18 @@ TEST(SliceStack, RowsOfValuesKeepEveryCellThatCanBeSeenWithItsNeighbours) {
             }
         }
     }
-    EXPECT_GT(visibleCells, 1000u);
+    return visibleCells;
+}
+
+TEST(SliceStack, RowsOfValuesKeepEveryCellThatCanBeSeenWithItsNeighbours) {
+    const GridRenderVolume ball = hollowBall();
+    // Across z at one voxel a sample, sample (i, j) of slice k is voxel (i, j, k).
+    EXPECT_GT(checkVisibleCellsAreKept(SliceStack(ball, shellClassifier(), openvdb::Vec3d(0, 0, 1), 1.0, 1.0)), 1000u);
+    // Only a band of values can be seen: a cell whose corners lie below and above it
+    // holds values that can, though none of its corners can.
+    const Classifier band(TransferFunction({{400.0, {1, 1, 1, 0}}, {401.0, {1, 1, 1, 0.5f}}, {420.0, {1, 1, 1, 0.5f}},
+                                            {421.0, {1, 1, 1, 0}}}, "test"), 1);
+    EXPECT_GT(checkVisibleCellsAreKept(SliceStack(ball, band, openvdb::Vec3d(0, 0, 1), 1.0, 1.0)), 1000u);
 }
 
 TEST(SliceStack, ValueLevelsSpanTheTransferFunctionAndKnowWhereItCanBeSeen) {
