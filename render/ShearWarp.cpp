@@ -192,6 +192,7 @@ struct ShearedRuns {
     Weighed right{}, left{};
 
     ShearedRuns(const Slice& slice, int row, int height, int shiftBy, float leftWeight, float rightWeight)
+        // Weighed{} + w is w, or w in each of four lanes.
         : samples(storedIn<Sample>(slice)), shift(shiftBy), right(Weighed{} + rightWeight), left(Weighed{} + leftWeight) {
         if (row < 0 || row >= height || leftWeight + rightWeight == 0.0f) return;
         runs = slice.runs.data() + slice.rowRuns[row];
@@ -294,7 +295,7 @@ public:
             lower.skipTo(p);
             if (upper.empty() || lower.empty()) break;
             const int first = std::max(upper.first(), lower.first()), last = std::min(upper.last(), lower.last());
-            if (first <= last) compositing.pixels(mOpen, pixels, first, last, upper.shift, upper.tap(), lower.tap());
+            if (first <= last) compositing.pixels(mOpen, pixels, first, last, shear.shift, upper.tap(), lower.tap());
             p = last + 1;
         }
     }
