@@ -152,17 +152,6 @@ struct Tap {
     Weighed operator()(int column) const { return right * load(columns[column]) + left * load(columns[column + 1]); }
 };
 
-template <typename Sample>
-const Sample* storedIn(const Slice& slice);
-template <>
-const StackSample* storedIn(const Slice& slice) {
-    return slice.samples.data();
-}
-template <>
-const float* storedIn(const Slice& slice) {
-    return slice.values.data();
-}
-
 /// Where slice k lands on the intermediate image: intermediate row y reads slice
 /// rows y + rowOffset (upper) and the one after (lower), and pixel p of it reads
 /// columns p + shift (right) and the one after (left), with these weights. The same
@@ -193,7 +182,7 @@ struct ShearedRuns {
 
     ShearedRuns(const Slice& slice, int row, int height, int shiftBy, float leftWeight, float rightWeight)
         // Weighed{} + w is w, or w in each of four lanes.
-        : samples(storedIn<Sample>(slice)), shift(shiftBy), right(Weighed{} + rightWeight), left(Weighed{} + leftWeight) {
+        : samples(slice.stored<Sample>().data()), shift(shiftBy), right(Weighed{} + rightWeight), left(Weighed{} + leftWeight) {
         if (row < 0 || row >= height || leftWeight + rightWeight == 0.0f) return;
         runs = slice.runs.data() + slice.rowRuns[row];
         end = slice.runs.data() + slice.rowRuns[row + 1];

@@ -34,9 +34,6 @@ struct Slab {
     const Sample* plane(int k) const { return samples.data() + std::size_t(k) * height * width; }
 };
 
-std::vector<StackSample>& storeOf(Slice& slice, StackSample) { return slice.samples; }
-std::vector<float>& storeOf(Slice& slice, float) { return slice.values; }
-
 /// Keeps the samples marked in @a keep (a slice's worth, row by row) in runs, joined
 /// across gaps shorter than kRunGap, each between its row's neighbouring samples.
 template <typename Sample>
@@ -62,7 +59,7 @@ Slice compress(const Sample* plane, int width, int height, const std::vector<std
         }
     }
     slice.rowRuns.push_back(std::uint32_t(slice.runs.size()));
-    std::vector<Sample>& stored = storeOf(slice, outside);
+    std::vector<Sample>& stored = slice.stored<Sample>();
     stored.assign(offset, outside);
     for (int j = 0; j < height; ++j) {
         const Sample* row = plane + std::size_t(j) * width;
@@ -172,6 +169,69 @@ struct Combined {
     }
 };
 
+/// The volume's cells, seen from the stack's lattice: nothing exists outside them,
+/// whatever a transfer function makes of the background value a source returns there.
+class VolumeCells {
+public:
+    VolumeCells(const StackGeometry& g, const RenderVolume& volume)
+        : mVolumeFromLattice(g.lattice().worldFromIndex * volume.worldFromIndex().inverse()),
+          mCells(volume.box().min().asVec3d() - Vec3d(0.5), volume.box().max().asVec3d() + Vec3d(0.5)) {}
+
+    /// Calls @a visit for each lattice voxel of @a voxels inside the cells.
+    template <typename Visit>
+    void forEachInside(const openvdb::CoordBBox& voxels, Visit visit) const {
+        if (voxels.empty()) return;
+        const bool allInside = allVoxelsInside(voxels, mVolumeFromLattice, mCells);
+        for (auto ijk = voxels.begin(); ijk; ++ijk) {
+            if (allInside || mCells.isInside(mVolumeFromLattice.transform((*ijk).asVec3d()))) visit(*ijk);
+        }
+    }
+
+private:
+    openvdb::math::Mat4d mVolumeFromLattice;
+    openvdb::BBoxd mCells;
+};
+
+/// Writes the values of the block at @a origin into @a slab (whose first slice is
+/// @a firstSlice).
+void storeValues(const BlockSource& source, const VolumeCells& cells, const Coord& origin, int firstSlice,
+                 Slab<float>& slab) {
+    thread_local std::vector<float> values;  // per thread, not per block: the build's hot path
+    values.resize(kBlockVoxels);
+    cells.forEachInside(source.sampleBlock(origin, values.data()), [&](const Coord& ijk) {
+        slab.at(ijk.x(), ijk.y(), ijk.z() - firstSlice) = values[blockOffset(ijk)];
+    });
+}
+
+/// Writes the block at @a origin into @a slab classified: each layer's colour and
+/// opacity over one slice spacing, the layers combined where they meet.
+void storeClassified(const std::vector<StackLayer>& layers, const std::vector<std::unique_ptr<BlockSource>>& sources,
+                     double sliceSpacingVoxels, const VolumeCells& cells, const Coord& origin, int firstSlice,
+                     Slab<StackSample>& slab) {
+    // Per thread, not per block: this is the build's hot path.
+    thread_local std::vector<float> values;
+    thread_local std::vector<openvdb::CoordBBox> sampled;
+    values.resize(layers.size() * kBlockVoxels * 3);
+    sampled.assign(layers.size(), openvdb::CoordBBox());
+    openvdb::CoordBBox voxels;
+    for (std::size_t l = 0; l < layers.size(); ++l) {
+        sampled[l] = sources[l]->sampleBlock(origin, values.data() + l * kBlockVoxels * 3);
+        if (!sampled[l].empty()) voxels.expand(sampled[l]);
+    }
+    const int channels = layers.front().volume->channels();
+    cells.forEachInside(voxels, [&](const Coord& ijk) {
+        Combined combined;
+        for (std::size_t l = 0; l < layers.size(); ++l) {
+            if (!sampled[l].isInside(ijk)) continue;
+            const float* value = values.data() + l * kBlockVoxels * 3 + blockOffset(ijk) * channels;
+            const std::array<float, 4> rgba = layers[l].classifier(value);
+            const float alpha = opacityOverLength(rgba[3], sliceSpacingVoxels);
+            if (alpha > 0.0f) combined.add(rgba, alpha);
+        }
+        if (combined.layers > 0) slab.at(ijk.x(), ijk.y(), ijk.z() - firstSlice) = combined.sample();
+    });
+}
+
 /// Fills the slices slab by slab: @a storeBlock writes one block's samples into a
 /// slab of eight slices (in parallel over blocks), then each slice keeps the
 /// samples @a keep marks in it.
@@ -219,63 +279,22 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     }
     std::map<int, std::vector<Coord>> slabs;  // block origins by their first slice
     for (const Coord& origin : occupied) slabs[origin.z()].push_back(origin);
-    // Nothing exists outside the volume's cells, whatever a transfer function makes
-    // of the background value a source returns there.
-    const openvdb::math::Mat4d volumeFromLattice = mGeometry.lattice().worldFromIndex * volume.worldFromIndex().inverse();
-    const openvdb::BBoxd cells(volume.box().min().asVec3d() - Vec3d(0.5), volume.box().max().asVec3d() + Vec3d(0.5));
-    const auto insideCells = [&](const openvdb::CoordBBox& voxels) {
-        const bool allInside = allVoxelsInside(voxels, volumeFromLattice, cells);
-        return [&, allInside](const Coord& ijk) {
-            return allInside || cells.isInside(volumeFromLattice.transform(ijk.asVec3d()));
-        };
-    };
+    const VolumeCells cells(mGeometry, volume);
     ProgressCounter counter(progress, slabs.size());
     if (mLevels) {
-        const ValueLevels& levels = *mLevels;
-        buildSlices(mGeometry, slabs, float(volume.backgroundKey()), counter, mSlices,
-                    [&](const Coord& origin, int firstSlice, Slab<float>& slab) {
-                        thread_local std::vector<float> values;
-                        values.resize(kBlockVoxels);
-                        const openvdb::CoordBBox voxels = sources.front()->sampleBlock(origin, values.data());
-                        if (voxels.empty()) return;
-                        const auto inside = insideCells(voxels);
-                        for (auto ijk = voxels.begin(); ijk; ++ijk) {
-                            if (inside(*ijk)) slab.at((*ijk).x(), (*ijk).y(), (*ijk).z() - firstSlice) = values[blockOffset(*ijk)];
-                        }
-                    },
-                    [&](const float* plane) { return cornersOfVisibleCells(plane, mGeometry.width, mGeometry.height, levels); });
+        buildSlices(
+            mGeometry, slabs, float(volume.backgroundKey()), counter, mSlices,
+            [&](const Coord& origin, int firstSlice, Slab<float>& slab) {
+                storeValues(*sources.front(), cells, origin, firstSlice, slab);
+            },
+            [&](const float* plane) { return cornersOfVisibleCells(plane, mGeometry.width, mGeometry.height, *mLevels); });
     } else {
-        const double lengthRatio = sliceSpacingVoxels;
-        const int channels = volume.channels();
-        buildSlices(mGeometry, slabs, StackSample{}, counter, mSlices,
-                    [&](const Coord& origin, int firstSlice, Slab<StackSample>& slab) {
-                        // Per thread, not per block: this loop is the stack build's hot path.
-                        thread_local std::vector<float> values;
-                        thread_local std::vector<openvdb::CoordBBox> sampled;
-                        values.resize(layers.size() * kBlockVoxels * 3);
-                        sampled.assign(layers.size(), openvdb::CoordBBox());
-                        openvdb::CoordBBox voxels;
-                        for (std::size_t l = 0; l < layers.size(); ++l) {
-                            sampled[l] = sources[l]->sampleBlock(origin, values.data() + l * kBlockVoxels * 3);
-                            if (!sampled[l].empty()) voxels.expand(sampled[l]);
-                        }
-                        if (voxels.empty()) return;
-                        const auto inside = insideCells(voxels);
-                        for (auto ijk = voxels.begin(); ijk; ++ijk) {
-                            if (!inside(*ijk)) continue;
-                            Combined combined;
-                            for (std::size_t l = 0; l < layers.size(); ++l) {
-                                if (!sampled[l].isInside(*ijk)) continue;
-                                const float* value = values.data() + l * kBlockVoxels * 3 + blockOffset(*ijk) * channels;
-                                const std::array<float, 4> rgba = layers[l].classifier(value);
-                                const float alpha = opacityOverLength(rgba[3], lengthRatio);
-                                if (alpha > 0.0f) combined.add(rgba, alpha);
-                            }
-                            if (combined.layers == 0) continue;
-                            slab.at((*ijk).x(), (*ijk).y(), (*ijk).z() - firstSlice) = combined.sample();
-                        }
-                    },
-                    [&](const StackSample* plane) { return visibleSamples(plane, mGeometry.width, mGeometry.height); });
+        buildSlices(
+            mGeometry, slabs, StackSample{}, counter, mSlices,
+            [&](const Coord& origin, int firstSlice, Slab<StackSample>& slab) {
+                storeClassified(layers, sources, sliceSpacingVoxels, cells, origin, firstSlice, slab);
+            },
+            [&](const StackSample* plane) { return visibleSamples(plane, mGeometry.width, mGeometry.height); });
     }
     for (const auto& source : sources) mGaussiansTouched += source->gaussiansReaching();
 }

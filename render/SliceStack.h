@@ -58,7 +58,24 @@ struct Slice {
     std::vector<RowRun> runs;
     std::vector<StackSample> samples;  ///< classified stacks
     std::vector<float> values;         ///< stacks of values (ValueLevels), laid out as samples are
+
+    /// samples or values, by the type of what is stored: for code written once for both.
+    template <typename Sample>
+    std::vector<Sample>& stored();
+    template <typename Sample>
+    const std::vector<Sample>& stored() const {
+        return const_cast<Slice*>(this)->stored<Sample>();
+    }
 };
+
+template <>
+inline std::vector<StackSample>& Slice::stored() {
+    return samples;
+}
+template <>
+inline std::vector<float>& Slice::stored() {
+    return values;
+}
 
 /// The classification of a stack of values, in levels: the transfer function at
 /// kCount values spread evenly over its points (it is constant beyond them), with
