@@ -37,4 +37,11 @@ __attribute__((always_inline)) inline Floats expNonPositive(Floats t) {
     return p * (Floats)((n + 127) << 23);  // the exponent bits of 2^n
 }
 
+/// Whether this processor runs code compiled with __attribute__((target("avx2"))),
+/// for the hot loops that dispatch to eight lanes at run time.
+inline bool processorHasAvx2() {
+    static const bool has = __builtin_cpu_supports("avx2");
+    return has;
+}
+
 }  // namespace gvr

@@ -16,6 +16,8 @@ std::string FitSettings::validate() const {
     }
     if (voxelBatch == 0 && schedule != SliceSchedule::SlicesOnly) return "--batch must be positive";
     if (refreshEvery == 0) return "--refresh-every must be positive";
+    if (rebinEvery == 0) return "--rebin-every must be positive";
+    if (rowStride < 1 || rowStride > 64) return "--row-stride must lie in [1, 64]";
     if (!(importance.uniformShare >= 0.0 && importance.uniformShare <= 1.0)) return "--mc-lambda must lie in [0, 1]";
     if (!(importance.epsilon > 0.0) || !std::isfinite(importance.epsilon)) return "--mc-epsilon must be a positive number";
     if (slicePixels == 0 && schedule != SliceSchedule::None) return "--slice-pixels must be positive";
@@ -85,6 +87,12 @@ double sliceWeight(const FitSettings& settings, double t) {
         case SliceSchedule::SlicesOnly: return 1.0;
     }
     return 0.0;
+}
+
+bool slicePassRuns(const FitSettings& settings, double t) {
+    const double peak = settings.schedule == SliceSchedule::VoxelsThenSlices ? settings.sliceMax : 1.0;
+    const double weight = sliceWeight(settings, t);
+    return weight > 0.0 && weight >= kSliceSkipShare * peak;
 }
 
 }  // namespace gvr

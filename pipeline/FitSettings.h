@@ -3,7 +3,7 @@
 #pragma once
 
 #include "GaussianKernel.h"
-#include "ImportanceSampler.h"
+#include "BlockSampler.h"
 #include "Initialisation.h"
 
 #include <array>
@@ -38,8 +38,12 @@ struct FitSettings {
     double gradientSeedShare = 0.6;
     double uniformSeedShare = 0.4;
 
-    std::size_t voxelBatch = 32768;  ///< voxel samples per iteration
-    std::size_t refreshEvery = 5;    ///< K: draw new voxel samples every K iterations
+    /// Voxel samples per iteration (expected): whole 8^3 blocks drawn by error, every
+    /// rowStride-th row of each (BlockSampler.h).
+    std::size_t voxelBatch = 32768;
+    int rowStride = 2;
+    std::size_t refreshEvery = 5;    ///< K: draw new blocks every K iterations
+    std::size_t rebinEvery = 50;     ///< iterations between binning every Gaussian afresh
     bool importanceSampling = true;  ///< false: uniform voxels (lambda = 1)
     ImportanceSettings importance;
 
@@ -98,5 +102,11 @@ Ablation ablationFromName(const std::string& name);
 
 /// lambda_s(t) for the schedule; the voxel term gets 1 - lambda_s.
 double sliceWeight(const FitSettings& settings, double t);
+
+/// The slice pass is skipped while lambda_s(t) is below this share of its maximum:
+/// it would cost as much as at full weight and move nothing.
+constexpr double kSliceSkipShare = 0.01;
+/// Whether the slice pass runs at @a t.
+bool slicePassRuns(const FitSettings& settings, double t);
 
 }  // namespace gvr

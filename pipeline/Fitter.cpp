@@ -1,10 +1,12 @@
 #include "Fitter.h"
 
 #include "Adam.h"
+#include "BlockLoss.h"
 #include "Error.h"
 #include "Loss.h"
 #include "Pruning.h"
 #include "SliceSampler.h"
+#include "UniformVoxels.h"
 
 #include <tbb/parallel_for.h>
 
@@ -40,15 +42,12 @@ void fillVoxelTargets(const VolumeTarget& target, SampleSet& set) {
     });
 }
 
-SampleSet voxelSampleSet(const VolumeTarget& target, const std::vector<VoxelSample>& samples) {
+/// Voxels weighted equally, for a plain mean of their squared residuals.
+SampleSet voxelSampleSet(const VolumeTarget& target, const std::vector<openvdb::Coord>& voxels) {
     SampleSet set;
-    set.points.resize(samples.size());
-    set.weights.resize(samples.size());
-    for (std::size_t s = 0; s < samples.size(); ++s) {
-        const openvdb::Coord& ijk = samples[s].ijk;
-        set.points[s] = {float(ijk.x()), float(ijk.y()), float(ijk.z())};
-        set.weights[s] = samples[s].weight / float(samples.size());
-    }
+    set.points.resize(voxels.size());
+    set.weights.assign(voxels.size(), 1.0f / float(voxels.size()));
+    for (std::size_t s = 0; s < voxels.size(); ++s) set.points[s] = {float(voxels[s].x()), float(voxels[s].y()), float(voxels[s].z())};
     fillVoxelTargets(target, set);
     return set;
 }
@@ -66,34 +65,34 @@ SampleSet sliceSampleSet(const VolumeTarget& target, std::size_t pixels, std::ui
 
 /// Fixed voxels for the PSNR curve, drawn uniformly: at most a tenth of the box, so
 /// that training keeps nearly every voxel (none at all from fewer than ten voxels).
-std::vector<VoxelSample> heldOutVoxels(const VolumeTarget& target, std::size_t count, std::uint64_t seed) {
-    ImportanceSettings uniform;
-    uniform.uniformShare = 1.0;
+std::vector<openvdb::Coord> heldOutVoxels(const VolumeTarget& target, std::size_t count, std::uint64_t seed) {
     count = std::min<std::size_t>(count, std::size_t(target.box().volume() / 10));
-    if (count == 0) return {};
-    return ImportanceSampler(target.box(), uniform).draw(count, seed);
+    return drawUniformVoxels(target.box(), count, seed);
 }
 
-/// Where the residual of the last voxel batch is largest, one site per voxel.
-std::vector<RespawnSite> respawnSites(const SampleSet& set, const std::vector<float>& squared,
-                                      const GaussianField& field, std::size_t wanted) {
-    std::vector<std::size_t> order(set.size());
-    for (std::size_t s = 0; s < order.size(); ++s) order[s] = s;
-    wanted = std::min(wanted, order.size());
-    std::partial_sort(order.begin(), order.begin() + wanted, order.end(),
-                      [&](std::size_t a, std::size_t b) { return squared[a] > squared[b] || (squared[a] == squared[b] && a < b); });
-    std::vector<RespawnSite> sites;
-    std::vector<std::uint32_t> hits;
-    const int channels = field.channels();
-    for (std::size_t k = 0; k < wanted; ++k) {
-        const std::size_t s = order[k];
-        RespawnSite site{set.points[s], {0, 0, 0}};
-        float value[3];
-        field.evaluate(site.position.data(), value, hits);
-        for (int c = 0; c < channels; ++c) site.residual[c] = set.targets[s * channels + c] - value[c];
-        if (sites.empty() || sites.back().position != site.position) sites.push_back(site);
+/// Where the residual of the last voxel batch is largest: the worst voxel of each
+/// of the @a wanted worst blocks.
+std::vector<RespawnSite> respawnSites(const std::vector<BlockOutcome>& outcomes, std::size_t wanted) {
+    std::vector<std::size_t> order;
+    for (std::size_t k = 0; k < outcomes.size(); ++k) {
+        if (outcomes[k].worstSquared > 0.0f) order.push_back(k);
     }
+    wanted = std::min(wanted, order.size());
+    std::partial_sort(order.begin(), order.begin() + wanted, order.end(), [&](std::size_t a, std::size_t b) {
+        return outcomes[a].worstSquared > outcomes[b].worstSquared || (outcomes[a].worstSquared == outcomes[b].worstSquared && a < b);
+    });
+    std::vector<RespawnSite> sites;
+    for (std::size_t k = 0; k < wanted; ++k) sites.push_back(outcomes[order[k]].worst);
     return sites;
+}
+
+/// Each block's mean squared residual over the voxels it evaluated (NaN for none).
+std::vector<double> meanSquaredPerBlock(const std::vector<BlockOutcome>& outcomes) {
+    std::vector<double> means(outcomes.size());
+    for (std::size_t k = 0; k < outcomes.size(); ++k) {
+        means[k] = outcomes[k].voxels ? outcomes[k].squared / outcomes[k].voxels : std::nan("");
+    }
+    return means;
 }
 
 /// Keeps every parameter inside the ranges where the kernel is well defined.
@@ -125,7 +124,10 @@ class FitLoop {
 public:
     FitLoop(const VolumeTarget& target, const FitSettings& settings)
         : mTarget(target), mSettings(settings), mStart(Clock::now()),
-          mSampler(target.box(), samplerSettings(settings)) {}
+          mHeldOut(heldOutVoxels(target, settings.heldOutVoxels, streamSeed(settings.seed, kHeldOut, 0))),
+          mGrid(target.box(), mHeldOut),  // an honest PSNR curve: training never sees them
+          mSampler(mGrid, samplerSettings(settings), settings.rowStride),
+          mBins(mGrid, kBinSlackVoxels, kBinSlackFraction) {}
 
     GaussianParameters run(const FitObserver& observer, FitReport& report);
 
@@ -171,18 +173,29 @@ private:
     std::size_t trainableCount() const;
     void fitCountToTheTime();
     double step(std::size_t iteration, double fraction, FitProgress& progress);
-    bool refreshField();
+    double voxelLoss(std::size_t iteration, double share);
+    void refreshField(std::size_t iteration);
+    double heldOutPsnr(const SampleSet& heldOut) const;
+
+    /// How far a Gaussian's truncated bounds are grown where it is binned (voxels,
+    /// and a share of its half-extent), so that it may move a while in its blocks.
+    static constexpr float kBinSlackVoxels = 0.5f;
+    static constexpr float kBinSlackFraction = 0.05f;
 
     const VolumeTarget& mTarget;
     const FitSettings& mSettings;
     Clock::time_point mStart;
-    ImportanceSampler mSampler;
+    std::vector<openvdb::Coord> mHeldOut;
+    BlockGrid mGrid;
+    BlockSampler mSampler;
+    BlockBins mBins;
     GaussianParameters mParams, mGradient, mBackup;
     GaussianField mField;
     GradientChunks mChunks;
-    std::vector<VoxelSample> mLastDraw;
-    SampleSet mVoxels;
-    std::vector<float> mVoxelResiduals;
+    std::vector<SampledBlock> mBlocks;
+    std::vector<BlockOutcome> mOutcomes;
+    bool mRebin = true;              ///< the count or the numbering changed: bin afresh
+    std::size_t mBinnedAt = 0;       ///< iteration of the last binning
     std::unique_ptr<Adam> mAdam;
     FitReport mReport;
 
@@ -208,9 +221,9 @@ void FitLoop::initialise(std::size_t count) {
     mParams = initialiseGaussians(mTarget, seeds);
     mReport.requestedGaussians = count < mSettings.gaussians ? mSettings.gaussians : 0;
     mAdam = std::make_unique<Adam>(mParams.count(), mParams.channels);
-    mVoxels = SampleSet();
-    mVoxelResiduals.clear();
-    mLastDraw.clear();
+    mBlocks.clear();
+    mOutcomes.clear();
+    mRebin = true;
     mPaceStart = elapsed();
     mPaceIterations = 0;
 }
@@ -252,44 +265,57 @@ void FitLoop::fitCountToTheTime() {
     if (restart) initialise(trainable);
 }
 
-/// Brings the field up to date with the parameters; rebuilds the BVH only when
-/// a Gaussian has left its slack box. @return true when the BVH was rebuilt.
-bool FitLoop::refreshField() {
-    if (mField.update(mParams)) return false;
-    // Slack lets most steps skip the rebuild; queries stay exact either way.
-    mField.rebuild(mParams, mSettings.cutoffSigmas, /*fastBuild=*/true, 0.75f, 0.1f);
-    return true;
+/// Brings the field and its bins up to date with the parameters: the few Gaussians
+/// that moved out of their blocks are binned again, and every Gaussian is binned
+/// afresh (the BVH rebuilt, one query per block) every rebinEvery iterations, or
+/// when the count or the numbering changed.
+void FitLoop::refreshField(std::size_t iteration) {
+    if (mRebin || iteration >= mBinnedAt + mSettings.rebinEvery) {
+        mField.rebuild(mParams, mSettings.cutoffSigmas, /*fastBuild=*/true, kBinSlackVoxels, kBinSlackFraction);
+        mBins.build(mField);
+        mRebin = false;
+        mBinnedAt = iteration;
+        return;
+    }
+    mField.reactivate(mParams);
+    mBins.follow(mField);
+}
+
+/// The voxel term over this iteration's blocks, its gradient into mChunks, and
+/// what each block showed into the sampler's errors.
+double FitLoop::voxelLoss(std::size_t iteration, double share) {
+    if (iteration % mSettings.refreshEvery == 0 || mBlocks.empty()) {
+        mBlocks = mSampler.draw(double(mSettings.voxelBatch), streamSeed(mSettings.seed, kVoxels, iteration));
+    }
+    BlockLossSettings settings;
+    settings.scale = share / double(std::max<std::uint64_t>(mGrid.trainableVoxels(), 1));
+    settings.rowStride = mSampler.rowStride();
+    const double loss = blockSquaredError(mField, mBins, mTarget, mBlocks, settings, &mChunks, &mOutcomes);
+    if (std::isfinite(loss)) mSampler.recordErrors(mBlocks, meanSquaredPerBlock(mOutcomes));
+    return loss;
 }
 
 double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progress) {
     const double sliceShare = sliceWeight(mSettings, fraction);
     const double voxelShare = 1.0 - sliceShare;
-    const bool rebuilt = refreshField();
+    refreshField(iteration);
     mChunks.reset(mParams.count());
 
     double loss = 0.0;
-    if (voxelShare > 0.0) {
-        const bool redraw = iteration % mSettings.refreshEvery == 0 || mVoxels.size() == 0;
-        if (redraw) {
-            if (!mVoxelResiduals.empty()) mSampler.recordErrors(mLastDraw, mVoxelResiduals);
-            mLastDraw = mSampler.draw(mSettings.voxelBatch, streamSeed(mSettings.seed, kVoxels, iteration));
-            mVoxels = voxelSampleSet(mTarget, mLastDraw);
-        }
-        if (redraw || rebuilt) findCandidates(mField, mVoxels);
-        loss += weightedSquaredError(mField, mVoxels, voxelShare, &mChunks, &mVoxelResiduals);
-    }
-    if (sliceShare > 0.0) {
+    if (voxelShare > 0.0) loss += voxelLoss(iteration, voxelShare);
+    if (slicePassRuns(mSettings, fraction)) {
         const SampleSet slice = sliceSampleSet(mTarget, mSettings.slicePixels,
                                                streamSeed(mSettings.seed, kSlices, iteration));
-        loss += weightedSquaredError(mField, slice, sliceShare, &mChunks);
+        loss += weightedSquaredError(mField, slice, sliceShare, &mChunks, &mBins);
     }
-    mChunks.sumInto(mField, mGradient);
+    const std::size_t touched = mChunks.sumInto(mField, mGradient);
     if (mSettings.gradientHook) mSettings.gradientHook(iteration, mGradient);
     progress.sliceWeight = sliceShare;
+    progress.gradientShare = mParams.count() ? double(touched) / double(mParams.count()) : 0.0;
 
     if (!std::isfinite(loss) || !mGradient.allFinite()) {
         ++mReport.skippedSteps;
-        mVoxelResiduals.clear();  // NaN residuals would poison the sampler's errors and the respawn order
+        mOutcomes.clear();  // NaN residuals would poison the respawn order
         return loss;
     }
     mBackup = mParams;
@@ -302,6 +328,11 @@ double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progre
     return loss;
 }
 
+double FitLoop::heldOutPsnr(const SampleSet& heldOut) const {
+    // The loss sums channels; PSNR uses the mean over channels.
+    return psnrFromMse(weightedSquaredError(mField, heldOut, 1.0, nullptr, &mBins) / mTarget.channels(), mTarget.peak());
+}
+
 void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOutCoords, const SampleSet& heldOut,
                                       std::size_t iteration, const FitObserver& observer) {
     AmplitudeSolveSettings solve;
@@ -312,7 +343,8 @@ void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOut
     if (mSettings.storedGeometry) mParams = mSettings.storedGeometry(mParams);
     mReport.amplitudeSolve = solveAmplitudes(mParams, mTarget, solve);
     if (!observer || mParams.count() == 0) return;
-    refreshField();
+    mRebin = true;  // stored geometry may hold fewer Gaussians
+    refreshField(iteration);
     FitProgress progress;
     progress.iteration = iteration;
     progress.seconds = elapsed();
@@ -320,17 +352,12 @@ void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOut
     progress.gaussians = mParams.count();
     progress.skippedSteps = mReport.skippedSteps;
     progress.heldOutEvaluated = true;
-    progress.heldOutPsnr = psnrFromMse(weightedSquaredError(mField, heldOut, 1.0) / mTarget.channels(), mTarget.peak());
+    progress.heldOutPsnr = heldOutPsnr(heldOut);
     observer(progress);
 }
 
 GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) {
-    const std::vector<VoxelSample> heldOutDraw =
-        heldOutVoxels(mTarget, mSettings.heldOutVoxels, streamSeed(mSettings.seed, kHeldOut, 0));
-    std::vector<openvdb::Coord> heldOutCoords;
-    for (const VoxelSample& sample : heldOutDraw) heldOutCoords.push_back(sample.ijk);
-    mSampler.exclude(heldOutCoords);  // an honest PSNR curve: training never sees them
-    const SampleSet heldOut = voxelSampleSet(mTarget, heldOutDraw);
+    const SampleSet heldOut = voxelSampleSet(mTarget, mHeldOut);
     mPacing = mSettings.seconds > 0.0 && mSettings.minSamplesPerGaussian > 0.0 && mSettings.voxelBatch > 0;
     // Timing a probe rather than the whole allowance keeps the peak memory near
     // what the time can train, not what the byte budget allows.
@@ -345,13 +372,12 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
         ++iteration;
         if (mPacing && ++mPaceIterations == kPaceIterations) fitCountToTheTime();
 
-        if (mSettings.pruneEvery > 0 && iteration % mSettings.pruneEvery == 0 && !mVoxelResiduals.empty()) {
-            const std::size_t budget = mParams.count();
-            const std::vector<RespawnSite> sites =
-                respawnSites(mVoxels, mVoxelResiduals, mField, budget / 20 + 1);
+        if (mSettings.pruneEvery > 0 && iteration % mSettings.pruneEvery == 0 && !mOutcomes.empty()) {
+            const std::vector<RespawnSite> sites = respawnSites(mOutcomes, mParams.count() / 20 + 1);
             const PruneResult pruned = pruneAndRespawn(mParams, *mAdam, mSettings.pruneAmplitude, sites);
             mReport.pruned += pruned.removed;
             mReport.respawned += pruned.respawned;
+            mRebin = mRebin || pruned.removed > 0 || pruned.respawned > 0;
         }
         progress.iteration = iteration;
         progress.seconds = elapsed();
@@ -359,16 +385,14 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
         progress.gaussians = mParams.count();
         progress.skippedSteps = mReport.skippedSteps;
         if (iteration % mSettings.logEvery == 0 || progress.fraction >= 1.0) {
-            refreshField();
+            refreshField(iteration);
             progress.heldOutEvaluated = true;
-            // The loss sums channels; PSNR uses the mean over channels.
-            const double mse = weightedSquaredError(mField, heldOut, 1.0) / mTarget.channels();
-            progress.heldOutPsnr = psnrFromMse(mse, mTarget.peak());
+            progress.heldOutPsnr = heldOutPsnr(heldOut);
         }
         if (observer) observer(progress);
     }
     mReport.iterations = iteration;
-    if (mSettings.amplitudeSolveIterations > 0) solveAmplitudesAtTheEnd(heldOutCoords, heldOut, iteration, observer);
+    if (mSettings.amplitudeSolveIterations > 0) solveAmplitudesAtTheEnd(mHeldOut, heldOut, iteration, observer);
     mReport.seconds = elapsed();
     report = mReport;
     return std::move(mParams);

@@ -19,6 +19,7 @@ struct FitProgress {
     double fraction = 0.0;       ///< of the budget spent, in [0, 1]
     double loss = 0.0;           ///< lambda_v * voxel term + lambda_s * slice term
     double sliceWeight = 0.0;    ///< lambda_s at this iteration
+    double gradientShare = 0.0;  ///< of the Gaussians, the share that got a gradient
     bool heldOutEvaluated = false;
     double heldOutPsnr = 0.0;    ///< dB, on the fixed held-out voxels; peak = target.peak()
     std::size_t gaussians = 0;

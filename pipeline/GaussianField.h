@@ -31,6 +31,12 @@ public:
     ///         then, before evaluating (the field may be half updated).
     bool update(const GaussianParameters& params);
 
+    /// Re-activates the Gaussians of @a params (the same count as at the last
+    /// rebuild) and leaves the BVH as it was, even where a Gaussian has left its box:
+    /// for callers that follow the moves themselves (BlockBins::follow), never for
+    /// queries of the BVH.
+    void reactivate(const GaussianParameters& params);
+
     /// f at @a x into value[0..channels). @a hits is scratch space, one per thread;
     /// it is left holding the indices of the Gaussians that reach x.
     void evaluate(const float x[3], float* value, std::vector<std::uint32_t>& hits) const {
@@ -42,6 +48,7 @@ public:
 
     int channels() const { return mChannels; }
     float cutoff2() const { return mCutoff2; }
+    float cutoffSigmas() const { return mCutoffSigmas; }
     const std::vector<ActiveGaussian>& gaussians() const { return mGaussians; }
     const GaussianBvh& bvh() const { return mBvh; }
 

@@ -2,7 +2,7 @@
 
 #include "GaussianBvh.h"
 #include "GaussianField.h"
-#include "ImportanceSampler.h"
+#include "UniformVoxels.h"
 
 #include <tbb/parallel_for.h>
 
@@ -123,16 +123,13 @@ void balanceColours(GaussianParameters& params, const VolumeTarget& target,
 /// sum(f t) / sum(f^2) over random voxels, per channel.
 void matchOverallLevel(GaussianParameters& params, const VolumeTarget& target, std::uint64_t seed) {
     const GaussianField field(params, kDefaultCutoffSigmas);
-    ImportanceSettings uniform;
-    uniform.uniformShare = 1.0;
-    const std::vector<VoxelSample> samples = ImportanceSampler(target.box(), uniform).draw(20000, seed);
     double fieldTarget[3] = {0, 0, 0}, fieldSquared[3] = {0, 0, 0};
     std::vector<std::uint32_t> hits;
-    for (const VoxelSample& sample : samples) {
+    for (const openvdb::Coord& ijk : drawUniformVoxels(target.box(), 20000, seed)) {
         float value[3], expected[3];
-        const float x[3] = {float(sample.ijk.x()), float(sample.ijk.y()), float(sample.ijk.z())};
+        const float x[3] = {float(ijk.x()), float(ijk.y()), float(ijk.z())};
         field.evaluate(x, value, hits);
-        target.valueAt(sample.ijk, expected);
+        target.valueAt(ijk, expected);
         for (int c = 0; c < params.channels; ++c) {
             fieldTarget[c] += double(value[c]) * expected[c];
             fieldSquared[c] += double(value[c]) * value[c];

@@ -257,11 +257,6 @@ __attribute__((target("avx2"))) void addRowTermsAvx2(const BlockQuadratic& quad,
     addRowTerms<Floats8>(quad, origin, reached, inCells, cutoff2, amplitude, channels, sums);
 }
 
-bool hasAvx2() {
-    static const bool has = __builtin_cpu_supports("avx2");
-    return has;
-}
-
 }  // namespace
 
 CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums, float skipUpTo,
@@ -274,7 +269,7 @@ CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums, float sk
     alignas(16) std::int32_t inCells[kBlockVoxels] = {};
     float points[kBlockVoxels][3];
     const bool exact = evaluation == BlockEvaluation::exact;
-    const bool eightLanes = evaluation == BlockEvaluation::rows && hasAvx2();
+    const bool eightLanes = evaluation == BlockEvaluation::rows && processorHasAvx2();
     // Rows need only the mask; exact evaluation also needs each point.
     const bool allInCells = !exact && allVoxelsInside(voxels, mFieldFromLattice, mFieldCells);
     for (auto ijk = voxels.begin(); ijk; ++ijk) {

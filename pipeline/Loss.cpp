@@ -2,9 +2,11 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace gvr {
 
@@ -30,12 +32,13 @@ GradientSums& GradientChunks::sumsOf(std::size_t c, std::uint32_t index) {
     return mSums[c][slot];
 }
 
-void GradientChunks::sumInto(const GaussianField& field, GaussianParameters& gradient) const {
+std::size_t GradientChunks::sumInto(const GaussianField& field, GaussianParameters& gradient) const {
     const std::size_t count = field.gaussians().size();
     if (gradient.count() != count || gradient.channels != field.channels()) {
         gradient = GaussianParameters(count, field.channels());
     }
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+    return tbb::parallel_reduce(tbb::blocked_range<std::size_t>(0, count, 4096), std::size_t(0),
+                                [&](const tbb::blocked_range<std::size_t>& range, std::size_t touched) {
         for (int group = 0; group < kGroupCount; ++group) {
             const std::size_t width = std::size_t(gradient.width(ParameterGroup(group)));
             std::fill(gradient.values[group].begin() + range.begin() * width,
@@ -50,9 +53,12 @@ void GradientChunks::sumInto(const GaussianField& field, GaussianParameters& gra
                 total += mSums[c][slot];
                 written = true;
             }
-            if (written) accumulateGradient(field.gaussians()[index], index, total, gradient);
+            if (!written) continue;
+            accumulateGradient(field.gaussians()[index], index, total, gradient);
+            ++touched;
         }
-    });
+        return touched;
+    }, std::plus<std::size_t>());
 }
 
 namespace {
@@ -66,7 +72,7 @@ struct Contribution {
 
 /// f(x) into value[] from the Gaussians @a ids[0..count), recording every
 /// contribution inside the cutoff. @a idsAscending: the ids come sorted, as
-/// findCandidates() stores them, so the contributions need no sorting.
+/// BlockBins keeps them, so the contributions need no sorting.
 void evaluateRecorded(const GaussianField& field, const float x[3], const std::uint32_t* ids,
                       std::size_t count, bool idsAscending, float* value, std::vector<Contribution>& contributions) {
     contributions.clear();
@@ -94,7 +100,7 @@ void evaluateRecorded(const GaussianField& field, const float x[3], const std::u
 /// Sum of w_s |f(x_s) - t_s|^2 over points [begin, end), point by point.
 double pointsSquaredError(const GaussianField& field, const SampleSet& samples, std::size_t begin,
                           std::size_t end, double scale, GradientChunks* gradients, std::size_t chunk,
-                          std::vector<float>* squaredResiduals) {
+                          const BlockBins* bins) {
     const int channels = field.channels();
     std::vector<std::uint32_t> hits;
     std::vector<Contribution> contributions;
@@ -102,12 +108,12 @@ double pointsSquaredError(const GaussianField& field, const SampleSet& samples, 
     double sum = 0.0;
     for (std::size_t s = begin; s < end; ++s) {
         const float* x = samples.points[s].data();
-        if (samples.candidateStart.empty()) {
+        if (bins) {
+            const std::vector<std::uint32_t>& near = bins->gaussiansNear(x);
+            evaluateRecorded(field, x, near.data(), near.size(), true, value, contributions);
+        } else {
             field.bvh().query(x, hits);
             evaluateRecorded(field, x, hits.data(), hits.size(), false, value, contributions);
-        } else {
-            const std::uint32_t first = samples.candidateStart[s], last = samples.candidateStart[s + 1];
-            evaluateRecorded(field, x, samples.candidates.data() + first, last - first, true, value, contributions);
         }
         float squared = 0.0f;
         for (int ch = 0; ch < channels; ++ch) {
@@ -116,7 +122,6 @@ double pointsSquaredError(const GaussianField& field, const SampleSet& samples, 
             upstream[ch] = float(2.0 * scale * samples.weights[s] * residual);
         }
         sum += double(samples.weights[s]) * squared;
-        if (squaredResiduals) (*squaredResiduals)[s] = squared;
         if (!gradients) continue;
         for (const Contribution& c : contributions) {
             gradients->sumsOf(chunk, c.index).add(field.gaussians()[c.index], channels, c.u, c.e, upstream);
@@ -127,34 +132,13 @@ double pointsSquaredError(const GaussianField& field, const SampleSet& samples, 
 
 }  // namespace
 
-void findCandidates(const GaussianField& field, SampleSet& samples) {
-    const std::size_t n = samples.size();
-    std::array<std::vector<std::uint32_t>, GradientChunks::kChunks> ids, counts;
-    tbb::parallel_for(std::size_t(0), GradientChunks::kChunks, [&](std::size_t c) {
-        std::vector<std::uint32_t> hits;
-        for (std::size_t s = c * n / GradientChunks::kChunks; s < (c + 1) * n / GradientChunks::kChunks; ++s) {
-            field.bvh().query(samples.points[s].data(), hits);
-            std::sort(hits.begin(), hits.end());  // once per draw, not once per iteration
-            ids[c].insert(ids[c].end(), hits.begin(), hits.end());
-            counts[c].push_back(std::uint32_t(hits.size()));
-        }
-    });
-    samples.candidateStart.assign(1, 0);
-    samples.candidates.clear();
-    for (std::size_t c = 0; c < GradientChunks::kChunks; ++c) {
-        samples.candidates.insert(samples.candidates.end(), ids[c].begin(), ids[c].end());
-        for (std::uint32_t count : counts[c]) samples.candidateStart.push_back(samples.candidateStart.back() + count);
-    }
-}
-
 double weightedSquaredError(const GaussianField& field, const SampleSet& samples, double scale,
-                            GradientChunks* gradients, std::vector<float>* squaredResiduals) {
+                            GradientChunks* gradients, const BlockBins* bins) {
     const std::size_t n = samples.size();
-    if (squaredResiduals) squaredResiduals->assign(n, 0.0f);
     std::array<double, GradientChunks::kChunks> partial{};
     tbb::parallel_for(std::size_t(0), GradientChunks::kChunks, [&](std::size_t c) {
         partial[c] = pointsSquaredError(field, samples, c * n / GradientChunks::kChunks,
-                                        (c + 1) * n / GradientChunks::kChunks, scale, gradients, c, squaredResiduals);
+                                        (c + 1) * n / GradientChunks::kChunks, scale, gradients, c, bins);
     });
     double total = 0.0;
     for (double p : partial) total += p;

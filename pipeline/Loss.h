@@ -5,6 +5,7 @@
 /// summed in chunk order: results do not depend on the thread count or scheduling.
 #pragma once
 
+#include "BlockBins.h"
 #include "GaussianField.h"
 
 #include <array>
@@ -17,17 +18,8 @@ struct SampleSet {
     std::vector<std::array<float, 3>> points;  ///< index space
     std::vector<float> targets;                ///< channels per point, normalised units
     std::vector<float> weights;                ///< one per point
-    /// Optional, from findCandidates(): the Gaussians to try at point s are
-    /// candidates[candidateStart[s] .. candidateStart[s + 1]). Empty: ask the BVH.
-    std::vector<std::uint32_t> candidateStart, candidates;
     std::size_t size() const { return points.size(); }
 };
-
-/// Records, for every point of @a samples, the Gaussians whose BVH boxes hold it,
-/// in ascending order.
-/// They stay a superset of the Gaussians that reach the point for as long as
-/// GaussianField::update() succeeds, so the loss can skip the BVH until then.
-void findCandidates(const GaussianField& field, SampleSet& samples);
 
 /// One gradient buffer per chunk, reused across iterations. A chunk keeps the
 /// GradientSums of each Gaussian it touched, so that the rotation and quaternion
@@ -43,8 +35,8 @@ public:
     /// Gaussian @a index's sums in chunk @a c, to add a point to.
     GradientSums& sumsOf(std::size_t c, std::uint32_t index);
     /// dL/dparams of every Gaussian of @a field into @a gradient (overwritten),
-    /// summing the chunks in chunk order.
-    void sumInto(const GaussianField& field, GaussianParameters& gradient) const;
+    /// summing the chunks in chunk order. @return how many Gaussians got a gradient.
+    std::size_t sumInto(const GaussianField& field, GaussianParameters& gradient) const;
 
 private:
     static constexpr std::uint32_t kUntouched = ~std::uint32_t(0);
@@ -54,11 +46,11 @@ private:
     std::array<std::vector<std::uint32_t>, kChunks> mSlots;   ///< Gaussian -> slot, or kUntouched
 };
 
-/// L = scale * sum_s w_s |f(x_s) - t_s|^2 over @a samples.
+/// L = scale * sum_s w_s |f(x_s) - t_s|^2 over @a samples, point by point.
 /// @param gradients  when not null, dL/dparams is added into its chunks
-/// @param squaredResiduals  when not null, receives |f(x_s) - t_s|^2 per sample
+/// @param bins  when not null, where to find the Gaussians near each point (a
+///              fit's bins, whose field's BVH is not kept current); else the BVH
 double weightedSquaredError(const GaussianField& field, const SampleSet& samples, double scale,
-                            GradientChunks* gradients = nullptr,
-                            std::vector<float>* squaredResiduals = nullptr);
+                            GradientChunks* gradients = nullptr, const BlockBins* bins = nullptr);
 
 }  // namespace gvr

@@ -118,6 +118,38 @@ void VolumeTarget::valueAt(const openvdb::Coord& ijk, float* out) const {
     if (mTaper) applyTaper(ijk, out);
 }
 
+namespace {
+
+/// The values of one leaf-sized block of @a tree, in physical units, through @a put(offset, value).
+template <typename TreeT, typename Put>
+void forEachBlockValue(const TreeT& tree, const openvdb::Coord& origin, const Put& put) {
+    using LeafT = typename TreeT::LeafNodeType;
+    if (const LeafT* leaf = tree.probeConstLeaf(origin)) {
+        for (openvdb::Index offset = 0; offset < LeafT::SIZE; ++offset) put(int(offset), leaf->getValue(offset));
+        return;
+    }
+    const auto value = tree.getValue(origin);  // a tile or the background: one value for the block
+    for (openvdb::Index offset = 0; offset < LeafT::SIZE; ++offset) put(int(offset), value);
+}
+
+}  // namespace
+
+void VolumeTarget::blockValues(const openvdb::Coord& origin, float* out) const {
+    if (mFloat) {
+        forEachBlockValue(mFloat->tree(), origin,
+                          [&](int offset, float v) { out[offset] = float(mMapping.toNormalised(v, 0)); });
+    } else {
+        forEachBlockValue(mColour->tree(), origin, [&](int offset, const openvdb::Vec3s& v) {
+            for (int c = 0; c < 3; ++c) out[3 * offset + c] = float(mMapping.toNormalised(v[c], c));
+        });
+    }
+    if (!mTaper) return;
+    for (int offset = 0; offset < 512; ++offset) {
+        const openvdb::Coord ijk = origin.offsetBy(offset >> 6, (offset >> 3) & 7, offset & 7);
+        applyTaper(ijk, out + offset * mChannels);
+    }
+}
+
 void VolumeTarget::applyTaper(const openvdb::Coord& ijk, float* out) const {
     const float weight = mTaper->at(ijk);
     for (int c = 0; c < mChannels; ++c) out[c] *= weight;

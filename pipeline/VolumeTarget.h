@@ -35,6 +35,10 @@ public:
     const openvdb::GridBase& grid() const { return *mGrid; }
 
     void valueAt(const openvdb::Coord& ijk, float* out) const;
+    /// The 8^3 block at @a origin (a multiple of 8 on every axis, as OpenVDB leaves
+    /// are) into out[channels() * offset], offsets as openvdb::tree::LeafNode numbers
+    /// voxels: what valueAt() gives at each, read a leaf at a time.
+    void blockValues(const openvdb::Coord& origin, float* out) const;
     bool isActive(const openvdb::Coord& ijk) const;
     /// Trilinear interpolation between voxel centres at index-space point @a x.
     void trilinearAt(const float x[3], float* out) const;

@@ -1,0 +1,52 @@
+/// @file BlockLoss.h
+/// @brief The voxel loss over sampled 8^3 blocks, with its gradient in the same pass.
+///
+/// Each block's Gaussians come from its bin. For each (Gaussian, block) pair the
+/// Gaussian's q is a quadratic in the voxel position, stepped along the rows (z)
+/// of the block and put through a polynomial exp several lanes at a time (pass 1,
+/// which also keeps the kernel values). With the residuals known, pass 2 sums what
+/// the pair's voxels give the gradient as moments in the block's frame (the sums of
+/// t, t r and t r r^T, and of upstream * e), converted once per pair to the
+/// Gaussian's own frame (GradientSums): one gradient write per pair, not per voxel.
+#pragma once
+
+#include "BlockBins.h"
+#include "BlockSampler.h"
+#include "Loss.h"
+#include "Pruning.h"
+#include "VolumeTarget.h"
+
+#include <vector>
+
+namespace gvr {
+
+/// What one sampled block showed.
+struct BlockOutcome {
+    double squared = 0.0;        ///< sum of |f - t|^2 over the voxels evaluated (channels summed)
+    std::uint32_t voxels = 0;    ///< trainable voxels evaluated
+    float worstSquared = -1.0f;  ///< the largest |f - t|^2 among them; -1 when none
+    RespawnSite worst{};         ///< that voxel, and target - f there
+};
+
+enum class BlockKernel {
+    best,       ///< eight lanes where the processor has AVX2, else four
+    fourLanes,  ///< four lanes on any processor, for tests against best
+};
+
+struct BlockLossSettings {
+    double scale = 1.0;  ///< multiplies every weighted squared residual
+    int rowStride = 1;   ///< the sampler's k: rows with (x + y) mod k = the block's phase
+    BlockKernel kernel = BlockKernel::best;
+};
+
+/// L = scale * sum over @a blocks of weight_b * sum over the trainable voxels of the
+/// block's sampled rows of |f(x) - t(x)|^2, f the truncated field at voxel centres.
+/// The result does not depend on the thread count.
+/// @param gradients  when not null, dL/dparams is added into its chunks, a fixed
+///                   run of blocks per chunk
+/// @param outcomes   when not null, receives one per block
+double blockSquaredError(const GaussianField& field, const BlockBins& bins, const VolumeTarget& target,
+                         const std::vector<SampledBlock>& blocks, const BlockLossSettings& settings,
+                         GradientChunks* gradients = nullptr, std::vector<BlockOutcome>* outcomes = nullptr);
+
+}  // namespace gvr
