@@ -75,13 +75,15 @@ public:
         mOut.open(path);
         if (!mOut) throw InputError(path, "cannot write the fit log");
         mOut << "# gvr fit log; PSNR on fixed held-out voxels, excluded from training; peak = " << peak
-             << " (the normalised data range)\n"
-             << "iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib\n";
+             << " (the normalised data range); gradient_share: of the Gaussians, the share that got a gradient"
+             << " in that iteration; the slice pass is skipped while its weight is below "
+             << 100.0 * kSliceSkipShare << " % of its maximum\n"
+             << "iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib,gradient_share\n";
     }
     void record(const FitProgress& p) {
         if (!mOut.is_open() || !p.heldOutEvaluated) return;
         mOut << p.iteration << "," << p.seconds << "," << p.loss << "," << formatDb(p.heldOutPsnr) << ","
-             << p.gaussians << "," << peakRssMiB() << "\n" << std::flush;
+             << p.gaussians << "," << peakRssMiB() << "," << p.gradientShare << "\n" << std::flush;
     }
 
 private:
@@ -135,6 +137,9 @@ void report(const FitFlags& flags, const CompressResult& result, double peak, co
                               {"ratio_vs_raw", double(rawBytes) / fileBytes},
                               {"ratio_vs_float32", double(floatBytes) / fileBytes},
                               {"iterations", fit.iterations}, {"seconds", fit.seconds},
+                              {"voxel_samples", fit.voxelSamples},
+                              {"voxel_samples_per_second", fit.adamSeconds > 0.0 ? fit.voxelSamples / fit.adamSeconds : 0.0},
+                              {"mean_gradient_share", fit.meanGradientShare},
                               {"psnr_db", jsonNumber(error.psnr)}, {"fg_psnr_db", jsonNumber(error.foregroundPsnr)},
                               {"peak", peak}, {"skipped_steps", fit.skippedSteps},
                               {"pruned", fit.pruned}, {"respawned", fit.respawned},
@@ -290,8 +295,13 @@ void runFit(FitFlags& flags) {
 }
 
 void addTuningFlags(CLI::App& command, FitSettings& s) {
-    command.add_option("--batch", s.voxelBatch, "Voxel samples per iteration")->capture_default_str();
-    command.add_option("--refresh-every", s.refreshEvery, "K: redraw the voxel samples every K iterations")->capture_default_str();
+    command.add_option("--batch", s.voxelBatch, "Voxel samples per iteration (expected), in whole 8^3 blocks drawn by error")
+        ->capture_default_str();
+    command.add_option("--row-stride", s.rowStride, "Evaluate every k-th row (along z) of a drawn block, weighted by k")
+        ->capture_default_str();
+    command.add_option("--refresh-every", s.refreshEvery, "K: redraw the blocks every K iterations")->capture_default_str();
+    command.add_option("--rebin-every", s.rebinEvery, "Iterations between binning every Gaussian to its blocks afresh")
+        ->capture_default_str();
     command.add_option("--min-samples", s.minSamplesPerGaussian,
                        "With --ratio and --time: fit fewer Gaussians than the ratio allows when the time cannot give "
                        "each about this many voxel samples, measured over the first iterations (0: never)")

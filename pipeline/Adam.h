@@ -1,5 +1,5 @@
 /// @file Adam.h
-/// @brief Adam with one learning rate per parameter group.
+/// @brief Adam with one learning rate per parameter group, a Gaussian at a time.
 #pragma once
 
 #include "GaussianParameters.h"
@@ -18,9 +18,13 @@ class Adam {
 public:
     Adam(std::size_t count, int channels, const AdamSettings& settings = {});
 
-    /// One step: params -= rate[g] * mhat / (sqrt(vhat) + eps), per group g.
-    void step(GaussianParameters& params, const GaussianParameters& gradient,
-              const std::array<double, kGroupCount>& rates);
+    /// Starts a step: params -= rate[g] * mhat / (sqrt(vhat) + eps) per group g, for
+    /// each Gaussian that update() is then called for.
+    void beginStep(const std::array<double, kGroupCount>& rates);
+    /// Gaussian @a index's share of the step begun last. When its gradient or any
+    /// result is not finite, its parameters and moments stay as they were and this
+    /// returns false. Calls for different Gaussians may run at the same time.
+    bool update(GaussianParameters& params, const GaussianParameters& gradient, std::size_t index);
 
     /// Drops the moments of removed Gaussians, in step with params.keepOnly().
     void keepOnly(const std::vector<bool>& keep);
@@ -31,6 +35,8 @@ private:
     AdamSettings mSettings;
     GaussianParameters mFirst, mSecond;
     std::size_t mSteps = 0;
+    std::array<float, kGroupCount> mRate{};  ///< this step's, the first moment's bias correction folded in
+    float mInverseCorrection2 = 1.0f;        ///< this step's second-moment bias correction
 };
 
 }  // namespace gvr

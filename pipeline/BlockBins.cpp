@@ -8,7 +8,18 @@
 
 namespace gvr {
 
+void BlockBins::findTruncatedBounds(const GaussianField& field) {
+    const std::vector<ActiveGaussian>& gaussians = field.gaussians();
+    mTruncated.resize(gaussians.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, gaussians.size(), 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            truncatedBounds(gaussians[i], field.cutoffSigmas(), mTruncated[i].lower.data(), mTruncated[i].upper.data());
+        }
+    });
+}
+
 void BlockBins::build(const GaussianField& field) {
+    findTruncatedBounds(field);
     mBinned = field.bvh().boxes();
     mBins.resize(mGrid.blockCount());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mBins.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
@@ -29,25 +40,17 @@ void BlockBins::build(const GaussianField& field) {
 }
 
 std::size_t BlockBins::follow(const GaussianField& field) {
-    const std::vector<ActiveGaussian>& gaussians = field.gaussians();
-    // Flags first, in parallel; the few that moved out are then binned in index order.
-    std::vector<std::uint8_t> left(gaussians.size(), 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, gaussians.size(), 4096), [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            Box tight;
-            truncatedBounds(gaussians[i], field.cutoffSigmas(), tight.lower.data(), tight.upper.data());
-            const Box& binned = mBinned[i];
-            for (int a = 0; a < 3; ++a) {
-                if (tight.lower[a] < binned.lower[a] || tight.upper[a] > binned.upper[a]) left[i] = 1;
-            }
-        }
-    });
+    findTruncatedBounds(field);
     std::size_t moved = 0;
-    for (std::uint32_t i = 0; i < left.size(); ++i) {
-        if (!left[i]) continue;
+    // In index order, so that the bins do not depend on the threads.
+    for (std::uint32_t i = 0; i < mTruncated.size(); ++i) {
+        const Box& tight = mTruncated[i];
+        const Box& binned = mBinned[i];
+        bool inside = true;
+        for (int a = 0; a < 3; ++a) inside = inside && tight.lower[a] >= binned.lower[a] && tight.upper[a] <= binned.upper[a];
+        if (inside) continue;
         ++moved;
-        Box grown;
-        truncatedBounds(gaussians[i], field.cutoffSigmas(), grown.lower.data(), grown.upper.data());
+        Box grown = tight;
         for (int a = 0; a < 3; ++a) {
             const float grow = mSlackVoxels + mSlackFraction * 0.5f * (grown.upper[a] - grown.lower[a]);
             grown.lower[a] -= grow;

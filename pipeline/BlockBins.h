@@ -39,14 +39,18 @@ public:
     const std::vector<std::uint32_t>& gaussiansNear(const float x[3]) const;
     /// Sum over blocks of the Gaussians binned there.
     std::size_t pairCount() const;
+    /// Gaussian @a index's truncated bounds (no slack), as of the last build() or follow().
+    const Box& truncated(std::uint32_t index) const { return mTruncated[index]; }
 
 private:
+    void findTruncatedBounds(const GaussianField& field);
     void addToBlocks(std::uint32_t gaussian, const Box& box);
 
     const BlockGrid& mGrid;
     float mSlackVoxels, mSlackFraction;
     std::vector<std::vector<std::uint32_t>> mBins;  ///< by block
     std::vector<Box> mBinned;                        ///< by Gaussian: the box it is binned with
+    std::vector<Box> mTruncated;                     ///< by Gaussian: its truncated bounds
 };
 
 }  // namespace gvr

@@ -270,11 +270,11 @@ __attribute__((always_inline)) inline double evaluateBlockWith(const Pass& pass,
     work.pairs.clear();
     for (std::uint32_t index : pass.bins.gaussians(sampled.block)) {
         const ActiveGaussian& g = field.gaussians()[index];
-        float lower[3], upper[3];
-        truncatedBounds(g, field.cutoffSigmas(), lower, upper);
+        const Box& bounds = pass.bins.truncated(index);
         int xs[2], ys[2], zs[2];
-        if (!offsetsWithin(lower[0], upper[0], origin.x(), xs) || !offsetsWithin(lower[1], upper[1], origin.y(), ys) ||
-            !offsetsWithin(lower[2], upper[2], origin.z(), zs)) {
+        if (!offsetsWithin(bounds.lower[0], bounds.upper[0], origin.x(), xs) ||
+            !offsetsWithin(bounds.lower[1], bounds.upper[1], origin.y(), ys) ||
+            !offsetsWithin(bounds.lower[2], bounds.upper[2], origin.z(), zs)) {
             continue;
         }
         const BlockQuadratic quad = quadraticOver(g, origin);

@@ -9,10 +9,12 @@
 #include "UniformVoxels.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 
@@ -95,29 +97,26 @@ std::vector<double> meanSquaredPerBlock(const std::vector<BlockOutcome>& outcome
     return means;
 }
 
-/// Keeps every parameter inside the ranges where the kernel is well defined.
-void repair(GaussianParameters& params, const openvdb::CoordBBox& box) {
-    const openvdb::Vec3f lower = box.min().asVec3s() - openvdb::Vec3f(8.0f);
-    const openvdb::Vec3f upper = box.max().asVec3s() + openvdb::Vec3f(8.0f);
-    tbb::parallel_for(std::size_t(0), params.count(), [&](std::size_t i) {
-        float* mean = params.at(kMeans, i);
-        for (int a = 0; a < 3; ++a) mean[a] = std::clamp(mean[a], lower[a], upper[a]);
-        float* logScale = params.at(kLogScales, i);
-        for (int a = 0; a < 3; ++a) logScale[a] = std::clamp(logScale[a], kMinLogScale, kMaxLogScale);
-        float* logit = params.at(kOpacityLogits, i);
-        *logit = std::clamp(*logit, -12.0f, 12.0f);
-        // Values are normalised to [0, 1]; a colour far outside is a runaway, not a fit.
-        float* colour = params.at(kColours, i);
-        for (int c = 0; c < params.channels; ++c) colour[c] = std::clamp(colour[c], -16.0f, 16.0f);
-        float* q = params.at(kRotations, i);
-        const float norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-        if (norm > 1e-6f) {
-            for (int k = 0; k < 4; ++k) q[k] /= norm;
-        } else {
-            q[0] = 1.0f;
-            q[1] = q[2] = q[3] = 0.0f;
-        }
-    });
+/// Keeps Gaussian @a i's parameters inside the ranges where the kernel is well
+/// defined: means within [lower, upper], the rest as GaussianKernel.h allows.
+void repair(GaussianParameters& params, std::size_t i, const openvdb::Vec3f& lower, const openvdb::Vec3f& upper) {
+    float* mean = params.at(kMeans, i);
+    for (int a = 0; a < 3; ++a) mean[a] = std::clamp(mean[a], lower[a], upper[a]);
+    float* logScale = params.at(kLogScales, i);
+    for (int a = 0; a < 3; ++a) logScale[a] = std::clamp(logScale[a], kMinLogScale, kMaxLogScale);
+    float* logit = params.at(kOpacityLogits, i);
+    *logit = std::clamp(*logit, -12.0f, 12.0f);
+    // Values are normalised to [0, 1]; a colour far outside is a runaway, not a fit.
+    float* colour = params.at(kColours, i);
+    for (int c = 0; c < params.channels; ++c) colour[c] = std::clamp(colour[c], -16.0f, 16.0f);
+    float* q = params.at(kRotations, i);
+    const float norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (norm > 1e-6f) {
+        for (int k = 0; k < 4; ++k) q[k] /= norm;
+    } else {
+        q[0] = 1.0f;
+        q[1] = q[2] = q[3] = 0.0f;
+    }
 }
 
 class FitLoop {
@@ -174,6 +173,7 @@ private:
     void fitCountToTheTime();
     double step(std::size_t iteration, double fraction, FitProgress& progress);
     double voxelLoss(std::size_t iteration, double share);
+    std::size_t updateEveryGaussian();
     void refreshField(std::size_t iteration);
     double heldOutPsnr(const SampleSet& heldOut) const;
 
@@ -189,7 +189,7 @@ private:
     BlockGrid mGrid;
     BlockSampler mSampler;
     BlockBins mBins;
-    GaussianParameters mParams, mGradient, mBackup;
+    GaussianParameters mParams, mGradient;
     GaussianField mField;
     GradientChunks mChunks;
     std::vector<SampledBlock> mBlocks;
@@ -291,6 +291,7 @@ double FitLoop::voxelLoss(std::size_t iteration, double share) {
     settings.scale = share / double(std::max<std::uint64_t>(mGrid.trainableVoxels(), 1));
     settings.rowStride = mSampler.rowStride();
     const double loss = blockSquaredError(mField, mBins, mTarget, mBlocks, settings, &mChunks, &mOutcomes);
+    for (const BlockOutcome& outcome : mOutcomes) mReport.voxelSamples += outcome.voxels;
     if (std::isfinite(loss)) mSampler.recordErrors(mBlocks, meanSquaredPerBlock(mOutcomes));
     return loss;
 }
@@ -312,20 +313,36 @@ double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progre
     if (mSettings.gradientHook) mSettings.gradientHook(iteration, mGradient);
     progress.sliceWeight = sliceShare;
     progress.gradientShare = mParams.count() ? double(touched) / double(mParams.count()) : 0.0;
+    mReport.meanGradientShare += progress.gradientShare;
 
-    if (!std::isfinite(loss) || !mGradient.allFinite()) {
+    if (!std::isfinite(loss)) {
         ++mReport.skippedSteps;
         mOutcomes.clear();  // NaN residuals would poison the respawn order
         return loss;
     }
-    mBackup = mParams;
-    mAdam->step(mParams, mGradient, rates(fraction));
-    repair(mParams, mTarget.box());
-    if (!mParams.allFinite()) {
-        mParams = mBackup;
-        ++mReport.skippedSteps;
-    }
+    mAdam->beginStep(rates(fraction));
+    if (updateEveryGaussian() > 0) ++mReport.skippedSteps;
     return loss;
+}
+
+/// Adam and repair, a Gaussian at a time in one parallel pass. @return how many
+/// Gaussians kept their parameters for a non-finite gradient or result.
+std::size_t FitLoop::updateEveryGaussian() {
+    const openvdb::Vec3f lower = mTarget.box().min().asVec3s() - openvdb::Vec3f(8.0f);
+    const openvdb::Vec3f upper = mTarget.box().max().asVec3s() + openvdb::Vec3f(8.0f);
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, mParams.count(), 4096), std::size_t(0),
+        [&](const tbb::blocked_range<std::size_t>& range, std::size_t kept) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                if (mAdam->update(mParams, mGradient, i)) {
+                    repair(mParams, i, lower, upper);
+                } else {
+                    ++kept;
+                }
+            }
+            return kept;
+        },
+        std::plus<std::size_t>());
 }
 
 double FitLoop::heldOutPsnr(const SampleSet& heldOut) const {
@@ -392,6 +409,8 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
         if (observer) observer(progress);
     }
     mReport.iterations = iteration;
+    mReport.adamSeconds = elapsed();
+    if (iteration > 0) mReport.meanGradientShare /= double(iteration);
     if (mSettings.amplitudeSolveIterations > 0) solveAmplitudesAtTheEnd(mHeldOut, heldOut, iteration, observer);
     mReport.seconds = elapsed();
     report = mReport;
