@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace gvr {
 
 namespace {
 /// Its square stays well inside float range.
 constexpr float kLargestGradient = 1e18f;
-/// The widest group: rotations, four floats (colours are at most three).
-constexpr int kWidest = 4;
 }  // namespace
 
 Adam::Adam(std::size_t count, int channels, const AdamSettings& settings)
@@ -23,37 +22,52 @@ void Adam::beginStep(const std::array<double, kGroupCount>& rates) {
     }
 }
 
-bool Adam::update(GaussianParameters& params, const GaussianParameters& gradient, std::size_t index) {
+void Adam::update(GaussianParameters& params, const GaussianParameters& gradient, std::size_t begin, std::size_t end,
+                  std::uint8_t* updated) {
     const float beta1 = float(mSettings.beta1), beta2 = float(mSettings.beta2);
     const float epsilon = float(mSettings.epsilon);
-    // Everything is computed first and written only if it is all finite.
-    float values[kGroupCount][kWidest], first[kGroupCount][kWidest], second[kGroupCount][kWidest];
-    bool finite = true;
+    std::fill(updated, updated + (end - begin), std::uint8_t(1));
+    // Each group's new values go to scratch in one loop the compiler vectorises, and
+    // are written back only for the Gaussians whose results are all finite.
+    std::array<std::vector<float>, kGroupCount> values, first, second;
     for (int g = 0; g < kGroupCount; ++g) {
-        const ParameterGroup group = ParameterGroup(g);
-        const float* grad = gradient.at(group, index);
-        const float* value = params.at(group, index);
-        const float* m = mFirst.at(group, index);
-        const float* v = mSecond.at(group, index);
-        for (int k = 0; k < params.width(group); ++k) {
-            finite = finite && std::isfinite(grad[k]);
+        const std::size_t width = std::size_t(params.width(ParameterGroup(g)));
+        const std::size_t from = begin * width, count = (end - begin) * width;
+        const float* grad = gradient.values[g].data() + from;
+        const float* value = params.values[g].data() + from;
+        const float* m = mFirst.values[g].data() + from;
+        const float* v = mSecond.values[g].data() + from;
+        values[g].resize(count);
+        first[g].resize(count);
+        second[g].resize(count);
+        const float rate = mRate[g];
+        for (std::size_t k = 0; k < count; ++k) {
             // A huge but finite gradient would make v infinite and freeze the parameter for good.
             const float clamped = std::clamp(grad[k], -kLargestGradient, kLargestGradient);
             first[g][k] = beta1 * m[k] + (1.0f - beta1) * clamped;
             second[g][k] = beta2 * v[k] + (1.0f - beta2) * clamped * clamped;
-            values[g][k] = value[k] - mRate[g] * first[g][k] / (std::sqrt(second[g][k] * mInverseCorrection2) + epsilon);
-            finite = finite && std::isfinite(values[g][k]);
+            values[g][k] = value[k] - rate * first[g][k] / (std::sqrt(second[g][k] * mInverseCorrection2) + epsilon);
+        }
+        for (std::size_t i = 0; i < end - begin; ++i) {
+            for (std::size_t k = i * width; k < (i + 1) * width; ++k) {
+                if (!std::isfinite(grad[k]) || !std::isfinite(values[g][k])) updated[i] = 0;
+            }
         }
     }
-    if (!finite) return false;
     for (int g = 0; g < kGroupCount; ++g) {
-        const ParameterGroup group = ParameterGroup(g);
-        const int width = params.width(group);
-        std::copy_n(values[g], width, params.at(group, index));
-        std::copy_n(first[g], width, mFirst.at(group, index));
-        std::copy_n(second[g], width, mSecond.at(group, index));
+        const std::size_t width = std::size_t(params.width(ParameterGroup(g)));
+        float* value = params.values[g].data() + begin * width;
+        float* m = mFirst.values[g].data() + begin * width;
+        float* v = mSecond.values[g].data() + begin * width;
+        for (std::size_t i = 0; i < end - begin; ++i) {
+            if (!updated[i]) continue;
+            for (std::size_t k = i * width; k < (i + 1) * width; ++k) {
+                value[k] = values[g][k];
+                m[k] = first[g][k];
+                v[k] = second[g][k];
+            }
+        }
     }
-    return true;
 }
 
 void Adam::keepOnly(const std::vector<bool>& keep) {

@@ -5,6 +5,7 @@
 #include "GaussianParameters.h"
 
 #include <array>
+#include <cstdint>
 
 namespace gvr {
 
@@ -21,10 +22,12 @@ public:
     /// Starts a step: params -= rate[g] * mhat / (sqrt(vhat) + eps) per group g, for
     /// each Gaussian that update() is then called for.
     void beginStep(const std::array<double, kGroupCount>& rates);
-    /// Gaussian @a index's share of the step begun last. When its gradient or any
-    /// result is not finite, its parameters and moments stay as they were and this
-    /// returns false. Calls for different Gaussians may run at the same time.
-    bool update(GaussianParameters& params, const GaussianParameters& gradient, std::size_t index);
+    /// The share of the step begun last of Gaussians [begin, end). A Gaussian whose
+    /// gradient or any result is not finite keeps its parameters and moments, and
+    /// gets updated[i - begin] = 0; the others get 1. Calls for disjoint ranges may
+    /// run at the same time.
+    void update(GaussianParameters& params, const GaussianParameters& gradient, std::size_t begin, std::size_t end,
+                std::uint8_t* updated);
 
     /// Drops the moments of removed Gaussians, in step with params.keepOnly().
     void keepOnly(const std::vector<bool>& keep);

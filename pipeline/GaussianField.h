@@ -36,6 +36,9 @@ public:
     /// for callers that follow the moves themselves (BlockBins::follow), never for
     /// queries of the BVH.
     void reactivate(const GaussianParameters& params);
+    /// The same for Gaussian @a index alone; calls for different Gaussians may run
+    /// at the same time.
+    void reactivate(const GaussianParameters& params, std::size_t index) { mGaussians[index] = activate(params, index); }
 
     /// f at @a x into value[0..channels). @a hits is scratch space, one per thread;
     /// it is left holding the indices of the Gaussians that reach x.
