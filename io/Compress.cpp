@@ -15,6 +15,7 @@ nlohmann::json settingsJson(const FitSettings& s, const std::string& ablation) {
     return {{"ablation", ablation},              {"seed", s.seed},
             {"iterations", s.iterations},        {"seconds", s.seconds},
             {"batch", s.voxelBatch},             {"refresh_every", s.refreshEvery},
+            {"row_stride", s.rowStride},         {"rebin_every", s.rebinEvery},
             {"min_samples", s.minSamplesPerGaussian},
             {"mc_lambda", s.importance.uniformShare}, {"mc_epsilon", s.importance.epsilon},
             {"slice_pixels", s.slicePixels},     {"slice_max", s.sliceMax},

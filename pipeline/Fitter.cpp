@@ -265,10 +265,10 @@ void FitLoop::fitCountToTheTime() {
     if (restart) initialise(trainable);
 }
 
-/// Brings the field and its bins up to date with the parameters: the few Gaussians
-/// that moved out of their blocks are binned again, and every Gaussian is binned
-/// afresh (the BVH rebuilt, one query per block) every rebinEvery iterations, or
-/// when the count or the numbering changed.
+/// Brings the bins up to date with the field, which the update pass keeps current:
+/// the few Gaussians that moved out of their blocks are binned again, and every
+/// Gaussian is binned afresh (the field re-activated, the BVH rebuilt, one query per
+/// block) every rebinEvery iterations, or when the count or the numbering changed.
 void FitLoop::refreshField(std::size_t iteration) {
     if (mRebin || iteration >= mBinnedAt + mSettings.rebinEvery) {
         mField.rebuild(mParams, mSettings.cutoffSigmas, /*fastBuild=*/true, kBinSlackVoxels, kBinSlackFraction);
@@ -277,7 +277,6 @@ void FitLoop::refreshField(std::size_t iteration) {
         mBinnedAt = iteration;
         return;
     }
-    mField.reactivate(mParams);
     mBins.follow(mField);
 }
 
@@ -325,20 +324,23 @@ double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progre
     return loss;
 }
 
-/// Adam and repair, a Gaussian at a time in one parallel pass. @return how many
-/// Gaussians kept their parameters for a non-finite gradient or result.
+/// Adam, repair and re-activation, a Gaussian at a time in one parallel pass.
+/// @return how many Gaussians kept their parameters for a non-finite gradient or result.
 std::size_t FitLoop::updateEveryGaussian() {
     const openvdb::Vec3f lower = mTarget.box().min().asVec3s() - openvdb::Vec3f(8.0f);
     const openvdb::Vec3f upper = mTarget.box().max().asVec3s() + openvdb::Vec3f(8.0f);
     return tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, mParams.count(), 4096), std::size_t(0),
         [&](const tbb::blocked_range<std::size_t>& range, std::size_t kept) {
+            std::vector<std::uint8_t> updated(range.size());
+            mAdam->update(mParams, mGradient, range.begin(), range.end(), updated.data());
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                if (mAdam->update(mParams, mGradient, i)) {
-                    repair(mParams, i, lower, upper);
-                } else {
+                if (!updated[i - range.begin()]) {
                     ++kept;
+                    continue;
                 }
+                repair(mParams, i, lower, upper);
+                mField.reactivate(mParams, i);
             }
             return kept;
         },
