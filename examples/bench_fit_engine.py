@@ -87,8 +87,7 @@ def main():
         print(f"| {name} | {batch} | {r['iterations_per_s']:.2f} | {r['samples_per_s'] / 1e6:.2f} M | "
               f"{share} | {r['psnr']:.2f} dB |", flush=True)
     if baseline:
-        print(f"
-block engine / baseline: {rates['block engine'] / rates['baseline']:.1f}x the voxel samples a second")
+        print(f"\nblock engine / baseline: {rates['block engine'] / rates['baseline']:.1f}x the voxel samples a second")
 
     print(f"\nScaling: ch2 (7.1 M voxels), a fixed batch of {SCALING_BATCH:,} voxels a step, 40 s\n")
     print("| engine | Gaussians | voxel samples/s | seconds per million samples | against 10k |")
