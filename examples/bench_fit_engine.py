@@ -11,11 +11,12 @@ every --log-every iterations stays in. Figures are printed, never asserted.
     /usr/bin/python3 examples/bench_fit_engine.py [--baseline PATH_TO_OLD_GVR] [OUT_DIR]
 
 Two parts:
-  throughput  ct-head at 155,000 Gaussians, each engine at its default batch, 60 s
+  throughput  ct-head at 155,000 Gaussians, each engine at its default batch, 60 s,
+              and the block engine on every row of its blocks
   scaling     ch2 at 10k, 40k, 100k and 400k Gaussians, a fixed batch of 2,097,152
               voxels a step, 40 s: seconds per million samples, O(M) pass included
 Run from the project root after .ci/build.sh, with nothing else running; needs
-../shared/data. About 12 minutes with a baseline.
+../shared/data. About 14 minutes with a baseline.
 """
 import csv
 import json
@@ -40,10 +41,10 @@ def log_rate(log_path, batch):
     return iterations / seconds, iterations * batch / seconds
 
 
-def fit(gvr, grid, gaussians, seconds, batch, log, log_every):
+def fit(gvr, grid, gaussians, seconds, batch, log, log_every, extra=()):
     arguments = ["fit", "-q", "--json", grid, "-o", log[:-4] + ".gvr", "--gaussians", str(gaussians),
                  "--min-samples", "0", "--solve-iterations", "0", "--time", str(seconds), "--batch", str(batch),
-                 "--log", log, "--log-every", str(log_every)]
+                 "--log", log, "--log-every", str(log_every)] + list(extra)
     out, _, peak = measured(arguments, gvr)
     result = json.loads(out)
     per_iteration, per_second = log_rate(log, batch)
@@ -59,9 +60,9 @@ def ingest(name, source, out):
 
 
 def engines(baseline):
-    yield "block engine", GVR, BLOCK_BATCH
+    yield "block engine", GVR, BLOCK_BATCH, ()
     if baseline:
-        yield "baseline", baseline, BASELINE_BATCH
+        yield "baseline", baseline, BASELINE_BATCH, ()
 
 
 def main():
@@ -80,19 +81,22 @@ def main():
     print("| engine | batch | iterations/s | voxel samples/s | share with a gradient | PSNR as saved |")
     print("|---|---|---|---|---|---|")
     rates = {}
-    for name, gvr, batch in engines(baseline):
-        r = fit(gvr, ct_head, 155000, 60, batch, os.path.join(out, f"ct-head-{name[0]}.csv"), 10)
+    # The kernel on every row of its blocks: the fastest per sample, though not the best per second of fit.
+    every_row = ("block engine, every row", GVR, 2 * BLOCK_BATCH, ("--row-stride", "1"))
+    for name, gvr, batch, extra in list(engines(baseline)) + [every_row]:
+        r = fit(gvr, ct_head, 155000, 60, batch, os.path.join(out, f"ct-head-{name[-3:]}.csv"), 10, extra)
         rates[name] = r["samples_per_s"]
         share = f"{r['share']:.2f}" if r["share"] is not None else "-"
         print(f"| {name} | {batch} | {r['iterations_per_s']:.2f} | {r['samples_per_s'] / 1e6:.2f} M | "
               f"{share} | {r['psnr']:.2f} dB |", flush=True)
     if baseline:
-        print(f"\nblock engine / baseline: {rates['block engine'] / rates['baseline']:.1f}x the voxel samples a second")
+        for name in ("block engine", "block engine, every row"):
+            print(f"\n{name} / baseline: {rates[name] / rates['baseline']:.1f}x the voxel samples a second")
 
     print(f"\nScaling: ch2 (7.1 M voxels), a fixed batch of {SCALING_BATCH:,} voxels a step, 40 s\n")
     print("| engine | Gaussians | voxel samples/s | seconds per million samples | against 10k |")
     print("|---|---|---|---|---|")
-    for name, gvr, _ in engines(baseline):
+    for name, gvr, _, _ in engines(baseline):
         first = None
         for gaussians in (10000, 40000, 100000, 400000):
             r = fit(gvr, ch2, gaussians, 40, SCALING_BATCH, os.path.join(out, f"ch2-{name[0]}-{gaussians}.csv"), 2)
