@@ -75,6 +75,11 @@ void Adam::keepOnly(const std::vector<bool>& keep) {
     mSecond.keepOnly(keep);
 }
 
+void Adam::permute(const std::vector<std::uint32_t>& order) {
+    mFirst.permute(order);
+    mSecond.permute(order);
+}
+
 void Adam::grow(std::size_t count) {
     for (GaussianParameters* moments : {&mFirst, &mSecond}) {
         for (int g = 0; g < kGroupCount; ++g) {

@@ -31,6 +31,8 @@ public:
 
     /// Drops the moments of removed Gaussians, in step with params.keepOnly().
     void keepOnly(const std::vector<bool>& keep);
+    /// Reorders the moments, in step with params.permute().
+    void permute(const std::vector<std::uint32_t>& order);
     /// Adds zeroed moments for Gaussians appended to the parameters.
     void grow(std::size_t count);
 

@@ -88,6 +88,38 @@ std::vector<RespawnSite> respawnSites(const std::vector<BlockOutcome>& outcomes,
     return sites;
 }
 
+/// Interleaves the bits of x, y and z (21 each): a Morton code.
+std::uint64_t mortonCode(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    std::uint64_t code = 0;
+    for (int bit = 0; bit < 21; ++bit) {
+        code |= (std::uint64_t(x >> bit & 1u) << (3 * bit)) | (std::uint64_t(y >> bit & 1u) << (3 * bit + 1)) |
+                (std::uint64_t(z >> bit & 1u) << (3 * bit + 2));
+    }
+    return code;
+}
+
+/// The Gaussians in Morton order of their means (to the voxel), ties in index order:
+/// a block's Gaussians then lie near each other in memory.
+std::vector<std::uint32_t> spatialOrder(const GaussianParameters& params, const openvdb::CoordBBox& box) {
+    const std::size_t count = params.count();
+    std::vector<std::uint64_t> codes(count);
+    tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
+        std::uint32_t cell[3];
+        for (int a = 0; a < 3; ++a) {
+            // Means lie within 8 voxels of the box (repair), so this is never negative.
+            const double offset = double(params.at(kMeans, i)[a]) - box.min()[a] + 8.0;
+            cell[a] = std::uint32_t(std::clamp(offset, 0.0, double((1u << 21) - 1)));
+        }
+        codes[i] = mortonCode(cell[0], cell[1], cell[2]);
+    });
+    std::vector<std::uint32_t> order(count);
+    for (std::uint32_t i = 0; i < count; ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return codes[a] < codes[b] || (codes[a] == codes[b] && a < b);
+    });
+    return order;
+}
+
 /// Each block's mean squared residual over the voxels it evaluated (NaN for none).
 std::vector<double> meanSquaredPerBlock(const std::vector<BlockOutcome>& outcomes) {
     std::vector<double> means(outcomes.size());
@@ -267,10 +299,14 @@ void FitLoop::fitCountToTheTime() {
 
 /// Brings the bins up to date with the field, which the update pass keeps current:
 /// the few Gaussians that moved out of their blocks are binned again, and every
-/// Gaussian is binned afresh (the field re-activated, the BVH rebuilt, one query per
-/// block) every rebinEvery iterations, or when the count or the numbering changed.
+/// Gaussian is binned afresh (renumbered in space, the field re-activated, the BVH
+/// rebuilt, one query per block) every rebinEvery iterations, or when the count or
+/// the numbering changed.
 void FitLoop::refreshField(std::size_t iteration) {
     if (mRebin || iteration >= mBinnedAt + mSettings.rebinEvery) {
+        const std::vector<std::uint32_t> order = spatialOrder(mParams, mTarget.box());
+        mParams.permute(order);
+        mAdam->permute(order);
         mField.rebuild(mParams, mSettings.cutoffSigmas, /*fastBuild=*/true, kBinSlackVoxels, kBinSlackFraction);
         mBins.build(mField);
         mRebin = false;

@@ -44,6 +44,17 @@ void GaussianParameters::keepOnly(const std::vector<bool>& keep) {
     }
 }
 
+void GaussianParameters::permute(const std::vector<std::uint32_t>& order) {
+    for (int g = 0; g < kGroupCount; ++g) {
+        const std::size_t w = std::size_t(width(ParameterGroup(g)));
+        std::vector<float> moved(values[g].size());
+        for (std::size_t k = 0; k < order.size(); ++k) {
+            std::copy_n(values[g].begin() + order[k] * w, w, moved.begin() + k * w);
+        }
+        values[g].swap(moved);
+    }
+}
+
 void GaussianParameters::append(const GaussianParameters& more) {
     for (int g = 0; g < kGroupCount; ++g) values[g].insert(values[g].end(), more.values[g].begin(), more.values[g].end());
 }

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace gvr {
@@ -45,6 +46,8 @@ struct GaussianParameters {
     void setZero();
     /// Keeps the Gaussians whose flag is true, in order. @a keep has count() flags.
     void keepOnly(const std::vector<bool>& keep);
+    /// Puts Gaussian order[k] at k, for every k; @a order is a permutation of 0..count()-1.
+    void permute(const std::vector<std::uint32_t>& order);
     /// Adds @a other element-wise; both must have the same count and channels.
     void add(const GaussianParameters& other);
     /// Puts @a more's Gaussians after these; both must have the same channels.
