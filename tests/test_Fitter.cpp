@@ -108,6 +108,19 @@ TEST(Fitter, CurriculumWeightsFollowTheSchedule) {
     EXPECT_EQ(sliceWeight(settings, 0.9), 0.0);
 }
 
+TEST(Fitter, TheSlicePassWaitsForOnePercentOfItsMaximumWeight) {
+    FitSettings settings;  // voxels then slices: 0.3 sigmoid((t - 0.5) / 0.08)
+    const double onePercent = settings.sliceGamma + settings.sliceBeta * std::log(0.01 / 0.99);  // about 0.132
+    EXPECT_FALSE(slicePassRuns(settings, 0.0));
+    EXPECT_FALSE(slicePassRuns(settings, onePercent - 0.002));
+    EXPECT_TRUE(slicePassRuns(settings, onePercent + 0.002));
+    EXPECT_TRUE(slicePassRuns(settings, 1.0));
+    settings.schedule = SliceSchedule::None;
+    EXPECT_FALSE(slicePassRuns(settings, 1.0));
+    settings.schedule = SliceSchedule::SlicesOnly;
+    EXPECT_TRUE(slicePassRuns(settings, 0.0));
+}
+
 TEST(Fitter, ATimeBudgetTooShortForTheCountFitsFewerGaussians) {
     const VolumeTarget target(test::makeGrid({32, 28, 24}, blob), "blobs");
     FitSettings settings = quickSettings(2000, 0);
