@@ -49,7 +49,7 @@ struct FitSettings {
 
     std::size_t slicePixels = 8192;  ///< pixels per random plane
     SliceSchedule schedule = SliceSchedule::VoxelsThenSlices;
-    double sliceMax = 0.3;    ///< lambda_s,max
+    double sliceMax = 0.1;    ///< lambda_s,max
     double sliceGamma = 0.5;  ///< gamma_s, as a fraction of the budget
     double sliceBeta = 0.08;  ///< beta_s, as a fraction of the budget
 

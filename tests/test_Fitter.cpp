@@ -109,7 +109,7 @@ TEST(Fitter, CurriculumWeightsFollowTheSchedule) {
 }
 
 TEST(Fitter, TheSlicePassWaitsForOnePercentOfItsMaximumWeight) {
-    FitSettings settings;  // voxels then slices: 0.3 sigmoid((t - 0.5) / 0.08)
+    FitSettings settings;  // voxels then slices: 0.1 sigmoid((t - 0.5) / 0.08)
     const double onePercent = settings.sliceGamma + settings.sliceBeta * std::log(0.01 / 0.99);  // about 0.132
     EXPECT_FALSE(slicePassRuns(settings, 0.0));
     EXPECT_FALSE(slicePassRuns(settings, onePercent - 0.002));
