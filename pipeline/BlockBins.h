@@ -27,7 +27,8 @@ public:
     /// Bins every Gaussian of @a field by the boxes of its BVH, which must be current
     /// (GaussianField::rebuild with the same slack).
     void build(const GaussianField& field);
-    /// After field.reactivate(): bins each Gaussian that left its box again, adding
+    /// After the field's Gaussians were re-activated (GaussianField::reactivate):
+    /// bins each Gaussian that left its box again, adding
     /// it to the blocks of its grown bounds. @return how many had left.
     std::size_t follow(const GaussianField& field);
 

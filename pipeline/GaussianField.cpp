@@ -27,10 +27,6 @@ void GaussianField::rebuild(const GaussianParameters& params, float cutoffSigmas
     mBvh.build(std::move(boxes), fastBuild);
 }
 
-void GaussianField::reactivate(const GaussianParameters& params) {
-    tbb::parallel_for(std::size_t(0), mGaussians.size(), [&](std::size_t i) { mGaussians[i] = activate(params, i); });
-}
-
 bool GaussianField::update(const GaussianParameters& params) {
     const std::size_t count = params.count();
     if (count != mGaussians.size() || params.channels != mChannels) return false;

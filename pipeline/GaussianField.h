@@ -31,13 +31,10 @@ public:
     ///         then, before evaluating (the field may be half updated).
     bool update(const GaussianParameters& params);
 
-    /// Re-activates the Gaussians of @a params (the same count as at the last
-    /// rebuild) and leaves the BVH as it was, even where a Gaussian has left its box:
-    /// for callers that follow the moves themselves (BlockBins::follow), never for
-    /// queries of the BVH.
-    void reactivate(const GaussianParameters& params);
-    /// The same for Gaussian @a index alone; calls for different Gaussians may run
-    /// at the same time.
+    /// Re-activates Gaussian @a index of @a params (the same count as at the last
+    /// rebuild) and leaves the BVH as it was, even where the Gaussian has left its
+    /// box: for callers that follow the moves themselves (BlockBins::follow), never
+    /// for queries of the BVH. Calls for different Gaussians may run at the same time.
     void reactivate(const GaussianParameters& params, std::size_t index) { mGaussians[index] = activate(params, index); }
 
     /// f at @a x into value[0..channels). @a hits is scratch space, one per thread;

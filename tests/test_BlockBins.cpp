@@ -50,7 +50,7 @@ TEST(BlockBins, GaussiansThatMoveOutAreFollowedWithoutRebinningTheRest) {
     params.at(kMeans, 17)[1] -= 7.5f;
     params.at(kMeans, 30)[2] += 12.0f;
     params.at(kLogScales, 8)[1] += 1.0f;
-    field.reactivate(params);
+    for (std::size_t i = 0; i < params.count(); ++i) field.reactivate(params, i);
     EXPECT_EQ(bins.follow(field), 4u);
     EXPECT_GT(bins.pairCount(), pairsBefore);
     expectBinsHoldEveryReach(field, bins);
