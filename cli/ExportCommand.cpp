@@ -1,18 +1,15 @@
-// gvr export ASSET -o OUT.vdb: the reconstruction as OpenVDB grids (and NIfTI).
+// gvr export ASSET -o OUT.vdb [-o OUT.nii.gz]: the reconstruction as OpenVDB grids and/or NIfTI.
 
 #include "AssetExport.h"
 #include "AssetFile.h"
-#include "AtomicFile.h"
 #include "Commands.h"
 #include "Error.h"
-#include "GridFile.h"
 #include "GridSummary.h"
-#include "NiftiWriter.h"
 #include "ProgressBar.h"
 #include "TransferFunctionFile.h"
+#include "VolumeOutputOptions.h"
 
 #include <chrono>
-#include <filesystem>
 #include <iostream>
 
 namespace gvr {
@@ -20,10 +17,11 @@ namespace gvr {
 namespace {
 
 struct ExportFlags {
-    std::string input, output, like, names = "blender", densityFrom, format = "vdb", show, hide;
+    std::string input, like, names = "blender", densityFrom, removedFormat, show, hide;
+    std::vector<std::string> outputs;
     std::optional<double> voxelSize, threshold;
     std::optional<int> resolution;
-    bool json = false, quiet = false;
+    bool float32 = false, json = false, quiet = false;
 };
 
 std::optional<Lattice> chosenLattice(const ExportFlags& flags, const GaussianAsset& asset) {
@@ -41,36 +39,9 @@ std::optional<Lattice> chosenLattice(const ExportFlags& flags, const GaussianAss
     return std::nullopt;
 }
 
-/// OUT.vdb -> OUT.nii.gz beside it.
-std::string niftiPathFor(const std::string& output) {
-    std::filesystem::path path(output);
-    if (path.extension() == ".vdb") path.replace_extension();
-    return path.string() + ".nii.gz";
-}
-
-void printResult(const ExportFlags& flags, const ExportResult& result, const std::string& niftiPath,
-                 double seconds) {
-    const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
-    const openvdb::Coord dims = result.lattice.box.dim();
-    nlohmann::json grids = nlohmann::json::array();
-    for (const auto& grid : result.grids) grids.push_back(toJson(summarizeGrid(*grid)));
-    if (flags.json) {
-        nlohmann::json out = {{"output", flags.output}, {"file_bytes", fileBytes},
-                              {"dims", {dims.x(), dims.y(), dims.z()}}, {"threshold", result.threshold},
-                              {"seconds", seconds}, {"grids", grids}};
-        if (!niftiPath.empty()) out["nifti"] = niftiPath;
-        std::cout << out.dump(2) << "\n";
-        return;
-    }
-    std::cout << "wrote " << flags.output << " (" << formatBytes(fileBytes) << ") in " << seconds << " s: "
-              << dims.x() << "x" << dims.y() << "x" << dims.z() << " voxels, inactive at or below "
-              << result.threshold << "\n";
-    for (const auto& grid : result.grids) std::cout << toText(summarizeGrid(*grid));
-    if (!niftiPath.empty()) std::cout << "wrote " << niftiPath << "\n";
-}
-
 void runExport(const ExportFlags& flags) {
-    checkOutputPath("-o", flags.output, {flags.input, flags.like, flags.densityFrom});
+    rejectRemovedFormat(flags.removedFormat);
+    checkVolumeOutputs("-o", flags.outputs, {flags.input, flags.like, flags.densityFrom});
     const auto start = std::chrono::steady_clock::now();
     const GaussianAsset asset = selectStructures(readAsset(flags.input), flags.show, flags.hide, flags.input);
     ExportSettings settings;
@@ -84,20 +55,27 @@ void runExport(const ExportFlags& flags) {
         ProgressBar bar("exporting", !flags.quiet);
         result = exportAsset(asset, settings, bar.callback());
     }
-    std::string niftiPath;
-    if (flags.format == "nifti") {
-        niftiPath = niftiPathFor(flags.output);
-        const openvdb::GridBase& values = *result.grids.front();
-        writeNifti(niftiPath, sampleGrid(values, result.lattice.box));
-    }
-    try {
-        writeGridFile(flags.output, openvdb::GridCPtrVec(result.grids.begin(), result.grids.end()));
-    } catch (...) {
-        if (!niftiPath.empty()) std::filesystem::remove(niftiPath);
-        throw;
-    }
+    const NiftiStorage storage = niftiStorageLike(asset.source, flags.float32);
+    const std::vector<WrittenVolume> written = writeVolumeOutputs(
+        flags.outputs, openvdb::GridCPtrVec(result.grids.begin(), result.grids.end()), result.lattice.box, storage);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    printResult(flags, result, niftiPath, seconds);
+    const openvdb::Coord dims = result.lattice.box.dim();
+    if (flags.json) {
+        nlohmann::json grids = nlohmann::json::array();
+        for (const auto& grid : result.grids) grids.push_back(toJson(summarizeGrid(*grid)));
+        std::cout << nlohmann::json({{"outputs", toJson(written, storage)},
+                                     {"dims", {dims.x(), dims.y(), dims.z()}},
+                                     {"threshold", result.threshold},
+                                     {"seconds", seconds},
+                                     {"grids", grids}})
+                         .dump(2)
+                  << "\n";
+        return;
+    }
+    printWritten(written, storage);
+    std::cout << "in " << seconds << " s: " << dims.x() << "x" << dims.y() << "x" << dims.z()
+              << " voxels, inactive at or below " << result.threshold << "\n";
+    for (const auto& grid : result.grids) std::cout << toText(summarizeGrid(*grid));
 }
 
 }  // namespace
@@ -108,7 +86,7 @@ void addExportCommand(CLI::App& app) {
         "export", "Evaluate a Gaussian asset at voxel centres and write the reconstruction as OpenVDB "
                   "(Blender, Houdini), in the source's physical units");
     command->add_option("asset", flags->input, "Gaussian asset from gvr fit")->required();
-    command->add_option("-o,--output", flags->output, "Output .vdb file")->required();
+    addVolumeOutputOptions(*command, flags->outputs, flags->float32);
     auto* voxelSize = command->add_option("--voxel-size", flags->voxelSize,
                                           "Voxel size in world mm along each of the source's axes "
                                           "(default: the source grid)");
@@ -127,8 +105,7 @@ void addExportCommand(CLI::App& app) {
     command->add_option("--density-from", flags->densityFrom,
                         "RGB: derive density from this transfer function file (its opacity at the "
                         "luminance) instead of the normalised luminance");
-    command->add_option("--format", flags->format, "vdb, or nifti to also write OUT.nii.gz (float32 or RGB24)")
-        ->check(CLI::IsMember({"vdb", "nifti"}))->capture_default_str();
+    addRemovedFormatOption(*command, flags->removedFormat);
     command->add_flag("--json", flags->json, "Print the result as JSON");
     command->add_flag("-q,--quiet", flags->quiet, "No progress bars");
     command->callback([flags] { runExport(*flags); });

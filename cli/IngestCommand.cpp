@@ -1,17 +1,16 @@
-// gvr ingest INPUT -o OUT.vdb: any supported volume to a sparse OpenVDB grid.
+// gvr ingest INPUT -o OUT.vdb [-o OUT.nii.gz]: any supported volume to a sparse OpenVDB grid (or NIfTI).
 
-#include "AtomicFile.h"
+#include "Error.h"
 #include "Commands.h"
 #include "Diagnostics.h"
-#include "GridFile.h"
 #include "GridSummary.h"
 #include "LabelGrid.h"
 #include "ProgressBar.h"
 #include "Report.h"
 #include "SourceOptions.h"
+#include "VolumeOutputOptions.h"
 
 #include <chrono>
-#include <filesystem>
 #include <iomanip>
 #include <iostream>
 
@@ -21,9 +20,9 @@ namespace {
 
 struct IngestFlags {
     std::string input;
-    std::string output;
-    std::string labels, labelNames;
-    bool resampleLabels = false;
+    std::vector<std::string> outputs;
+    std::string labels, labelNames, removedFormat;
+    bool resampleLabels = false, float32 = false;
     SourceFlags source;
     bool json = false;
     bool quiet = false;
@@ -33,8 +32,19 @@ void printWarnings(const std::vector<std::string>& warnings) {
     for (const std::string& warning : warnings) diagnostics() << "gvr: warning: " << warning << "\n";
 }
 
+/// A label grid has no place in a NIfTI of the image.
+void refuseLabelsWithoutVdb(const IngestFlags& flags) {
+    if (flags.labels.empty()) return;
+    for (const std::string& output : flags.outputs) {
+        if (volumeFileFormat(output) == VolumeFileFormat::Vdb) return;
+    }
+    throw InputError("--labels", "the labels are stored beside the image in a .vdb: add -o OUT.vdb");
+}
+
 void runIngest(const IngestFlags& flags) {
-    checkOutputPath("-o", flags.output, {flags.input, flags.labels, flags.labelNames});
+    rejectRemovedFormat(flags.removedFormat);
+    checkVolumeOutputs("-o", flags.outputs, {flags.input, flags.labels, flags.labelNames});
+    refuseLabelsWithoutVdb(flags);
     IngestOptions options = toIngestOptions(flags.source);
     options.labels = flags.labels;
     options.labelNames = flags.labelNames;
@@ -59,12 +69,13 @@ void runIngest(const IngestFlags& flags) {
         labelTable = labelTableOf(*result.labels);
         grids.push_back(result.labels);
     }
-    writeGridFile(flags.output, grids);
-    const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
+    const std::optional<VolumeMetadata> metadata = readVolumeMetadata(*result.grid);
+    const NiftiStorage storage = niftiStorageLike(metadata.value_or(VolumeMetadata{}), flags.float32 || !metadata);
+    const std::vector<WrittenVolume> written =
+        writeVolumeOutputs(flags.outputs, grids, volumeBox(*result.grid), storage);
     const GridSummary summary = summarizeGrid(*result.grid);
     if (flags.json) {
-        nlohmann::json report = {{"output", flags.output},
-                                 {"file_bytes", fileBytes},
+        nlohmann::json report = {{"outputs", toJson(written, storage)},
                                  {"grid", toJson(summary)},
                                  {"seconds", seconds},
                                  {"peak_rss_mib", peakRssMiB()},
@@ -76,9 +87,9 @@ void runIngest(const IngestFlags& flags) {
         }
         std::cout << report.dump(2) << "\n";
     } else {
-        std::cout << "wrote " << flags.output << " (" << formatBytes(fileBytes) << ") in " << std::fixed
-                  << std::setprecision(1) << seconds << " s, peak memory " << std::setprecision(0) << peakRssMiB()
-                  << " MiB\n"
+        printWritten(written, storage);
+        std::cout << "in " << std::fixed << std::setprecision(1) << seconds << " s, peak memory "
+                  << std::setprecision(0) << peakRssMiB() << " MiB\n"
                   << std::defaultfloat << toText(summary);
         if (!flags.labels.empty()) {
             std::cout << "labels: " << labelTable.names.size() << " structures from " << flags.labels << "\n";
@@ -97,7 +108,8 @@ void addIngestCommand(CLI::App& app) {
     command->add_option("input", flags->input,
                         "Volume file, DICOM or image folder, or quoted glob such as 'slices/*.png'")
         ->required();
-    command->add_option("-o,--output", flags->output, "Output .vdb file")->required();
+    addVolumeOutputOptions(*command, flags->outputs, flags->float32);
+    addRemovedFormatOption(*command, flags->removedFormat);
     addSourceFlags(*command, flags->source);
     command->add_option("--labels", flags->labels,
                         "Integer label volume (atlas or segmentation) on the same grid: stored beside the image "

@@ -20,8 +20,8 @@ echo
 echo "== gvr info out/ch2.gvr"
 $gvr info out/ch2.gvr
 echo
-echo "== gvr export out/ch2.gvr -o out/ch2-reconstruction.vdb --format nifti"
-$gvr export out/ch2.gvr -o out/ch2-reconstruction.vdb --format nifti
+echo "== gvr export out/ch2.gvr -o out/ch2-reconstruction.vdb -o out/ch2-reconstruction.nii.gz"
+$gvr export out/ch2.gvr -o out/ch2-reconstruction.vdb -o out/ch2-reconstruction.nii.gz
 echo
 echo "== gvr eval out/ch2.vdb out/ch2-reconstruction.vdb"
 $gvr eval out/ch2.vdb out/ch2-reconstruction.vdb

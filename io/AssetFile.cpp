@@ -45,6 +45,9 @@ nlohmann::json sourceJson(const VolumeMetadata& m) {
                         {"value_min", m.valueMin},      {"value_max", m.valueMax},
                         {"background", m.background},   {"raw_bytes", m.rawSourceBytes()}};
     if (m.threshold) j["threshold"] = *m.threshold;
+    j["stored_slope"] = m.storedSlope;
+    j["stored_intercept"] = m.storedIntercept;
+    if (m.niftiCodes) j["nifti_codes"] = {m.niftiCodes->sform, m.niftiCodes->qform, m.niftiCodes->xyztUnits};
     return j;
 }
 
@@ -62,6 +65,12 @@ VolumeMetadata sourceFromJson(const nlohmann::json& j) {
     m.valueMax = j.at("value_max").get<double>();
     m.background = j.at("background").get<double>();
     if (j.contains("threshold")) m.threshold = j.at("threshold").get<double>();
+    m.storedSlope = j.value("stored_slope", 1.0);
+    m.storedIntercept = j.value("stored_intercept", 0.0);
+    if (j.contains("nifti_codes")) {
+        const auto codes = j.at("nifti_codes").get<std::array<int, 3>>();
+        m.niftiCodes = NiftiCodes{codes[0], codes[1], codes[2]};
+    }
     return m;
 }
 

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@ struct DenseVolume {
     /// row-vector convention: world = index * worldFromIndex.
     openvdb::math::Mat4d worldFromIndex = openvdb::math::Mat4d::identity();
     std::string modality = "unknown";
+    std::optional<NiftiCodes> niftiCodes;  ///< a NIfTI source's space codes and units
     std::vector<std::string> warnings;  ///< things the user should know, one line each
 
     std::uint64_t voxelCount() const {

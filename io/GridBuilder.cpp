@@ -344,6 +344,9 @@ void describeGrid(const DenseVolume& layout, const GridBuildSettings& settings, 
     metadata.valueMax = range.max;
     metadata.background = layout.channels == 1 ? background[0] : luminance(background);
     metadata.threshold = settings.threshold;
+    metadata.storedSlope = layout.slope;
+    metadata.storedIntercept = layout.intercept;
+    metadata.niftiCodes = layout.niftiCodes;
     writeVolumeMetadata(metadata, grid);
 }
 

@@ -181,6 +181,7 @@ DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
         volume.slope = image->scl_slope;
         volume.intercept = image->scl_inter;
     }
+    volume.niftiCodes = NiftiCodes{image->sform_code, image->qform_code, SPACE_TIME_TO_XYZT(image->xyz_units, image->time_units)};
 
     reserveSamples(volume, path);  // the sample reader allocates as data arrives
     // The samples are read with zlib rather than nifticlib, which prints to stderr

@@ -14,6 +14,14 @@
 
 namespace gvr {
 
+/// The space codes and units of a NIfTI source's header, so that a NIfTI export
+/// gives them back (an MNI-aligned atlas stays aligned, a time unit survives).
+struct NiftiCodes {
+    int sform = 0;      ///< 0 unknown, 1 scanner, 2 aligned, 3 Talairach, 4 MNI
+    int qform = 0;
+    int xyztUnits = 0;  ///< NIfTI's packed space and time units
+};
+
 struct VolumeMetadata {
     std::string sourceFile;
     std::string modality = "unknown";  ///< "CT", "MR", ... or "unknown"
@@ -25,6 +33,10 @@ struct VolumeMetadata {
     double valueMax = 0;               ///< (for RGB: over the luminance)
     double background = 0;             ///< value that inactive voxels stand for, same units
     std::optional<double> threshold;   ///< voxels at or below it were deactivated
+    /// How the source stored its samples: physical = storedSlope * stored + storedIntercept.
+    double storedSlope = 1.0;
+    double storedIntercept = 0.0;
+    std::optional<NiftiCodes> niftiCodes;  ///< set when the source was NIfTI
 
     /// voxels × channels × bytes per sample of the source datatype: the size that
     /// compression ratios are measured against.

@@ -10,6 +10,7 @@
 #include "TransferFunctionFile.h"
 
 #include <gtest/gtest.h>
+#include <nifti2_io.h>
 
 #include <cmath>
 
@@ -139,6 +140,68 @@ TEST(NiftiWriter, RgbBecomesRgb24) {
     for (std::size_t n = 0; n < volume.values.size(); ++n) {
         ASSERT_EQ(back.data<std::uint8_t>()[n], std::clamp(std::lround(volume.values[n]), 0L, 255L));
     }
+}
+
+TEST(NiftiWriter, KeepsTheSourcesDatatypeScalingAndCodes) {
+    test::TempDir dir;
+    FloatVolume volume(openvdb::Coord(4, 3, 2), 1);
+    for (std::size_t n = 0; n < volume.values.size(); ++n) volume.values[n] = -1024.0f + float(n) * 50.3f;
+    volume.values[0] = -3000.0f;  // below what uint8 with this scaling holds
+    volume.values[1] = 5000.0f;   // above it
+    NiftiStorage storage;
+    storage.type = SampleType::UInt8;
+    storage.slope = 7.1;
+    storage.intercept = -1024.0;
+    storage.codes = NiftiCodes{2, 2, NIFTI_UNITS_MM | NIFTI_UNITS_SEC};
+    const std::string path = dir.path("out.nii.gz");
+    EXPECT_EQ(writeNifti(path, volume, storage), 2u);
+
+    const DenseVolume back = readNifti(path, ReadOptions{});
+    ASSERT_EQ(back.type, SampleType::UInt8);
+    EXPECT_NEAR(back.slope, 7.1, 1e-6);
+    EXPECT_EQ(back.intercept, -1024.0);
+    ASSERT_TRUE(back.niftiCodes);
+    EXPECT_EQ(back.niftiCodes->sform, 2);
+    EXPECT_EQ(back.niftiCodes->qform, 2);
+    EXPECT_EQ(back.niftiCodes->xyztUnits, NIFTI_UNITS_MM | NIFTI_UNITS_SEC);
+    EXPECT_EQ(back.data<std::uint8_t>()[0], 0);
+    EXPECT_EQ(back.data<std::uint8_t>()[1], 255);
+    for (std::size_t n = 2; n < volume.values.size(); ++n) {
+        const double physical = back.slope * back.data<std::uint8_t>()[n] + back.intercept;
+        ASSERT_LE(std::abs(physical - volume.values[n]), 7.1 / 2 + 1e-3) << n;
+    }
+}
+
+TEST(NiftiWriter, StorageFollowsTheSourceOrSaysWhyItIsFloat32) {
+    VolumeMetadata source;
+    source.sourceType = "int16";
+    source.storedSlope = 0.5;
+    source.storedIntercept = -10.0;
+    source.niftiCodes = NiftiCodes{4, 0, 10};
+    const NiftiStorage kept = niftiStorageLike(source, false);
+    EXPECT_EQ(kept.type, SampleType::Int16);
+    EXPECT_EQ(kept.slope, 0.5);
+    EXPECT_EQ(kept.intercept, -10.0);
+    EXPECT_EQ(kept.codes.sform, 4);
+    EXPECT_EQ(kept.codes.qform, 0);
+    EXPECT_TRUE(kept.float32Reason.empty());
+
+    const NiftiStorage asked = niftiStorageLike(source, true);
+    EXPECT_EQ(asked.type, SampleType::Float32);
+    EXPECT_EQ(asked.slope, 1.0);
+    EXPECT_EQ(asked.codes.sform, 4);  // the codes survive --float32
+
+    source.sourceType = "float64";
+    EXPECT_EQ(niftiStorageLike(source, false).type, SampleType::Float32);
+    EXPECT_NE(niftiStorageLike(source, false).float32Reason.find("float64"), std::string::npos);
+    source.sourceType = "uint8";
+    source.storedSlope = 0.0;
+    EXPECT_EQ(niftiStorageLike(source, false).type, SampleType::Float32);
+    EXPECT_FALSE(niftiStorageLike(source, false).float32Reason.empty());
+
+    source.niftiCodes = NiftiCodes{7, 1, 2};  // not a NIfTI code: scanner and mm instead
+    EXPECT_EQ(niftiStorageLike(source, false).codes.sform, 1);
+    EXPECT_EQ(niftiStorageLike(VolumeMetadata{}, false).codes.qform, 1);  // not from NIfTI
 }
 
 TEST(NiftiWriter, AMissingFolderLeavesNothing) {

@@ -110,7 +110,7 @@ TEST(Cli, IngestThenInfoAsJson) {
     const test::CommandResult ingested = test::runGvr("ingest '" + test::sharedData("mri-colin27-aal/ch2.nii.gz") +
                                     "' -o '" + output + "' --threshold 20 --json", dir);
     ASSERT_EQ(ingested.exitCode, 0) << ingested.err;
-    EXPECT_EQ(nlohmann::json::parse(ingested.out)["output"], output);
+    EXPECT_EQ(nlohmann::json::parse(ingested.out)["outputs"][0]["path"], output);
 
     const test::CommandResult info = test::runGvr("info --json '" + output + "'", dir);
     ASSERT_EQ(info.exitCode, 0) << info.err;

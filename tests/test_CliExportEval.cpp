@@ -1,11 +1,13 @@
 // gvr export, eval and probe as a user meets them.
 
 #include "ImageFile.h"
+#include "Readers.h"
 #include "TestHelpers.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
 
 namespace gvr {
 namespace {
@@ -56,12 +58,13 @@ TEST(CliExport, ExportThenEvalAgreesWithTheFit) {
 TEST(CliExport, NiftiAndResizedGrids) {
     test::TempDir dir;
     const std::string asset = smallAsset(dir);
-    const test::CommandResult run = runGvr("export -q '" + asset + "' -o '" + dir.path("fine.vdb") +
-                                               "' --voxel-size 0.5 --format nifti --json", dir);
+    const test::CommandResult run = runGvr("export -q '" + asset + "' -o '" + dir.path("fine.vdb") + "' -o '" +
+                                               dir.path("fine.nii.gz") + "' --voxel-size 0.5 --json", dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
     const nlohmann::json report = nlohmann::json::parse(run.out);
     EXPECT_EQ(report["dims"], nlohmann::json({48, 40, 32}));
-    EXPECT_EQ(report["nifti"], dir.path("fine.nii.gz"));
+    EXPECT_EQ(report["outputs"][1]["path"], dir.path("fine.nii.gz"));
+    EXPECT_EQ(report["outputs"][1]["format"], "nifti");
     EXPECT_TRUE(std::filesystem::exists(dir.path("fine.nii.gz")));
     const test::CommandResult info = runGvr("info --json '" + dir.path("fine.nii.gz") + "'", dir);
     ASSERT_EQ(info.exitCode, 0) << info.err;
@@ -73,6 +76,71 @@ TEST(CliExport, NiftiAndResizedGrids) {
     EXPECT_EQ(nlohmann::json::parse(coarse.out)["dims"], nlohmann::json({12, 10, 8}));
 }
 
+TEST(CliExport, TheExtensionChoosesTheFormat) {
+    test::TempDir dir;
+    const std::string asset = smallAsset(dir);
+    const test::CommandResult nifti = runGvr("export -q '" + asset + "' -o '" + dir.path("rec.nii.gz") + "'", dir);
+    ASSERT_EQ(nifti.exitCode, 0) << nifti.err;
+    EXPECT_EQ(readNifti(dir.path("rec.nii.gz"), {}).dims, (std::array<std::int64_t, 3>{24, 20, 16}));
+    EXPECT_FALSE(std::filesystem::exists(dir.path("rec.nii.gz.nii.gz")));
+
+    std::filesystem::create_directory(dir.path("out"));
+    for (const std::string& outputs : {"-o '" + dir.path("out/rec.tif") + "'",
+                                       "-o '" + dir.path("out/a.vdb") + "' -o '" + dir.path("out/b.vdb") + "'"}) {
+        const test::CommandResult refused = runGvr("export -q '" + asset + "' " + outputs, dir);
+        EXPECT_EQ(refused.exitCode, 2) << outputs;
+        EXPECT_EQ(test::lineCount(refused.err), 1u) << refused.err;
+        EXPECT_TRUE(std::filesystem::is_empty(dir.path("out"))) << outputs;
+    }
+    // The old spelling names the new one.
+    const test::CommandResult old =
+        runGvr("export -q '" + asset + "' -o '" + dir.path("out/rec.vdb") + "' --format nifti", dir);
+    EXPECT_EQ(old.exitCode, 2);
+    EXPECT_NE(old.err.find("-o OUT.vdb -o OUT.nii.gz"), std::string::npos) << old.err;
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path("out")));
+}
+
+TEST(CliIngest, ANiftiOutputIsTheSourceBackInItsOwnDatatype) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string source = test::sharedData("ct-gantry-tilt-shear/shear.nii.gz");
+    const test::CommandResult run = runGvr("ingest -q '" + source + "' -o '" + dir.path("ct.nii.gz") + "' --json", dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    EXPECT_EQ(nlohmann::json::parse(run.out)["outputs"][0]["datatype"], "uint8");
+    const DenseVolume original = readNifti(source, {}), back = readNifti(dir.path("ct.nii.gz"), {});
+    EXPECT_EQ(back.type, SampleType::UInt8);
+    EXPECT_EQ(back.slope, original.slope);
+    EXPECT_EQ(back.intercept, original.intercept);
+    EXPECT_EQ(back.samples, original.samples);  // nothing below the default threshold was lost
+}
+
+/// The gantry-tilt CT is uint8 with scl_slope 7.1, sform and qform code 2 and
+/// seconds as its time unit: its export gives all of that back.
+TEST(CliExport, ANiftiExportKeepsTheSourcesCodesAndDatatype) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string source = test::sharedData("ct-gantry-tilt-shear/shear.nii.gz");
+    const std::string grid = dir.path("ct.vdb"), asset = dir.path("ct.gvr");
+    ASSERT_EQ(runGvr("ingest -q '" + source + "' -o '" + grid + "'", dir).exitCode, 0);
+    ASSERT_EQ(runGvr("fit -q '" + grid + "' -o '" + asset + "' --gaussians 400 --iterations 3", dir).exitCode, 0);
+    const test::CommandResult exported = runGvr("export -q '" + asset + "' -o '" + dir.path("rec.nii") + "'", dir);
+    ASSERT_EQ(exported.exitCode, 0) << exported.err;
+    const DenseVolume original = readNifti(source, {}), back = readNifti(dir.path("rec.nii"), {});
+    EXPECT_EQ(back.type, original.type);
+    EXPECT_EQ(back.slope, original.slope);
+    EXPECT_EQ(back.intercept, original.intercept);
+    ASSERT_TRUE(back.niftiCodes && original.niftiCodes);
+    EXPECT_EQ(back.niftiCodes->sform, original.niftiCodes->sform);
+    EXPECT_EQ(back.niftiCodes->qform, original.niftiCodes->qform);
+    EXPECT_EQ(back.niftiCodes->xyztUnits, original.niftiCodes->xyztUnits);
+    EXPECT_TRUE(back.worldFromIndex.eq(original.worldFromIndex, 1e-4));
+
+    const test::CommandResult wide =
+        runGvr("export -q '" + asset + "' -o '" + dir.path("wide.nii") + "' --float32", dir);
+    ASSERT_EQ(wide.exitCode, 0) << wide.err;
+    EXPECT_EQ(readNifti(dir.path("wide.nii"), {}).type, SampleType::Float32);
+}
+
 TEST(CliExport, BadInputLeavesNoFiles) {
     test::TempDir dir;
     const std::string asset = smallAsset(dir);
@@ -81,7 +149,7 @@ TEST(CliExport, BadInputLeavesNoFiles) {
     test::writeBytes(dir.path("bad.asset"), std::string("GVRASSET") + std::string(40, '\1'));
     for (const std::string& arguments :
          {"export '" + dir.path("bad.asset") + out, "export '" + asset + out + " --voxel-size 0",
-          "export '" + asset + out + " --voxel-size 1e-7 --format nifti",
+          "export '" + asset + out + " -o '" + dir.path("out/x.nii.gz") + "' --voxel-size 1e-7",
           "export '" + asset + out + " --density-from '" + dir.path("missing.json") + "'",
           "export '" + asset + out + " --like '" + dir.path("bad.asset") + "'"}) {
         const test::CommandResult run = runGvr(arguments, dir);

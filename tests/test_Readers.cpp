@@ -252,6 +252,8 @@ TEST(NiftiReader, AppliesSlopeInterceptAndShearedSform) {
     EXPECT_DOUBLE_EQ(volume.intercept, -1024);
     EXPECT_EQ(volume.data<std::uint8_t>()[2], 100);
     expectNear(worldOf(volume, {1, 1, 1}), {-99.5, 0.65, 2.5});
+    ASSERT_TRUE(volume.niftiCodes);  // kept for a NIfTI export
+    EXPECT_EQ(volume.niftiCodes->sform, 1);
 }
 
 TEST(NiftiReader, SelectsAVolumeOfA4DSeries) {

@@ -1,0 +1,68 @@
+#include "VolumeOutputs.h"
+
+#include "AtomicFile.h"
+#include "Error.h"
+#include "GridFile.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+namespace gvr {
+
+namespace {
+
+bool endsWith(std::string text, const std::string& suffix) {
+    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return text.size() > suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+WrittenVolume writeOne(const std::string& path, const openvdb::GridCPtrVec& grids, const openvdb::CoordBBox& box,
+                       const NiftiStorage& storage) {
+    WrittenVolume written{path, volumeFileFormat(path)};
+    if (written.format == VolumeFileFormat::Vdb) {
+        writeGridFile(path, grids);
+    } else {
+        written.clampedSamples = writeNifti(path, sampleGrid(*grids.front(), box), storage);
+    }
+    written.fileBytes = std::filesystem::file_size(path);
+    return written;
+}
+
+}  // namespace
+
+VolumeFileFormat volumeFileFormat(const std::string& path) {
+    if (endsWith(path, ".vdb")) return VolumeFileFormat::Vdb;
+    if (endsWith(path, ".nii") || endsWith(path, ".nii.gz")) return VolumeFileFormat::Nifti;
+    throw InputError(path, "unknown output extension: use .vdb (OpenVDB), .nii or .nii.gz (NIfTI)");
+}
+
+void checkVolumeOutputs(const std::string& flag, const std::vector<std::string>& outputs,
+                        const std::vector<std::string>& inputs) {
+    if (outputs.empty()) throw InputError(flag, "an output file is required");
+    bool seen[2] = {false, false};
+    for (const std::string& output : outputs) {
+        const int format = int(volumeFileFormat(output));
+        if (seen[format]) {
+            throw InputError(flag, "two outputs of the same format (" + output +
+                                       "): give at most one .vdb and one .nii/.nii.gz");
+        }
+        seen[format] = true;
+        checkOutputPath(flag, output, inputs);
+    }
+}
+
+std::vector<WrittenVolume> writeVolumeOutputs(const std::vector<std::string>& outputs,
+                                              const openvdb::GridCPtrVec& grids, const openvdb::CoordBBox& box,
+                                              const NiftiStorage& storage) {
+    std::vector<WrittenVolume> written;
+    try {
+        for (const std::string& path : outputs) written.push_back(writeOne(path, grids, box, storage));
+    } catch (...) {
+        for (const WrittenVolume& done : written) std::filesystem::remove(done.path);
+        throw;
+    }
+    return written;
+}
+
+}  // namespace gvr
