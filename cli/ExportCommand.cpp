@@ -96,7 +96,8 @@ void addExportCommand(CLI::App& app) {
         ->excludes(voxelSize)->excludes(resolution);
     command->add_option("--threshold", flags->threshold,
                         "Voxels at or below this (physical units; luminance for RGB) stay inactive "
-                        "(default: the source's ingest threshold, else its minimum)");
+                        "(default: midway between the source's background and its ingest threshold, the "
+                        "nearer of the two for values in that gap; else the source's minimum)");
     command->add_option("--show", flags->show,
                         "Export only these structures of an asset fitted with --labels: IDs or names, comma-separated");
     command->add_option("--hide", flags->hide, "Leave these structures out (after --show)");

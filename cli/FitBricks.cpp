@@ -161,9 +161,9 @@ std::vector<SliceError> slicesOf(const std::string& bytes) {
 }
 
 /// This rank's bricks' cores measured, one outcome per brick.
-std::vector<BrickOutcome> measureMine(const GaussianField& field, const VolumeTarget& target,
-                                     const BrickedFitResult& fit, const std::vector<std::size_t>& mine, int rank,
-                                     bool progress) {
+std::vector<BrickOutcome> measureMine(const GaussianField& field, const ThresholdCut& cut,
+                                     const VolumeTarget& target, const BrickedFitResult& fit,
+                                     const std::vector<std::size_t>& mine, int rank, bool progress) {
     const BrickSeams seams(fit.layout, kSeamWidth);
     const VoxelMarking nearFace = [&](const openvdb::Coord& ijk) { return seams.near(ijk); };
     ProgressBar bar("measuring", progress);
@@ -171,7 +171,7 @@ std::vector<BrickOutcome> measureMine(const GaussianField& field, const VolumeTa
     for (std::size_t n = 0; n < mine.size(); ++n) {
         const auto share = [&](double fraction) { bar.update((double(n) + fraction) / double(mine.size())); };
         const Brick& brick = fit.layout[mine[n]];
-        outcomes.push_back({brick.index, rank, true, bytesOf(measureSliceErrors(field, target, brick.core, share, nearFace))});
+        outcomes.push_back({brick.index, rank, true, bytesOf(measureSliceErrors(field, target, brick.core, share, nearFace, cut))});
     }
     return outcomes;
 }
@@ -199,7 +199,7 @@ VolumeError measureAcrossTeam(const BrickTeam& team, const std::string& saved, c
     try {
         const GaussianAsset asset = decodeAsset(saved, "the merged asset");
         const GaussianField field(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas);
-        std::vector<BrickOutcome> outcomes = measureMine(field, target, fit, bricksOf(team.rank(), fit.owners),
+        std::vector<BrickOutcome> outcomes = measureMine(field, defaultExportCut(asset), target, fit, bricksOf(team.rank(), fit.owners),
                                                          team.rank(), progress && team.isRoot());
         outcomes = team.gather(std::move(outcomes), fit.owners);
         return team.isRoot() ? volumeErrorOf(wholeBoxSlices(outcomes, fit.layout, target), target) : VolumeError{};

@@ -289,7 +289,8 @@ void runFit(FitFlags& flags) {
     phases.lap("write");
     ProgressBar measuring("measuring", !flags.quiet);
     const GaussianField saved(quantisedCopy(result.asset.params, result.asset.encoding), result.asset.cutoffSigmas);
-    const VolumeError error = measureVolumeError(saved, target, measuring.callback());
+    const VolumeError error =
+        measureVolumeError(saved, target, measuring.callback(), {}, defaultExportCut(result.asset));
     phases.lap("measure");
     report(flags, result, target.peak(), error, nullptr, phases);
 }

@@ -5,6 +5,7 @@
 #include "Ingest.h"
 #include "Luminance.h"
 #include "MemoryBudget.h"
+#include "ThresholdCut.h"
 #include "VolumeBorder.h"
 
 namespace gvr {
@@ -51,7 +52,7 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     const openvdb::Vec3i dims = asset.source.dims;
     ExportResult result;
     result.lattice = settings.lattice.value_or(sourceLattice(asset.worldFromIndex, dims));
-    result.threshold = settings.threshold.value_or(asset.source.threshold.value_or(asset.source.valueMin));
+    result.threshold = settings.threshold.value_or(defaultExportThreshold(asset.source));
     const openvdb::Coord size = result.lattice.box.dim();
     checkVolumeFitsInMemory(settings.assetPath.empty() ? "asset" : settings.assetPath, {size.x(), size.y(), size.z()},
                             asset.params.channels, sizeof(float), "export");

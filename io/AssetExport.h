@@ -19,7 +19,7 @@ enum class GridNaming { Blender, Houdini };
 struct ExportSettings {
     std::optional<Lattice> lattice;  ///< unset: the source's own grid
     /// Physical units (luminance for RGB); voxels at or below stay inactive.
-    /// Unset: the source's ingest threshold, else the source's minimum.
+    /// Unset: defaultExportThreshold() (midway between the background and the ingest threshold).
     std::optional<double> threshold;
     GridNaming naming = GridNaming::Blender;
     /// RGB only: density = this function's opacity at each voxel's luminance.

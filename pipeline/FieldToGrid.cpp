@@ -1,7 +1,7 @@
 #include "FieldToGrid.h"
 
 #include "LeafAssembly.h"
-#include "Luminance.h"
+#include "ThresholdCut.h"
 
 #include <algorithm>
 
@@ -18,7 +18,8 @@ public:
     static_assert(LeafT::DIM == kBlockDim, "blocks are OpenVDB leaves");
 
     LeafSampler(const LatticeSampler& sampler, const FieldToGridSettings& settings)
-        : mSampler(sampler), mSettings(settings), mChannels(sampler.channels()) {}
+        : mSampler(sampler), mSettings(settings), mChannels(sampler.channels()),
+          mCut(settings.mapping, mChannels, settings.threshold) {}
 
     std::unique_ptr<LeafT> operator()(const openvdb::Coord& origin) const {
         float sums[kBlockVoxels * 3] = {};
@@ -29,10 +30,9 @@ public:
             const int offset = blockOffset(*ijk);
             const float* sum = sums + offset * mChannels;
             if (std::all_of(sum, sum + mChannels, [](float v) { return v == 0.0f; })) continue;  // unreached
+            if (mCut.cuts(sum)) continue;
             float physical[3];
             for (int c = 0; c < mChannels; ++c) physical[c] = float(mSettings.mapping.toPhysical(sum[c], c));
-            const double key = mChannels == 1 ? physical[0] : luminance(physical);
-            if (mSettings.threshold && key <= *mSettings.threshold) continue;
             leaf->setValueOn(offset, valueOf(physical));
         }
         return leaf->isEmpty() ? nullptr : std::move(leaf);
@@ -54,6 +54,7 @@ private:
     const LatticeSampler& mSampler;
     const FieldToGridSettings& mSettings;
     const int mChannels;
+    const ThresholdCut mCut;
 };
 
 template <typename GridT>

@@ -9,7 +9,7 @@ namespace gvr {
 namespace {
 
 SliceError measureSlice(const GaussianField& field, const VolumeTarget& target, const openvdb::CoordBBox& box, int z,
-                        const VoxelMarking& marked) {
+                        const VoxelMarking& marked, const ThresholdCut& cut) {
     const int channels = target.channels();
     SliceError error;
     std::vector<std::uint32_t> hits;
@@ -19,6 +19,7 @@ SliceError measureSlice(const GaussianField& field, const VolumeTarget& target, 
             const openvdb::Coord ijk(x, y, z);
             const float point[3] = {float(x), float(y), float(z)};
             field.evaluate(point, value, hits);
+            cut.apply(value);
             target.valueAt(ijk, expected);
             double squared = 0.0;
             for (int c = 0; c < channels; ++c) squared += double(value[c] - expected[c]) * (value[c] - expected[c]);
@@ -46,12 +47,12 @@ SliceError measureSlice(const GaussianField& field, const VolumeTarget& target, 
 
 std::vector<SliceError> measureSliceErrors(const GaussianField& field, const VolumeTarget& target,
                                            openvdb::CoordBBox part, const ProgressFn& progress,
-                                           const VoxelMarking& marked) {
+                                           const VoxelMarking& marked, const ThresholdCut& cut) {
     part.intersect(target.box());
     std::vector<SliceError> slices(part.empty() ? 0 : std::size_t(part.dim().z()));
     ProgressCounter counter(progress, slices.size());
     tbb::parallel_for(0, int(slices.size()), [&](int s) {
-        slices[s] = measureSlice(field, target, part, part.min().z() + s, marked);
+        slices[s] = measureSlice(field, target, part, part.min().z() + s, marked, cut);
         counter.advance();
     });
     return slices;
@@ -95,8 +96,8 @@ VolumeError volumeErrorOf(const std::vector<SliceError>& slices, const VolumeTar
 }
 
 VolumeError measureVolumeError(const GaussianField& field, const VolumeTarget& target, const ProgressFn& progress,
-                               const VoxelMarking& marked) {
-    return volumeErrorOf(measureSliceErrors(field, target, target.box(), progress, marked), target);
+                               const VoxelMarking& marked, const ThresholdCut& cut) {
+    return volumeErrorOf(measureSliceErrors(field, target, target.box(), progress, marked, cut), target);
 }
 
 }  // namespace gvr

@@ -4,6 +4,7 @@
 
 #include "GaussianField.h"
 #include "Progress.h"
+#include "ThresholdCut.h"
 #include "VolumeTarget.h"
 
 #include <functional>
@@ -40,16 +41,18 @@ struct SliceError {
 };
 
 /// Evaluates the field at every voxel centre of target.box(), in parallel over
-/// z-slices; the result does not depend on the thread count.
+/// z-slices, and applies @a cut as export does; the result does not depend on
+/// the thread count.
 VolumeError measureVolumeError(const GaussianField& field, const VolumeTarget& target,
-                               const ProgressFn& progress = {}, const VoxelMarking& marked = {});
+                               const ProgressFn& progress = {}, const VoxelMarking& marked = {},
+                               const ThresholdCut& cut = {});
 
 /// The part of measureVolumeError() inside @a part (clipped to target.box()): one
 /// entry per z-slice of the clipped part, lowest z first, for a measurement shared
 /// out by region (an MPI rank's bricks, say).
 std::vector<SliceError> measureSliceErrors(const GaussianField& field, const VolumeTarget& target,
                                            openvdb::CoordBBox part, const ProgressFn& progress = {},
-                                           const VoxelMarking& marked = {});
+                                           const VoxelMarking& marked = {}, const ThresholdCut& cut = {});
 
 /// The error of the whole box from the sums of each of its z-slices, lowest first.
 VolumeError volumeErrorOf(const std::vector<SliceError>& slices, const VolumeTarget& target);

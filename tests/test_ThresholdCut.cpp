@@ -1,0 +1,46 @@
+// The threshold rule that export, fit and eval share.
+
+#include "Luminance.h"
+#include "ThresholdCut.h"
+
+#include <gtest/gtest.h>
+
+namespace gvr {
+namespace {
+
+TEST(ThresholdCut, CutsWhatIsAtOrBelowThePhysicalThreshold) {
+    const ValueMapping mapping{{-1024.0, -1024.0, -1024.0}, 3000.0};
+    const ThresholdCut cut(mapping, 1, -500.0);
+    const float justBelow = float(mapping.toNormalised(-500.5, 0)), justAbove = float(mapping.toNormalised(-499.5, 0));
+    EXPECT_TRUE(cut.cuts(&justBelow));
+    EXPECT_FALSE(cut.cuts(&justAbove));
+    float value = justBelow;
+    cut.apply(&value);
+    EXPECT_EQ(value, 0.0f);  // the background
+    EXPECT_FALSE(ThresholdCut().cuts(&justBelow));
+}
+
+TEST(ThresholdCut, RgbIsCutOnTheLuminanceOfItsPhysicalValues) {
+    const ValueMapping mapping{{10.0, 20.0, 30.0}, 200.0};
+    const ThresholdCut cut(mapping, 3, 100.0);
+    for (float red : {0.1f, 0.3f, 0.5f, 0.7f}) {
+        float rgb[3] = {red, 0.4f, 0.2f};
+        double physical[3];
+        for (int c = 0; c < 3; ++c) physical[c] = mapping.toPhysical(rgb[c], c);
+        EXPECT_EQ(cut.cuts(rgb), luminance(physical) <= 100.0) << red;
+    }
+}
+
+TEST(ThresholdCut, TheDefaultSplitsTheGapBetweenBackgroundAndThreshold) {
+    VolumeMetadata source;
+    source.valueMin = -3024.0;
+    source.background = -1793.0;
+    EXPECT_EQ(defaultExportThreshold(source), -3024.0);  // no ingest threshold
+    source.threshold = -500.0;
+    EXPECT_EQ(defaultExportThreshold(source), -1146.5);
+    source.background = -400.0;  // a background above the threshold leaves no gap
+    EXPECT_EQ(defaultExportThreshold(source), -500.0);
+}
+
+}  // namespace
+}  // namespace gvr
