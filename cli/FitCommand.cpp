@@ -52,6 +52,7 @@ public:
     nlohmann::json json() const {
         nlohmann::json out = nlohmann::json::object();
         for (const auto& [name, seconds] : mSteps) out[name] = seconds;
+        out["total"] = total();
         return out;
     }
     std::string text() const {
@@ -59,7 +60,13 @@ public:
         for (const auto& [name, seconds] : mSteps) {
             out << (&name == &mSteps.front().first ? "" : ", ") << name << " " << std::setprecision(4) << seconds << " s";
         }
+        out << "; total " << std::setprecision(4) << total() << " s";
         return out.str();
+    }
+    double total() const {
+        double sum = 0.0;
+        for (const auto& step : mSteps) sum += step.second;
+        return sum;
     }
 
 private:

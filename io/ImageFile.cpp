@@ -2,6 +2,7 @@
 
 #include "AtomicFile.h"
 #include "Error.h"
+#include "LowerCase.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -15,9 +16,7 @@ namespace gvr {
 namespace {
 
 std::string lowerExtension(const std::string& path) {
-    std::string extension = std::filesystem::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
-    return extension;
+    return lowerCase(std::filesystem::path(path).extension().string());
 }
 
 std::vector<std::uint8_t> straightBytes(int width, int height, const float* rgba) {

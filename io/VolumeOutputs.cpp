@@ -3,19 +3,13 @@
 #include "AtomicFile.h"
 #include "Error.h"
 #include "GridFile.h"
+#include "LowerCase.h"
 
-#include <algorithm>
-#include <cctype>
 #include <filesystem>
 
 namespace gvr {
 
 namespace {
-
-bool endsWith(std::string text, const std::string& suffix) {
-    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return text.size() > suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 WrittenVolume writeOne(const std::string& path, const openvdb::GridCPtrVec& grids, const openvdb::CoordBBox& box,
                        const NiftiStorage& storage) {
@@ -32,8 +26,8 @@ WrittenVolume writeOne(const std::string& path, const openvdb::GridCPtrVec& grid
 }  // namespace
 
 VolumeFileFormat volumeFileFormat(const std::string& path) {
-    if (endsWith(path, ".vdb")) return VolumeFileFormat::Vdb;
-    if (endsWith(path, ".nii") || endsWith(path, ".nii.gz")) return VolumeFileFormat::Nifti;
+    if (endsWithIgnoringCase(path, ".vdb")) return VolumeFileFormat::Vdb;
+    if (endsWithIgnoringCase(path, ".nii") || endsWithIgnoringCase(path, ".nii.gz")) return VolumeFileFormat::Nifti;
     throw InputError(path, "unknown output extension: use .vdb (OpenVDB), .nii or .nii.gz (NIfTI)");
 }
 

@@ -3,6 +3,7 @@
 
 #include "Error.h"
 #include "GridFile.h"
+#include "LowerCase.h"
 #include "Readers.h"
 
 #include <glob.h>
@@ -16,12 +17,6 @@ namespace gvr {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string lowerCase(std::string text) {
-    std::transform(text.begin(), text.end(), text.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    return text;
-}
 
 bool endsWith(const std::string& text, const std::string& suffix) {
     return text.size() >= suffix.size() &&

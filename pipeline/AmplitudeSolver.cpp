@@ -184,8 +184,17 @@ AmplitudeSolveReport solveAmplitudes(GaussianParameters& params, const VolumeTar
     std::vector<double> p = r;
     double rr = dot(r, r);
     double passSeconds = elapsed();
+    // An iteration is worth starting only if it and the closing pass both fit.
+    const auto timeForAnIteration = [&] {
+        return settings.seconds <= 0.0 || elapsed() + 2.0 * passSeconds <= settings.seconds;
+    };
+    if (!timeForAnIteration()) {  // the closing pass would only confirm the amplitudes as they are
+        report.mseAfter = report.mseBefore;
+        report.seconds = elapsed();
+        return report;
+    }
     while (report.iterations < settings.iterations && rr > 0.0) {
-        if (settings.seconds > 0.0 && elapsed() + passSeconds > settings.seconds) break;
+        if (!timeForAnIteration()) break;
         const double before = elapsed();
         double unused = 0.0;
         const std::vector<double> ap = matrix.apply(p, /*residual=*/false, unused);  // G^T G p

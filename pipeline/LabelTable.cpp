@@ -1,6 +1,7 @@
 #include "LabelTable.h"
 
 #include "Error.h"
+#include "LowerCase.h"
 
 #include <algorithm>
 #include <cctype>
@@ -10,11 +11,6 @@
 namespace gvr {
 
 namespace {
-
-std::string lowered(std::string text) {
-    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return text;
-}
 
 std::string trimmed(const std::string& text) {
     const auto first = text.find_first_not_of(" \t");
@@ -44,7 +40,7 @@ int findLabel(const LabelTable& table, const std::string& item, const std::strin
         if (name == item) return candidate;
     }
     for (const auto& [candidate, name] : table.names) {
-        if (lowered(name) == lowered(item)) return candidate;
+        if (lowerCase(name) == lowerCase(item)) return candidate;
     }
     throw InputError(culprit, "no structure is named '" + item + "'; valid: " + validLabels(table));
 }

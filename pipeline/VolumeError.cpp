@@ -1,46 +1,53 @@
 #include "VolumeError.h"
 
 #include "Fitter.h"
+#include "LatticeSampler.h"
 
 #include <tbb/parallel_for.h>
+
+#include <bitset>
 
 namespace gvr {
 
 namespace {
 
-SliceError measureSlice(const GaussianField& field, const VolumeTarget& target, const openvdb::CoordBBox& box, int z,
-                        const VoxelMarking& marked, const ThresholdCut& cut) {
+/// Adds the squared errors (channel mean) of the voxels of the block at @a origin
+/// that lie in @a part into their slices (slices[0] is part.min().z()).
+void measureBlock(const LatticeSampler& sampler, const VolumeTarget& target, const openvdb::Coord& origin,
+                  const openvdb::CoordBBox& part, const VoxelMarking& marked, const ThresholdCut& cut,
+                  std::vector<SliceError>& slices) {
     const int channels = target.channels();
-    SliceError error;
-    std::vector<std::uint32_t> hits;
-    float value[3], expected[3];
-    for (int y = box.min().y(); y <= box.max().y(); ++y) {
-        for (int x = box.min().x(); x <= box.max().x(); ++x) {
-            const openvdb::Coord ijk(x, y, z);
-            const float point[3] = {float(x), float(y), float(z)};
-            field.evaluate(point, value, hits);
-            cut.apply(value);
-            target.valueAt(ijk, expected);
-            double squared = 0.0;
-            for (int c = 0; c < channels; ++c) squared += double(value[c] - expected[c]) * (value[c] - expected[c]);
-            squared /= channels;
-            error.all += squared;
-            const bool active = target.isActive(ijk);
-            if (active) {
-                error.foreground += squared;
-                ++error.foregroundVoxels;
-            }
-            if (marked && marked(ijk)) {
-                error.marked += squared;
-                ++error.markedVoxels;
-                if (active) {
-                    error.markedForeground += squared;
-                    ++error.markedForegroundVoxels;
-                }
+    float field[kBlockVoxels * 3] = {}, expected[kBlockVoxels * 3];
+    sampler.sampleBlock(origin, field);
+    target.blockValues(origin, expected);
+    const std::bitset<kBlockVoxels> active = target.blockActive(origin);
+    openvdb::CoordBBox voxels(origin, origin.offsetBy(kBlockDim - 1));
+    voxels.intersect(part);
+    for (auto ijk = voxels.beginZYX(); ijk; ++ijk) {
+        const int offset = blockOffset(*ijk);
+        float* value = field + offset * channels;
+        cut.apply(value);
+        double squared = 0.0;
+        for (int c = 0; c < channels; ++c) {
+            const double difference = double(value[c]) - double(expected[offset * channels + c]);
+            squared += difference * difference;
+        }
+        squared /= channels;
+        SliceError& error = slices[std::size_t((*ijk).z() - part.min().z())];
+        error.all += squared;
+        if (active[offset]) {
+            error.foreground += squared;
+            ++error.foregroundVoxels;
+        }
+        if (marked && marked(*ijk)) {
+            error.marked += squared;
+            ++error.markedVoxels;
+            if (active[offset]) {
+                error.markedForeground += squared;
+                ++error.markedForegroundVoxels;
             }
         }
     }
-    return error;
 }
 
 }  // namespace
@@ -50,9 +57,20 @@ std::vector<SliceError> measureSliceErrors(const GaussianField& field, const Vol
                                            const VoxelMarking& marked, const ThresholdCut& cut) {
     part.intersect(target.box());
     std::vector<SliceError> slices(part.empty() ? 0 : std::size_t(part.dim().z()));
-    ProgressCounter counter(progress, slices.size());
-    tbb::parallel_for(0, int(slices.size()), [&](int s) {
-        slices[s] = measureSlice(field, target, part, part.min().z() + s, marked, cut);
+    if (slices.empty()) return slices;
+    // Export's own evaluation, block by block, so that the numbers are export's.
+    const LatticeSampler sampler(field, openvdb::math::Mat4d::identity(), Lattice{openvdb::math::Mat4d::identity(), part},
+                                 target.box());
+    // One task per layer of blocks: each owns the slices it covers, so the sums do
+    // not depend on the thread count.
+    std::vector<std::vector<openvdb::Coord>> layers;
+    for (const openvdb::Coord& origin : blockOrigins(part)) {
+        if (layers.empty() || layers.back().front().z() != origin.z()) layers.emplace_back();
+        layers.back().push_back(origin);
+    }
+    ProgressCounter counter(progress, layers.size());
+    tbb::parallel_for(std::size_t(0), layers.size(), [&](std::size_t layer) {
+        for (const openvdb::Coord& origin : layers[layer]) measureBlock(sampler, target, origin, part, marked, cut, slices);
         counter.advance();
     });
     return slices;

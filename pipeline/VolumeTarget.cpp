@@ -68,6 +68,18 @@ std::uint64_t activeVoxelsIn(const TreeT& tree, const openvdb::CoordBBox& region
     return count;
 }
 
+/// The active flags of one leaf-sized block of @a tree.
+template <typename TreeT>
+std::bitset<512> blockActiveOf(const TreeT& tree, const openvdb::Coord& origin) {
+    std::bitset<512> active;
+    if (const auto* leaf = tree.probeConstLeaf(origin)) {
+        for (auto on = leaf->getValueMask().beginOn(); on; ++on) active.set(on.pos());
+    } else if (tree.isValueOn(origin)) {  // an active tile covers the whole block
+        active.set();
+    }
+    return active;
+}
+
 }  // namespace
 
 VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& name,
@@ -153,6 +165,10 @@ void VolumeTarget::blockValues(const openvdb::Coord& origin, float* out) const {
 void VolumeTarget::applyTaper(const openvdb::Coord& ijk, float* out) const {
     const float weight = mTaper->at(ijk);
     for (int c = 0; c < mChannels; ++c) out[c] *= weight;
+}
+
+std::bitset<512> VolumeTarget::blockActive(const openvdb::Coord& origin) const {
+    return mFloat ? blockActiveOf(mFloat->tree(), origin) : blockActiveOf(mColour->tree(), origin);
 }
 
 bool VolumeTarget::isActive(const openvdb::Coord& ijk) const {

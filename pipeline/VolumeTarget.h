@@ -7,6 +7,8 @@
 
 #include <openvdb/openvdb.h>
 
+#include <bitset>
+
 #include <functional>
 #include <optional>
 
@@ -40,6 +42,8 @@ public:
     /// voxels: what valueAt() gives at each, read a leaf at a time.
     void blockValues(const openvdb::Coord& origin, float* out) const;
     bool isActive(const openvdb::Coord& ijk) const;
+    /// isActive() for every voxel of the block at @a origin, at blockOffset().
+    std::bitset<512> blockActive(const openvdb::Coord& origin) const;
     /// Trilinear interpolation between voxel centres at index-space point @a x.
     void trilinearAt(const float x[3], float* out) const;
 

@@ -1,5 +1,7 @@
 #include "VolumeClassifier.h"
 
+#include "LowerCase.h"
+
 namespace gvr {
 
 Classifier volumeClassifier(const RenderVolume& volume, const TransferFunction& tf) {
@@ -8,7 +10,7 @@ Classifier volumeClassifier(const RenderVolume& volume, const TransferFunction& 
 
 Classifier presetClassifier(const RenderVolume& volume, const std::string& preset, std::string* mismatch) {
     const VolumeStatistics statistics = volume.statistics();
-    const std::string name = preset.empty() ? defaultPreset(volume.channels(), statistics) : preset;
+    const std::string name = preset.empty() ? defaultPreset(volume.channels(), statistics) : lowerCase(preset);
     Classifier classifier = volumeClassifier(volume, presetTransferFunction(name, statistics));
     if (mismatch) *mismatch = presetMismatch(name, volume.channels(), statistics);
     return classifier;
