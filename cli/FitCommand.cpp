@@ -303,6 +303,7 @@ void runFit(FitFlags& flags) {
 }
 
 void addTuningFlags(CLI::App& command, FitSettings& s) {
+    command.option_defaults()->group("Sampling (the block engine)");
     command.add_option("--batch", s.voxelBatch, "Voxel samples per iteration (expected), in whole 8^3 blocks drawn by error")
         ->capture_default_str();
     command.add_option("--row-stride", s.rowStride, "Evaluate every k-th row (along z) of a drawn block, weighted by k")
@@ -316,24 +317,30 @@ void addTuningFlags(CLI::App& command, FitSettings& s) {
         ->capture_default_str();
     command.add_option("--mc-lambda", s.importance.uniformShare, "lambda: uniform share of p(x) = lambda/n + (1-lambda) p_imp(x)")->capture_default_str();
     command.add_option("--mc-epsilon", s.importance.epsilon, "epsilon added to each block's error in p_imp")->capture_default_str();
+    command.option_defaults()->group("Slice curriculum");
     command.add_option("--slice-pixels", s.slicePixels, "Pixels per random slice")->capture_default_str();
     command.add_option("--slice-max", s.sliceMax, "lambda_s,max of the slice curriculum")->capture_default_str();
     command.add_option("--slice-gamma", s.sliceGamma, "gamma_s: curriculum midpoint, as a fraction of the budget")->capture_default_str();
     command.add_option("--slice-beta", s.sliceBeta, "beta_s: curriculum width, as a fraction of the budget")->capture_default_str();
+    command.option_defaults()->group("Optimiser (Adam)");
     command.add_option("--lr", s.learningRate, "Base Adam learning rate (the paper's 5e-4), scaled per group")->capture_default_str();
     command.add_option("--lr-final", s.finalRateFactor, "Learning rates decay exponentially to this factor")->capture_default_str();
+    command.option_defaults()->group("Seeding and pruning");
     command.add_option("--gradient-share", s.gradientSeedShare, "Share of seeds drawn by gradient magnitude")->capture_default_str();
     command.add_option("--uniform-share", s.uniformSeedShare, "Share of seeds drawn uniformly")->capture_default_str();
     command.add_option("--cutoff", s.cutoffSigmas, "Truncation radius of every Gaussian, in standard deviations")->capture_default_str();
     command.add_option("--prune-every", s.pruneEvery, "Iterations between prune-and-respawn passes (0: never)")->capture_default_str();
     command.add_option("--prune-amplitude", s.pruneAmplitude, "Prune Gaussians whose peak |opacity*colour| is below this")->capture_default_str();
+    command.option_defaults()->group("Amplitude solve");
     command.add_option("--solve-iterations", s.amplitudeSolveIterations, "Conjugate-gradient iterations of the final least-squares amplitude solve (0: none)")->capture_default_str();
     command.add_option("--solve-share", s.amplitudeSolveShare, "Share of a --time budget kept for the amplitude solve")->capture_default_str();
+    command.option_defaults()->group("Error-against-time curve");
     command.add_option("--held-out", s.heldOutVoxels, "Fixed voxels for the PSNR curve")->capture_default_str();
     command.add_option("--log-every", s.logEvery, "Iterations between PSNR evaluations")->capture_default_str();
 }
 
 void addEncodingFlags(CLI::App& command, AssetEncoding& e) {
+    command.option_defaults()->group("Asset encoding");
     command.add_option("--mean-step", e.meanStep, "Asset: lattice of the stored means, in voxels")
         ->check(CLI::Range(1e-4, 8.0))->capture_default_str();
     command.add_option("--rotation-bits", e.rotationBits, "Asset: bits per stored quaternion component")
@@ -355,6 +362,7 @@ void addFitCommand(CLI::App& app) {
                "A1 = uniform random voxels; A2 = uniform voxels then slices; A3 = slices then voxels; "
                "A4 = slices only; A5 = Monte Carlo voxels only");
     command->add_option("input", flags->input, "Grid (.vdb) or source volume")->required();
+    command->option_defaults()->group("Budget and output");
     command->add_option("-o,--output", flags->output, "Asset file to write (any name)")->required();
     auto* ratio = command->add_option("--ratio", flags->options.ratio, "Target compression ratio against the raw source bytes")->capture_default_str();
     command->add_option("--gaussians", flags->options.gaussians, "Fit exactly this many Gaussians instead")
@@ -368,6 +376,7 @@ void addFitCommand(CLI::App& app) {
     command->add_option("--seed", flags->options.settings.seed, "Random seed")->capture_default_str();
     command->add_option("--ablation", flags->options.ablation, "full, A1, A2, A3, A4 or A5")->capture_default_str();
     auto* log = command->add_option("--log", flags->logPath, "Write error against run time as CSV");
+    command->option_defaults()->group("Structures (atlas labels)");
     auto* labels = command->add_option("--labels", flags->options.labels,
                         "Fit by structure from the label grid that ingest --labels stored (or --label-volume): all, "
                         "or IDs and names "
@@ -380,13 +389,17 @@ void addFitCommand(CLI::App& app) {
     command->add_option("--label-names", flags->labelNames,
                         "With --label-volume: names of its labels, one \"ID NAME\" per line (AAL .txt, FreeSurfer LUT)")
         ->needs(labelVolume);
+    command->option_defaults()->group("Budget and output");
     command->add_option("--threads", flags->threads, "Worker threads (default: all cores)")->check(CLI::Range(0, 1024));
+    command->option_defaults()->group("Bricks (large volumes, MPI, job arrays)");
     addBrickFlags(*command, flags->bricks);
     command->get_option("--bricks")->excludes(log)->excludes(labels);
     command->get_option("--brick")->excludes(log)->excludes(labels);
     addTuningFlags(*command, flags->options.settings);
     addEncodingFlags(*command, flags->options.encoding);
+    command->option_defaults()->group("Reading a source volume (as gvr ingest)");
     addSourceFlags(*command, flags->source);
+    command->option_defaults()->group("Budget and output");
     command->add_flag("--json", flags->json, "Print the result as JSON");
     command->add_flag("-q,--quiet", flags->quiet, "No progress bars");
     command->callback([flags] { runFit(*flags); });

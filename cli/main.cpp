@@ -5,17 +5,28 @@
 #include "Diagnostics.h"
 #include "Error.h"
 #include "OptionGuards.h"
+#include "Suggestions.h"
 
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <new>
 
 namespace {
 
 int run(CLI::App& app, int argc, char** argv) {
+    const std::string unknownCommand = gvr::unknownCommandMessage(app, argc, argv);
+    if (!unknownCommand.empty()) {
+        gvr::diagnostics() << "gvr: error: " << unknownCommand << "\n";
+        return 2;
+    }
     try {
         app.parse(argc, argv);
         return 0;
+    } catch (const CLI::ExtrasError& error) {
+        const std::string unknownFlag = gvr::unknownFlagMessage(app, argc, argv);
+        if (unknownFlag.empty()) return app.exit(error, std::cout, gvr::diagnostics()) == 0 ? 0 : 2;
+        gvr::diagnostics() << "gvr: error: " << unknownFlag << "\n";
     } catch (const CLI::ParseError& error) {
         const int code = app.exit(error, std::cout, gvr::diagnostics());
         return code == 0 ? 0 : 2;
@@ -32,6 +43,29 @@ int run(CLI::App& app, int argc, char** argv) {
     return 2;
 }
 
+/// gvr help [COMMAND]: the help that --help prints.
+void addHelpCommand(CLI::App& app) {
+    auto topic = std::make_shared<std::string>();
+    CLI::App* help = app.add_subcommand("help", "Show the help of gvr, or of one command (gvr help fit)");
+    help->add_option("command", *topic, "The command to explain");
+    help->callback([&app, topic] {
+        if (topic->empty()) {  // app.help() would explain the help command itself, the one selected
+            std::cout << app.get_formatter()->make_help(&app, "gvr", CLI::AppFormatMode::Normal);
+            return;
+        }
+        std::vector<std::string> names;
+        for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; })) {
+            if (command->get_name() == *topic) {
+                std::cout << command->help(app.get_name());
+                return;
+            }
+            names.push_back(command->get_name());
+        }
+        const std::string near = gvr::closestName(*topic, names);
+        throw gvr::InputError("help", "no command '" + *topic + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?"));
+    });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -39,8 +73,9 @@ int main(int argc, char** argv) {
     gvr::removeTemporariesOnSignals();
     CLI::App app{"gvr: turn medical volumes into sparse OpenVDB grids and compact Gaussian assets, "
                  "evaluate and render them"};
+    app.name("gvr");  // not argv[0], a build path, in every usage line
     app.require_subcommand(1);
-    app.set_version_flag("--version", "gvr 0.1.0");
+    app.set_version_flag("-V,--version", "gvr 0.1.0");
     app.fallthrough();  // inherited by the subcommands, so that --verbose may follow them
     gvr::addIngestCommand(app);
     gvr::addInfoCommand(app);
@@ -53,6 +88,7 @@ int main(int argc, char** argv) {
     gvr::addViewCommand(app);
     gvr::addBaselineCommand(app);
     gvr::addBenchCommand(app);
+    addHelpCommand(app);
     gvr::refuseNegativeUnsignedValues(app);
     gvr::useOneLineUsageErrors(app);
     bool verbose = false;

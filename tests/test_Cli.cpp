@@ -1,5 +1,6 @@
 // The gvr executable as a user meets it: exit codes, one-line errors, no stray files.
 
+#include "Suggestions.h"
 #include "TestHelpers.h"
 
 #include <nlohmann/json.hpp>
@@ -27,6 +28,10 @@ TEST(Cli, HelpOnEveryCommand) {
     const std::string fitHelp = test::runGvr("fit --help", dir).out;
     for (const char* ablation : {"full", "A1", "A2", "A3", "A4", "A5"}) {
         EXPECT_NE(fitHelp.find(ablation), std::string::npos) << ablation;
+    }
+    // Sixty options read in groups, not as one list.
+    for (const char* group : {"Budget and output:", "Slice curriculum:", "Asset encoding:", "Bricks"}) {
+        EXPECT_NE(fitHelp.find(group), std::string::npos) << group;
     }
 }
 
@@ -69,6 +74,41 @@ TEST(Cli, LibraryMessagesStayOffStderrUnlessVerbose) {
     EXPECT_NE(verbose.err.find("\ngvr: library: ** ERROR: nifti_convert_n1hdr2nim: bad dim[0]"), std::string::npos)
         << verbose.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("x.vdb")));
+}
+
+TEST(Cli, HelpCommandAndShortVersion) {
+    test::TempDir dir;
+    const test::CommandResult help = test::runGvr("help", dir);
+    EXPECT_EQ(help.exitCode, 0) << help.err;
+    EXPECT_NE(help.out.find("Subcommands"), std::string::npos) << help.out;
+    const test::CommandResult fitHelp = test::runGvr("help fit", dir);
+    EXPECT_EQ(fitHelp.exitCode, 0) << fitHelp.err;
+    EXPECT_EQ(fitHelp.out, test::runGvr("fit --help", dir).out);
+    const test::CommandResult version = test::runGvr("-V", dir);
+    EXPECT_EQ(version.exitCode, 0);
+    EXPECT_EQ(version.out.rfind("gvr ", 0), 0u) << version.out;
+    const test::CommandResult unknown = test::runGvr("help fitt", dir);
+    EXPECT_EQ(unknown.exitCode, 2);
+    EXPECT_NE(unknown.err.find("'fit'"), std::string::npos) << unknown.err;
+}
+
+TEST(Cli, MistypedCommandsAndFlagsGetASuggestion) {
+    test::TempDir dir;
+    const test::CommandResult command = test::runGvr("fitt x.vdb -o y.gvr", dir);
+    EXPECT_EQ(command.exitCode, 2);
+    EXPECT_EQ(test::lineCount(command.err), 1u) << command.err;
+    EXPECT_NE(command.err.find("did you mean 'fit'"), std::string::npos) << command.err;
+    const test::CommandResult flag = test::runGvr("fit x.vdb -o y.gvr --tim 5", dir);
+    EXPECT_EQ(flag.exitCode, 2);
+    EXPECT_NE(flag.err.find("did you mean --time?"), std::string::npos) << flag.err;
+    EXPECT_EQ(test::runGvr("bogus", dir).err.find("did you mean"), std::string::npos);  // nothing near
+}
+
+TEST(Suggestions, NearestNameOrNone) {
+    EXPECT_EQ(closestName("--tim", {"--time", "--tf", "--threads"}), "--time");
+    EXPECT_EQ(closestName("exprot", {"export", "eval", "info"}), "export");
+    EXPECT_EQ(closestName("--iter", {"--iterations", "--time"}), "--iterations");  // the only one it begins
+    EXPECT_EQ(closestName("zzzzzz", {"export", "eval"}), "");
 }
 
 TEST(Cli, UnknownFlagsAndBadSpacingAreUsageErrors) {
