@@ -78,6 +78,17 @@ TEST(CliRender, AssetsRenderWithBothRenderersAndAgree) {
     EXPECT_GT(std::filesystem::file_size(dir.path("rm.exr")), 0u);
 }
 
+TEST(CliRender, PresetNamesIgnoreCase) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    for (const char* name : {"mri", "MRI", "Mri"}) {
+        const test::CommandResult run =
+            runGvr("render -q '" + grid + "' --size 32x32 --tf " + name + " -o '" + dir.path(std::string(name) + ".png") + "'", dir);
+        ASSERT_EQ(run.exitCode, 0) << name << ": " << run.err;
+    }
+    EXPECT_EQ(test::readBytes(dir.path("mri.png")), test::readBytes(dir.path("MRI.png")));
+}
+
 TEST(CliRender, BadInputLeavesNoImage) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
