@@ -287,6 +287,7 @@ void runFit(FitFlags& flags) {
 
     FitLog log(flags.logPath, target.peak());
     CompressResult result;
+    flags.options.settings.reserveMeasurement = true;  // --time covers the measurement below
     {
         ProgressBar bar("fitting", !flags.quiet);
         result = compress(target, flags.input, flags.options, progressObserver(bar, log), loaded.labels.get());

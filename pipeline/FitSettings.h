@@ -73,6 +73,9 @@ struct FitSettings {
     /// solve (AmplitudeSolver.h; 0: none), and the share of a time budget kept for it.
     std::size_t amplitudeSolveIterations = 10;
     double amplitudeSolveShare = 0.1;
+    /// The caller measures the fitted field densely (measureVolumeError) right after:
+    /// a time budget then ends that much earlier, so that it covers the measurement.
+    bool reserveMeasurement = false;
     /// The parameters as storage will give them back (quantised, perhaps fewer), if
     /// known: the amplitude solve then runs on the stored geometry and makes up for
     /// its rounding and for any Gaussians left out.

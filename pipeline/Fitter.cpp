@@ -7,6 +7,7 @@
 #include "Pruning.h"
 #include "SliceSampler.h"
 #include "UniformVoxels.h"
+#include "VolumeError.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -171,10 +172,27 @@ private:
 
     double elapsed() const { return std::chrono::duration<double>(Clock::now() - mStart).count(); }
 
-    /// The part of a time budget for Adam; the amplitude solve gets the rest.
+    /// The part of a time budget for Adam: the amplitude solve gets its share, and
+    /// the measurement that follows the fit (reserveMeasurement) its estimated time.
     double adamSeconds() const {
-        const bool solve = mSettings.amplitudeSolveIterations > 0;
-        return mSettings.seconds * (solve ? 1.0 - mSettings.amplitudeSolveShare : 1.0);
+        const double solve = solving() ? mSettings.amplitudeSolveShare * mSettings.seconds : 0.0;
+        const double measure = mSettings.reserveMeasurement ? kMeasurementMargin * mMeasurementSeconds : 0.0;
+        return std::max(mSettings.seconds - solve - measure, 0.0);
+    }
+
+    /// Whether the amplitude solve runs: under a time budget, only if its share holds
+    /// its first pass, one iteration and its closing pass, each about a measurement.
+    bool solving() const {
+        if (mSettings.amplitudeSolveIterations == 0) return false;
+        return mSettings.seconds <= 0.0 || mSettings.amplitudeSolveShare * mSettings.seconds >= 3.0 * mMeasurementSeconds;
+    }
+
+    /// Re-times a dense pass over the field at a few points of a time budget, as
+    /// the Gaussians grow and the count settles.
+    void estimateMeasurement(double fraction) {
+        if (mSettings.seconds <= 0.0 || fraction < mNextEstimate) return;
+        mMeasurementSeconds = estimateMeasurementSeconds(mField, mTarget);
+        mNextEstimate = fraction < 0.5 ? 0.5 : fraction < 0.8 ? 0.8 : 2.0;
     }
 
     void solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOutCoords, const SampleSet& heldOut,
@@ -237,6 +255,11 @@ private:
         double secondsPerIteration;
     };
     static constexpr std::size_t kPaceIterations = 5;
+    /// The estimate of the measurement is from a sample of blocks, and the field
+    /// still grows after the last one: keep half as much again.
+    static constexpr double kMeasurementMargin = 1.5;
+    double mMeasurementSeconds = 0.0;
+    double mNextEstimate = 0.0;
     static constexpr std::size_t kProbeGaussians = 16384;
     std::vector<Pace> mPaces;
     bool mPacing = false;
@@ -394,7 +417,10 @@ void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOut
     solve.excluded = heldOutCoords;
     solve.iterations = mSettings.amplitudeSolveIterations;
     solve.cutoffSigmas = mSettings.cutoffSigmas;
-    if (mSettings.seconds > 0.0) solve.seconds = std::max(mSettings.seconds - elapsed(), 1e-9);
+    if (mSettings.seconds > 0.0) {
+        const double measure = mSettings.reserveMeasurement ? kMeasurementMargin * mMeasurementSeconds : 0.0;
+        solve.seconds = std::max(mSettings.seconds - elapsed() - measure, 1e-9);
+    }
     if (mSettings.storedGeometry) mParams = mSettings.storedGeometry(mParams);
     mReport.amplitudeSolve = solveAmplitudes(mParams, mTarget, solve);
     if (!observer || mParams.count() == 0) return;
@@ -424,6 +450,7 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
         if (fraction >= 1.0) break;
         FitProgress progress;
         progress.loss = step(iteration, fraction, progress);
+        estimateMeasurement(fraction);
         ++iteration;
         if (mPacing && ++mPaceIterations == kPaceIterations) fitCountToTheTime();
 
@@ -449,7 +476,7 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
     mReport.iterations = iteration;
     mReport.adamSeconds = elapsed();
     if (iteration > 0) mReport.meanGradientShare /= double(iteration);
-    if (mSettings.amplitudeSolveIterations > 0) solveAmplitudesAtTheEnd(mHeldOut, heldOut, iteration, observer);
+    if (solving()) solveAmplitudesAtTheEnd(mHeldOut, heldOut, iteration, observer);
     mReport.seconds = elapsed();
     report = mReport;
     return std::move(mParams);

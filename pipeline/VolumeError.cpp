@@ -4,8 +4,10 @@
 #include "LatticeSampler.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <bitset>
+#include <chrono>
 
 namespace gvr {
 
@@ -74,6 +76,27 @@ std::vector<SliceError> measureSliceErrors(const GaussianField& field, const Vol
         counter.advance();
     });
     return slices;
+}
+
+double estimateMeasurementSeconds(const GaussianField& field, const VolumeTarget& target, std::size_t stride) {
+    using Clock = std::chrono::steady_clock;
+    const openvdb::CoordBBox box = target.box();
+    if (box.empty() || stride == 0) return 0.0;
+    const Clock::time_point start = Clock::now();
+    const LatticeSampler sampler(field, openvdb::math::Mat4d::identity(), Lattice{openvdb::math::Mat4d::identity(), box},
+                                 box);
+    const double setUp = std::chrono::duration<double>(Clock::now() - start).count();
+    const std::vector<openvdb::Coord> origins = blockOrigins(box);
+    std::vector<openvdb::Coord> sample;
+    for (std::size_t b = stride / 2; b < origins.size(); b += stride) sample.push_back(origins[b]);
+    std::vector<SliceError> slices(std::size_t(box.dim().z()));
+    const Clock::time_point blocksStart = Clock::now();
+    // One thread, as one of measureVolumeError's workers spends it.
+    for (const openvdb::Coord& origin : sample) measureBlock(sampler, target, origin, box, {}, {}, slices);
+    const double perBlock = std::chrono::duration<double>(Clock::now() - blocksStart).count() /
+                            double(std::max<std::size_t>(sample.size(), 1));
+    const int threads = tbb::this_task_arena::max_concurrency();
+    return setUp + perBlock * double(origins.size()) / double(std::max(threads, 1));
 }
 
 void SliceError::add(const SliceError& other) {

@@ -47,6 +47,11 @@ VolumeError measureVolumeError(const GaussianField& field, const VolumeTarget& t
                                const ProgressFn& progress = {}, const VoxelMarking& marked = {},
                                const ThresholdCut& cut = {});
 
+/// About how long measureVolumeError() takes on @a field: the same work timed
+/// over every @a stride-th block of target.box(), scaled up. A fit with a time
+/// budget keeps this much for the measurement that follows it.
+double estimateMeasurementSeconds(const GaussianField& field, const VolumeTarget& target, std::size_t stride = 61);
+
 /// The part of measureVolumeError() inside @a part (clipped to target.box()): one
 /// entry per z-slice of the clipped part, lowest z first, for a measurement shared
 /// out by region (an MPI rank's bricks, say).

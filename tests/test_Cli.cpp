@@ -221,6 +221,21 @@ TEST(Cli, FitForATimeStopsOnTimeWithinTheRatio) {
     EXPECT_GT(result["psnr_db"].get<double>(), 20.0);
 }
 
+TEST(Cli, TheTimeBudgetCoversTheFitTheSolveAndTheMeasurement) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string grid = dir.path("ct.vdb");
+    ASSERT_EQ(test::runGvr("ingest -q '" + test::sharedData("ct-gantry-tilt-shear/shear.nii.gz") + "' -o '" + grid + "'", dir).exitCode, 0);
+    const test::CommandResult run =
+        test::runGvr("fit -q '" + grid + "' -o '" + dir.path("ct.gvr") + "' --ratio 20 --time 4 --json", dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const nlohmann::json phases = nlohmann::json::parse(run.out)["phase_seconds"];
+    const double afterLoading = phases["total"].get<double>() - phases["load"].get<double>();
+    // Not a speed test: before, the measurement alone came on top of the budget.
+    EXPECT_LT(afterLoading, 4.0 * 1.25 + 0.5) << phases.dump();
+    EXPECT_GT(phases["measure"].get<double>(), 0.0);
+}
+
 TEST(Cli, BadAssetEncodingAndSolveFlagsAreRefusedWithoutOutput) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
