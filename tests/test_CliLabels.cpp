@@ -109,7 +109,7 @@ TEST_F(CliLabels, LabelsOnAnotherGridAreRefusedUnlessResampled) {
     ASSERT_EQ(resampled.exitCode, 0) << resampled.err;
     EXPECT_EQ(nlohmann::json::parse(resampled.out)["labels"], (nlohmann::json{{"1", "label_1"}}));
 
-    const test::CommandResult notLabels = runGvr("ingest -q '" + scene.image + "' -o '" + out + "2' --labels '" +
+    const test::CommandResult notLabels = runGvr("ingest -q '" + scene.image + "' -o '" + dir.path("other.vdb") + "' --labels '" +
                                                      scene.image + "'", dir);
     EXPECT_EQ(notLabels.exitCode, 2);
     EXPECT_NE(notLabels.err.find("not an integer"), std::string::npos) << notLabels.err;
