@@ -74,26 +74,27 @@ private:
     std::vector<std::pair<std::string, double>> mSteps;
 };
 
-/// The CSV of error against run time, one row per held-out evaluation.
+/// The CSV of error against run time, one row per held-out evaluation: a header
+/// row and numbers only, so that any CSV reader takes it as it is. Its columns are
+/// described in the README; seconds count from the start of the command, reading
+/// the input included.
 class FitLog {
 public:
-    FitLog(const std::string& path, double peak) {
+    FitLog(const std::string& path, double secondsBefore) : mSecondsBefore(secondsBefore) {
         if (path.empty()) return;
         mOut.open(path);
         if (!mOut) throw InputError(path, "cannot write the fit log");
-        mOut << "# gvr fit log; PSNR on fixed held-out voxels, excluded from training; peak = " << peak
-             << " (the normalised data range); gradient_share: of the Gaussians, the share that got a gradient"
-             << " in that iteration; the slice pass is skipped while its weight is below "
-             << 100.0 * kSliceSkipShare << " % of its maximum\n"
-             << "iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib,gradient_share\n";
+        mOut << "iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib,gradient_share\n";
     }
     void record(const FitProgress& p) {
         if (!mOut.is_open() || !p.heldOutEvaluated) return;
-        mOut << p.iteration << "," << p.seconds << "," << p.loss << "," << formatDb(p.heldOutPsnr) << ","
-             << p.gaussians << "," << peakRssMiB() << "," << p.gradientShare << "\n" << std::flush;
+        mOut << p.iteration << "," << mSecondsBefore + p.seconds << "," << p.loss << "," << formatDb(p.heldOutPsnr)
+             << "," << p.gaussians << "," << peakRssMiB() << "," << p.gradientShare << "\n"
+             << std::flush;
     }
 
 private:
+    double mSecondsBefore;
     std::ofstream mOut;
 };
 
@@ -285,7 +286,7 @@ void runFit(FitFlags& flags) {
     phases.lap("load");
     if (flags.bricks.only) return writePart(flags, loaded, target);
 
-    FitLog log(flags.logPath, target.peak());
+    FitLog log(flags.logPath, phases.total());
     CompressResult result;
     flags.options.settings.reserveMeasurement = true;  // --time covers the measurement below
     {
