@@ -2,6 +2,7 @@
 
 #include "AssetFile.h"
 #include "Commands.h"
+#include "Diagnostics.h"
 #include "GridFile.h"
 #include "GridSummary.h"
 #include "SourceOptions.h"
@@ -103,7 +104,7 @@ void runInfo(const InfoFlags& flags) {
               << (isGridFile ? "OpenVDB file with " + std::to_string(summaries.size()) + " grid(s)"
                              : std::string("source volume; gvr ingest would write:"))
               << "\n";
-    for (const std::string& warning : warnings) std::cout << "warning: " << warning << "\n";
+    for (const std::string& warning : warnings) diagnostics() << "gvr: warning: " << warning << "\n";
     for (const GridSummary& summary : summaries) std::cout << toText(summary);
 }
 

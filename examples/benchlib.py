@@ -40,5 +40,5 @@ def baseline_rss_mib():
 def volume_mib(grid_path):
     """The grid's source volume as dense float32, in MiB."""
     info = json.loads(run(["info", "--json", grid_path]))["grids"][0]
-    dims = json.loads(info["metadata"]["gvr_dims"])
-    return dims[0] * dims[1] * dims[2] * int(info["metadata"]["gvr_channels"]) * 4 / 2**20, dims
+    dims = info["metadata"]["gvr_dims"]
+    return dims[0] * dims[1] * dims[2] * info["metadata"]["gvr_channels"] * 4 / 2**20, dims

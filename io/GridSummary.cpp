@@ -49,6 +49,30 @@ std::string formatBytes(std::uint64_t bytes) {
     return fixed(size, unit == 0 ? 6 : 3) + " " + units[unit];
 }
 
+namespace {
+
+template <typename VecT>
+nlohmann::json vectorJson(const VecT& v) {
+    return nlohmann::json::array({v[0], v[1], v[2]});
+}
+
+/// One metadata value as JSON: numbers, booleans, strings and 3-vectors typed,
+/// anything else as OpenVDB prints it.
+nlohmann::json metadataValue(const openvdb::Metadata& meta) {
+    if (auto* v = dynamic_cast<const openvdb::StringMetadata*>(&meta)) return v->value();
+    if (auto* v = dynamic_cast<const openvdb::DoubleMetadata*>(&meta)) return v->value();
+    if (auto* v = dynamic_cast<const openvdb::FloatMetadata*>(&meta)) return v->value();
+    if (auto* v = dynamic_cast<const openvdb::Int32Metadata*>(&meta)) return v->value();
+    if (auto* v = dynamic_cast<const openvdb::Int64Metadata*>(&meta)) return v->value();
+    if (auto* v = dynamic_cast<const openvdb::BoolMetadata*>(&meta)) return v->value();
+    if (auto* v = dynamic_cast<const openvdb::Vec3IMetadata*>(&meta)) return vectorJson(v->value());
+    if (auto* v = dynamic_cast<const openvdb::Vec3DMetadata*>(&meta)) return vectorJson(v->value());
+    if (auto* v = dynamic_cast<const openvdb::Vec3SMetadata*>(&meta)) return vectorJson(v->value());
+    return meta.str();
+}
+
+}  // namespace
+
 GridSummary summarizeGrid(const openvdb::GridBase& grid) {
     GridSummary summary;
     summary.name = grid.getName();
@@ -67,7 +91,15 @@ GridSummary summarizeGrid(const openvdb::GridBase& grid) {
     }
     for (auto meta = grid.beginMeta(); meta != grid.endMeta(); ++meta) {
         if (meta->first == "name" || meta->first == "class") continue;
-        summary.metadata[meta->first] = meta->second->str();
+        summary.metadata[meta->first] = metadataValue(*meta->second);
+    }
+    if (grid.transform().isLinear()) {
+        const openvdb::math::Mat4d rows = grid.transform().baseMap()->getAffineMap()->getMat4();
+        std::array<std::array<double, 4>, 4> affine{};
+        for (int r = 0; r < 4; ++r) {
+            for (int c = 0; c < 4; ++c) affine[r][c] = rows(c, r);  // OpenVDB's row-vector matrix, transposed
+        }
+        summary.affine = affine;
     }
     return summary;
 }
@@ -82,7 +114,8 @@ nlohmann::json toJson(const GridSummary& s) {
             {"value_max", s.valueMax},
             {"active_voxels", s.activeVoxels},
             {"memory_bytes", s.memoryBytes},
-            {"metadata", s.metadata}};
+            {"metadata", s.metadata},
+            {"affine", s.affine ? nlohmann::json(*s.affine) : nlohmann::json()}};
 }
 
 std::string toText(const GridSummary& s) {
@@ -99,7 +132,9 @@ std::string toText(const GridSummary& s) {
     if (boxVoxels > 0) out << " (" << fixed(100.0 * s.activeVoxels / boxVoxels, 3) << " % of the box)";
     out << "\n  memory:        " << formatBytes(s.memoryBytes) << "\n";
     if (!s.metadata.empty()) out << "  metadata:\n";
-    for (const auto& [key, value] : s.metadata) out << "    " << key << " = " << value << "\n";
+    for (const auto& [key, value] : s.metadata.items()) {
+        out << "    " << key << " = " << (value.is_string() ? value.get<std::string>() : value.dump()) << "\n";
+    }
     return out.str();
 }
 

@@ -5,7 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <openvdb/openvdb.h>
 
-#include <map>
+#include <array>
+#include <optional>
 #include <string>
 
 namespace gvr {
@@ -19,7 +20,11 @@ struct GridSummary {
     double valueMin = 0, valueMax = 0;      ///< over active voxels (all components for vectors)
     std::uint64_t activeVoxels = 0;
     std::uint64_t memoryBytes = 0;          ///< in memory, as OpenVDB counts it
-    std::map<std::string, std::string> metadata;
+    /// The grid's metadata, typed: numbers as numbers, vectors as arrays.
+    nlohmann::json metadata = nlohmann::json::object();
+    /// world = affine * (i, j, k, 1): index space to world millimetres, the column
+    /// form that NIfTI's sform and nibabel use. Unset for a non-linear transform.
+    std::optional<std::array<std::array<double, 4>, 4>> affine;
 };
 
 GridSummary summarizeGrid(const openvdb::GridBase& grid);

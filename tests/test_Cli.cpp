@@ -111,6 +111,15 @@ TEST(Suggestions, NearestNameOrNone) {
     EXPECT_EQ(closestName("zzzzzz", {"export", "eval"}), "");
 }
 
+TEST(Cli, InfoWarnsOnStderrLikeEveryCommand) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const test::CommandResult run = test::runGvr("info '" + test::sharedData("mri-4d-asl-float32/mpld_asl.nii.gz") + "'", dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    EXPECT_EQ(run.out.find("warning"), std::string::npos) << run.out;
+    EXPECT_NE(run.err.find("gvr: warning: 4D series"), std::string::npos) << run.err;
+}
+
 TEST(Cli, UnknownFlagsAndBadSpacingAreUsageErrors) {
     test::TempDir dir;
     EXPECT_EQ(test::runGvr("ingest x.nii -o y.vdb --no-such-flag", dir).exitCode, 2);
@@ -160,8 +169,12 @@ TEST(Cli, IngestThenInfoAsJson) {
     const nlohmann::json& grid = report["grids"][0];
     EXPECT_EQ(grid["name"], "density");
     EXPECT_GT(grid["value_min"].get<double>(), 20.0);
-    EXPECT_EQ(grid["metadata"]["gvr_threshold"], "20");
+    // Numbers as numbers, vectors as arrays, and the affine in NIfTI's column form.
+    EXPECT_EQ(grid["metadata"]["gvr_threshold"], 20.0);
     EXPECT_EQ(grid["metadata"]["gvr_source_type"], "uint8");
+    EXPECT_EQ(grid["metadata"]["gvr_dims"], nlohmann::json({181, 217, 181}));
+    EXPECT_EQ(grid["affine"][0][0], 1.0) << grid["affine"];  // ch2: i runs along +x, 1 mm voxels
+    EXPECT_EQ(grid["affine"][3], nlohmann::json({0.0, 0.0, 0.0, 1.0}));
 
     const test::CommandResult source = test::runGvr("info '" + test::sharedData("ct-gantry-tilt-shear/shear.nii.gz") + "'", dir);
     ASSERT_EQ(source.exitCode, 0) << source.err;
