@@ -246,6 +246,17 @@ TEST(CliProbe, ValuesMatchTheExportedGrid) {
     EXPECT_GT(points[0]["value"][0].get<double>(), 100.0);  // the blob's centre holds 200
     EXPECT_GT(points[0]["gaussians"].get<int>(), 0);
     EXPECT_EQ(runGvr("probe '" + asset + "' --index 1,2", dir).exitCode, 2);
+    EXPECT_EQ(runGvr("probe '" + asset + "'", dir).exitCode, 2);  // no point at all
+
+    // The same point in world millimetres gives the same value.
+    const nlohmann::json world = points[0]["world_mm"];
+    const std::string at = std::to_string(world[0].get<double>()) + "," + std::to_string(world[1].get<double>()) +
+                           "," + std::to_string(world[2].get<double>());
+    const test::CommandResult byWorld = runGvr("probe --json '" + asset + "' --world " + at, dir);
+    ASSERT_EQ(byWorld.exitCode, 0) << byWorld.err;
+    const nlohmann::json same = nlohmann::json::parse(byWorld.out)["points"][0];
+    EXPECT_NEAR(same["value"][0].get<double>(), points[0]["value"][0].get<double>(), 1e-3);
+    for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(same["index"][axis].get<double>(), points[0]["index"][axis].get<double>(), 1e-5);
 }
 
 }  // namespace
