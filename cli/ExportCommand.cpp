@@ -3,9 +3,11 @@
 #include "AssetExport.h"
 #include "AssetFile.h"
 #include "Commands.h"
+#include "Diagnostics.h"
 #include "Error.h"
 #include "GridSummary.h"
 #include "ProgressBar.h"
+#include "RenderInput.h"
 #include "TransferFunctionFile.h"
 #include "VolumeOutputOptions.h"
 
@@ -17,11 +19,11 @@ namespace gvr {
 namespace {
 
 struct ExportFlags {
-    std::string input, like, names = "blender", densityFrom, removedFormat, show, hide;
+    std::string input, like, names = "blender", densityFrom, removedFormat, show, hide, tf;
     std::vector<std::string> outputs;
     std::optional<double> voxelSize, threshold;
     std::optional<int> resolution;
-    bool float32 = false, json = false, quiet = false;
+    bool float32 = false, dcc = false, json = false, quiet = false;
 };
 
 std::optional<Lattice> chosenLattice(const ExportFlags& flags, const GaussianAsset& asset) {
@@ -39,9 +41,24 @@ std::optional<Lattice> chosenLattice(const ExportFlags& flags, const GaussianAss
     return std::nullopt;
 }
 
+/// --dcc: the transfer function of --tf (as render takes it) over the asset's
+/// field, and RGB scaled as the renderer scales it.
+DccStyle dccStyleFor(const ExportFlags& flags, const GaussianAsset& asset) {
+    for (const std::string& output : flags.outputs) {
+        if (volumeFileFormat(output) != VolumeFileFormat::Vdb) {
+            throw InputError("--dcc", "writes OpenVDB for Blender and Houdini: give -o OUT.vdb, not " + output);
+        }
+    }
+    const GaussianRenderVolume volume(asset);
+    std::string mismatch;
+    DccStyle style{transferFunctionFor(flags.tf, volume, &mismatch), 1.0 / volume.valueMax()};
+    if (!mismatch.empty()) diagnostics() << "gvr: warning: --tf: " << mismatch << "\n";
+    return style;
+}
+
 void runExport(const ExportFlags& flags) {
     rejectRemovedFormat(flags.removedFormat);
-    checkVolumeOutputs("-o", flags.outputs, {flags.input, flags.like, flags.densityFrom});
+    checkVolumeOutputs("-o", flags.outputs, {flags.input, flags.like, flags.densityFrom, flags.tf});
     const auto start = std::chrono::steady_clock::now();
     const GaussianAsset asset = selectStructures(readAsset(flags.input), flags.show, flags.hide, flags.input);
     ExportSettings settings;
@@ -49,6 +66,7 @@ void runExport(const ExportFlags& flags) {
     settings.threshold = flags.threshold;
     settings.naming = flags.names == "houdini" ? GridNaming::Houdini : GridNaming::Blender;
     if (!flags.densityFrom.empty()) settings.densityFrom = readTransferFunction(flags.densityFrom);
+    if (flags.dcc) settings.dcc = dccStyleFor(flags, asset);
     settings.assetPath = flags.input;
     ExportResult result;
     {
@@ -106,6 +124,13 @@ void addExportCommand(CLI::App& app) {
     command->add_option("--density-from", flags->densityFrom,
                         "RGB: derive density from this transfer function file (its opacity at the "
                         "luminance) instead of the normalised luminance");
+    auto* dcc = command->add_flag("--dcc", flags->dcc,
+                      "For Blender and Houdini: density 0..1 through the transfer function, colour 0..1, one "
+                      "unit a metre (default: physical values in millimetres, as eval compares them)");
+    command->add_option("--tf", flags->tf,
+                        "With --dcc: transfer function, a preset (ct, ct-bone, mri, rgb) or a JSON file as render "
+                        "takes it (default: the preset for the data)")
+        ->needs(dcc);
     addRemovedFormatOption(*command, flags->removedFormat);
     command->add_flag("--json", flags->json, "Print the result as JSON");
     command->add_flag("-q,--quiet", flags->quiet, "No progress bars");

@@ -44,9 +44,13 @@ std::pair<int, int> parseImageSize(const std::string& text) {
     return {width, height};
 }
 
+TransferFunction transferFunctionFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch) {
+    if (!tf.empty() && std::filesystem::is_regular_file(tf)) return readTransferFunction(tf);
+    return presetFor(volume, tf, mismatch);
+}
+
 Classifier classifierFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch) {
-    if (!tf.empty() && std::filesystem::is_regular_file(tf)) return volumeClassifier(volume, readTransferFunction(tf));
-    return presetClassifier(volume, tf, mismatch);
+    return volumeClassifier(volume, transferFunctionFor(tf, volume, mismatch));
 }
 
 void addStackFlags(CLI::App& command, ShearWarpSettings& settings) {

@@ -34,8 +34,11 @@ RenderInput loadRenderInput(const std::string& path, const std::string& show, co
 /// @throw InputError naming --size.
 std::pair<int, int> parseImageSize(const std::string& text);
 
-/// The classifier of --tf: a JSON file, else a preset fitted to @a volume (empty:
-/// the preset for data like these). @a mismatch: as for presetClassifier.
+/// The transfer function of --tf: a JSON file, else a preset fitted to @a volume
+/// (empty: the preset for data like these). @a mismatch: as for presetFor.
+TransferFunction transferFunctionFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch = nullptr);
+
+/// volumeClassifier() of transferFunctionFor().
 Classifier classifierFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch = nullptr);
 
 /// --stacks and --reuse-angle, which render and view share.

@@ -8,6 +8,11 @@
 #include "ThresholdCut.h"
 #include "VolumeBorder.h"
 
+#include <openvdb/tools/Prune.h>
+
+#include <algorithm>
+#include <type_traits>
+
 namespace gvr {
 
 namespace {
@@ -33,6 +38,47 @@ openvdb::FloatGrid::Ptr derivedDensity(const openvdb::Vec3SGrid& colour, const o
     return density;
 }
 
+/// The DCC tools' grids on @a values' active voxels: density (the opacity of the
+/// style's transfer function) and colour in 0..1, with the world in metres.
+template <typename GridT>
+openvdb::GridPtrVec dccGrids(const GridT& values, const DccStyle& style, GridNaming naming) {
+    auto density = openvdb::FloatGrid::create(0.0f);
+    density->setTree(std::make_shared<openvdb::FloatTree>(values.tree(), 0.0f, openvdb::TopologyCopy()));
+    auto colour = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    colour->setTree(std::make_shared<openvdb::Vec3STree>(values.tree(), openvdb::Vec3s(0.0f), openvdb::TopologyCopy()));
+    auto densities = density->getAccessor();
+    auto colours = colour->getAccessor();
+    for (auto voxel = values.cbeginValueOn(); voxel; ++voxel) {
+        const auto value = *voxel;
+        openvdb::Vec3s rgb;
+        float opacity;
+        if constexpr (std::is_same_v<typename GridT::ValueType, openvdb::Vec3s>) {
+            opacity = style.transfer(luminance(value))[3];
+            for (int c = 0; c < 3; ++c) rgb[c] = float(std::clamp(value[c] * style.colourScale, 0.0, 1.0));
+        } else {
+            const std::array<float, 4> rgba = style.transfer(value);
+            opacity = rgba[3];
+            rgb = openvdb::Vec3s(rgba[0], rgba[1], rgba[2]);
+        }
+        if (!(opacity > 0.0f)) {  // transparent: nothing for the renderer to step through
+            densities.setValueOff(voxel.getCoord(), 0.0f);
+            colours.setValueOff(voxel.getCoord(), openvdb::Vec3s(0.0f));
+            continue;
+        }
+        densities.setValueOnly(voxel.getCoord(), std::min(opacity, 1.0f));
+        colours.setValueOnly(voxel.getCoord(), rgb);
+    }
+    openvdb::tools::pruneInactive(density->tree());
+    openvdb::tools::pruneInactive(colour->tree());
+    openvdb::math::Transform::Ptr metres = values.transform().copy();
+    metres->postScale(1e-3);  // Blender and Houdini take one unit as one metre
+    density->setTransform(metres);
+    colour->setTransform(metres->copy());
+    density->setName("density");
+    colour->setName(naming == GridNaming::Houdini ? "Cd" : "color");
+    return {density, colour};
+}
+
 void describe(openvdb::GridBase& grid, const GaussianAsset& asset, const ExportResult& result,
               const std::string& assetPath) {
     VolumeMetadata metadata = asset.source;
@@ -46,6 +92,9 @@ void describe(openvdb::GridBase& grid, const GaussianAsset& asset, const ExportR
 }  // namespace
 
 ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& settings, const ProgressFn& progress) {
+    if (settings.dcc && settings.densityFrom) {
+        throw InputError("--density-from", "does not combine with --dcc, whose transfer function gives the density");
+    }
     if (settings.densityFrom && asset.params.channels != 3) {
         throw InputError("--density-from", "applies to RGB assets only; this asset is grey");
     }
@@ -59,8 +108,16 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     const GaussianField field(asset.params, asset.cutoffSigmas);
     const FieldToGridSettings sampling{asset.mapping, result.threshold, sourceLattice(asset.worldFromIndex, dims).box};
     openvdb::GridBase::Ptr values = fieldToGrid(field, asset.worldFromIndex, result.lattice, sampling, progress);
-    result.grids.push_back(values);
-    if (auto colour = openvdb::GridBase::grid<openvdb::Vec3SGrid>(values)) {
+    if (settings.dcc) {
+        if (auto grey = openvdb::GridBase::grid<openvdb::FloatGrid>(values)) {
+            result.grids = dccGrids(*grey, *settings.dcc, settings.naming);
+        } else {
+            result.grids = dccGrids(*openvdb::GridBase::grid<openvdb::Vec3SGrid>(values), *settings.dcc, settings.naming);
+        }
+    } else {
+        result.grids.push_back(values);
+    }
+    if (auto colour = settings.dcc ? nullptr : openvdb::GridBase::grid<openvdb::Vec3SGrid>(values)) {
         if (settings.naming == GridNaming::Houdini) colour->setName("Cd");
         auto density = derivedDensity(*colour, result.lattice.box, asset, settings);
         density->setName("density");
@@ -69,6 +126,7 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     for (auto& grid : result.grids) {
         if (grid->getName() == "density") grid->setGridClass(openvdb::GRID_FOG_VOLUME);
         describe(*grid, asset, result, settings.assetPath);
+        if (settings.dcc) grid->insertMeta("gvr_units", openvdb::StringMetadata("metres; density and colour 0..1"));
     }
     return result;
 }

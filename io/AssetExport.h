@@ -16,6 +16,15 @@ namespace gvr {
 /// Colour grid names: Blender reads "color", Houdini "Cd". Both read "density".
 enum class GridNaming { Blender, Houdini };
 
+/// What DCC tools (Blender, Houdini) render well without a hand-made material:
+/// density in 0..1 as this transfer function's opacity (at the value, or the
+/// luminance for RGB), colour in 0..1 (the transfer function's for grey data, the
+/// data's times colourScale for RGB), and the world in metres.
+struct DccStyle {
+    TransferFunction transfer;
+    double colourScale = 1.0 / 255.0;
+};
+
 struct ExportSettings {
     std::optional<Lattice> lattice;  ///< unset: the source's own grid
     /// Physical units (luminance for RGB); voxels at or below stay inactive.
@@ -28,6 +37,8 @@ struct ExportSettings {
     /// source's luminance range.
     std::optional<TransferFunction> densityFrom;
     std::string assetPath;  ///< recorded in the grids' metadata
+    /// Set: the grids in DccStyle (density first, then colour) instead of physical units.
+    std::optional<DccStyle> dcc;
 };
 
 struct ExportResult {

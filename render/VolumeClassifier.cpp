@@ -8,12 +8,16 @@ Classifier volumeClassifier(const RenderVolume& volume, const TransferFunction& 
     return Classifier(tf, volume.channels(), 1.0 / volume.valueMax());
 }
 
-Classifier presetClassifier(const RenderVolume& volume, const std::string& preset, std::string* mismatch) {
+TransferFunction presetFor(const RenderVolume& volume, const std::string& preset, std::string* mismatch) {
     const VolumeStatistics statistics = volume.statistics();
     const std::string name = preset.empty() ? defaultPreset(volume.channels(), statistics) : lowerCase(preset);
-    Classifier classifier = volumeClassifier(volume, presetTransferFunction(name, statistics));
+    TransferFunction tf = presetTransferFunction(name, statistics);
     if (mismatch) *mismatch = presetMismatch(name, volume.channels(), statistics);
-    return classifier;
+    return tf;
+}
+
+Classifier presetClassifier(const RenderVolume& volume, const std::string& preset, std::string* mismatch) {
+    return volumeClassifier(volume, presetFor(volume, preset, mismatch));
 }
 
 }  // namespace gvr

@@ -1,0 +1,81 @@
+"""An export with --dcc renders in Blender as gvr renders it: the same silhouette.
+
+Usage: blender_silhouettes.py GVR_EXECUTABLE SHARED_DATA_DIR WORK_DIR [IMAGE_DIR]
+Runs with Debian's /usr/bin/python3 (numpy, PIL) and /usr/bin/blender (3.4, Cycles
+CPU). For the chest CT (HU, its default ct preset) and ch2 (MRI, mri preset): ingest,
+a small fit, `gvr export --dcc`, then examples/blender/render.py with the framing of
+`gvr info --json` of the export, against `gvr render` of the asset at the same
+azimuth, elevation and size. The silhouettes (alpha at least 0.3) must overlap with
+an intersection over union of at least 0.8. With IMAGE_DIR, the two pictures of
+each volume are written there side by side (Blender left, gvr right), as the README
+shows them.
+"""
+import os
+import subprocess
+import sys
+
+import numpy as np
+from PIL import Image
+
+import checks
+from checks import check
+
+BLENDER = "/usr/bin/blender"
+SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples", "blender", "render.py")
+VIEW = ["--azimuth", "30", "--elevation", "15"]
+MIN_IOU = 0.8
+
+
+def run(args):
+    result = subprocess.run([str(a) for a in args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if result.returncode != 0:
+        print(result.stdout[-3000:], result.stderr[-3000:])
+        raise RuntimeError(f"{os.path.basename(str(args[0]))} exited with {result.returncode}")
+    return result.stdout
+
+
+def silhouette(png):
+    return np.asarray(Image.open(png).convert("RGBA"))[..., 3] >= 0.3 * 255
+
+
+def side_by_side(left, right, out):
+    a, b = Image.open(left).convert("RGBA"), Image.open(right).convert("RGBA")
+    canvas = Image.new("RGBA", (a.width + b.width, max(a.height, b.height)), (0, 0, 0, 255))
+    canvas.paste(a, (0, 0), a)
+    canvas.paste(b, (a.width, 0), b)
+    canvas.convert("RGB").save(out)
+
+
+def compare(gvr, name, source, ingest_flags, fit_flags, export_flags, scratch, size, image_dir):
+    grid, asset = os.path.join(scratch, name + ".vdb"), os.path.join(scratch, name + ".gvr")
+    dcc, info = os.path.join(scratch, name + "-dcc.vdb"), os.path.join(scratch, name + "-dcc.json")
+    blender_png, gvr_png = os.path.join(scratch, name + "-blender.png"), os.path.join(scratch, name + "-gvr.png")
+    run([gvr, "ingest", "-q", source, "-o", grid] + ingest_flags)
+    run([gvr, "fit", "-q", grid, "-o", asset] + fit_flags)
+    run([gvr, "export", "-q", asset, "-o", dcc, "--dcc"] + export_flags)
+    with open(info, "w") as file:
+        file.write(run([gvr, "info", "--json", dcc]))
+    run([BLENDER, "-b", "--factory-startup", "--python-exit-code", "1", "-P", SCRIPT, "--", dcc, blender_png,
+         "--frame", info, "--size", size, "--samples", "16"] + VIEW)
+    run([gvr, "render", "-q", asset, "-o", gvr_png, "--size", f"{size}x{size}"] + VIEW)
+    a, b = silhouette(blender_png), silhouette(gvr_png)
+    iou = (a & b).sum() / max((a | b).sum(), 1)
+    check(f"{name}: Blender's silhouette of the --dcc export matches gvr render's (IoU >= {MIN_IOU})",
+          iou >= MIN_IOU and b.sum() > 0.05 * b.size,
+          f"IoU {iou:.3f}, {a.sum()} and {b.sum()} of {a.size} pixels")
+    if image_dir:
+        side_by_side(blender_png, gvr_png, os.path.join(image_dir, name + "-blender-vs-gvr.png"))
+
+
+def both_volumes(gvr, shared, scratch):
+    image_dir = os.path.abspath(sys.argv[4]) if len(sys.argv) > 4 else None
+    size = "192" if image_dir else "64"
+    compare(gvr, "ch2", os.path.join(shared, "mri-colin27-aal", "ch2.nii.gz"), [],
+            ["--gaussians", "3000", "--iterations", "60", "--solve-iterations", "0", "--seed", "1"], [], scratch, size, image_dir)
+    compare(gvr, "chest", os.path.join(shared, "ct-chest-ricord-512"), ["--threshold", "-500"],
+            ["--gaussians", "6000", "--iterations", "40", "--solve-iterations", "0", "--seed", "1"], ["--resolution", "128"],
+            scratch, size, image_dir)
+
+
+if __name__ == "__main__":
+    sys.exit(checks.run(both_volumes, __doc__))
