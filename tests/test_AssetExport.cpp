@@ -51,6 +51,36 @@ TEST(AssetExport, GreyBecomesADensityFogVolumeOnTheSourceGrid) {
     EXPECT_GT(grid.activeVoxelCount(), 0u);
 }
 
+TEST(AssetExport, DccStyleGivesOpacityAndColourInMetres) {
+    initializeOpenVdb();
+    const GaussianAsset asset = smallAsset(1);
+    const ExportResult physical = exportAsset(asset, ExportSettings{});
+    ExportSettings settings;
+    settings.dcc = DccStyle{TransferFunction({{-500.0, {0, 0, 1, 0}}, {1000.0, {1, 0, 0, 0.8f}}}, "test")};
+    const ExportResult result = exportAsset(asset, settings);
+    ASSERT_EQ(result.grids.size(), 2u);
+    const auto density = openvdb::GridBase::grid<openvdb::FloatGrid>(result.grids[0]);
+    const auto colour = openvdb::GridBase::grid<openvdb::Vec3SGrid>(result.grids[1]);
+    ASSERT_TRUE(density && colour);
+    EXPECT_EQ(density->getName(), "density");
+    EXPECT_EQ(colour->getName(), "color");
+    EXPECT_EQ(density->getGridClass(), openvdb::GRID_FOG_VOLUME);
+    EXPECT_TRUE(density->transform().baseMap()->getAffineMap()->getMat4().eq(asset.worldFromIndex *
+                                                                               openvdb::math::scale<openvdb::Mat4d>(openvdb::Vec3d(1e-3))));
+    // Every voxel as the transfer function maps its physical value; transparent ones left out.
+    const auto values = openvdb::GridBase::grid<openvdb::FloatGrid>(physical.grids[0])->getConstAccessor();
+    std::size_t checked = 0;
+    for (auto voxel = density->cbeginValueOn(); voxel; ++voxel, ++checked) {
+        const std::array<float, 4> rgba = settings.dcc->transfer(values.getValue(voxel.getCoord()));
+        ASSERT_GT(*voxel, 0.0f);
+        ASSERT_LE(*voxel, 1.0f);
+        ASSERT_FLOAT_EQ(*voxel, rgba[3]);
+        ASSERT_FLOAT_EQ(colour->tree().getValue(voxel.getCoord())[0], rgba[0]);
+    }
+    EXPECT_GT(checked, 0u);
+    EXPECT_LT(density->activeVoxelCount(), physical.grids[0]->activeVoxelCount());  // values below -500 are transparent
+}
+
 /// A cryosection in miniature: bright paper everywhere, a dark specimen in the middle.
 GaussianAsset paperAndSpecimen() {
     GaussianAsset asset = smallAsset(3);
