@@ -45,6 +45,7 @@ nlohmann::json sourceJson(const VolumeMetadata& m) {
                         {"value_min", m.valueMin},      {"value_max", m.valueMax},
                         {"background", m.background},   {"raw_bytes", m.rawSourceBytes()}};
     if (m.threshold) j["threshold"] = *m.threshold;
+    if (m.padding) j["padding"] = {{"value", *m.padding}, {"voxels", m.paddingVoxels}};
     j["stored_slope"] = m.storedSlope;
     j["stored_intercept"] = m.storedIntercept;
     if (m.niftiCodes) j["nifti_codes"] = {m.niftiCodes->sform, m.niftiCodes->qform, m.niftiCodes->xyztUnits};
@@ -65,6 +66,10 @@ VolumeMetadata sourceFromJson(const nlohmann::json& j) {
     m.valueMax = j.at("value_max").get<double>();
     m.background = j.at("background").get<double>();
     if (j.contains("threshold")) m.threshold = j.at("threshold").get<double>();
+    if (j.contains("padding")) {
+        m.padding = j.at("padding").at("value").get<double>();
+        m.paddingVoxels = j.at("padding").at("voxels").get<std::uint64_t>();
+    }
     m.storedSlope = j.value("stored_slope", 1.0);
     m.storedIntercept = j.value("stored_intercept", 0.0);
     if (j.contains("nifti_codes")) {

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <memory>
 #include <sstream>
 
@@ -125,9 +126,35 @@ struct ChannelSum {
 
 /// What a pass over a slab's leaves finds besides the leaves: the range of the
 /// finite values and the sum of the voxels that the cut leaves inactive.
+/// The inactive voxels: their sum, and apart the ones at their lowest value, which
+/// on a CT is the scanner's padding outside the reconstruction circle (-3024 HU, say).
+struct InactiveTally {
+    ChannelSum all, atLowest;
+    double lowest = std::numeric_limits<double>::infinity();
+
+    void add(double key, const openvdb::Vec3d& value) {
+        if (key < lowest) {
+            lowest = key;
+            atLowest = {};
+        }
+        const ChannelSum one{value, 1};
+        if (key == lowest) atLowest.add(one);
+        all.add(one);
+    }
+    void add(const InactiveTally& other) {
+        all.add(other.all);
+        if (other.lowest < lowest) {
+            lowest = other.lowest;
+            atLowest = other.atLowest;
+        } else if (other.lowest == lowest) {
+            atLowest.add(other.atLowest);
+        }
+    }
+};
+
 struct SlabTally {
     Range range;
-    ChannelSum inactive;
+    InactiveTally inactive;
 
     void add(const SlabTally& other) {
         range = range.merged(other.range);
@@ -166,8 +193,9 @@ std::unique_ptr<LeafT> buildLeaf(const Values& values, const DenseVolume& slab, 
                 tally.range.min = std::min(tally.range.min, key);
                 tally.range.max = std::max(tally.range.max, key);
                 if (key <= cut) {
-                    for (int c = 0; c < values.channels(); ++c) tally.inactive.sum[c] += values.value(voxel, c);
-                    ++tally.inactive.count;
+                    openvdb::Vec3d value(0.0);
+                    for (int c = 0; c < values.channels(); ++c) value[c] = values.value(voxel, c);
+                    tally.inactive.add(key, value);
                     continue;
                 }
                 if (!leaf) leaf = std::make_unique<LeafT>(origin, background, false);
@@ -230,7 +258,7 @@ openvdb::math::Transform::Ptr transformOf(const DenseVolume& volume, const std::
 struct SlabRecord {
     std::int64_t first = 0, count = 0;
     double cut = 0;
-    ChannelSum inactive;
+    InactiveTally inactive;
 };
 
 /// Builds the grid one slab at a time, so that only one slab of dense samples is
@@ -268,15 +296,40 @@ public:
     const Range& range() const { return mRange; }
     double finalCut() const { return mSettings.threshold.value_or(mRange.min); }
 
-    /// The mean of the inactive voxels, or the minimum (black for RGB) when none are.
+    /// What inactive voxels stand for: the mean of those above the lowest value when
+    /// the lowest holds at least kPaddingShare of them (a CT's padding, which would
+    /// drag air's -1000 HU to an unphysical -1800), else the mean of all of them;
+    /// the minimum (black for RGB) when none are inactive.
     openvdb::Vec3d background() const {
-        ChannelSum inactive;
-        for (const SlabRecord& record : mRecords) inactive.add(record.inactive);
-        if (inactive.count == 0) return openvdb::Vec3d(mLayout.channels == 1 ? mRange.min : 0.0);
-        return inactive.sum / double(inactive.count);
+        const InactiveTally inactive = inactiveTally();
+        if (inactive.all.count == 0) return openvdb::Vec3d(mLayout.channels == 1 ? mRange.min : 0.0);
+        if (paddingSetApart(inactive)) {
+            return (inactive.all.sum - inactive.atLowest.sum) / double(inactive.all.count - inactive.atLowest.count);
+        }
+        return inactive.all.sum / double(inactive.all.count);
+    }
+
+    /// The value and count of the padding that background() left out, if it did.
+    std::optional<std::pair<double, std::uint64_t>> padding() const {
+        const InactiveTally inactive = inactiveTally();
+        if (!paddingSetApart(inactive)) return std::nullopt;
+        return std::make_pair(inactive.lowest, inactive.atLowest.count);
     }
 
 private:
+    static constexpr double kPaddingShare = 0.05;
+
+    InactiveTally inactiveTally() const {
+        InactiveTally inactive;
+        for (const SlabRecord& record : mRecords) inactive.add(record.inactive);
+        return inactive;
+    }
+
+    bool paddingSetApart(const InactiveTally& inactive) const {
+        return mLayout.channels == 1 && inactive.atLowest.count < inactive.all.count &&
+               double(inactive.atLowest.count) >= kPaddingShare * double(inactive.all.count);
+    }
+
     static std::size_t leafCount(const DenseVolume& layout) {
         std::size_t leaves = 1;
         for (std::int64_t d : layout.dims) leaves *= std::size_t((d + kBlockDim - 1) / kBlockDim);
@@ -324,7 +377,8 @@ private:
 };
 
 void describeGrid(const DenseVolume& layout, const GridBuildSettings& settings, const Range& range,
-                  const openvdb::Vec3d& background, openvdb::GridBase& grid) {
+                  const openvdb::Vec3d& background, const std::optional<std::pair<double, std::uint64_t>>& padding,
+                  openvdb::GridBase& grid) {
     if (layout.channels == 1) {
         grid.setName("density");
         grid.setGridClass(openvdb::GRID_FOG_VOLUME);  // what Blender and Houdini expect of density
@@ -344,19 +398,32 @@ void describeGrid(const DenseVolume& layout, const GridBuildSettings& settings, 
     metadata.valueMax = range.max;
     metadata.background = layout.channels == 1 ? background[0] : luminance(background);
     metadata.threshold = settings.threshold;
+    if (padding) {
+        metadata.padding = padding->first;
+        metadata.paddingVoxels = padding->second;
+    }
     metadata.storedSlope = layout.slope;
     metadata.storedIntercept = layout.intercept;
     metadata.niftiCodes = layout.niftiCodes;
     writeVolumeMetadata(metadata, grid);
 }
 
+/// A CT whose header says so, given no threshold, loses its air (-1000 HU) and
+/// keeps its lungs (about -890 HU); other data keep everything above their minimum.
+GridBuildSettings withDefaultThreshold(const DenseVolume& layout, GridBuildSettings settings) {
+    const std::string modality = settings.modality.empty() ? layout.modality : settings.modality;
+    if (!settings.threshold && layout.channels == 1 && modality == "CT") settings.threshold = kCtDefaultThreshold;
+    return settings;
+}
+
 template <typename T, typename GridT>
 openvdb::GridBase::Ptr buildTyped(const DenseVolume& layout, std::int64_t slabSlices, const ReadSlab& readSlab,
                                   const GridBuildSettings& settings, const ProgressFn& progress) {
     transformOf(layout, settings.sourceFile);  // a bad matrix fails before any slab is read
-    SlabBuild<T, GridT> build(layout, settings, progress);
+    const GridBuildSettings chosen = withDefaultThreshold(layout, settings);
+    SlabBuild<T, GridT> build(layout, chosen, progress);
     typename GridT::Ptr grid = build.run(slabSlices, readSlab);
-    describeGrid(layout, settings, build.range(), build.background(), *grid);
+    describeGrid(layout, chosen, build.range(), build.background(), build.padding(), *grid);
     return grid;
 }
 

@@ -14,10 +14,15 @@
 
 namespace gvr {
 
+/// The threshold a CT gets when none is given: above air (-1000 HU and its noise),
+/// below everything a body holds (lungs are about -890 HU).
+constexpr double kCtDefaultThreshold = -950.0;
+
 struct GridBuildSettings {
     std::string sourceFile;  ///< recorded in the metadata and named in errors
     /// Voxels whose value (luminance for RGB) is at or below this are inactive.
-    /// Unset: only voxels at the volume's minimum are, e.g. zero padding or air fill.
+    /// Unset: kCtDefaultThreshold for a CT (modality "CT"), else only voxels at the
+    /// volume's minimum, e.g. zero padding or air fill.
     std::optional<double> threshold;
     /// Value that replaces NaN and Inf samples. Unset: such samples are an error.
     std::optional<float> nanTo;

@@ -1,11 +1,15 @@
 #include "Ingest.h"
 
+#include "EnclosedShare.h"
 #include "Error.h"
 #include "GridFile.h"
 #include "LabelGrid.h"
 #include "MemoryBudget.h"
 
 #include <filesystem>
+#include <iomanip>
+#include <optional>
+#include <sstream>
 
 namespace gvr {
 
@@ -27,6 +31,24 @@ IngestResult buildImageGrid(const std::string& input, const IngestOptions& optio
     return result;
 }
 
+/// A Hounsfield threshold that also deletes the inside of the body (the lungs,
+/// at about -890 HU, under the old advice of -500) is worth a warning.
+constexpr double kEnclosedShareWarning = 0.10;
+
+std::optional<std::string> lungWarning(const openvdb::GridBase& grid) {
+    const std::optional<VolumeMetadata> metadata = readVolumeMetadata(grid);
+    if (!metadata || !metadata->threshold || metadata->channels != 1) return std::nullopt;
+    const bool hounsfield = metadata->modality == "CT" || metadata->valueMin <= -1000.0;
+    if (!hounsfield || *metadata->threshold <= kCtDefaultThreshold) return std::nullopt;
+    const double share = enclosedInactiveShare(grid);
+    if (share <= kEnclosedShareWarning) return std::nullopt;
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(1) << "the threshold " << *metadata->threshold << " HU leaves "
+         << 100.0 * share << " % of the voxels inside the body's outline inactive (lungs are about -890 HU); "
+         << "--threshold " << kCtDefaultThreshold << " keeps them";
+    return text.str();
+}
+
 }  // namespace
 
 IngestResult ingest(const std::string& input, IngestOptions options) {
@@ -35,6 +57,7 @@ IngestResult ingest(const std::string& input, IngestOptions options) {
     std::size_t decodedBytes = 0;
     try {
         IngestResult result = buildImageGrid(input, options, decodedBytes);
+        if (const auto warning = lungWarning(*result.grid)) result.warnings.push_back(*warning);
         if (!options.labels.empty()) result.labels = readLabels(options, *result.grid);
         return result;
     } catch (const std::bad_alloc&) {

@@ -32,6 +32,10 @@ struct VolumeMetadata {
     double valueMin = 0;               ///< physical units, over all finite source voxels
     double valueMax = 0;               ///< (for RGB: over the luminance)
     double background = 0;             ///< value that inactive voxels stand for, same units
+    /// The lowest value, when ingest set it apart from the background: a CT's padding
+    /// outside the reconstruction circle (inactive too, but not averaged into background).
+    std::optional<double> padding;
+    std::uint64_t paddingVoxels = 0;
     std::optional<double> threshold;   ///< voxels at or below it were deactivated
     /// How the source stored its samples: physical = storedSlope * stored + storedIntercept.
     double storedSlope = 1.0;

@@ -120,6 +120,25 @@ TEST(Cli, InfoWarnsOnStderrLikeEveryCommand) {
     EXPECT_NE(run.err.find("gvr: warning: 4D series"), std::string::npos) << run.err;
 }
 
+TEST(Cli, ChestCtKeepsItsLungsByDefaultAndAThresholdThatDeletesThemIsWarnedAbout) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string chest = test::sharedData("ct-chest-ricord-512");
+    const test::CommandResult old = test::runGvr("ingest -q '" + chest + "' -o '" + dir.path("a.vdb") + "' --threshold -500", dir);
+    ASSERT_EQ(old.exitCode, 0) << old.err;
+    EXPECT_NE(old.err.find("gvr: warning: the threshold -500.0 HU leaves"), std::string::npos) << old.err;
+    EXPECT_NE(old.err.find("--threshold -950"), std::string::npos) << old.err;
+
+    const test::CommandResult fresh = test::runGvr("ingest -q '" + chest + "' -o '" + dir.path("b.vdb") + "' --json", dir);
+    ASSERT_EQ(fresh.exitCode, 0) << fresh.err;
+    EXPECT_EQ(fresh.err.find("warning"), std::string::npos) << fresh.err;
+    const nlohmann::json metadata = nlohmann::json::parse(fresh.out)["grid"]["metadata"];
+    EXPECT_EQ(metadata["gvr_threshold"], -950.0);
+    // Air, not an average of air and the scanner's -3024 padding, is what inactive voxels hold.
+    EXPECT_EQ(metadata["gvr_padding_value"], -3024.0);
+    EXPECT_NEAR(metadata["gvr_background"].get<double>(), -1000.0, 30.0);
+}
+
 TEST(Cli, UnknownFlagsAndBadSpacingAreUsageErrors) {
     test::TempDir dir;
     EXPECT_EQ(test::runGvr("ingest x.nii -o y.vdb --no-such-flag", dir).exitCode, 2);

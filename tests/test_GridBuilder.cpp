@@ -41,17 +41,44 @@ TEST(GridBuilder, KeepsHounsfieldUnitsFromSlopeAndIntercept) {
     EXPECT_EQ(metadata->rawSourceBytes(), 10u);
 }
 
-TEST(GridBuilder, ThresholdDeactivatesAtOrBelowAndBackgroundIsTheirMean) {
-    DenseVolume volume = makeVolume<float>({4, 1, 1}, {-3000.f, -1000.f, -500.f, 40.f},
-                                           SampleType::Float32);
+TEST(GridBuilder, ThresholdDeactivatesAtOrBelowAndBackgroundLeavesPaddingApart) {
+    // -3024 is a scanner's padding: a third of the inactive voxels, left out of the
+    // background, which is then air's own value, not an average of air and padding.
+    DenseVolume volume = makeVolume<float>({4, 1, 1}, {-3024.f, -1000.f, -990.f, 40.f}, SampleType::Float32);
     GridBuildSettings settings;
     settings.threshold = -500.0;
     auto grid = asFloat(buildGrid(volume, settings));
     EXPECT_EQ(grid->activeVoxelCount(), 1u);
     EXPECT_TRUE(grid->tree().isValueOn(openvdb::Coord(3, 0, 0)));
-    EXPECT_FLOAT_EQ(grid->background(), -1500.0f);
-    EXPECT_FLOAT_EQ(grid->tree().getValue(openvdb::Coord(0, 0, 0)), -1500.0f);
-    EXPECT_EQ(readVolumeMetadata(*grid)->threshold, -500.0);
+    EXPECT_FLOAT_EQ(grid->background(), -995.0f);
+    EXPECT_FLOAT_EQ(grid->tree().getValue(openvdb::Coord(0, 0, 0)), -995.0f);
+    const VolumeMetadata metadata = *readVolumeMetadata(*grid);
+    EXPECT_EQ(metadata.threshold, -500.0);
+    EXPECT_EQ(metadata.padding, -3024.0);
+    EXPECT_EQ(metadata.paddingVoxels, 1u);
+}
+
+TEST(GridBuilder, ARareLowestValueIsNoPaddingAndTheBackgroundIsTheMean) {
+    std::vector<float> values(41, -1000.0f);
+    values[0] = -3024.0f;  // one voxel in 40 inactive ones: under 5 %, noise rather than padding
+    values[40] = 100.0f;
+    DenseVolume volume = makeVolume<float>({41, 1, 1}, values, SampleType::Float32);
+    GridBuildSettings settings;
+    settings.threshold = -500.0;
+    auto grid = asFloat(buildGrid(volume, settings));
+    EXPECT_FLOAT_EQ(grid->background(), (-3024.0f - 39 * 1000.0f) / 40.0f);
+    EXPECT_FALSE(readVolumeMetadata(*grid)->padding);
+}
+
+TEST(GridBuilder, ACtWithoutAThresholdLosesItsAirAndKeepsItsLungs) {
+    DenseVolume volume = makeVolume<float>({3, 1, 1}, {-1000.f, -890.f, 40.f}, SampleType::Float32);
+    volume.modality = "CT";
+    auto grid = asFloat(buildGrid(volume, {}));
+    EXPECT_EQ(readVolumeMetadata(*grid)->threshold, kCtDefaultThreshold);
+    EXPECT_FALSE(grid->tree().isValueOn(openvdb::Coord(0, 0, 0)));
+    EXPECT_TRUE(grid->tree().isValueOn(openvdb::Coord(1, 0, 0)));
+    volume.modality = "MR";  // other data keep everything above their minimum
+    EXPECT_FALSE(readVolumeMetadata(*buildGrid(volume, {}))->threshold);
 }
 
 TEST(GridBuilder, RejectsNaNAndInfWithTheirCount) {
