@@ -3,6 +3,7 @@
 #include "Error.h"
 
 #include <cmath>
+#include <sstream>
 
 namespace gvr {
 
@@ -24,14 +25,38 @@ void addSourceFlags(CLI::App& command, SourceFlags& flags, bool withThreshold) {
     if (withThreshold) {
         command.add_option("--threshold", flags.threshold,
                            "Deactivate voxels at or below this value (physical units, e.g. HU; "
-                           "luminance for RGB). Default: only the volume's minimum");
+                           "luminance for RGB). Default: -950 for a CT (air out, lungs kept), else only the "
+                           "volume's minimum");
+        command.add_option("--threshold-above", flags.thresholdAbove,
+                           "Deactivate voxels at or above this value too: a bright background such as the white "
+                           "paper behind a cryosection (luminance for RGB)");
     }
+    command.add_option("--flip", flags.flip,
+                       "Mirror index axes, comma-separated: i (columns), j (rows), k (slices); e.g. j,k turns a "
+                       "stack read head-down upright. The world follows the data");
     command.add_option("--nan-to", flags.nanTo, "Replace NaN/Inf samples with this value "
                                                 "(default: reject the file)");
     command.add_option("--modality", flags.modality, "Override the modality (CT, MR, ...)");
     command.add_flag("--data-files-anywhere", flags.dataFilesAnywhere,
                      "Let a header (MetaImage ElementDataFile) name a data file outside its own folder");
 }
+
+namespace {
+
+/// "j,k" as flags for i, j and k. @throw InputError naming --flip for anything else.
+std::array<bool, 3> flippedAxes(const std::string& text) {
+    std::array<bool, 3> flip{false, false, false};
+    std::istringstream in(text);
+    for (std::string axis; std::getline(in, axis, ',');) {
+        if (axis != "i" && axis != "j" && axis != "k") {
+            throw InputError("--flip", "'" + axis + "' is no index axis: give i, j and/or k, comma-separated");
+        }
+        flip[axis[0] - 'i'] = true;
+    }
+    return flip;
+}
+
+}  // namespace
 
 IngestOptions toIngestOptions(const SourceFlags& flags) {
     IngestOptions options;
@@ -61,6 +86,14 @@ IngestOptions toIngestOptions(const SourceFlags& flags) {
         throw InputError("--threshold", "must be a finite number");
     }
     options.build.threshold = flags.threshold;
+    if (flags.thresholdAbove) {
+        if (!std::isfinite(*flags.thresholdAbove)) throw InputError("--threshold-above", "must be a finite number");
+        if (flags.threshold && *flags.thresholdAbove <= *flags.threshold) {
+            throw InputError("--threshold-above", "must lie above --threshold, or nothing stays active");
+        }
+    }
+    options.build.thresholdAbove = flags.thresholdAbove;
+    options.build.flip = flippedAxes(flags.flip);
     options.build.nanTo = flags.nanTo;
     if (flags.nanTo && !std::isfinite(*flags.nanTo)) {
         throw InputError("--nan-to", "must be a finite number");

@@ -20,7 +20,8 @@ struct SourceFlags {
     std::string endian = "little";
     std::uint64_t headerBytes = 0;
     int rawChannels = 1;
-    std::optional<double> threshold;
+    std::optional<double> threshold, thresholdAbove;
+    std::string flip;
     std::optional<float> nanTo;
     std::string modality;
     bool dataFilesAnywhere = false;

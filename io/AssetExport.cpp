@@ -85,6 +85,7 @@ void describe(openvdb::GridBase& grid, const GaussianAsset& asset, const ExportR
     metadata.dims = openvdb::Vec3i(result.lattice.box.dim().asVec3i());
     metadata.spacingMm = axisSpacing(result.lattice.worldFromIndex);
     metadata.threshold = result.threshold;
+    metadata.thresholdAbove = result.thresholdAbove;
     writeVolumeMetadata(metadata, grid);
     grid.insertMeta("gvr_exported_from", openvdb::StringMetadata(assetPath));
 }
@@ -102,11 +103,13 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     ExportResult result;
     result.lattice = settings.lattice.value_or(sourceLattice(asset.worldFromIndex, dims));
     result.threshold = settings.threshold.value_or(defaultExportThreshold(asset.source));
+    result.thresholdAbove = defaultExportThresholdAbove(asset.source);
     const openvdb::Coord size = result.lattice.box.dim();
     checkVolumeFitsInMemory(settings.assetPath.empty() ? "asset" : settings.assetPath, {size.x(), size.y(), size.z()},
                             asset.params.channels, sizeof(float), "export");
     const GaussianField field(asset.params, asset.cutoffSigmas);
-    const FieldToGridSettings sampling{asset.mapping, result.threshold, sourceLattice(asset.worldFromIndex, dims).box};
+    const FieldToGridSettings sampling{asset.mapping, result.threshold, result.thresholdAbove,
+                                       sourceLattice(asset.worldFromIndex, dims).box};
     openvdb::GridBase::Ptr values = fieldToGrid(field, asset.worldFromIndex, result.lattice, sampling, progress);
     if (settings.dcc) {
         if (auto grey = openvdb::GridBase::grid<openvdb::FloatGrid>(values)) {

@@ -45,6 +45,7 @@ struct ExportResult {
     openvdb::GridPtrVec grids;  ///< the value grid first, then a derived density for RGB
     Lattice lattice;
     double threshold = 0.0;
+    std::optional<double> thresholdAbove;  ///< from a source cut from above too
 };
 
 /// Evaluates the asset's field at the lattice's voxel centres (see fieldToGrid),

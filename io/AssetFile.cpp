@@ -45,6 +45,7 @@ nlohmann::json sourceJson(const VolumeMetadata& m) {
                         {"value_min", m.valueMin},      {"value_max", m.valueMax},
                         {"background", m.background},   {"raw_bytes", m.rawSourceBytes()}};
     if (m.threshold) j["threshold"] = *m.threshold;
+    if (m.thresholdAbove) j["threshold_above"] = *m.thresholdAbove;
     if (m.padding) j["padding"] = {{"value", *m.padding}, {"voxels", m.paddingVoxels}};
     j["stored_slope"] = m.storedSlope;
     j["stored_intercept"] = m.storedIntercept;
@@ -66,6 +67,7 @@ VolumeMetadata sourceFromJson(const nlohmann::json& j) {
     m.valueMax = j.at("value_max").get<double>();
     m.background = j.at("background").get<double>();
     if (j.contains("threshold")) m.threshold = j.at("threshold").get<double>();
+    if (j.contains("threshold_above")) m.thresholdAbove = j.at("threshold_above").get<double>();
     if (j.contains("padding")) {
         m.padding = j.at("padding").at("value").get<double>();
         m.paddingVoxels = j.at("padding").at("voxels").get<std::uint64_t>();

@@ -175,7 +175,8 @@ ValueT voxelValue(const Values& values, std::size_t voxel) {
 /// on, and tallies its voxels; null when none of them is active.
 template <typename LeafT, typename Values>
 std::unique_ptr<LeafT> buildLeaf(const Values& values, const DenseVolume& slab, std::int64_t firstSlice,
-                                 const Coord& origin, double cut, const typename LeafT::ValueType& background,
+                                 const Coord& origin, double cut, double cutAbove,
+                                 const typename LeafT::ValueType& background,
                                  bool replacesNonFinite, SlabTally& tally) {
     std::unique_ptr<LeafT> leaf;  // made at the first active voxel: most leaves of a large volume stay empty
     const Coord end = Coord::minComponent(
@@ -192,7 +193,7 @@ std::unique_ptr<LeafT> buildLeaf(const Values& values, const DenseVolume& slab, 
                 const double key = values.key(voxel);
                 tally.range.min = std::min(tally.range.min, key);
                 tally.range.max = std::max(tally.range.max, key);
-                if (key <= cut) {
+                if (key <= cut || key >= cutAbove) {
                     openvdb::Vec3d value(0.0);
                     for (int c = 0; c < values.channels(); ++c) value[c] = values.value(voxel, c);
                     tally.inactive.add(key, value);
@@ -212,7 +213,7 @@ std::unique_ptr<LeafT> buildLeaf(const Values& values, const DenseVolume& slab, 
 /// boundary, so no leaf is shared with another slab.
 template <typename GridT, typename Values>
 SlabTally addSlabLeaves(GridT& grid, const Values& values, const DenseVolume& slab, std::int64_t firstSlice,
-                        double cut, bool replacesNonFinite, ProgressCounter& counter) {
+                        double cut, double cutAbove, bool replacesNonFinite, ProgressCounter& counter) {
     using LeafT = typename GridT::TreeType::LeafNodeType;
     const Coord first(0, 0, int(firstSlice));
     const std::vector<Coord> origins = blockOrigins(openvdb::CoordBBox(
@@ -228,7 +229,7 @@ SlabTally addSlabLeaves(GridT& grid, const Values& values, const DenseVolume& sl
     const typename GridT::ValueType placeholder = grid.background();
     addLeaves(grid, origins,
               [&](const Coord& origin) {
-                  return buildLeaf<LeafT>(values, slab, firstSlice, origin, cut, placeholder, replacesNonFinite,
+                  return buildLeaf<LeafT>(values, slab, firstSlice, origin, cut, cutAbove, placeholder, replacesNonFinite,
                                           tallies[indexOf(origin)]);
               },
               counter);
@@ -237,8 +238,22 @@ SlabTally addSlabLeaves(GridT& grid, const Values& values, const DenseVolume& sl
     return total;
 }
 
-openvdb::math::Transform::Ptr transformOf(const DenseVolume& volume, const std::string& file) {
-    const openvdb::Mat3d linear = volume.worldFromIndex.getMat3();
+/// volume.worldFromIndex after mirroring the index axes that @a flip names:
+/// index i of a flipped axis stands where n - 1 - i stood.
+openvdb::math::Mat4d flippedWorldFromIndex(const DenseVolume& volume, const std::array<bool, 3>& flip) {
+    openvdb::math::Mat4d mirror = openvdb::math::Mat4d::identity();
+    for (int axis = 0; axis < 3; ++axis) {
+        if (!flip[axis]) continue;
+        mirror(axis, axis) = -1.0;
+        mirror(3, axis) = double(volume.dims[axis] - 1);
+    }
+    return mirror * volume.worldFromIndex;  // row vectors: mirror first, then place
+}
+
+openvdb::math::Transform::Ptr transformOf(const DenseVolume& volume, const GridBuildSettings& settings) {
+    const std::string& file = settings.sourceFile;
+    const openvdb::math::Mat4d worldFromIndex = flippedWorldFromIndex(volume, settings.flip);
+    const openvdb::Mat3d linear = worldFromIndex.getMat3();
     std::ostringstream determinant;
     determinant << "(its determinant is " << linear.det() << ")";
     const openvdb::Vec3d spacing = axisSpacing(volume.worldFromIndex);
@@ -247,7 +262,7 @@ openvdb::math::Transform::Ptr transformOf(const DenseVolume& volume, const std::
         throw InputError(file, "degenerate orientation matrix " + determinant.str());
     }
     try {
-        return openvdb::math::Transform::createLinearTransform(volume.worldFromIndex);
+        return openvdb::math::Transform::createLinearTransform(worldFromIndex);
     } catch (const openvdb::ArithmeticError&) {  // OpenVDB's own, absolute, test of the determinant
         throw InputError(file, "voxels too small for OpenVDB: orientation matrix " + determinant.str());
     }
@@ -294,7 +309,12 @@ public:
     }
 
     const Range& range() const { return mRange; }
-    double finalCut() const { return mSettings.threshold.value_or(mRange.min); }
+    /// With only a cut from above, the darkest voxels are the subject, not its background.
+    double finalCut() const {
+        if (mSettings.threshold) return *mSettings.threshold;
+        return mSettings.thresholdAbove ? -std::numeric_limits<double>::infinity() : mRange.min;
+    }
+    double cutAbove() const { return mSettings.thresholdAbove.value_or(std::numeric_limits<double>::infinity()); }
 
     /// What inactive voxels stand for: the mean of those above the lowest value when
     /// the lowest holds at least kPaddingShare of them (a CT's padding, which would
@@ -343,7 +363,7 @@ private:
         const bool replacesNonFinite = mSettings.nanTo.has_value();
         if (!mSettings.threshold) mRange = mRange.merged(scanRange(values, slab.voxelCount(), replacesNonFinite));
         SlabRecord record{first, count, finalCut(), {}};
-        const SlabTally tally = addSlabLeaves(*mGrid, values, slab, first, record.cut, replacesNonFinite, mCounter);
+        const SlabTally tally = addSlabLeaves(*mGrid, values, slab, first, record.cut, cutAbove(), replacesNonFinite, mCounter);
         if (mSettings.threshold) mRange = mRange.merged(tally.range);
         record.inactive = tally.inactive;
         return record;
@@ -355,7 +375,8 @@ private:
         const ProgressFn none;  // the first pass already counted these leaves
         ProgressCounter silent(none, 0);
         record.inactive =
-            addSlabLeaves(*mGrid, values, slab, record.first, record.cut, mSettings.nanTo.has_value(), silent).inactive;
+            addSlabLeaves(*mGrid, values, slab, record.first, record.cut, cutAbove(), mSettings.nanTo.has_value(), silent)
+                .inactive;
         return record;
     }
 
@@ -385,7 +406,7 @@ void describeGrid(const DenseVolume& layout, const GridBuildSettings& settings, 
     } else {
         grid.setName("color");
     }
-    grid.setTransform(transformOf(layout, settings.sourceFile));
+    grid.setTransform(transformOf(layout, settings));
 
     VolumeMetadata metadata;
     metadata.sourceFile = settings.sourceFile;
@@ -398,6 +419,7 @@ void describeGrid(const DenseVolume& layout, const GridBuildSettings& settings, 
     metadata.valueMax = range.max;
     metadata.background = layout.channels == 1 ? background[0] : luminance(background);
     metadata.threshold = settings.threshold;
+    metadata.thresholdAbove = settings.thresholdAbove;
     if (padding) {
         metadata.padding = padding->first;
         metadata.paddingVoxels = padding->second;
@@ -419,7 +441,7 @@ GridBuildSettings withDefaultThreshold(const DenseVolume& layout, GridBuildSetti
 template <typename T, typename GridT>
 openvdb::GridBase::Ptr buildTyped(const DenseVolume& layout, std::int64_t slabSlices, const ReadSlab& readSlab,
                                   const GridBuildSettings& settings, const ProgressFn& progress) {
-    transformOf(layout, settings.sourceFile);  // a bad matrix fails before any slab is read
+    transformOf(layout, settings);  // a bad matrix fails before any slab is read
     const GridBuildSettings chosen = withDefaultThreshold(layout, settings);
     SlabBuild<T, GridT> build(layout, chosen, progress);
     typename GridT::Ptr grid = build.run(slabSlices, readSlab);

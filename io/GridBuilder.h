@@ -8,6 +8,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -24,6 +25,12 @@ struct GridBuildSettings {
     /// Unset: kCtDefaultThreshold for a CT (modality "CT"), else only voxels at the
     /// volume's minimum, e.g. zero padding or air fill.
     std::optional<double> threshold;
+    /// Voxels at or above this (luminance for RGB) are inactive too: the white paper
+    /// or bright medium behind a cryosection.
+    std::optional<double> thresholdAbove;
+    /// Mirrors index axes i, j, k (i -> n - 1 - i) in the world: a stack scanned
+    /// upside down or read in another order stands as it should.
+    std::array<bool, 3> flip{false, false, false};
     /// Value that replaces NaN and Inf samples. Unset: such samples are an error.
     std::optional<float> nanTo;
     std::string modality;  ///< overrides what the file says, when not empty

@@ -19,7 +19,7 @@ public:
 
     LeafSampler(const LatticeSampler& sampler, const FieldToGridSettings& settings)
         : mSampler(sampler), mSettings(settings), mChannels(sampler.channels()),
-          mCut(settings.mapping, mChannels, settings.threshold) {}
+          mCut(settings.mapping, mChannels, settings.threshold, settings.thresholdAbove) {}
 
     std::unique_ptr<LeafT> operator()(const openvdb::Coord& origin) const {
         float sums[kBlockVoxels * 3] = {};

@@ -18,6 +18,7 @@ struct FieldToGridSettings {
     /// Voxels whose physical value (luminance for RGB) is at or below this stay
     /// inactive. Voxels that no Gaussian reaches are inactive in any case.
     std::optional<double> threshold;
+    std::optional<double> thresholdAbove;  ///< and those at or above this
     /// The field's source voxels: lattice points outside their cells stay background
     /// (default: no limit).
     openvdb::CoordBBox fieldBox = openvdb::CoordBBox::inf();

@@ -4,19 +4,20 @@
 
 namespace gvr {
 
-ThresholdCut::ThresholdCut(const ValueMapping& mapping, int channels, std::optional<double> threshold)
+ThresholdCut::ThresholdCut(const ValueMapping& mapping, int channels, std::optional<double> threshold,
+                           std::optional<double> above)
     : mChannels(channels) {
-    if (!threshold) return;
     // physical = offset + scale * normalised per channel, and luminance is linear,
-    // so the cut is one comparison in normalised units.
+    // so each cut is one comparison in normalised units.
     const double offset = channels == 1 ? mapping.offset[0] : luminance(mapping.offset);
-    mLimit = (*threshold - offset) / mapping.scale;
+    if (threshold) mLimit = (*threshold - offset) / mapping.scale;
+    if (above) mUpperLimit = (*above - offset) / mapping.scale;
 }
 
 bool ThresholdCut::cuts(const float* normalised) const {
-    if (!mLimit) return false;
+    if (!mLimit && !mUpperLimit) return false;
     const double key = mChannels == 1 ? double(normalised[0]) : luminance(normalised);
-    return key <= *mLimit;
+    return (mLimit && key <= *mLimit) || (mUpperLimit && key >= *mUpperLimit);
 }
 
 void ThresholdCut::apply(float* normalised) const {
@@ -30,8 +31,15 @@ double defaultExportThreshold(const VolumeMetadata& source) {
     return 0.5 * (source.background + *source.threshold);
 }
 
+std::optional<double> defaultExportThresholdAbove(const VolumeMetadata& source) {
+    if (!source.thresholdAbove) return std::nullopt;
+    if (source.background <= *source.thresholdAbove) return source.thresholdAbove;
+    return 0.5 * (source.background + *source.thresholdAbove);
+}
+
 ThresholdCut defaultExportCut(const GaussianAsset& asset) {
-    return ThresholdCut(asset.mapping, asset.source.channels, defaultExportThreshold(asset.source));
+    return ThresholdCut(asset.mapping, asset.source.channels, defaultExportThreshold(asset.source),
+                        defaultExportThresholdAbove(asset.source));
 }
 
 }  // namespace gvr

@@ -17,8 +17,10 @@ namespace gvr {
 class ThresholdCut {
 public:
     ThresholdCut() = default;  ///< cuts nothing
-    /// @a threshold in physical units; std::nullopt cuts nothing.
-    ThresholdCut(const ValueMapping& mapping, int channels, std::optional<double> threshold);
+    /// @a threshold in physical units; std::nullopt cuts nothing. @a above, when
+    /// set, cuts values at or above it too (a bright background).
+    ThresholdCut(const ValueMapping& mapping, int channels, std::optional<double> threshold,
+                 std::optional<double> above = std::nullopt);
 
     /// True when a voxel whose field value (normalised units, @a channels of
     /// them) is @a normalised becomes background.
@@ -30,6 +32,7 @@ public:
 private:
     int mChannels = 1;
     std::optional<double> mLimit;  ///< in normalised units (of the luminance for RGB)
+    std::optional<double> mUpperLimit;
 };
 
 /// What export uses when no threshold is given. The source holds no value between
@@ -38,6 +41,10 @@ private:
 /// (Cutting at the threshold itself costs 3 dB on a chest CT whose background is
 /// 1300 HU below it.) Without an ingest threshold: the source's minimum.
 double defaultExportThreshold(const VolumeMetadata& source);
+
+/// The same for a threshold from above: midway between it and a background above
+/// it; unset when the source had none.
+std::optional<double> defaultExportThresholdAbove(const VolumeMetadata& source);
 
 /// The cut export makes by default for @a asset.
 ThresholdCut defaultExportCut(const GaussianAsset& asset);

@@ -48,6 +48,7 @@ void writeVolumeMetadata(const VolumeMetadata& m, openvdb::GridBase& grid) {
     grid.insertMeta("gvr_value_max", openvdb::DoubleMetadata(m.valueMax));
     grid.insertMeta("gvr_background", openvdb::DoubleMetadata(m.background));
     if (m.threshold) grid.insertMeta("gvr_threshold", openvdb::DoubleMetadata(*m.threshold));
+    if (m.thresholdAbove) grid.insertMeta("gvr_threshold_above", openvdb::DoubleMetadata(*m.thresholdAbove));
     if (m.padding) {
         grid.insertMeta("gvr_padding_value", openvdb::DoubleMetadata(*m.padding));
         grid.insertMeta("gvr_padding_voxels", openvdb::Int64Metadata(std::int64_t(m.paddingVoxels)));
@@ -79,6 +80,7 @@ std::optional<VolumeMetadata> readVolumeMetadata(const openvdb::GridBase& grid) 
     m.valueMax = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_value_max").value_or(0);
     m.background = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_background").value_or(0);
     m.threshold = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_threshold");
+    m.thresholdAbove = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_threshold_above");
     m.padding = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_padding_value");
     m.paddingVoxels = std::uint64_t(findMeta<openvdb::Int64Metadata, std::int64_t>(grid, "gvr_padding_voxels").value_or(0));
     m.storedSlope = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_stored_slope").value_or(1.0);

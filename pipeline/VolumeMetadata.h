@@ -37,6 +37,7 @@ struct VolumeMetadata {
     std::optional<double> padding;
     std::uint64_t paddingVoxels = 0;
     std::optional<double> threshold;   ///< voxels at or below it were deactivated
+    std::optional<double> thresholdAbove;  ///< and those at or above this (bright backgrounds)
     /// How the source stored its samples: physical = storedSlope * stored + storedIntercept.
     double storedSlope = 1.0;
     double storedIntercept = 0.0;

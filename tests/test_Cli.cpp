@@ -141,6 +141,11 @@ TEST(Cli, ChestCtKeepsItsLungsByDefaultAndAThresholdThatDeletesThemIsWarnedAbout
 
 TEST(Cli, UnknownFlagsAndBadSpacingAreUsageErrors) {
     test::TempDir dir;
+    for (const char* bad : {"--flip x", "--flip i,q", "--threshold 10 --threshold-above 5"}) {
+        const test::CommandResult run = test::runGvr(std::string("ingest x.raw -o y.vdb --raw-dims 2,2,2 --raw-type uint8 ") + bad, dir);
+        EXPECT_EQ(run.exitCode, 2) << bad;
+        EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
+    }
     EXPECT_EQ(test::runGvr("ingest x.nii -o y.vdb --no-such-flag", dir).exitCode, 2);
     const test::CommandResult run = test::runGvr("ingest x.raw -o y.vdb --raw-dims 2,2,2 --raw-type uint8 --spacing 1,0,1", dir);
     EXPECT_EQ(run.exitCode, 2);

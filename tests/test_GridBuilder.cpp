@@ -81,6 +81,35 @@ TEST(GridBuilder, ACtWithoutAThresholdLosesItsAirAndKeepsItsLungs) {
     EXPECT_FALSE(readVolumeMetadata(*buildGrid(volume, {}))->threshold);
 }
 
+TEST(GridBuilder, ABrightBackgroundIsCutFromAbove) {
+    // A specimen (dark) on white paper: the paper goes, and is what inactive voxels hold.
+    DenseVolume volume = makeVolume<std::uint8_t>({4, 1, 1}, {250, 240, 90, 255}, SampleType::UInt8);
+    GridBuildSettings settings;
+    settings.thresholdAbove = 230.0;
+    auto grid = asFloat(buildGrid(volume, settings));
+    EXPECT_EQ(grid->activeVoxelCount(), 1u);
+    EXPECT_TRUE(grid->tree().isValueOn(openvdb::Coord(2, 0, 0)));
+    EXPECT_EQ(readVolumeMetadata(*grid)->thresholdAbove, 230.0);
+    EXPECT_GT(grid->background(), 230.0f);
+}
+
+TEST(GridBuilder, FlippedAxesMirrorTheDataInTheWorld) {
+    DenseVolume volume = makeVolume<std::uint8_t>({3, 2, 1}, {1, 2, 3, 4, 5, 6}, SampleType::UInt8);
+    volume.worldFromIndex = worldFromSpacing(openvdb::Vec3d(0.5, 2.0, 1.0));
+    const auto plain = asFloat(buildGrid(volume, {}));
+    GridBuildSettings settings;
+    settings.flip = {true, true, false};
+    const auto flipped = asFloat(buildGrid(volume, settings));
+    // The sample at index (i, j) now stands where (2 - i, 1 - j) stood: the volume is mirrored in place.
+    for (int j = 0; j < 2; ++j) {
+        for (int i = 0; i < 3; ++i) {
+            const openvdb::Vec3d there = flipped->indexToWorld(openvdb::Coord(i, j, 0));
+            EXPECT_TRUE(there.eq(plain->indexToWorld(openvdb::Coord(2 - i, 1 - j, 0)))) << i << "," << j;
+        }
+    }
+    EXPECT_EQ(readVolumeMetadata(*flipped)->spacingMm, openvdb::Vec3d(0.5, 2.0, 1.0));
+}
+
 TEST(GridBuilder, RejectsNaNAndInfWithTheirCount) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float inf = std::numeric_limits<float>::infinity();

@@ -31,6 +31,18 @@ TEST(ThresholdCut, RgbIsCutOnTheLuminanceOfItsPhysicalValues) {
     }
 }
 
+TEST(ThresholdCut, ABrightBackgroundIsCutFromAbove) {
+    const ValueMapping mapping{{250.0, 250.0, 250.0}, -250.0};  // white paper is normalised 0
+    const ThresholdCut cut(mapping, 1, std::nullopt, 220.0);
+    const float paper = float(mapping.toNormalised(240.0, 0)), specimen = float(mapping.toNormalised(90.0, 0));
+    EXPECT_TRUE(cut.cuts(&paper) != cut.cuts(&specimen));
+    VolumeMetadata source;
+    source.background = 250.0;
+    source.thresholdAbove = 220.0;
+    EXPECT_EQ(defaultExportThresholdAbove(source), 235.0);
+    EXPECT_FALSE(defaultExportThresholdAbove(VolumeMetadata{}));
+}
+
 TEST(ThresholdCut, TheDefaultSplitsTheGapBetweenBackgroundAndThreshold) {
     VolumeMetadata source;
     source.valueMin = -3024.0;
