@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
                  "evaluate and render them"};
     app.name("gvr");  // not argv[0], a build path, in every usage line
     app.require_subcommand(1);
-    app.set_version_flag("-V,--version", "gvr 0.1.0");
+    app.set_version_flag("-V,--version", "gvr " GVR_VERSION);
     app.fallthrough();  // inherited by the subcommands, so that --verbose may follow them
     gvr::addIngestCommand(app);
     gvr::addInfoCommand(app);

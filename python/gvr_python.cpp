@@ -16,12 +16,15 @@
 #include "ShearWarp.h"
 #include "TransferFunctionFile.h"
 #include "VolumeClassifier.h"
+#include "WorldGaussians.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <filesystem>
+#include <map>
+#include <sstream>
 #include <memory>
 #include <optional>
 #include <variant>
@@ -36,6 +39,28 @@ struct Volume {
     openvdb::GridBase::Ptr grid;
     openvdb::Int32Grid::Ptr labels;  ///< structure labels on the same voxels, or null
 };
+
+/// The library's messages name the command line's flags; a Python user meets the
+/// arguments of these functions instead.
+std::string inPythonTerms(std::string message) {
+    static const std::vector<std::pair<std::string, std::string>> names = {
+        {"--nan-to VALUE", "nan_to=VALUE"}, {"--nan-to", "nan_to"}, {"--threshold", "threshold"},
+        {"--spacing", "spacing"}, {"--volume", "volume"}, {"--ratio", "ratio"}, {"--gaussians", "gaussians"},
+        {"--time", "seconds"}, {"--iterations", "iterations"}, {"--seed", "seed"}, {"--ablation", "ablation"},
+        {"--labels", "labels"}, {"--label-names", "label_names"}, {"--resample-labels", "resample_labels=True"},
+        {"--voxel-size", "voxel_size"}, {"--like", "like"}, {"--tf", "tf"}, {"--size", "size"},
+        {"--mask", "mask"}, {"--peak", "peak"}, {"--resample", "resample=True"}, {"--structures", "structures"},
+        {"--show", "structures"}, {"--hide", "hide"}};
+    for (const auto& [flag, argument] : names) {
+        for (std::size_t at = message.find(flag); at != std::string::npos; at = message.find(flag, at + argument.size())) {
+            const std::size_t end = at + flag.size();
+            const bool whole = end == message.size() || !(std::isalnum(static_cast<unsigned char>(message[end])) ||
+                                                          message[end] == '-');
+            if (whole) message.replace(at, flag.size(), argument);
+        }
+    }
+    return message;
+}
 
 /// Raised inside a fit's progress callback to stop the fit, once Python's error
 /// indicator holds why (Ctrl-C, or an exception in the user's callback).
@@ -63,6 +88,31 @@ void copySamples(const py::array& array, DenseVolume& volume) {
     }
 }
 
+/// numpy types gvr does not store, converted to one it does: bool to uint8,
+/// float16 to float32, 64-bit integers to int32 when every value fits, else to
+/// float64 (exact up to 2^53); anything else unchanged.
+py::array storableArray(const py::array& array) {
+    const py::dtype dtype = array.dtype();
+    const char kind = dtype.kind();
+    const auto size = dtype.itemsize();
+    const auto as = [&](const char* name) { return py::array(array.attr("astype")(name)); };
+    if (kind == 'b') return as("uint8");
+    if (kind == 'f' && size == 2) return as("float32");
+    if ((kind == 'i' || kind == 'u') && size == 8) {
+        const py::module_ numpy = py::module_::import("numpy");
+        const bool fitsInt32 = array.size() == 0 ||
+                               (numpy.attr("min")(array).cast<double>() >= -2147483648.0 &&
+                                numpy.attr("max")(array).cast<double>() <= 2147483647.0);
+        if (fitsInt32) return as("int32");
+        const double largest = numpy.attr("max")(numpy.attr("abs")(array.attr("astype")("float64"))).cast<double>();
+        if (largest > 9007199254740992.0) {
+            throw InputError("array", "holds 64-bit integers beyond 2^53, which no type gvr stores keeps exactly");
+        }
+        return as("float64");
+    }
+    return array;
+}
+
 SampleType sampleTypeOf(const py::dtype& dtype) {
     const char kind = dtype.kind();
     const auto size = dtype.itemsize();
@@ -75,11 +125,13 @@ SampleType sampleTypeOf(const py::dtype& dtype) {
     if (kind == 'f' && size == 4) return SampleType::Float32;
     if (kind == 'f' && size == 8) return SampleType::Float64;
     throw InputError("array", "dtype " + dtype.attr("name").cast<std::string>() +
-                                  " is not supported (uint8, int8, uint16, int16, uint32, int32, float32, float64)");
+                                  " is not supported (uint8, int8, uint16, int16, uint32, int32, float32, float64; "
+                                  "bool, float16 and int64 are converted)");
 }
 
 /// The array's samples in gvr's layout (i fastest, channels interleaved), in its own type.
-DenseVolume denseFromArray(const py::array& array) {
+DenseVolume denseFromArray(const py::array& given) {
+    const py::array array = storableArray(given);
     const bool rgb = array.ndim() == 4 && array.shape(3) == 3;
     if (array.ndim() != 3 && !rgb) {
         std::string shape;
@@ -118,7 +170,7 @@ openvdb::math::Mat4d matrixFromAffine(const py::array& affine) {
 
 Volume volumeFromNumpy(const py::array& array, std::optional<std::array<double, 3>> spacing,
                        const std::optional<py::array>& affine, std::optional<double> threshold,
-                       const std::string& modality) {
+                       const std::string& modality, std::optional<float> nanTo, const std::string& sourceType) {
     if (spacing && affine) throw InputError("spacing", "give spacing or affine, not both");
     DenseVolume dense = denseFromArray(array);
     if (spacing) dense.worldFromIndex = worldFromSpacing({(*spacing)[0], (*spacing)[1], (*spacing)[2]});
@@ -127,8 +179,17 @@ Volume volumeFromNumpy(const py::array& array, std::optional<std::array<double, 
     GridBuildSettings settings;
     settings.sourceFile = "array";
     settings.threshold = threshold;
+    settings.nanTo = nanTo;
+    const std::optional<SampleType> declared =
+        sourceType.empty() ? std::nullopt : std::optional<SampleType>(sampleTypeFromName(sourceType, "source_type"));
     py::gil_scoped_release release;
-    return {buildGrid(dense, settings)};
+    openvdb::GridBase::Ptr grid = buildGrid(dense, settings);
+    if (declared) {  // the ratio's raw size is the source file's, not the array's
+        VolumeMetadata metadata = *readVolumeMetadata(*grid);
+        metadata.sourceType = sampleTypeName(*declared);
+        writeVolumeMetadata(metadata, *grid);
+    }
+    return {grid};
 }
 
 // ---- numpy out ----
@@ -206,7 +267,7 @@ std::map<int, std::string> labelNamesOf(const LabelTable& table) { return {table
 
 // ---- fit ----
 
-GaussianAsset fit(const Volume& volume, double ratio, double seconds, std::size_t gaussians,
+GaussianAsset fit(const std::variant<Volume, std::string>& input, double ratio, double seconds, std::size_t gaussians,
                   std::size_t iterations, std::uint64_t seed, const std::string& ablation, const std::string& labels,
                   const std::optional<py::function>& progress) {
     CompressOptions options;
@@ -236,7 +297,10 @@ GaussianAsset fit(const Volume& volume, double ratio, double seconds, std::size_
     };
     try {
         py::gil_scoped_release release;
-        return compress(volume.grid, "volume", options, observer, volume.labels.get()).asset;
+        const auto* path = std::get_if<std::string>(&input);
+        const Volume volume = path ? Volume{} : std::get<Volume>(input);
+        const IngestResult loaded = path ? loadOrIngest(*path, IngestOptions{}) : IngestResult{volume.grid, volume.labels, {}};
+        return compress(loaded.grid, path ? *path : "volume", options, observer, loaded.labels.get()).asset;
     } catch (const PythonErrorPending&) {
         throw py::error_already_set();
     }
@@ -271,6 +335,43 @@ py::array probe(const GaussianAsset& asset, const py::array& points) {
         for (int c = 0; c < field.channels(); ++c) out(n, c) = sample.value[c];
     }
     return values;
+}
+
+/// One read-only (count, width) float64 array of a field of every world Gaussian.
+template <std::size_t N>
+py::array gaussianArray(const GaussianAsset& asset, std::array<double, N> WorldGaussian::*field, int width) {
+    const std::vector<WorldGaussian> gaussians = worldGaussians(asset);
+    py::array_t<double> out(std::vector<py::ssize_t>{py::ssize_t(gaussians.size()), width});
+    auto view = out.mutable_unchecked<2>();
+    for (std::size_t i = 0; i < gaussians.size(); ++i) {
+        for (int c = 0; c < width; ++c) view(i, c) = (gaussians[i].*field)[c];
+    }
+    out.attr("flags").attr("writeable") = false;
+    return out;
+}
+
+std::string sourceName(const VolumeMetadata& m) {
+    return m.sourceFile.empty() ? "" : ", from " + std::filesystem::path(m.sourceFile).filename().string();
+}
+
+std::string reprOf(const Volume& volume) {
+    const openvdb::Coord d = boxOf(volume).dim();
+    std::ostringstream out;
+    out << "<gvr.Volume " << d.x() << "x" << d.y() << "x" << d.z();
+    if (const auto m = readVolumeMetadata(*volume.grid)) {
+        out << " " << (m->channels == 3 ? "RGB " : "") << m->sourceType << ", " << m->spacingMm.x() << "x"
+            << m->spacingMm.y() << "x" << m->spacingMm.z() << " mm" << sourceName(*m);
+    }
+    return out.str() + ">";
+}
+
+std::string reprOf(const GaussianAsset& asset) {
+    std::ostringstream out;
+    out << "<gvr.Asset " << asset.params.count() << " Gaussians, " << (asset.params.channels == 3 ? "RGB" : "grey")
+        << ", source " << asset.source.dims.x() << "x" << asset.source.dims.y() << "x" << asset.source.dims.z()
+        << sourceName(asset.source);
+    if (!asset.labelTable.names.empty()) out << ", " << asset.labelTable.names.size() << " structures";
+    return out.str() + ">";
 }
 
 // ---- render and evaluate ----
@@ -349,23 +450,38 @@ PYBIND11_MODULE(gvr, m) {
     using namespace pybind11::literals;
     openvdb::initialize();
     m.doc() = "gvr: medical volumes as compact sets of 3D Gaussians, rendered with shear-warp";
-    py::register_exception<InputError>(m, "Error", PyExc_ValueError);
+    m.attr("__version__") = GVR_VERSION;
+    static py::exception<InputError> error(m, "Error", PyExc_ValueError);
+    py::register_exception_translator([](std::exception_ptr thrown) {
+        try {
+            if (thrown) std::rethrow_exception(thrown);
+        } catch (const InputError& e) {
+            error(inPythonTerms(e.what()).c_str());
+        }
+    });
 
     py::class_<Volume>(m, "Volume",
                        "A volume as gvr holds it: a sparse OpenVDB grid in physical units (HU stays HU), "
                        "placed in world millimetres. Arrays are indexed [i, j, k] (x, y, z), as nibabel's "
                        "get_fdata() gives them, with RGB as a last axis of 3.")
         .def_static("from_numpy", &volumeFromNumpy, "array"_a, "spacing"_a = py::none(), "affine"_a = py::none(),
-                    "threshold"_a = py::none(), "modality"_a = "",
-                    "A volume from a 3-D array (x, y, z) or (x, y, z, 3) of uint8 to float64. Give the voxel "
+                    "threshold"_a = py::none(), "modality"_a = "", "nan_to"_a = py::none(), "source_type"_a = "",
+                    "A volume from a 3-D array (x, y, z) or (x, y, z, 3) of uint8 to float64 (bool becomes "
+                    "uint8, float16 float32, int64 int32 when its values fit, else float64). Give the voxel "
                     "spacing in mm or nibabel's 4x4 affine (default: 1 mm voxels at the origin). Voxels at or "
-                    "below threshold (default: the minimum) are inactive. The samples are copied once, in "
-                    "their own type; NaN or Inf raises gvr.Error.")
+                    "below threshold (default: the minimum; -950 for modality='CT') are inactive. The samples are "
+                    "copied once, in their own type; NaN or Inf raises gvr.Error unless nan_to replaces them. "
+                    "source_type ('uint8', 'int16', ...) names the type the source file stored: a fit's ratio "
+                    "is against metadata['raw_bytes'], voxels x channels x its size (default: the array's "
+                    "type, so np.asarray(img.dataobj) of a scaled uint8 NIfTI, float64, would count 8 bytes)")
         .def("to_numpy", &volumeToNumpy,
              "The samples as float32 in physical units, shape (x, y, z) or (x, y, z, 3), inactive voxels "
              "at the background value; the array owns them (no further copy).")
         .def_property_readonly("affine", &affineOf, "nibabel's convention: world mm = affine @ (i, j, k, 1)")
-        .def_property_readonly("metadata", &metadataOf, "Where the volume came from, its value range and type")
+        .def_property_readonly("metadata", &metadataOf,
+                               "Where the volume came from, its value range and type, and raw_bytes: the size "
+                               "that fit's ratio divides")
+        .def("__repr__", [](const Volume& v) { return reprOf(v); })
         .def_property_readonly("shape", [](const Volume& v) {
             const openvdb::Coord d = boxOf(v).dim();
             return py::make_tuple(d.x(), d.y(), d.z());
@@ -389,7 +505,23 @@ PYBIND11_MODULE(gvr, m) {
         .def_static("load", &readAsset, "path"_a, "Read a .gvr asset (format 1 or 2)")
         .def("save", [](GaussianAsset& a, const std::string& path) { writeAsset(path, a); }, "path"_a,
              "Write the asset (atomically), in storage order")
+        .def("__repr__", [](const GaussianAsset& a) { return reprOf(a); })
         .def_property_readonly("count", [](const GaussianAsset& a) { return a.params.count(); })
+        .def_property_readonly("means", [](const GaussianAsset& a) { return gaussianArray(a, &WorldGaussian::mean, 3); },
+                               "(count, 3) centres in world mm (the source's scanner space, RAS); read-only")
+        .def_property_readonly("scales", [](const GaussianAsset& a) { return gaussianArray(a, &WorldGaussian::scale, 3); },
+                               "(count, 3) standard deviations in mm along each Gaussian's axes, ascending; read-only")
+        .def_property_readonly("rotations",
+                               [](const GaussianAsset& a) { return gaussianArray(a, &WorldGaussian::rotation, 4); },
+                               "(count, 4) unit quaternions (w, x, y, z), w >= 0, turning the world axes onto the "
+                               "Gaussian's (the columns of R, covariance = R diag(scales^2) R^T); read-only")
+        .def_property_readonly("amplitudes",
+                               [](const GaussianAsset& a) {
+                                   return gaussianArray(a, &WorldGaussian::amplitude, a.params.channels);
+                               },
+                               "(count, channels) peak over the background in physical units (opacity x colour, "
+                               "mapped): the field is background + sum amplitude exp(-d^T C^-1 d / 2) within "
+                               "the asset's cutoff; read-only")
         .def_property_readonly("channels", [](const GaussianAsset& a) { return a.params.channels; })
         .def_property_readonly("structures", &structuresOf, "Structure names by label id (empty unless fitted by label)")
         .def("export", &exportVolume, "like"_a = py::none(), "voxel_size"_a = py::none(),
@@ -404,7 +536,7 @@ PYBIND11_MODULE(gvr, m) {
 
     m.def("fit", &fit, "volume"_a, "ratio"_a = 10.0, "seconds"_a = 60.0, "gaussians"_a = 0, "iterations"_a = 0,
           "seed"_a = 1, "ablation"_a = "full", "labels"_a = "", "progress"_a = py::none(),
-          "Fit Gaussians to a Volume, as `gvr fit` does: as many as fit in the raw bytes / ratio (or exactly "
+          "Fit Gaussians to a Volume or a file (anything gvr ingest reads), as `gvr fit` does: as many as fit in the raw bytes / ratio (or exactly "
           "`gaussians`), within `seconds` (or exactly `iterations`, reproducible byte for byte). `progress` "
           "is called with a dict after each iteration. Ctrl-C stops the fit with KeyboardInterrupt. labels: fit "
           "by structure (all, or ids and names) from the volume's labels, as `gvr fit --labels`.");

@@ -238,17 +238,73 @@ def test_ctrl_c_stops_a_fit_with_keyboard_interrupt(work, ch2_vdb, cli_asset):
 
 @pytest.mark.parametrize("array, problem", [
     (np.zeros((4, 4, 4), dtype=np.complex64), "dtype complex64 is not supported"),
-    (np.zeros((4, 4, 4), dtype=bool), "dtype bool is not supported"),
     (np.zeros((4, 4), dtype=np.float32), "shape (4, 4) is neither"),
     (np.zeros((4, 4, 4, 2), dtype=np.float32), "shape (4, 4, 4, 2) is neither"),
     (np.zeros((0, 4, 4), dtype=np.float32), "is empty"),
     (np.full((4, 4, 4), np.nan, dtype=np.float32), "NaN"),
+    (np.full((4, 4, 4), 2**60, dtype=np.int64), "beyond 2^53"),
 ])
 def test_bad_arrays_raise_one_line_errors(array, problem):
     with pytest.raises(gvr.Error) as error:
         gvr.Volume.from_numpy(array)
     message = str(error.value)
     assert message.startswith("array: ") and problem in message and "\n" not in message
+
+
+def test_errors_name_python_arguments_not_command_line_flags(ch2_vdb):
+    with pytest.raises(gvr.Error) as error:
+        gvr.Volume.from_numpy(np.full((4, 4, 4), np.nan, dtype=np.float32))
+    assert "nan_to=VALUE" in str(error.value) and "--" not in str(error.value)
+    assert gvr.Volume.from_numpy(np.full((4, 4, 4), np.nan, dtype=np.float32), nan_to=0.0).shape == (4, 4, 4)
+    with pytest.raises(gvr.Error) as error:
+        gvr.fit(ch2_vdb, ratio=0.5)
+    assert str(error.value).startswith("ratio: ")
+
+
+@pytest.mark.parametrize("dtype, stored", [(bool, "uint8"), (np.float16, "float32"), (np.int64, "int32"),
+                                           (np.uint64, "int32")])
+def test_arrays_of_types_gvr_does_not_store_are_converted(dtype, stored):
+    volume = gvr.Volume.from_numpy(np.arange(64).reshape(4, 4, 4).astype(dtype))
+    assert volume.metadata["source_type"] == stored
+
+
+def test_the_ratio_refers_to_the_declared_source_type():
+    # nibabel's np.asarray(img.dataobj) of a scaled uint8 file is float64: 8 bytes a voxel
+    # unless the source's own type is declared.
+    samples = np.asarray(nibabel.load(CH2).dataobj).astype(np.float64)
+    assert gvr.Volume.from_numpy(samples).metadata["raw_bytes"] == samples.size * 8
+    declared = gvr.Volume.from_numpy(samples, source_type="uint8")
+    assert declared.metadata["raw_bytes"] == samples.size == gvr.ingest(CH2).metadata["raw_bytes"]
+
+
+def test_version_and_reprs(cli_asset, ch2_vdb):
+    assert gvr.__version__ == run("-V").split()[1]
+    assert repr(gvr.ingest(CH2)).startswith("<gvr.Volume 181x217x181 uint8, 1x1x1 mm, from ch2.nii.gz")
+    asset = gvr.Asset.load(cli_asset)
+    assert repr(asset).startswith(f"<gvr.Asset {asset.count} Gaussians, grey")
+    assert gvr.fit(ch2_vdb, gaussians=300, iterations=3).count == 300  # a path, as render and evaluate take
+
+
+def test_the_gaussian_arrays_rebuild_the_field_that_probe_evaluates(cli_asset):
+    asset = gvr.Asset.load(cli_asset)
+    means, scales, rotations, amplitudes = asset.means, asset.scales, asset.rotations, asset.amplitudes
+    assert means.shape == (asset.count, 3) and rotations.shape == (asset.count, 4) and amplitudes.shape == (asset.count, 1)
+    assert not means.flags.writeable
+    assert np.allclose(np.linalg.norm(rotations, axis=1), 1.0) and (rotations[:, 0] >= 0).all()
+    w, x, y, z = rotations.T
+    r = np.stack([np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+                  np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+                  np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)], 1)
+    precision = np.einsum("nij,nj,nkj->nik", r, 1.0 / scales**2, r)
+    background = asset.export().metadata["background"]
+    affine = gvr.ingest(CH2).affine
+    indices = np.array([[90.0, 108.0, 90.0], [60.5, 120.25, 70.0], [100.0, 80.0, 110.0]])
+    probed = asset.probe(indices)[:, 0]
+    for index, value in zip(indices, probed):
+        d = (affine @ np.append(index, 1.0))[:3] - means
+        q = np.einsum("ni,nij,nj->n", d, precision, d)
+        field = background + (amplitudes[:, 0] * np.exp(-0.5 * q) * (q <= 9.0)).sum()
+        assert abs(field - value) < 1e-3 * max(1.0, abs(value)), (index, field, value)
 
 
 def test_bad_arguments_raise_one_line_errors(cli_asset):
