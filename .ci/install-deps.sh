@@ -12,6 +12,8 @@ packages=(
   g++
   pkg-config
   strace
+  # The man page, made from gvr --help at build time.
+  help2man
   # The sanitizer build and the libFuzzer targets (.ci/sanitize.sh).
   clang
   libclang-rt-14-dev

@@ -179,7 +179,11 @@ AmplitudeSolveReport solveAmplitudes(GaussianParameters& params, const VolumeTar
     const double values = double(matrix.valueCount());
     std::vector<double> a = amplitudesOf(params);
     double squared = 0.0;
+    const auto passDone = [&] {
+        if (settings.afterPass) settings.afterPass();
+    };
     std::vector<double> r = matrix.apply(a, /*residual=*/true, squared);  // G^T (t - G a)
+    passDone();
     report.mseBefore = squared / values;
     std::vector<double> p = r;
     double rr = dot(r, r);
@@ -198,6 +202,7 @@ AmplitudeSolveReport solveAmplitudes(GaussianParameters& params, const VolumeTar
         const double before = elapsed();
         double unused = 0.0;
         const std::vector<double> ap = matrix.apply(p, /*residual=*/false, unused);  // G^T G p
+        passDone();
         const double pap = dot(p, ap);
         if (!(pap > 0.0) || !std::isfinite(pap)) break;
         const double alpha = rr / pap;
@@ -213,6 +218,7 @@ AmplitudeSolveReport solveAmplitudes(GaussianParameters& params, const VolumeTar
         passSeconds = elapsed() - before;
     }
     matrix.apply(a, /*residual=*/true, squared);
+    passDone();
     report.mseAfter = squared / values;
     if (report.mseAfter < report.mseBefore && std::all_of(a.begin(), a.end(), [](double v) { return std::isfinite(v); })) {
         setAmplitudes(params, a);

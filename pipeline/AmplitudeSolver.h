@@ -15,6 +15,7 @@
 #include <openvdb/openvdb.h>
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 namespace gvr {
@@ -25,6 +26,8 @@ struct AmplitudeSolveSettings {
     float cutoffSigmas = 3.0f;
     /// Voxels left out of the least squares (the fit's held-out voxels).
     std::vector<openvdb::Coord> excluded;
+    /// Called after every pass over the volume (each takes about a dense measurement).
+    std::function<void()> afterPass;
 };
 
 struct AmplitudeSolveReport {

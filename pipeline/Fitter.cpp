@@ -198,6 +198,14 @@ private:
     void solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOutCoords, const SampleSet& heldOut,
                                  std::size_t iteration, const FitObserver& observer);
 
+    /// What the user sees: under a time budget, the share of the whole of it
+    /// (Adam, the solve and the measurement kept for), so that the bar keeps moving
+    /// through the solve; else the share of the iterations.
+    double shownFraction(std::size_t iteration) const {
+        if (mSettings.seconds > 0.0) return std::min(elapsed() / mSettings.seconds, 1.0);
+        return fractionDone(iteration);
+    }
+
     double fractionDone(std::size_t iteration) const {
         double fraction = 0.0;
         if (mSettings.iterations > 0) fraction = double(iteration) / double(mSettings.iterations);
@@ -422,6 +430,17 @@ void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOut
         solve.seconds = std::max(mSettings.seconds - elapsed() - measure, 1e-9);
     }
     if (mSettings.storedGeometry) mParams = mSettings.storedGeometry(mParams);
+    if (observer) {  // each pass of the solve moves the bar on
+        solve.afterPass = [&] {
+            FitProgress pass;
+            pass.iteration = iteration;
+            pass.seconds = elapsed();
+            pass.fraction = shownFraction(iteration);
+            pass.gaussians = mParams.count();
+            pass.skippedSteps = mReport.skippedSteps;
+            observer(pass);
+        };
+    }
     mReport.amplitudeSolve = solveAmplitudes(mParams, mTarget, solve);
     if (!observer || mParams.count() == 0) return;
     mRebin = true;  // stored geometry may hold fewer Gaussians
@@ -429,7 +448,7 @@ void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOut
     FitProgress progress;
     progress.iteration = iteration;
     progress.seconds = elapsed();
-    progress.fraction = 1.0;
+    progress.fraction = shownFraction(iteration);
     progress.gaussians = mParams.count();
     progress.skippedSteps = mReport.skippedSteps;
     progress.heldOutEvaluated = true;
@@ -463,10 +482,10 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
         }
         progress.iteration = iteration;
         progress.seconds = elapsed();
-        progress.fraction = fractionDone(iteration);
+        progress.fraction = shownFraction(iteration);
         progress.gaussians = mParams.count();
         progress.skippedSteps = mReport.skippedSteps;
-        if (iteration % mSettings.logEvery == 0 || progress.fraction >= 1.0) {
+        if (iteration % mSettings.logEvery == 0 || fractionDone(iteration) >= 1.0) {
             refreshField(iteration);
             progress.heldOutEvaluated = true;
             progress.heldOutPsnr = heldOutPsnr(heldOut);

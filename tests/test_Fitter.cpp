@@ -64,6 +64,19 @@ TEST(Fitter, TheAmplitudeSolveRunsOnTheStoredGeometry) {
     EXPECT_LT(report.amplitudeSolve.mseAfter, report.amplitudeSolve.mseBefore);
 }
 
+TEST(Fitter, TheObserverHearsFromEveryPassOfTheAmplitudeSolve) {
+    const VolumeTarget target(test::makeGrid({32, 24, 24}, blob), "blobs");
+    const FitSettings settings = quickSettings(60, 20);
+    std::size_t afterAdam = 0, lastIteration = 0;
+    FitReport report;
+    fitGaussians(target, settings, [&](const FitProgress& p) {
+        if (p.iteration == settings.iterations && lastIteration == settings.iterations) ++afterAdam;
+        lastIteration = p.iteration;
+    }, &report);
+    // The first pass, one per iteration, the closing pass, then the held-out row.
+    EXPECT_EQ(afterAdam, report.amplitudeSolve.iterations + 2 + 1);
+}
+
 TEST(Fitter, SameSeedSameResultWhateverTheThreadCount) {
     const VolumeTarget target(test::makeGrid({24, 20, 16}, blob), "blobs");
     const FitSettings settings = quickSettings(150, 60);
