@@ -144,7 +144,7 @@ void report(const FitFlags& flags, const CompressResult& result, double peak, co
                               {"file_bytes", fileBytes}, {"raw_source_bytes", rawBytes},
                               {"ratio_vs_raw", double(rawBytes) / fileBytes},
                               {"ratio_vs_float32", double(floatBytes) / fileBytes},
-                              {"iterations", fit.iterations}, {"seconds", fit.seconds},
+                              {"iterations", fit.iterations}, {"seconds", fit.seconds}, {"setup_seconds", fit.setupSeconds},
                               {"voxel_samples", fit.voxelSamples},
                               {"voxel_samples_per_second", fit.adamSeconds > 0.0 ? fit.voxelSamples / fit.adamSeconds : 0.0},
                               {"mean_gradient_share", fit.meanGradientShare},
@@ -177,7 +177,7 @@ void report(const FitFlags& flags, const CompressResult& result, double peak, co
               << ":1 against the raw source (" << formatBytes(rawBytes) << "), "
               << double(floatBytes) / fileBytes << ":1 against float32\n"
               << "  fit:             " << fit.iterations << " iterations in " << std::setprecision(4)
-              << fit.seconds << " s; " << fit.skippedSteps << " steps skipped (non-finite), "
+              << fit.seconds << " s (set-up " << fit.setupSeconds << " s); " << fit.skippedSteps << " steps skipped (non-finite), "
               << fit.pruned << " Gaussians pruned, " << fit.respawned << " respawned\n";
     if (fit.requestedGaussians > 0) {
         std::cout << "  count:           fewer Gaussians than the ratio allows (" << fit.requestedGaussians

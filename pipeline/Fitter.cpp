@@ -462,6 +462,7 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
     // Timing a probe rather than the whole allowance keeps the peak memory near
     // what the time can train, not what the byte budget allows.
     initialise(mPacing ? std::min(mSettings.gaussians, kProbeGaussians) : mSettings.gaussians);
+    mReport.setupSeconds = elapsed();
 
     std::size_t iteration = 0;
     while (mParams.count() > 0) {

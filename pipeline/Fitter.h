@@ -35,6 +35,7 @@ struct FitReport {
     std::size_t pruned = 0;
     std::size_t respawned = 0;
     double voxelSamples = 0.0;       ///< voxels the voxel loss evaluated, over all iterations
+    double setupSeconds = 0.0;       ///< before the first iteration: held-out voxels, blocks, seeds
     double adamSeconds = 0.0;        ///< seconds of the iterations, before the amplitude solve
     double meanGradientShare = 0.0;  ///< the gradient share (FitProgress) averaged over iterations
     /// Gaussians asked for, when the time budget could train fewer and the fit
