@@ -100,6 +100,10 @@ private:
 
 FitObserver progressObserver(ProgressBar& bar, FitLog& log) {
     return [&bar, &log, lastPsnr = std::string("-")](const FitProgress& p) mutable {
+        if (p.setUp) {
+            bar.update(p.fraction, "setting up: seeds " + std::to_string(int(100.0 * *p.setUp)) + " %");
+            return;
+        }
         if (p.heldOutEvaluated) lastPsnr = formatDb(p.heldOutPsnr);
         bar.update(p.fraction, "it " + std::to_string(p.iteration) + ", " + lastPsnr + " dB held-out, " +
                                    std::to_string(p.gaussians) + " Gaussians");

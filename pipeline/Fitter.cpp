@@ -206,6 +206,15 @@ private:
         return fractionDone(iteration);
     }
 
+    /// Where the fit stands, into @a progress: iterations, time, share, count.
+    void recordStanding(std::size_t iteration, FitProgress& progress) const {
+        progress.iteration = iteration;
+        progress.seconds = elapsed();
+        progress.fraction = shownFraction(iteration);
+        progress.gaussians = mParams.count();
+        progress.skippedSteps = mReport.skippedSteps;
+    }
+
     double fractionDone(std::size_t iteration) const {
         double fraction = 0.0;
         if (mSettings.iterations > 0) fraction = double(iteration) / double(mSettings.iterations);
@@ -262,6 +271,7 @@ private:
         std::size_t count;
         double secondsPerIteration;
     };
+    FitObserver mObserver;  ///< run()'s, for the set-up's progress
     static constexpr std::size_t kPaceIterations = 5;
     /// The estimate of the measurement is from a sample of blocks, and the field
     /// still grows after the last one: keep half as much again.
@@ -281,7 +291,13 @@ void FitLoop::initialise(std::size_t count) {
     seeds.gradientShare = mSettings.gradientSeedShare;
     seeds.uniformShare = mSettings.uniformSeedShare;
     seeds.seed = streamSeed(mSettings.seed, kSeeds, 0);
-    mParams = initialiseGaussians(mTarget, seeds);
+    mParams = initialiseGaussians(mTarget, seeds, [this](double fraction) {
+        if (!mObserver) return;
+        FitProgress progress;
+        recordStanding(0, progress);
+        progress.setUp = fraction;
+        mObserver(progress);
+    });
     mReport.requestedGaussians = count < mSettings.gaussians ? mSettings.gaussians : 0;
     mAdam = std::make_unique<Adam>(mParams.count(), mParams.channels);
     mBlocks.clear();
@@ -433,11 +449,7 @@ void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOut
     if (observer) {  // each pass of the solve moves the bar on
         solve.afterPass = [&] {
             FitProgress pass;
-            pass.iteration = iteration;
-            pass.seconds = elapsed();
-            pass.fraction = shownFraction(iteration);
-            pass.gaussians = mParams.count();
-            pass.skippedSteps = mReport.skippedSteps;
+            recordStanding(iteration, pass);
             observer(pass);
         };
     }
@@ -446,17 +458,14 @@ void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOut
     mRebin = true;  // stored geometry may hold fewer Gaussians
     refreshField(iteration);
     FitProgress progress;
-    progress.iteration = iteration;
-    progress.seconds = elapsed();
-    progress.fraction = shownFraction(iteration);
-    progress.gaussians = mParams.count();
-    progress.skippedSteps = mReport.skippedSteps;
+    recordStanding(iteration, progress);
     progress.heldOutEvaluated = true;
     progress.heldOutPsnr = heldOutPsnr(heldOut);
     observer(progress);
 }
 
 GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) {
+    mObserver = observer;
     const SampleSet heldOut = voxelSampleSet(mTarget, mHeldOut);
     mPacing = mSettings.seconds > 0.0 && mSettings.minSamplesPerGaussian > 0.0 && mSettings.voxelBatch > 0;
     // Timing a probe rather than the whole allowance keeps the peak memory near
@@ -481,11 +490,7 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
             mReport.respawned += pruned.respawned;
             mRebin = mRebin || pruned.removed > 0 || pruned.respawned > 0;
         }
-        progress.iteration = iteration;
-        progress.seconds = elapsed();
-        progress.fraction = shownFraction(iteration);
-        progress.gaussians = mParams.count();
-        progress.skippedSteps = mReport.skippedSteps;
+        recordStanding(iteration, progress);
         if (iteration % mSettings.logEvery == 0 || fractionDone(iteration) >= 1.0) {
             refreshField(iteration);
             progress.heldOutEvaluated = true;

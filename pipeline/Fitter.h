@@ -9,6 +9,7 @@
 #include "VolumeTarget.h"
 
 #include <functional>
+#include <optional>
 
 namespace gvr {
 
@@ -24,6 +25,8 @@ struct FitProgress {
     double heldOutPsnr = 0.0;    ///< dB, on the fixed held-out voxels; peak = target.peak()
     std::size_t gaussians = 0;
     std::size_t skippedSteps = 0;  ///< steps dropped for a non-finite gradient or result
+    /// Set while the fit sets up, before an iteration: how far the seeding is, in [0, 1].
+    std::optional<double> setUp;
 };
 
 using FitObserver = std::function<void(const FitProgress&)>;

@@ -67,7 +67,10 @@ int stratumSize(const VolumeTarget& target, std::size_t uniformCount) {
 }
 
 std::vector<openvdb::Coord> chooseSeeds(const VolumeTarget& target, std::size_t gradientCount,
-                                        std::size_t uniformCount, std::uint64_t seed) {
+                                        std::size_t uniformCount, std::uint64_t seed, const ProgressFn& progress) {
+    // One serial pass over every active voxel, seconds on a large CT: say how far it is.
+    const double voxels = double(std::max<std::uint64_t>(target.activeVoxelCount(), 1));
+    std::uint64_t visited = 0;
     std::mt19937_64 random(seed);
     std::uniform_real_distribution<double> unit(1e-300, 1.0);
     const int cell = stratumSize(target, uniformCount);
@@ -81,6 +84,7 @@ std::vector<openvdb::Coord> chooseSeeds(const VolumeTarget& target, std::size_t 
         const openvdb::Coord key(ijk.x() / cell, ijk.y() / cell, ijk.z() / cell);
         auto [entry, inserted] = byCell.try_emplace(key, Keyed{chance, ijk});
         if (!inserted && chance > entry->second.key) entry->second = Keyed{chance, ijk};
+        if (progress && ++visited % (1u << 20) == 0) progress(double(visited) / voxels);
     });
     std::vector<openvdb::Coord> seeds = byGradient.takeSorted();
     std::unordered_set<openvdb::Coord, CoordHash> taken(seeds.begin(), seeds.end());
@@ -151,7 +155,8 @@ GaussianParameters initialiseGaussians(const VolumeTarget& target, const SeedSet
     const double gradientFraction = shareSum > 0.0 ? settings.gradientShare / shareSum : 0.0;
     const std::size_t gradientCount = std::size_t(std::llround(gradientFraction * double(count)));
     const std::vector<openvdb::Coord> seeds =
-        chooseSeeds(target, gradientCount, count - gradientCount, settings.seed);
+        chooseSeeds(target, gradientCount, count - gradientCount, settings.seed,
+                    [&](double fraction) { if (progress) progress(0.5 * fraction); });
     const int stratum = stratumSize(target, count - gradientCount);
     if (progress) progress(0.5);
 

@@ -289,6 +289,7 @@ GaussianAsset fit(const std::variant<Volume, std::string>& input, double ratio, 
             state["fraction"] = p.fraction;
             state["gaussians"] = p.gaussians;
             state["held_out_psnr_db"] = p.heldOutEvaluated ? py::object(py::float_(p.heldOutPsnr)) : py::object(py::none());
+            state["setting_up"] = p.setUp ? py::object(py::float_(*p.setUp)) : py::object(py::none());
             (*progress)(state);
         } catch (py::error_already_set& error) {
             error.restore();

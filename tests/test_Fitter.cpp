@@ -77,6 +77,24 @@ TEST(Fitter, TheObserverHearsFromEveryPassOfTheAmplitudeSolve) {
     EXPECT_EQ(afterAdam, report.amplitudeSolve.iterations + 2 + 1);
 }
 
+TEST(Fitter, TheSetUpReportsItsProgressBeforeTheFirstIteration) {
+    const VolumeTarget target(test::makeGrid({32, 24, 24}, blob), "blobs");
+    std::vector<double> setUp;
+    bool iterated = false, setUpAfterIterating = false;
+    fitGaussians(target, quickSettings(60, 5), [&](const FitProgress& p) {
+        if (p.setUp) {
+            setUp.push_back(*p.setUp);
+            setUpAfterIterating = setUpAfterIterating || iterated;
+        } else {
+            iterated = true;
+        }
+    });
+    ASSERT_FALSE(setUp.empty());
+    EXPECT_FALSE(setUpAfterIterating);
+    EXPECT_TRUE(std::is_sorted(setUp.begin(), setUp.end()));
+    EXPECT_EQ(setUp.back(), 1.0);
+}
+
 TEST(Fitter, SameSeedSameResultWhateverTheThreadCount) {
     const VolumeTarget target(test::makeGrid({24, 20, 16}, blob), "blobs");
     const FitSettings settings = quickSettings(150, 60);

@@ -209,9 +209,13 @@ def test_render_takes_a_transfer_function_file_or_its_points(work, cli_asset):
 
 def test_a_progress_callback_sees_the_fit_and_its_exception_stops_it(ch2_vdb):
     volume = gvr.ingest(ch2_vdb)
-    seen = []
+    seen, setting_up = [], []
 
     def stop_after_three(state):
+        if state["setting_up"] is not None:  # the seeding, before any iteration
+            assert not seen
+            setting_up.append(state["setting_up"])
+            return
         seen.append(state["iteration"])
         if len(seen) == 3:
             raise RuntimeError("enough")
@@ -220,6 +224,7 @@ def test_a_progress_callback_sees_the_fit_and_its_exception_stops_it(ch2_vdb):
     with pytest.raises(RuntimeError, match="enough"):
         gvr.fit(volume, ratio=40, seconds=600, progress=stop_after_three)
     assert seen == [1, 2, 3]
+    assert setting_up and setting_up[-1] == 1.0
     assert time.monotonic() - start < 120
 
 
