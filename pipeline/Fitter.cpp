@@ -6,6 +6,7 @@
 #include "Loss.h"
 #include "Pruning.h"
 #include "SliceSampler.h"
+#include "StreamSeed.h"
 #include "UniformVoxels.h"
 #include "VolumeError.h"
 
@@ -24,15 +25,6 @@ namespace gvr {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-/// A seed for one purpose at one iteration, so that runs are reproducible.
-std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t purpose, std::uint64_t iteration) {
-    std::seed_seq sequence{std::uint32_t(seed), std::uint32_t(seed >> 32), std::uint32_t(purpose),
-                           std::uint32_t(iteration), std::uint32_t(iteration >> 32)};
-    std::uint32_t words[2];
-    sequence.generate(words, words + 2);
-    return (std::uint64_t(words[0]) << 32) | words[1];
-}
 
 enum Purpose : std::uint64_t { kVoxels = 1, kSlices = 2, kHeldOut = 3, kSeeds = 4 };
 

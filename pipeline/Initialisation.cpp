@@ -2,12 +2,16 @@
 
 #include "GaussianBvh.h"
 #include "GaussianField.h"
+#include "LatticeSampler.h"
+#include "StreamSeed.h"
 #include "UniformVoxels.h"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bitset>
 #include <cmath>
+#include <mutex>
 #include <queue>
 #include <random>
 #include <unordered_map>
@@ -20,7 +24,9 @@ namespace {
 struct Keyed {
     double key;
     openvdb::Coord ijk;
-    bool operator>(const Keyed& other) const { return key > other.key; }
+    /// Equal keys (rare) order by coordinate, so that a union of candidates keeps
+    /// the same ones whatever order they were offered in.
+    bool operator>(const Keyed& other) const { return key > other.key || (key == other.key && other.ijk < ijk); }
 };
 
 /// Keeps the @a capacity entries with the largest keys.
@@ -31,10 +37,20 @@ public:
         if (mCapacity == 0) return;
         if (mHeap.size() < mCapacity) {
             mHeap.push({key, ijk});
-        } else if (key > mHeap.top().key) {
+        } else if (Keyed{key, ijk} > mHeap.top()) {
             mHeap.pop();
             mHeap.push({key, ijk});
         }
+    }
+    /// Every entry, in no order; the heap is left empty.
+    std::vector<Keyed> take() {
+        std::vector<Keyed> entries;
+        entries.reserve(mHeap.size());
+        while (!mHeap.empty()) {
+            entries.push_back(mHeap.top());
+            mHeap.pop();
+        }
+        return entries;
     }
     /// Largest key first.
     std::vector<openvdb::Coord> takeSorted() {
@@ -66,33 +82,73 @@ int stratumSize(const VolumeTarget& target, std::size_t uniformCount) {
     return std::max(1, int(std::lround(std::cbrt(activePerSeed))));
 }
 
+/// What one chunk of blocks offers: its candidates for each kind of seed.
+struct SeedCandidates {
+    SeedCandidates(std::size_t gradientCount, std::size_t uniformCount)
+        : byGradient(gradientCount), byChance(gradientCount + uniformCount) {}
+
+    TopKeys byGradient, byChance;
+    std::unordered_map<openvdb::Coord, Keyed, CoordHash> byCell;  ///< per stratum cell, its largest chance
+
+    /// The union's candidates: the largest keys of both, and each cell's largest chance.
+    void add(SeedCandidates&& other) {
+        for (const Keyed& keyed : other.byGradient.take()) byGradient.offer(keyed.key, keyed.ijk);
+        for (const Keyed& keyed : other.byChance.take()) byChance.offer(keyed.key, keyed.ijk);
+        for (const auto& [key, keyed] : other.byCell) offerCell(key, keyed);
+    }
+    void offerCell(const openvdb::Coord& cell, const Keyed& keyed) {
+        auto [entry, inserted] = byCell.try_emplace(cell, keyed);
+        if (!inserted && keyed > entry->second) entry->second = keyed;
+    }
+};
+
+void offerVoxel(const VolumeTarget& target, const openvdb::Coord& ijk, int cell, std::mt19937_64& random,
+                SeedCandidates& candidates) {
+    std::uniform_real_distribution<double> unit(1e-300, 1.0);
+    const double weight = target.gradientMagnitude(ijk) + 1e-6;
+    candidates.byGradient.offer(std::log(unit(random)) / weight, ijk);
+    const double chance = unit(random);
+    candidates.byChance.offer(chance, ijk);
+    candidates.offerCell(openvdb::Coord(ijk.x() / cell, ijk.y() / cell, ijk.z() / cell), Keyed{chance, ijk});
+}
+
+/// Blocks are shared out in this many chunks, each with its own random stream,
+/// so that the seeds do not depend on the thread count.
+constexpr std::size_t kSeedChunks = 256;
+
 std::vector<openvdb::Coord> chooseSeeds(const VolumeTarget& target, std::size_t gradientCount,
                                         std::size_t uniformCount, std::uint64_t seed, const ProgressFn& progress) {
-    // One serial pass over every active voxel, seconds on a large CT: say how far it is.
-    const double voxels = double(std::max<std::uint64_t>(target.activeVoxelCount(), 1));
-    std::uint64_t visited = 0;
-    std::mt19937_64 random(seed);
-    std::uniform_real_distribution<double> unit(1e-300, 1.0);
     const int cell = stratumSize(target, uniformCount);
-    TopKeys byGradient(gradientCount), byChance(gradientCount + uniformCount);
-    std::unordered_map<openvdb::Coord, Keyed, CoordHash> byCell;
-    target.forEachActiveVoxel([&](const openvdb::Coord& ijk) {
-        const double weight = target.gradientMagnitude(ijk) + 1e-6;
-        byGradient.offer(std::log(unit(random)) / weight, ijk);
-        const double chance = unit(random);
-        byChance.offer(chance, ijk);
-        const openvdb::Coord key(ijk.x() / cell, ijk.y() / cell, ijk.z() / cell);
-        auto [entry, inserted] = byCell.try_emplace(key, Keyed{chance, ijk});
-        if (!inserted && chance > entry->second.key) entry->second = Keyed{chance, ijk};
-        if (progress && ++visited % (1u << 20) == 0) progress(double(visited) / voxels);
+    const std::vector<openvdb::Coord> blocks = blockOrigins(target.box());
+    const std::size_t chunks = std::min(kSeedChunks, std::max<std::size_t>(blocks.size(), 1));
+    SeedCandidates all(gradientCount, uniformCount);
+    std::mutex merging;
+    ProgressCounter counter(progress, chunks);
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t chunk) {
+        SeedCandidates candidates(gradientCount, uniformCount);
+        std::mt19937_64 random(streamSeed(seed, 0, chunk));
+        for (std::size_t b = chunk * blocks.size() / chunks; b < (chunk + 1) * blocks.size() / chunks; ++b) {
+            const std::bitset<kBlockVoxels> active = target.blockActive(blocks[b]);
+            if (active.none()) continue;
+            openvdb::CoordBBox voxels(blocks[b], blocks[b].offsetBy(kBlockDim - 1));
+            voxels.intersect(target.box());
+            for (auto ijk = voxels.beginZYX(); ijk; ++ijk) {
+                if (active[blockOffset(*ijk)]) offerVoxel(target, *ijk, cell, random, candidates);
+            }
+        }
+        // Merged as each chunk ends, so that only the chunks in flight hold candidates
+        // beyond the union's. Keys tie-break on coordinates: the merge order does not matter.
+        std::lock_guard<std::mutex> lock(merging);
+        all.add(std::move(candidates));
+        counter.advance();
     });
-    std::vector<openvdb::Coord> seeds = byGradient.takeSorted();
+    std::vector<openvdb::Coord> seeds = all.byGradient.takeSorted();
     std::unordered_set<openvdb::Coord, CoordHash> taken(seeds.begin(), seeds.end());
     const std::size_t wanted = gradientCount + uniformCount;
     // Cells in a random but reproducible order: by their voxel's key.
     TopKeys cells(uniformCount + gradientCount);
-    for (const auto& [key, keyed] : byCell) cells.offer(keyed.key, keyed.ijk);
-    for (TopKeys* source : {&cells, &byChance}) {
+    for (const auto& [key, keyed] : all.byCell) cells.offer(keyed.key, keyed.ijk);
+    for (TopKeys* source : {&cells, &all.byChance}) {
         for (const openvdb::Coord& ijk : source->takeSorted()) {
             if (seeds.size() == wanted) break;
             if (taken.insert(ijk).second) seeds.push_back(ijk);

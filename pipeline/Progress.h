@@ -18,17 +18,17 @@ class ProgressCounter {
 public:
     ProgressCounter(const ProgressFn& report, std::size_t total) : mReport(report), mTotal(total) {}
 
+    /// Reports in order: the count rises under the lock that the report holds.
     void advance() {
-        const std::size_t finished = ++mDone;
         if (!mReport || mTotal == 0) return;
         std::lock_guard<std::mutex> lock(mMutex);
-        mReport(double(finished) / double(mTotal));
+        mReport(double(++mDone) / double(mTotal));
     }
 
 private:
     const ProgressFn& mReport;
     const std::size_t mTotal;
-    std::atomic<std::size_t> mDone{0};
+    std::size_t mDone = 0;
     std::mutex mMutex;
 };
 
