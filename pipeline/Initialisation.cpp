@@ -102,10 +102,10 @@ struct SeedCandidates {
     }
 };
 
-void offerVoxel(const VolumeTarget& target, const openvdb::Coord& ijk, int cell, std::mt19937_64& random,
+void offerVoxel(const openvdb::Coord& ijk, float gradient, int cell, std::mt19937_64& random,
                 SeedCandidates& candidates) {
     std::uniform_real_distribution<double> unit(1e-300, 1.0);
-    const double weight = target.gradientMagnitude(ijk) + 1e-6;
+    const double weight = gradient + 1e-6;
     candidates.byGradient.offer(std::log(unit(random)) / weight, ijk);
     const double chance = unit(random);
     candidates.byChance.offer(chance, ijk);
@@ -130,10 +130,13 @@ std::vector<openvdb::Coord> chooseSeeds(const VolumeTarget& target, std::size_t 
         for (std::size_t b = chunk * blocks.size() / chunks; b < (chunk + 1) * blocks.size() / chunks; ++b) {
             const std::bitset<kBlockVoxels> active = target.blockActive(blocks[b]);
             if (active.none()) continue;
+            float gradients[kBlockVoxels];
+            target.blockGradientMagnitudes(blocks[b], gradients);
             openvdb::CoordBBox voxels(blocks[b], blocks[b].offsetBy(kBlockDim - 1));
             voxels.intersect(target.box());
             for (auto ijk = voxels.beginZYX(); ijk; ++ijk) {
-                if (active[blockOffset(*ijk)]) offerVoxel(target, *ijk, cell, random, candidates);
+                const int offset = blockOffset(*ijk);
+                if (active[offset]) offerVoxel(*ijk, gradients[offset], cell, random, candidates);
             }
         }
         // Merged as each chunk ends, so that only the chunks in flight hold candidates

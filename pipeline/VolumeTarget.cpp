@@ -224,4 +224,32 @@ float VolumeTarget::gradientMagnitude(const openvdb::Coord& ijk) const {
     return std::sqrt(squared);
 }
 
+void VolumeTarget::blockGradientMagnitudes(const openvdb::Coord& origin, float* out) const {
+    constexpr int kDim = 8;
+    float values[kDim * kDim * kDim * 3];
+    blockValues(origin, values);
+    const auto scalarOf = [&](const float* v) { return mChannels == 1 ? v[0] : float(luminance(v)); };
+    const auto scalar = [&](const openvdb::Coord& at) {
+        const openvdb::Coord local = at - origin;
+        if (local.x() >= 0 && local.y() >= 0 && local.z() >= 0 && local.x() < kDim && local.y() < kDim &&
+            local.z() < kDim) {
+            return scalarOf(values + ((local.x() * kDim + local.y()) * kDim + local.z()) * mChannels);
+        }
+        float v[3];
+        valueAt(at, v);
+        return scalarOf(v);
+    };
+    for (int offset = 0; offset < kDim * kDim * kDim; ++offset) {
+        const openvdb::Coord ijk = origin.offsetBy(offset >> 6, (offset >> 3) & 7, offset & 7);
+        float squared = 0.0f;
+        for (int axis = 0; axis < 3; ++axis) {
+            openvdb::Coord step(0);
+            step[axis] = 1;
+            const float derivative = 0.5f * (scalar(ijk + step) - scalar(ijk - step));
+            squared += derivative * derivative;
+        }
+        out[offset] = std::sqrt(squared);
+    }
+}
+
 }  // namespace gvr

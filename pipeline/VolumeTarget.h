@@ -57,6 +57,10 @@ public:
     /// Normalised central-difference gradient magnitude at a voxel (first channel
     /// for grey, luminance for RGB).
     float gradientMagnitude(const openvdb::Coord& ijk) const;
+    /// gradientMagnitude() of every voxel of the block at @a origin (a multiple of 8)
+    /// into out[blockOffset()], the same floats, reading the block once and only the
+    /// neighbours beyond its faces one by one.
+    void blockGradientMagnitudes(const openvdb::Coord& origin, float* out) const;
 
 private:
     /// Kept out of valueAt(), which every fit calls for every sample.

@@ -1,0 +1,33 @@
+// The fit's view of a volume: values, blocks and gradients read alike.
+
+#include "LatticeSampler.h"
+#include "TestHelpers.h"
+#include "VolumeTarget.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace gvr {
+namespace {
+
+float waves(int i, int j, int k) { return 100.0f + 80.0f * std::sin(0.4f * i) * std::cos(0.3f * j) + 5.0f * k; }
+
+TEST(VolumeTarget, BlockGradientsAreThePointGradientsIncludingAtFacesAndEdges) {
+    // 19 x 13 x 10 voxels: blocks reach past the box, and faces need neighbours from other blocks.
+    const VolumeTarget target(test::makeGrid({19, 13, 10}, waves, openvdb::Vec3d(1.0), 120.0), "waves");
+    std::size_t checked = 0;
+    for (const openvdb::Coord& origin : blockOrigins(target.box())) {
+        float gradients[kBlockVoxels];
+        target.blockGradientMagnitudes(origin, gradients);
+        for (int offset = 0; offset < kBlockVoxels; ++offset) {
+            const openvdb::Coord ijk = origin.offsetBy(offset >> 6, (offset >> 3) & 7, offset & 7);
+            ASSERT_EQ(gradients[offset], target.gradientMagnitude(ijk)) << ijk;
+            ++checked;
+        }
+    }
+    EXPECT_EQ(checked, 3u * 2u * 2u * 512u);
+}
+
+}  // namespace
+}  // namespace gvr
