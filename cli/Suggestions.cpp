@@ -1,6 +1,7 @@
 #include "Suggestions.h"
 
 #include <algorithm>
+#include <cctype>
 #include <numeric>
 
 namespace gvr {

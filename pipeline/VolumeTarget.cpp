@@ -208,12 +208,12 @@ void VolumeTarget::forEachActiveVoxel(const std::function<void(const openvdb::Co
     else visitTree(mColour->tree());
 }
 
-float VolumeTarget::gradientMagnitude(const openvdb::Coord& ijk) const {
-    const auto scalar = [&](const openvdb::Coord& at) {
-        float v[3];
-        valueAt(at, v);
-        return mChannels == 1 ? v[0] : float(luminance(v));
-    };
+namespace {
+
+/// |central differences| at @a ijk of @a scalar(Coord), the one gradient that
+/// gradientMagnitude() and blockGradientMagnitudes() both give.
+template <typename Scalar>
+float centralGradientMagnitude(const openvdb::Coord& ijk, const Scalar& scalar) {
     float squared = 0.0f;
     for (int axis = 0; axis < 3; ++axis) {
         openvdb::Coord step(0);
@@ -222,6 +222,16 @@ float VolumeTarget::gradientMagnitude(const openvdb::Coord& ijk) const {
         squared += derivative * derivative;
     }
     return std::sqrt(squared);
+}
+
+}  // namespace
+
+float VolumeTarget::gradientMagnitude(const openvdb::Coord& ijk) const {
+    return centralGradientMagnitude(ijk, [&](const openvdb::Coord& at) {
+        float v[3];
+        valueAt(at, v);
+        return mChannels == 1 ? v[0] : float(luminance(v));
+    });
 }
 
 void VolumeTarget::blockGradientMagnitudes(const openvdb::Coord& origin, float* out) const {
@@ -240,15 +250,7 @@ void VolumeTarget::blockGradientMagnitudes(const openvdb::Coord& origin, float* 
         return scalarOf(v);
     };
     for (int offset = 0; offset < kDim * kDim * kDim; ++offset) {
-        const openvdb::Coord ijk = origin.offsetBy(offset >> 6, (offset >> 3) & 7, offset & 7);
-        float squared = 0.0f;
-        for (int axis = 0; axis < 3; ++axis) {
-            openvdb::Coord step(0);
-            step[axis] = 1;
-            const float derivative = 0.5f * (scalar(ijk + step) - scalar(ijk - step));
-            squared += derivative * derivative;
-        }
-        out[offset] = std::sqrt(squared);
+        out[offset] = centralGradientMagnitude(origin.offsetBy(offset >> 6, (offset >> 3) & 7, offset & 7), scalar);
     }
 }
 
