@@ -1,5 +1,6 @@
 #include "EnclosedShare.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -53,27 +54,49 @@ SliceCounts countSlice(const std::vector<std::uint8_t>& active, int width, int h
 double enclosedInactiveShare(const openvdb::GridBase& grid) {
     const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
     if (box.empty()) return 0.0;
-    const openvdb::Coord size = box.dim();
-    // The active voxels as one flag per voxel, filled leaf by leaf through the tree's mask.
     openvdb::MaskGrid mask;
     grid.apply<openvdb::TypeList<openvdb::FloatGrid, openvdb::DoubleGrid, openvdb::Vec3SGrid, openvdb::Int32Grid>>(
         [&](const auto& typed) { mask.topologyUnion(typed); });
-    std::vector<std::uint8_t> active(std::size_t(size.x()) * size.y() * size.z(), 0);
-    for (auto on = mask.cbeginValueOn(); on; ++on) {
-        openvdb::CoordBBox voxels;
-        on.getBoundingBox(voxels);
-        for (auto ijk = voxels.begin(); ijk; ++ijk) {
-            const openvdb::Coord at = *ijk - box.min();
-            active[(std::size_t(at.z()) * size.y() + at.y()) * size.x() + at.x()] = 1;
-        }
+    // Slabs of 8 slices, one at a time, so that a streamed ingest of a volume larger
+    // than memory needs flags for 8 slices only: leaves and active tiles by slab first.
+    using LeafT = openvdb::MaskTree::LeafNodeType;
+    const int firstZ = (box.min().z() >> 3) << 3;  // leaf-aligned
+    const std::size_t slabCount = std::size_t((box.max().z() - firstZ) / 8 + 1);
+    std::vector<std::vector<const LeafT*>> leavesBySlab(slabCount);
+    for (auto leaf = mask.tree().cbeginLeaf(); leaf; ++leaf) {
+        leavesBySlab[std::size_t((leaf->origin().z() - firstZ) / 8)].push_back(leaf.getLeaf());
     }
-    SliceCounts total;
+    std::vector<openvdb::CoordBBox> tiles;
+    auto tile = mask.tree().cbeginValueOn();
+    tile.setMaxDepth(openvdb::MaskTree::ValueOnCIter::LEAF_DEPTH - 1);  // tiles only, not voxels
+    for (; tile; ++tile) tiles.push_back(tile.getBoundingBox());
+
+    const openvdb::Coord size = box.dim();
     const std::size_t sliceSize = std::size_t(size.x()) * size.y();
-    for (int z = 0; z < size.z(); ++z) {
-        const std::vector<std::uint8_t> slice(active.begin() + z * sliceSize, active.begin() + (z + 1) * sliceSize);
-        const SliceCounts counts = countSlice(slice, size.x(), size.y());
-        total.enclosedInactive += counts.enclosedInactive;
-        total.inside += counts.inside;
+    SliceCounts total;
+    std::vector<std::uint8_t> active(sliceSize * 8);
+    for (std::size_t slab = 0; slab < slabCount; ++slab) {
+        openvdb::CoordBBox slabBox(openvdb::Coord(box.min().x(), box.min().y(), firstZ + 8 * int(slab)),
+                                   openvdb::Coord(box.max().x(), box.max().y(), firstZ + 8 * int(slab) + 7));
+        slabBox.intersect(box);
+        std::fill(active.begin(), active.end(), 0);
+        const auto set = [&](const openvdb::Coord& ijk) {
+            const openvdb::Coord at = ijk - slabBox.min();
+            active[(std::size_t(at.z()) * size.y() + at.y()) * size.x() + at.x()] = 1;
+        };
+        for (const LeafT* leaf : leavesBySlab[slab]) {
+            for (auto on = leaf->cbeginValueOn(); on; ++on) set(on.getCoord());
+        }
+        for (openvdb::CoordBBox part : tiles) {
+            part.intersect(slabBox);
+            for (auto ijk = part.begin(); ijk; ++ijk) set(*ijk);
+        }
+        for (int z = 0; z < slabBox.dim().z(); ++z) {
+            const std::vector<std::uint8_t> slice(active.begin() + z * sliceSize, active.begin() + (z + 1) * sliceSize);
+            const SliceCounts counts = countSlice(slice, size.x(), size.y());
+            total.enclosedInactive += counts.enclosedInactive;
+            total.inside += counts.inside;
+        }
     }
     return total.inside > 0 ? double(total.enclosedInactive) / double(total.inside) : 0.0;
 }
