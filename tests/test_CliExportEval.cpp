@@ -170,6 +170,9 @@ TEST(CliExport, BadInputLeavesNoFiles) {
     for (const std::string& arguments :
          {"export '" + dir.path("bad.asset") + out, "export '" + asset + out + " --voxel-size 0",
           "export '" + asset + out + " -o '" + dir.path("out/x.nii.gz") + "' --voxel-size 1e-7",
+          "export '" + asset + "' -o '" + dir.path("out/x.nii.gz") + "' --dcc",
+          "export '" + asset + out + " --tf mri",  // --tf belongs to --dcc
+          "export '" + asset + out + " --dcc --tf '" + dir.path("missing.json") + "'",
           "export '" + asset + out + " --density-from '" + dir.path("missing.json") + "'",
           "export '" + asset + out + " --like '" + dir.path("bad.asset") + "'"}) {
         const test::CommandResult run = runGvr(arguments, dir);

@@ -321,6 +321,7 @@ def test_bad_arguments_raise_one_line_errors(cli_asset):
         (lambda: gvr.render(asset, size=(0, 64)), "size: must be"),
         (lambda: asset.probe(np.zeros((5, 2))), "points: must be an (n, 3) array"),
         (lambda: asset.export(voxel_size=-1.0), "voxel"),
+        (lambda: gvr.Volume.from_numpy(samples, source_type="uint12"), "source_type: "),
     ]:
         with pytest.raises(gvr.Error) as error:
             call()
