@@ -33,6 +33,19 @@ double TransferFunction::transparentUpTo() const {
     return last + 1 == mPoints.size() ? INFINITY : mPoints[last].value;
 }
 
+namespace {
+
+/// Where @a value lies between @a lo and @a hi, as a share in [0, 1]; halved when the
+/// span overflows (points near +-DBL_MAX), since halving an exact denormal gap could
+/// round it to zero.
+double shareBetween(double value, double lo, double hi) {
+    const double span = hi - lo;
+    if (std::isinf(span)) return (value * 0.5 - lo * 0.5) / (hi * 0.5 - lo * 0.5);
+    return (value - lo) / span;
+}
+
+}  // namespace
+
 std::array<float, 4> TransferFunction::operator()(double value) const {
     if (!(value > mPoints.front().value)) return mPoints.front().rgba;
     if (value >= mPoints.back().value) return mPoints.back().rgba;
@@ -40,7 +53,7 @@ std::array<float, 4> TransferFunction::operator()(double value) const {
                                         [](double v, const TransferPoint& p) { return v < p.value; });
     const TransferPoint& lo = *(above - 1);
     const TransferPoint& hi = *above;
-    const float t = float((value - lo.value) / (hi.value - lo.value));
+    const float t = float(shareBetween(value, lo.value, hi.value));
     std::array<float, 4> out;
     for (int c = 0; c < 4; ++c) out[c] = lo.rgba[c] + t * (hi.rgba[c] - lo.rgba[c]);
     return out;

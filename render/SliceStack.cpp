@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <map>
 #include <set>
@@ -299,12 +300,28 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     for (const auto& source : sources) mGaussiansTouched += source->gaussiansReaching();
 }
 
+namespace {
+
+/// The least float whose level is @a level or above: levelOf rounds to nearest, so
+/// values from about half a level below reach it; the float steps settle the edge.
+float leastFloatAtLevel(const ValueLevels::Scale& scale, int level) {
+    float value = float(scale.first + (level - 0.5) / scale.perValue);
+    while (scale.levelOf(value) < level) value = std::nextafter(value, INFINITY);
+    while (scale.levelOf(std::nextafter(value, -INFINITY)) >= level) value = std::nextafter(value, -INFINITY);
+    return value;
+}
+
+}  // namespace
+
 ValueLevels::ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels)
     : mRgba(kCount), mVisibleBelow(kCount + 1, 0) {
-    const double first = tf.points().front().value, last = tf.points().back().value;
-    mScale = {float(first), last > first ? float((kCount - 1) / (last - first)) : 0.0f};
+    // Stored values are floats: points beyond the float range change nothing they can
+    // reach, and clamping keeps the span, and so the levels per unit, finite.
+    const double first = std::clamp(tf.points().front().value, -double(FLT_MAX), double(FLT_MAX));
+    const double last = std::clamp(tf.points().back().value, -double(FLT_MAX), double(FLT_MAX));
+    mScale = {first, last > first ? (kCount - 1) / (last - first) : 0.0};
     for (int level = 0; level < kCount; ++level) {
-        const double value = mScale.perValue > 0.0f ? first + level / double(mScale.perValue) : first;
+        const double value = mScale.perValue > 0.0 ? first + level / mScale.perValue : first;
         mRgba[level] = tf(value);
         mRgba[level][3] = opacityOverLength(mRgba[level][3], sliceSpacingVoxels);
         mVisibleBelow[level + 1] = mVisibleBelow[level] + (mRgba[level][3] > 0.0f);
@@ -316,9 +333,7 @@ ValueLevels::ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels)
     } else if (level == 0) {
         mFirstVisibleValue = -INFINITY;
     } else {
-        // levelOf rounds to nearest: values from half a level below reach it (nextafter keeps
-        // the rounding's edge on the visible side).
-        mFirstVisibleValue = std::nextafter(mScale.first + (level - 0.5f) / mScale.perValue, -INFINITY);
+        mFirstVisibleValue = leastFloatAtLevel(mScale, level);
     }
 }
 

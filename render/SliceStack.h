@@ -84,12 +84,15 @@ class ValueLevels {
 public:
     static constexpr int kCount = 4096;
 
-    /// Values to levels: small, so that compositing may keep a copy at hand.
+    /// Values to levels: small, so that compositing may keep a copy at hand. In
+    /// double precision, so that any span of float values, from the gap between two
+    /// denormals to the whole float range, has finite levels per unit.
     struct Scale {
-        float first, perValue;  ///< the value of level 0, and levels per unit of value
+        double first, perValue;  ///< the value of level 0, and levels per unit of value
         int levelOf(float value) const {
-            const float level = (value - first) * perValue + 0.5f;
-            return level <= 0.0f ? 0 : level >= float(kCount - 1) ? kCount - 1 : int(level);
+            const double level = (double(value) - first) * perValue + 0.5;
+            if (!(level > 0.0)) return 0;  // NaN too
+            return level >= double(kCount - 1) ? kCount - 1 : int(level);
         }
     };
 

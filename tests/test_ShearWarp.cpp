@@ -15,14 +15,15 @@
 namespace gvr {
 namespace {
 
-/// Soft blobs and a shell of different densities, on anisotropic voxels.
-std::shared_ptr<GridRenderVolume> phantom() {
-    const auto value = [](int i, int j, int k) {
+/// Soft blobs and a shell of different densities, on anisotropic voxels, every
+/// value times @a factor.
+std::shared_ptr<GridRenderVolume> phantom(float factor = 1.0f) {
+    const auto value = [factor](int i, int j, int k) {
         const double x = i - 24.0, y = j - 20.0, z = (k - 14.0) * 1.5;
         const double r = std::sqrt(x * x + y * y + z * z);
         const double shell = std::exp(-std::pow((r - 15.0) / 2.0, 2.0));
         const double blob = std::exp(-((x - 6) * (x - 6) + (y + 4) * (y + 4) + z * z) / 30.0);
-        return float(600.0 * shell + 1000.0 * blob);
+        return float(600.0 * shell + 1000.0 * blob) * factor;
     };
     return std::make_shared<GridRenderVolume>(test::makeGrid({48, 40, 28}, value, openvdb::Vec3d(1.0, 1.0, 1.5)));
 }
@@ -252,6 +253,54 @@ TEST(ShearWarp, BrightLargeOverlappingGaussiansDoNotOverflow) {
         ASSERT_LE(v, 1.0f + 1e-5f);
     }
     EXPECT_GT(alphaSum(image), 100.0);
+}
+
+void expectAValidImage(const Framebuffer& image, const std::string& what) {
+    for (float v : image.rgba) {
+        ASSERT_TRUE(std::isfinite(v)) << what;
+        ASSERT_GE(v, 0.0f) << what;
+        ASSERT_LE(v, 1.0f + 1e-5f) << what;
+    }
+}
+
+TEST(ShearWarp, DataAndTransferFunctionsOfAnyFiniteScaleRenderAlike) {
+    // Values around 1e-36 once made the levels per unit overflow a float: a crash.
+    const auto unit = phantom();
+    const OrthoCamera camera = cameraFor(*unit, 30, 20, 48);
+    const Classifier ramp = rampClassifier();
+    const Framebuffer expected = ShearWarpRenderer(*unit, ramp, {}).render(camera);
+    for (const float factor : {1e-36f, 1e-30f, 1e-3f, 1e30f, 3e35f}) {
+        const auto scaled = phantom(factor);
+        std::vector<TransferPoint> points = ramp.transferFunction().points();
+        for (TransferPoint& p : points) p.value *= factor;
+        const Classifier classifier(TransferFunction(points, "scaled"), 1);
+        const Framebuffer image = ShearWarpRenderer(*scaled, classifier, {}).render(camera);
+        expectAValidImage(image, "factor " + std::to_string(factor));
+        EXPECT_GE(imagePsnr(image, expected), 40.0) << "factor " << factor;
+        // And the presets drawn from these data's own statistics.
+        for (const std::string preset : {"mri", "ct"}) {
+            const Classifier fromData(presetTransferFunction(preset, scaled->statistics()), 1);
+            expectAValidImage(ShearWarpRenderer(*scaled, fromData, {}).render(camera), preset);
+        }
+    }
+}
+
+TEST(ShearWarp, TransferFunctionsAtTheEndsOfTheDoubleRangeAreSafe) {
+    const auto volume = phantom();
+    const OrthoCamera camera = cameraFor(*volume, 30, 20, 32);
+    const std::array<float, 4> clear{0, 0, 0, 0}, white{1, 1, 1, 0.5f};
+    using Points = std::vector<TransferPoint>;
+    for (const Points& points : {Points{{-1e308, clear}, {1e308, white}}, Points{{300.0, clear}, {std::nextafter(300.0, 1e9), white}},
+                                 Points{{0.0, clear}, {5e-324, white}}, Points{{-1e-300, clear}, {1e-300, white}},
+                                 Points{{1e300, clear}, {1e308, white}}, Points{{-1e308, white}, {-1e300, clear}}}) {
+        const Classifier classifier(TransferFunction(points, "extreme"), 1);
+        const Framebuffer image = ShearWarpRenderer(*volume, classifier, {}).render(camera);
+        expectAValidImage(image, std::to_string(points.front().value));
+        expectAValidImage(rayMarch(*volume, classifier, camera, RayMarchSettings{}), "ray marcher");
+    }
+    // Half the span of +-1e308 still interpolates: midway is half the opacity.
+    const TransferFunction wide({{-1e308, clear}, {1e308, white}}, "wide");
+    EXPECT_FLOAT_EQ(wide(0.0)[3], 0.25f);
 }
 
 TEST(ShearWarp, BadSettingsAndCamerasAreRefused) {
