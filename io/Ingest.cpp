@@ -2,6 +2,7 @@
 
 #include "EnclosedShare.h"
 #include "Error.h"
+#include "FiniteValues.h"
 #include "GridFile.h"
 #include "LabelGrid.h"
 #include "MemoryBudget.h"
@@ -75,6 +76,8 @@ IngestResult loadOrIngest(const std::string& input, const IngestOptions& options
         const openvdb::GridPtrVecPtr grids = options.vdbOnDemand ? readGridFileOnDemand(input) : readGridFile(input);
         IngestResult result;
         result.grid = chooseVolumeGrid(*grids, input);
+        // Read on demand, the voxels stay unread until used: each brick's target checks its own.
+        if (!options.vdbOnDemand) requireFiniteValues(*result.grid, input);
         result.labels = options.labels.empty() ? storedLabelGrid(*grids) : readLabels(options, *result.grid);
         return result;
     }

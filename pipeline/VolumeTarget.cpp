@@ -1,6 +1,7 @@
 #include "VolumeTarget.h"
 
 #include "Error.h"
+#include "FiniteValues.h"
 #include "Luminance.h"
 #include "VolumeMetadata.h"
 
@@ -103,6 +104,8 @@ VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& 
     }
     if (region) mBox.intersect(*region);
     if (mBox.empty()) throw InputError(name, "grid '" + mGrid->getName() + "' has no voxels");
+    // A region's voxels may have been read on demand, never checked as a whole grid.
+    if (region) requireFiniteValues(*mGrid, name, mBox);
     const openvdb::Vec3d background =
         mFloat ? openvdb::Vec3d(mFloat->background()) : openvdb::Vec3d(mColour->background());
     // Grey: background to the top of the range spans 0..1. RGB: the luminance range

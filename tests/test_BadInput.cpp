@@ -284,6 +284,31 @@ TEST(BadInput, TruncatedAndForeignVdb) {
     expectMentions(ingestError(dir.path("text.vdb")), "not a VDB file");
 }
 
+TEST(BadInput, EveryCommandThatReadsAVdbRefusesNonFiniteValues) {
+    // Once fit accepted them (and wrote an asset gvr could not read back) and render crashed.
+    test::TempDir dir;
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    grid->setName("density");
+    grid->denseFill(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(15)), 1.0f, /*active=*/true);
+    grid->tree().setValueOn(openvdb::Coord(3, 4, 5), NAN);
+    writeGridFile(dir.path("nan.vdb"), {grid});
+    const std::string in = "'" + dir.path("nan.vdb") + "' ";
+    for (const std::string command : {"fit " + in + "-o '" + dir.path("out.gvr") + "' --gaussians 20 --iterations 2",
+                                      "render " + in + "-o '" + dir.path("out.png") + "'",
+                                      "eval " + in + in,
+                                      "baseline " + in + "--method zfp-accuracy --tolerance 0.1 -o '" + dir.path("out.vdb") + "' --stream '" + dir.path("out.zfp") + "'"}) {
+        const test::CommandResult run = test::runGvr(command, dir);
+        EXPECT_EQ(run.exitCode, 2) << command;
+        EXPECT_EQ(test::lineCount(run.err), 1u) << command << ": " << run.err;
+        EXPECT_NE(run.err.find("holds 1 NaN or infinite value"), std::string::npos) << command << ": " << run.err;
+    }
+    for (const char* output : {"out.gvr", "out.png", "out.vdb"}) EXPECT_FALSE(std::filesystem::exists(dir.path(output)));
+    // The fix the message names works.
+    const test::CommandResult fixed =
+        test::runGvr("ingest -q " + in + "--nan-to 0 -o '" + dir.path("fixed.vdb") + "'", dir);
+    EXPECT_EQ(fixed.exitCode, 0) << fixed.err;
+}
+
 TEST(BadInput, AVdbWhoseActiveVoxelsSpanMoreThanAnIntIsRefused) {
     // What the fuzzer found: the box's extent overflowed int before any check.
     test::TempDir dir;
