@@ -5,10 +5,12 @@
 #include "AtomicFile.h"
 #include "Error.h"
 #include "GaussianKernel.h"
+#include "MemoryBudget.h"
 
 #include <zlib.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -23,6 +25,11 @@ constexpr char kMagic[8] = {'G', 'V', 'R', 'A', 'S', 'S', 'E', 'T'};
 constexpr std::size_t kPreambleBytes = 16;
 constexpr std::size_t kChecksumBytes = 4;
 constexpr std::size_t kMaxGaussians = std::size_t(1) << 31;
+constexpr std::size_t kMaxGaussiansPerBodyByte = 8;
+constexpr std::size_t kMaxHeaderDepth = 64;
+constexpr double kMaxWorldMm = 1e9;          // a thousand kilometres
+constexpr float kMaxMeanVoxels = 1 << 24;    // where float positions still step by a voxel
+constexpr float kLogScaleSlack = 0.5f;       // quantisation may step a little past the kernel's range
 
 template <typename T>
 void append(std::string& bytes, T value) {
@@ -184,9 +191,79 @@ void checkCountAgainstSize(std::uint32_t version, std::size_t count, int channel
                                  " bytes of Gaussians, the file holds " + std::to_string(bodyBytes) +
                                  " (truncated, or trailing bytes)");
     }
-    // zstd packs a plane of equal bytes into very little, but not into nothing.
-    if (version == 2 && count > 64 * bodyBytes) {
-        throw std::runtime_error("the count is impossible for a body of " + std::to_string(bodyBytes) + " bytes");
+    // zstd packs a plane of equal bytes into very little, but a fit's Gaussians
+    // differ: gvr's own files hold 2 bytes a Gaussian or more.
+    if (version == 2 && count > kMaxGaussiansPerBodyByte * bodyBytes) {
+        throw std::runtime_error("the count is impossible for a body of " + std::to_string(bodyBytes) +
+                                 " bytes (at most " + std::to_string(kMaxGaussiansPerBodyByte) + " Gaussians a byte)");
+    }
+    int floats = 0;
+    for (int g = 0; g < kGroupCount; ++g) floats += groupWidth(ParameterGroup(g), channels);
+    // The parameters and about as much again while the streams decode.
+    const std::uint64_t decodedBytes = std::uint64_t(count) * floats * sizeof(float) * 2;
+    if (decodedBytes > availableMemoryBytes()) {
+        throw std::runtime_error(std::to_string(count) + " Gaussians would need " + std::to_string(decodedBytes >> 20) +
+                                 " MiB to decode; " + std::to_string(availableMemoryBytes() >> 20) + " MiB are available");
+    }
+}
+
+/// The deepest nesting of arrays and objects in JSON text, strings skipped: the
+/// parser recurses once a level, so a header nested 100,000 deep would overflow
+/// the stack before any other check.
+std::size_t jsonDepth(std::string_view text) {
+    std::size_t depth = 0, deepest = 0;
+    bool inString = false;
+    for (std::size_t n = 0; n < text.size(); ++n) {
+        const char c = text[n];
+        if (inString) {
+            if (c == '\\') ++n;
+            else if (c == '"') inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            deepest = std::max(deepest, ++depth);
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return deepest;
+}
+
+/// Refuses decoded fields that gvr never writes and that would overflow later:
+/// the value mapping beyond float, a transform that is not affine or reaches
+/// beyond kMaxWorldMm, shapes outside the kernel's log-scale range, means far
+/// outside any volume.
+void checkAssetFields(const GaussianAsset& asset, const std::string& path) {
+    const ValueMapping& m = asset.mapping;
+    const auto withinFloat = [](double v) { return std::isfinite(v) && std::abs(v) <= double(FLT_MAX); };
+    if (!(m.scale > 0.0) || !withinFloat(m.scale) || !withinFloat(m.offset[0]) || !withinFloat(m.offset[1]) ||
+        !withinFloat(m.offset[2])) {
+        throw InputError(path, "corrupt asset: value_scale and value_offset must be finite, within the float "
+                               "range, and the scale positive");
+    }
+    const openvdb::math::Mat4d& t = asset.worldFromIndex;
+    bool affine = t(0, 3) == 0.0 && t(1, 3) == 0.0 && t(2, 3) == 0.0 && t(3, 3) == 1.0;
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 3; ++j) affine = affine && std::isfinite(t(i, j)) && std::abs(t(i, j)) <= kMaxWorldMm;
+    }
+    if (!affine) {
+        throw InputError(path, "corrupt asset: world_from_index must be affine with entries within +-" +
+                                   std::to_string(int(kMaxWorldMm)) + " mm");
+    }
+    for (std::size_t g = 0; g < asset.params.count(); ++g) {
+        const float* logScale = asset.params.at(kLogScales, g);
+        const float* mean = asset.params.at(kMeans, g);
+        for (int a = 0; a < 3; ++a) {
+            if (!(logScale[a] >= kMinLogScale - kLogScaleSlack && logScale[a] <= kMaxLogScale + kLogScaleSlack)) {
+                throw InputError(path, "corrupt asset: Gaussian " + std::to_string(g) + " has log-scale " +
+                                           std::to_string(logScale[a]) + " (gvr writes " + std::to_string(kMinLogScale) +
+                                           " to " + std::to_string(kMaxLogScale) + ")");
+            }
+            if (!(std::abs(mean[a]) <= kMaxMeanVoxels)) {
+                throw InputError(path, "corrupt asset: Gaussian " + std::to_string(g) + " lies at " +
+                                           std::to_string(mean[a]) + " voxels, beyond any volume");
+            }
+        }
     }
 }
 
@@ -292,6 +369,10 @@ GaussianAsset decodeAsset(std::string_view bytes, const std::string& path) {
     nlohmann::json quantisation;
     std::size_t count = 0;
     int channels = 1;
+    if (jsonDepth(bytes.substr(kPreambleBytes, headerBytes)) > kMaxHeaderDepth) {
+        throw InputError(path, "corrupt asset header: JSON nested more than " + std::to_string(kMaxHeaderDepth) +
+                                   " deep");
+    }
     try {
         const nlohmann::json header = nlohmann::json::parse(bytes.begin() + kPreambleBytes,
                                                             bytes.begin() + kPreambleBytes + headerBytes);
@@ -341,6 +422,7 @@ GaussianAsset decodeAsset(std::string_view bytes, const std::string& path) {
     if (!std::isfinite(determinant) || std::abs(determinant) < 1e-12) {
         throw InputError(path, "corrupt asset: its index-to-world transform is singular or not finite");
     }
+    checkAssetFields(asset, path);
     return asset;
 }
 

@@ -32,7 +32,7 @@ public:
             if (std::all_of(sum, sum + mChannels, [](float v) { return v == 0.0f; })) continue;  // unreached
             if (mCut.cuts(sum)) continue;
             float physical[3];
-            for (int c = 0; c < mChannels; ++c) physical[c] = float(mSettings.mapping.toPhysical(sum[c], c));
+            for (int c = 0; c < mChannels; ++c) physical[c] = mSettings.mapping.toPhysicalFloat(sum[c], c);
             leaf->setValueOn(offset, valueOf(physical));
         }
         return leaf->isEmpty() ? nullptr : std::move(leaf);
@@ -41,7 +41,7 @@ public:
     /// What inactive voxels hold: the physical value of normalised 0.
     ValueT background() const {
         float physical[3];
-        for (int c = 0; c < mChannels; ++c) physical[c] = float(mSettings.mapping.toPhysical(0.0, c));
+        for (int c = 0; c < mChannels; ++c) physical[c] = mSettings.mapping.toPhysicalFloat(0.0, c);
         return valueOf(physical);
     }
 

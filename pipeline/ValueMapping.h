@@ -2,7 +2,9 @@
 /// @brief How normalised fit values map back to physical units (HU, intensity, RGB).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cfloat>
 
 namespace gvr {
 
@@ -14,6 +16,10 @@ struct ValueMapping {
 
     double toPhysical(double normalised, int channel) const { return offset[channel] + scale * normalised; }
     double toNormalised(double physical, int channel) const { return (physical - offset[channel]) / scale; }
+    /// As stored in a float grid: saturated at the float range, never infinite.
+    float toPhysicalFloat(double normalised, int channel) const {
+        return float(std::clamp(toPhysical(normalised, channel), -double(FLT_MAX), double(FLT_MAX)));
+    }
 };
 
 }  // namespace gvr

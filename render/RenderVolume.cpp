@@ -42,7 +42,7 @@ public:
         // A frame needs 16-bit opacity, not the export's bit-for-bit sums.
         const CoordBBox voxels = mSampler.sampleBlock(origin, values, mSkipUpTo, BlockEvaluation::rows);
         for (int n = 0; n < kBlockVoxels * channels; ++n) {
-            values[n] = float(mMapping.toPhysical(values[n], n % channels));
+            values[n] = mMapping.toPhysicalFloat(values[n], n % channels);
         }
         return voxels;
     }
@@ -153,7 +153,7 @@ GaussianRenderVolume::GaussianRenderVolume(const GaussianAsset& asset, float min
 
 double GaussianRenderVolume::backgroundKey() const {
     float background[3];
-    for (int c = 0; c < channels(); ++c) background[c] = float(mMapping.toPhysical(0.0, c));
+    for (int c = 0; c < channels(); ++c) background[c] = mMapping.toPhysicalFloat(0.0, c);
     return keyOf(background, channels());
 }
 
@@ -173,7 +173,7 @@ VolumeStatistics GaussianRenderVolume::statistics() const {
         const float x[3] = {float(ijk.x()), float(ijk.y()), float(ijk.z())};
         float value[3];
         mField.evaluate(x, value, hits);
-        for (int c = 0; c < channels; ++c) value[c] = float(mMapping.toPhysical(value[c], c));
+        for (int c = 0; c < channels; ++c) value[c] = mMapping.toPhysicalFloat(value[c], c);
         return double(keyOf(value, channels));
     };
     stats.background = borderMedian(mBox, keyAt);

@@ -7,6 +7,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <random>
 
 namespace gvr {
@@ -172,6 +173,50 @@ TEST(AssetFile, ValidButAbsurdNumbersAreRefused) {
     flat.worldFromIndex = openvdb::math::Mat4d::zero();
     flat.worldFromIndex(3, 3) = 1.0;
     EXPECT_NE(refusal(flat).find("singular"), std::string::npos);
+    // Each of these once crashed render or exported +Inf.
+    const auto refusalWith = [&](const std::function<void(GaussianAsset&)>& change) {
+        GaussianAsset asset = randomAsset(20, 1);
+        change(asset);
+        return refusal(asset);
+    };
+    EXPECT_NE(refusalWith([](GaussianAsset& a) { a.mapping.scale = 1e308; }).find("value_scale"), std::string::npos);
+    EXPECT_NE(refusalWith([](GaussianAsset& a) { a.mapping.scale = -2.0; }).find("value_scale"), std::string::npos);
+    EXPECT_NE(refusalWith([](GaussianAsset& a) { a.mapping.offset[0] = -1e300; }).find("value_offset"), std::string::npos);
+    EXPECT_NE(refusalWith([](GaussianAsset& a) { a.worldFromIndex(0, 3) = 0.5; }).find("affine"), std::string::npos);
+    EXPECT_NE(refusalWith([](GaussianAsset& a) { a.worldFromIndex(3, 3) = 0.0; }).find("affine"), std::string::npos);
+    EXPECT_NE(refusalWith([](GaussianAsset& a) { a.worldFromIndex.setTranslation(openvdb::Vec3d(1e300, 0, 0)); })
+                  .find("affine"),
+              std::string::npos);
+    EXPECT_NE(refusalWith([](GaussianAsset& a) { a.params.at(kLogScales, 3)[1] = -30.0f; }).find("log-scale -30"),
+              std::string::npos);
+    EXPECT_NE(refusalWith([](GaussianAsset& a) { a.params.at(kMeans, 5)[2] = 1e9f; }).find("beyond any volume"),
+              std::string::npos);
+    // The extremes gvr itself writes still read.
+    EXPECT_EQ(refusalWith([](GaussianAsset& a) {
+                  a.mapping.scale = 1e-36;
+                  a.mapping.offset = {3e38, 3e38, 3e38};
+                  a.params.at(kLogScales, 0)[0] = kMinLogScale;
+                  a.params.at(kLogScales, 1)[0] = kMaxLogScale;
+              }),
+              "read without complaint");
+}
+
+TEST(AssetFile, AHeaderNestedTooDeepIsRefusedBeforeParsing) {
+    // nlohmann's parser recurses a level at a time: 100,000 levels overflowed the stack.
+    test::TempDir dir;
+    const std::string header = std::string(100000, '[') + std::string(100000, ']');
+    std::string bytes("GVRASSET");
+    const std::uint32_t version = 2, length = std::uint32_t(header.size());
+    bytes.append(reinterpret_cast<const char*>(&version), 4);
+    bytes.append(reinterpret_cast<const char*>(&length), 4);
+    bytes += header + std::string(8, '\0');
+    test::writeBytes(dir.path("deep.gvr"), bytes);
+    try {
+        readAsset(dir.path("deep.gvr"));
+        FAIL() << "a header nested 100,000 deep was accepted";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("nested more than 64 deep"), std::string::npos) << error.what();
+    }
 }
 
 TEST(AssetFile, ACountTheFileCannotHoldIsRefusedBeforeAllocating) {
@@ -184,6 +229,24 @@ TEST(AssetFile, ACountTheFileCannotHoldIsRefusedBeforeAllocating) {
         FAIL() << "a count of 2^30 was accepted";
     } catch (const InputError& error) {
         EXPECT_NE(std::string(error.what()).find("impossible for a body"), std::string::npos) << error.what();
+    }
+}
+
+TEST(AssetFile, ACompressedBodyMayNotExpandBeyondEightGaussiansAByte) {
+    // A 257 KB file once decoded into 16.7 million Gaussians (2.1 GB).
+    test::TempDir dir;
+    GaussianAsset asset = randomAsset(50, 1);
+    writeAsset(dir.path("good.gvr"), asset);
+    const std::string good = test::readBytes(dir.path("good.gvr"));
+    std::uint32_t headerBytes;
+    std::memcpy(&headerBytes, good.data() + 12, 4);
+    const std::size_t bodyBytes = good.size() - 16 - headerBytes - 4;
+    test::writeBytes(dir.path("bomb.gvr"), withCount(good, 9 * bodyBytes));
+    try {
+        readAsset(dir.path("bomb.gvr"));
+        FAIL() << "nine Gaussians a byte were accepted";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("at most 8 Gaussians a byte"), std::string::npos) << error.what();
     }
 }
 
