@@ -217,6 +217,12 @@ FloatVolume boxAverage(const FloatVolume& fine, int factor) {
 /// It records no path, so that the stream's size does not depend on where it goes.
 void writeDownsampledStream(const openvdb::GridBase& source, const FloatVolume& samples, int factor,
                             const std::string& streamPath, BaselineResult& result) {
+    // Beyond the longest axis every factor gives one coarse voxel, and its sums would overflow.
+    const int longest = std::max({samples.dims.x(), samples.dims.y(), samples.dims.z()});
+    if (factor > longest) {
+        throw InputError(streamPath, "--factor " + std::to_string(factor) + " exceeds the volume's longest axis (" +
+                                         std::to_string(longest) + " voxels)");
+    }
     const auto start = Clock::now();
     writeGridFile(streamPath, {gridOf(source, boxAverage(samples, factor), "")});
     result.compressSeconds = secondsSince(start);

@@ -246,6 +246,26 @@ TEST(BaselineDownsample, PartialBoxesAverageTheVoxelsTheyHave) {
     EXPECT_FLOAT_EQ(*coarse.at(2, 1, 1), 1 + 4 + 25 + 200);    // i = 4, j = 2..3, k = 2 alone
 }
 
+TEST(BaselineDownsample, AFactorBeyondTheLongestAxisIsRefused) {
+    // 2147483647 once overflowed the coarse dimensions, then crashed.
+    test::TempDir dir;
+    const auto source = test::makeGrid({5, 4, 3}, [](int i, int, int) { return float(1 + i); });
+    BaselineSettings settings = withMethod(BaselineMethod::Downsample);
+    settings.factor = 5;
+    EXPECT_NO_THROW(runBaseline(*source, settings, dir.path("s.vdb")));
+    for (int factor : {6, 2147483647}) {
+        settings.factor = factor;
+        try {
+            runBaseline(*source, settings, dir.path("t.vdb"));
+            ADD_FAILURE() << "factor " << factor << " was accepted";
+        } catch (const InputError& error) {
+            EXPECT_NE(std::string(error.what()).find("exceeds the volume's longest axis (5 voxels)"), std::string::npos)
+                << error.what();
+        }
+        EXPECT_FALSE(std::filesystem::exists(dir.path("t.vdb")));
+    }
+}
+
 TEST(BaselineReconstruction, StandsOnTheSourceLatticeWithItsMetadataAndRule) {
     test::TempDir dir;
     std::vector<float> values;
