@@ -11,7 +11,7 @@ CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DGVR_SANITIZE=ON -DCMAKE_B
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" > /dev/null
 # Only what the tests and fuzzers run: the benchmark examples gain nothing from sanitizers.
 cmake --build "$build" -j 2 --target gvr gvr_tests \
-  fuzz_nifti fuzz_metaimage fuzz_mgh fuzz_raw fuzz_dicom fuzz_image fuzz_asset
+  fuzz_nifti fuzz_metaimage fuzz_mgh fuzz_raw fuzz_dicom fuzz_image fuzz_asset fuzz_tf fuzz_labelstyle fuzz_manifest
 # fuzz_vdb without ASan: OpenVDB allocates compressed blocks from 64-bit sizes in the
 # file, and under ASan a huge allocation aborts where a release build throws
 # std::bad_alloc and gvr refuses the file. UBSan still checks everything else.
@@ -42,7 +42,7 @@ seeds=$build/fuzz-seeds
 rm -rf "$seeds" "$build/fuzz-corpus"
 /usr/bin/python3 tests/fuzz/make_seeds.py "$build/cli/gvr" ../shared/data "$seeds"
 mkdir -p "$build/fuzz-findings"
-for target in nifti metaimage mgh raw dicom image vdb asset; do
+for target in nifti metaimage mgh raw dicom image vdb asset tf labelstyle manifest; do
   corpus=$build/fuzz-corpus/$target
   mkdir -p "$corpus"
   cp "$seeds/$target"/* "$corpus"/

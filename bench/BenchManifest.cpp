@@ -1,6 +1,7 @@
 #include "BenchManifest.h"
 
 #include "Error.h"
+#include "InputFile.h"
 
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
@@ -37,6 +38,7 @@ namespace {
 
 /// TOML manifests become the same JSON document, so there is one reader of keys.
 json parseDocument(const std::string& path) {
+    requireRegularFile(path);
     std::ifstream in(path);
     if (!in) throw InputError(path, "cannot open the manifest");
     std::stringstream text;
@@ -84,6 +86,13 @@ public:
         return value.get<std::string>();
     }
 
+    /// A count: 0.5 views once became 0 and a render PSNR of 0.
+    int wholeNumber(const json& value, const std::string& where) const {
+        const double number = positive(value, where);
+        if (number != std::floor(number) || number > 1e6) fail(where, "must be a whole number");
+        return int(number);
+    }
+
     double positive(const json& value, const std::string& where) const {
         if (!value.is_number() || !std::isfinite(value.get<double>()) || value.get<double>() <= 0) {
             fail(where, "must be a positive number");
@@ -126,7 +135,7 @@ public:
         onlyKeys(value, "render", {"size", "views", "elevation", "tf"});
         RenderPlan plan;
         if (value.contains("size")) plan.size = text(value["size"], "render.size");
-        if (value.contains("views")) plan.views = int(positive(value["views"], "render.views"));
+        if (value.contains("views")) plan.views = wholeNumber(value["views"], "render.views");
         if (value.contains("elevation")) {
             if (!value["elevation"].is_number()) fail("render.elevation", "must be a number of degrees");
             plan.elevation = value["elevation"].get<double>();

@@ -197,6 +197,21 @@ void writeResultsCsv(const std::string& path, const std::vector<BenchRow>& rows)
     writeText(path, text);
 }
 
+namespace {
+
+/// A folder resumed with another manifest would mix two benchmarks' rows in one report.
+void checkSameManifest(const std::string& folder, const std::string& resultsJson, const std::string& manifestPath) {
+    std::ifstream in(resultsJson);
+    const nlohmann::json results = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    if (results.is_discarded() || !results.is_object() || !results.contains("manifest")) return;  // rebuilt from the CSV
+    const std::string earlier = results["manifest"].is_string() ? results["manifest"].get<std::string>() : "";
+    std::error_code error;
+    if (earlier == manifestPath || fs::equivalent(earlier, manifestPath, error)) return;
+    throw InputError(folder, "holds the results of " + earlier + "; resume it with that manifest, or choose another folder");
+}
+
+}  // namespace
+
 ResultsTable::ResultsTable(const std::string& folder, const std::string& manifestPath, bool resume,
                            bool retryFailed)
     : mFolder(folder), mManifestPath(manifestPath) {
@@ -205,6 +220,7 @@ ResultsTable::ResultsTable(const std::string& folder, const std::string& manifes
     if (exists && !resume) {
         throw InputError(folder, "already holds results; pass --resume to carry on, or choose another folder");
     }
+    if (exists) checkSameManifest(folder, jsonPath(), manifestPath);
     if (!exists) {
         writeResultsCsv(csvPath(), {});
     } else {

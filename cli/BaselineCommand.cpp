@@ -74,7 +74,7 @@ void runBaselineCommand(BaselineFlags& flags) {
         throw InputError("gvr baseline", problem);
     }
     checkOutputPath("-o", flags.output, {flags.input});
-    checkOutputPath("--stream", flags.stream, {flags.input});
+    checkOutputPath("--stream", flags.stream, {flags.input, flags.output});
     namespace fs = std::filesystem;
     if (fs::weakly_canonical(flags.stream) == fs::weakly_canonical(flags.output)) {
         throw InputError("--stream", "must be another file than -o " + flags.output);

@@ -77,23 +77,43 @@ private:
 /// The CSV of error against run time, one row per held-out evaluation: a header
 /// row and numbers only, so that any CSV reader takes it as it is. Its columns are
 /// described in the README; seconds count from the start of the command, reading
-/// the input included.
+/// the input included. Written as the fit goes, so that it can be watched; a fit
+/// that fails leaves none (see finish()).
 class FitLog {
 public:
-    FitLog(const std::string& path, double secondsBefore) : mSecondsBefore(secondsBefore) {
+    FitLog(const std::string& path, double secondsBefore) : mPath(path), mSecondsBefore(secondsBefore) {
         if (path.empty()) return;
         mOut.open(path);
         if (!mOut) throw InputError(path, "cannot write the fit log");
         mOut << "iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib,gradient_share\n";
+    }
+    FitLog(const FitLog&) = delete;
+    FitLog& operator=(const FitLog&) = delete;
+    ~FitLog() {
+        if (!mOut.is_open()) return;
+        mOut.close();
+        std::error_code ignored;
+        std::filesystem::remove(mPath, ignored);
     }
     void record(const FitProgress& p) {
         if (!mOut.is_open() || !p.heldOutEvaluated) return;
         mOut << p.iteration << "," << mSecondsBefore + p.seconds << "," << p.loss << "," << formatDb(p.heldOutPsnr)
              << "," << p.gaussians << "," << peakRssMiB() << "," << p.gradientShare << "\n"
              << std::flush;
+        if (!mOut) throw InputError(mPath, "cannot write the fit log (disk full?)");
+    }
+    /// Keeps the log: the fit and its asset are written.
+    void finish() {
+        if (!mOut.is_open()) return;
+        mOut.close();
+        if (mOut) return;
+        std::error_code ignored;
+        std::filesystem::remove(mPath, ignored);
+        throw InputError(mPath, "cannot write the fit log (disk full?)");
     }
 
 private:
+    std::string mPath;
     double mSecondsBefore;
     std::ofstream mOut;
 };
@@ -281,7 +301,9 @@ void runFit(FitFlags& flags) {
                                 flags.threads > 0 ? flags.threads : tbb::this_task_arena::max_concurrency());
     checkedSettings(flags.options);  // bad flags are refused before anything is read
     checkOutputPath("-o", flags.output, {flags.input, flags.labelVolume, flags.labelNames});
-    if (!flags.logPath.empty()) checkOutputPath("--log", flags.logPath, {flags.input, flags.output});
+    if (!flags.logPath.empty()) {
+        checkOutputPath("--log", flags.logPath, {flags.input, flags.output, flags.labelVolume, flags.labelNames});
+    }
 
     Phases phases;
     if (flags.bricks.any() && !flags.bricks.only) return runBrickedFit(flags, phases);
@@ -299,6 +321,7 @@ void runFit(FitFlags& flags) {
     }
     phases.lap("fit");
     writeAsset(flags.output, result.asset);
+    log.finish();
     phases.lap("write");
     ProgressBar measuring("measuring", !flags.quiet);
     const GaussianField saved(quantisedCopy(result.asset.params, result.asset.encoding), result.asset.cutoffSigmas);

@@ -66,14 +66,28 @@ void writeStats(const std::string& path, const nlohmann::json& frames) {
     });
 }
 
+/// Every file render writes (each frame of an orbit, the statistics, the saved
+/// transfer function) against every file it reads and against each other.
+void checkRenderOutputs(const RenderFlags& flags, int frames) {
+    std::vector<std::string> taken{flags.input, flags.tf, flags.labelStyle};
+    for (int f = 0; f < frames; ++f) {
+        const std::string frame = framePath(flags.output, f, frames);
+        checkOutputPath("-o", frame, taken);
+        taken.push_back(frame);
+    }
+    if (!flags.statsPath.empty()) checkOutputPath("--stats", flags.statsPath, taken);
+    taken.push_back(flags.statsPath);
+    if (!flags.saveTf.empty()) checkOutputPath("--save-tf", flags.saveTf, taken);
+}
+
 void runRender(RenderFlags& flags) {
     const std::string problem = flags.shearWarp.validate();
     if (!problem.empty()) throw InputError("gvr render", problem);
     // Below a hundredth of a voxel a ray marches for hours and looks no different.
     if (!(flags.stepVoxels >= 0.01 && flags.stepVoxels <= 0.5)) throw InputError("--step", "must be in [0.01, 0.5] voxels");
     if (flags.orbit < 0 || flags.orbit > 3600) throw InputError("--orbit", "must be between 1 and 3600 frames");
-    checkOutputPath("-o", flags.output, {flags.input, flags.tf});
-    if (!flags.statsPath.empty()) checkOutputPath("--stats", flags.statsPath, {flags.input, flags.output});
+    const int frames = std::max(1, flags.orbit);
+    checkRenderOutputs(flags, frames);
     const auto [width, height] = parseImageSize(flags.size);
     const RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, minScale(flags),
                                               toIngestOptions(flags.source), flags.renderer == "raymarch");
@@ -87,7 +101,6 @@ void runRender(RenderFlags& flags) {
     StyledLayers styled = labelStyleLayers(flags, asset, classifier);
     if (styled.layers.empty()) styled.layers.push_back({volume.get(), classifier});
     ShearWarpRenderer shearWarp(std::move(styled.layers), flags.shearWarp);
-    const int frames = std::max(1, flags.orbit);
     nlohmann::json stats = nlohmann::json::array();
     ProgressBar bar("rendering", !flags.quiet && frames > 1);
     for (int f = 0; f < frames; ++f) {

@@ -45,7 +45,8 @@ std::pair<int, int> parseImageSize(const std::string& text) {
 }
 
 TransferFunction transferFunctionFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch) {
-    if (!tf.empty() && std::filesystem::is_regular_file(tf)) return readTransferFunction(tf);
+    // Anything on disk by that name is meant as a file, so a FIFO is refused as one.
+    if (!tf.empty() && std::filesystem::exists(tf)) return readTransferFunction(tf);
     return presetFor(volume, tf, mismatch);
 }
 

@@ -11,6 +11,7 @@
 #include <openvdb/tools/Prune.h>
 
 #include <algorithm>
+#include <cmath>
 #include <type_traits>
 
 namespace gvr {
@@ -102,6 +103,7 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     const openvdb::Vec3i dims = asset.source.dims;
     ExportResult result;
     result.lattice = settings.lattice.value_or(sourceLattice(asset.worldFromIndex, dims));
+    if (settings.threshold && std::isnan(*settings.threshold)) throw InputError("--threshold", "must be a number, not NaN");
     result.threshold = settings.threshold.value_or(defaultExportThreshold(asset.source));
     result.thresholdAbove = defaultExportThresholdAbove(asset.source);
     const openvdb::Coord size = result.lattice.box.dim();

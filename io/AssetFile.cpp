@@ -4,6 +4,7 @@
 
 #include "AtomicFile.h"
 #include "Error.h"
+#include "InputFile.h"
 #include "GaussianKernel.h"
 #include "MemoryBudget.h"
 
@@ -333,6 +334,7 @@ void writeAssetBytes(const std::string& path, const std::string& bytes) {
 }
 
 bool isAssetFile(const std::string& path) {
+    if (!std::filesystem::is_regular_file(path)) return false;  // a FIFO would block the read
     std::ifstream in(path, std::ios::binary);
     char magic[sizeof kMagic] = {};
     in.read(magic, sizeof magic);
@@ -340,6 +342,7 @@ bool isAssetFile(const std::string& path) {
 }
 
 GaussianAsset readAsset(const std::string& path) {
+    requireRegularFile(path);
     if (!isAssetFile(path)) throw InputError(path, "not a gvr asset (no GVRASSET magic)");
     std::ifstream in(path, std::ios::binary | std::ios::ate);
     const std::uint64_t size = std::uint64_t(in.tellg());

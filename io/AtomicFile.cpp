@@ -1,12 +1,17 @@
 #include "AtomicFile.h"
 
 #include "Error.h"
+#include "InputFile.h"
+#include "Readers.h"
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 #include <system_error>
 
@@ -34,12 +39,45 @@ bool sameFile(const fs::path& a, const fs::path& b) {
     return fs::weakly_canonical(a, error) == fs::weakly_canonical(b, error);
 }
 
+const std::string kTemporaryPrefix = ".tmp";
+
+/// What follows ".tmp<pid>-" in a temporary's name: the target's own name when the
+/// whole fits in a file name (255 bytes), else a hash of it. Either way the name
+/// keeps the extension, since some writers choose a format by it (nifticlib:
+/// .nii.gz included).
+std::string temporarySuffix(const std::string& name) {
+    constexpr std::size_t kNameMax = 255, kPrefixMax = 4 + 10 + 1;  // ".tmp", a pid, "-"
+    if (name.size() + kPrefixMax <= kNameMax) return name;
+    const std::size_t dot = name.find('.', name.size() - std::min<std::size_t>(name.size(), 16));
+    return std::to_string(std::hash<std::string>{}(name)) + (dot == std::string::npos ? "" : name.substr(dot));
+}
+
+/// Removes the temporaries of the same output left by processes that are gone
+/// (killed with SIGKILL, or by a power cut): ".tmp<pid>-<suffix>" whose pid no
+/// longer runs.
+void removeStaleTemporaries(const fs::path& folder, const std::string& suffix) {
+    std::error_code error;
+    for (const auto& entry : fs::directory_iterator(folder, error)) {
+        const std::string name = entry.path().filename().string();
+        const std::size_t dash = name.find('-');
+        if (name.rfind(kTemporaryPrefix, 0) != 0 || dash == std::string::npos || name.substr(dash + 1) != suffix) continue;
+        const std::string digits = name.substr(kTemporaryPrefix.size(), dash - kTemporaryPrefix.size());
+        if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+        const pid_t pid = pid_t(std::stol(digits));
+        if (pid == getpid() || kill(pid, 0) == 0 || errno != ESRCH) continue;
+        std::error_code ignored;
+        fs::remove(entry.path(), ignored);
+    }
+}
+
 }  // namespace
 
 void removeTemporariesOnSignals() {
     static std::once_flag installed;
     std::call_once(installed, [] {
-        for (int signal : {SIGINT, SIGTERM, SIGHUP}) {
+        // Every signal whose default ends the process; SIGKILL cannot be caught, so
+        // its temporaries are removed by the next write of the same output.
+        for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGPIPE, SIGVTALRM, SIGPROF}) {
             struct sigaction action {};
             action.sa_handler = removeTemporaryAndExit;
             sigemptyset(&action.sa_mask);
@@ -52,6 +90,7 @@ void removeTemporariesOnSignals() {
 }
 
 void checkOutputPath(const std::string& flag, const std::string& output, const std::vector<std::string>& inputs) {
+    requireNoNulByte(output);
     const fs::path target(output);
     const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
     if (!fs::is_directory(folder)) throw InputError(flag + " " + output, "output folder does not exist");
@@ -62,8 +101,11 @@ void checkOutputPath(const std::string& flag, const std::string& output, const s
         throw InputError(flag + " " + output, "exists and is not a regular file; gvr replaces only files");
     }
     for (const std::string& input : inputs) {
-        if (!input.empty() && sameFile(target, input)) {
-            throw InputError(flag + " " + output, "is also an input; write the result to another file");
+        if (input.empty()) continue;
+        for (const std::string& file : filesReadFrom(input)) {
+            if (!sameFile(target, file)) continue;
+            const std::string which = file == input ? "is also an input" : "is one of the files read from " + input;
+            throw InputError(flag + " " + output, which + "; write the result to another file");
         }
     }
 }
@@ -72,11 +114,12 @@ void writeAtomically(const std::string& path, const std::function<void(const std
     checkOutputPath("output", path, {});
     const fs::path target(path);
     const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    // The temporary lives in the same folder so the final rename cannot cross devices,
-    // and keeps the file's extension for writers that choose a format by it (nifticlib).
-    const fs::path temporary = folder / (".tmp" + std::to_string(getpid()) + "-" + target.filename().string());
+    // The temporary lives in the same folder so the final rename cannot cross devices.
+    const std::string suffix = temporarySuffix(target.filename().string());
+    const fs::path temporary = folder / (kTemporaryPrefix + std::to_string(getpid()) + "-" + suffix);
     if (temporary.native().size() >= sizeof(gTemporary)) throw InputError(path, "path is too long");
     std::lock_guard<std::mutex> lock(gWriting);
+    removeStaleTemporaries(folder, suffix);
     std::strcpy(gTemporary, temporary.c_str());
     gHasTemporary = 1;
     try {

@@ -61,12 +61,21 @@ nlohmann::json sharedRecord(const GaussianAsset& part) {
     return shared;
 }
 
+/// The part's record of the plan it shares with every other part: the brick count,
+/// the whole byte budget (the ratio) and the encoding.
+nlohmann::json planRecord(const GaussianAsset& part) {
+    nlohmann::json plan = part.fitSettings.value("brick", nlohmann::json::object());
+    for (const char* ownToTheBrick : {"index", "core_min", "core_max", "budget", "run"}) plan.erase(ownToTheBrick);
+    return plan;
+}
+
 /// Refuses @a part when it belongs to another fit than @a first.
 void checkSameFit(const GaussianAsset& first, const GaussianAsset& part, const std::string& name) {
-    if (sharedRecord(part) != sharedRecord(first) || part.params.channels != first.params.channels ||
+    if (sharedRecord(part) != sharedRecord(first) || planRecord(part) != planRecord(first) ||
+        part.params.channels != first.params.channels ||
         part.worldFromIndex != first.worldFromIndex || part.source.dims != first.source.dims ||
         part.mapping.scale != first.mapping.scale || part.mapping.offset != first.mapping.offset) {
-        throw InputError(name, "is a brick of another fit (other volume, settings or brick count) than the first part");
+        throw InputError(name, "is a brick of another fit (other volume, settings, ratio or brick count) than the first part");
     }
 }
 

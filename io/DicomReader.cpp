@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -33,6 +34,7 @@ using openvdb::Vec3d;
 struct SliceHeader {
     std::string file;
     Vec3d position;  // ImagePositionPatient, LPS mm
+    bool hasPosition = false;
     double along = 0;  // position projected on the slice normal
     double intercept = 0;
     double slope = 1;
@@ -73,6 +75,44 @@ Vec3d vec3(const std::vector<double>& values, std::size_t offset) {
     return Vec3d(values.at(offset), values.at(offset + 1), values.at(offset + 2));
 }
 
+/// A negative or zero spacing would mirror or collapse the image without a word.
+void checkSpacing(const std::vector<double>& spacing, const std::string& file) {
+    if (spacing.size() < 2 || !(spacing[0] > 0.0 && spacing[1] > 0.0) || !std::isfinite(spacing[0] * spacing[1])) {
+        throw InputError(file, "PixelSpacing must be two positive numbers");
+    }
+}
+
+/// Grey, or RGB stored as RGB: a palette's indices or YCbCr values read as they
+/// stand would be the wrong picture.
+void checkPhotometric(const gdcm::DataSet& dataSet, const std::string& file) {
+    const std::string photometric = stringElement(dataSet, gdcm::Tag(0x0028, 0x0004));
+    if (photometric.empty() || photometric == "MONOCHROME1" || photometric == "MONOCHROME2" || photometric == "RGB") return;
+    // Compressed YBR is turned into RGB by the decoder; stored as it is, it is not.
+    const bool compressedYbr = photometric.rfind("YBR_", 0) == 0 && photometric != "YBR_FULL";
+    if (compressedYbr) return;
+    throw InputError(file, "PhotometricInterpretation " + photometric +
+                               " is not supported (gvr reads MONOCHROME1/2 and RGB; convert the series, e.g. with "
+                               "gdcmconv --raw)");
+}
+
+/// An element that must hold a finite decimal string when present.
+void checkFiniteText(const gdcm::DataSet& dataSet, const gdcm::Tag& tag, const std::string& name,
+                     const std::string& file) {
+    const std::string text = stringElement(dataSet, tag);
+    if (text.empty()) return;
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || !std::isfinite(value)) {
+        throw InputError(file, name + " '" + text + "' is not a finite number");
+    }
+}
+
+bool sameDirections(const std::vector<double>& cosines, const SeriesHeader& series) {
+    constexpr double kTolerance = 1e-4;
+    return (vec3(cosines, 0) - series.rowDirection).length() < kTolerance &&
+           (vec3(cosines, 3) - series.columnDirection).length() < kTolerance;
+}
+
 /// Reads one slice's header; the pixel data is skipped.
 SliceHeader readSliceHeader(const std::string& file, SeriesHeader& series, bool first) {
     checkDicomStructure(file);
@@ -95,12 +135,18 @@ SliceHeader readSliceHeader(const std::string& file, SeriesHeader& series, bool 
                                "of single-frame slices");
     }
 
+    checkSpacing(spacing, file);
+    checkPhotometric(dataSet, file);
     SliceHeader slice;
     slice.file = file;
+    slice.hasPosition = dataSet.FindDataElement(gdcm::Tag(0x0020, 0x0032));
     slice.position = vec3(gdcm::ImageHelper::GetOriginValue(dicom), 0);
     const std::vector<double> rescale = gdcm::ImageHelper::GetRescaleInterceptSlopeValue(dicom);
     slice.intercept = rescale.at(0);
     slice.slope = rescale.at(1);
+    // GDCM takes an unreadable slope for 1: the text itself must be a finite number.
+    checkFiniteText(dataSet, gdcm::Tag(0x0028, 0x1052), "RescaleIntercept", file);
+    checkFiniteText(dataSet, gdcm::Tag(0x0028, 0x1053), "RescaleSlope", file);
 
     const std::string uid = stringElement(dataSet, gdcm::Tag(0x0020, 0x000e));
     if (first) {
@@ -120,6 +166,10 @@ SliceHeader readSliceHeader(const std::string& file, SeriesHeader& series, bool 
                                    std::to_string(dims[1]) + " but the series is " +
                                    std::to_string(series.columns) + "x" +
                                    std::to_string(series.rows));
+    } else if (!sameDirections(cosines, series) || spacing.at(0) != series.columnSpacing ||
+               spacing.at(1) != series.rowSpacing) {
+        throw InputError(file, "ImageOrientationPatient or PixelSpacing differs from the series' first slice; "
+                               "gvr stacks slices of one geometry");
     } else if (uid != series.seriesUid) {
         throw InputError(file, "belongs to another series (SeriesInstanceUID " + uid +
                                    "); put one series per folder");
@@ -150,7 +200,12 @@ SeriesHeader readSeriesHeader(const std::string& folder) {
     if (normal.length() < 0.5) {
         throw InputError(files.front(), "ImageOrientationPatient is missing or degenerate");
     }
-    for (SliceHeader& slice : series.slices) slice.along = slice.position.dot(normal);
+    for (SliceHeader& slice : series.slices) {
+        if (series.slices.size() > 1 && !slice.hasPosition) {
+            throw InputError(slice.file, "has no ImagePositionPatient, so its place in the series is unknown");
+        }
+        slice.along = slice.position.dot(normal);
+    }
     std::sort(series.slices.begin(), series.slices.end(),
               [](const SliceHeader& a, const SliceHeader& b) { return a.along < b.along; });
     for (std::size_t s = 1; s < series.slices.size(); ++s) {
@@ -223,6 +278,17 @@ void checkPixelDataComplete(const gdcm::DataSet& dataSet, const std::string& fil
     }
 }
 
+/// Three planes of @a pixels samples of @a bytes each, as RGB triples.
+std::vector<char> interleavedFromPlanes(const std::vector<char>& planes, std::size_t pixels, std::size_t bytes) {
+    std::vector<char> out(planes.size());
+    for (std::size_t p = 0; p < pixels; ++p) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            std::copy_n(planes.data() + (c * pixels + p) * bytes, bytes, out.data() + (p * 3 + c) * bytes);
+        }
+    }
+    return out;
+}
+
 /// Decodes one slice into @a destination, rescaled to float when the series mixes
 /// rescale parameters.
 void decodeSlice(const SeriesHeader& series, std::size_t index, unsigned char* destination,
@@ -239,15 +305,17 @@ void decodeSlice(const SeriesHeader& series, std::size_t index, unsigned char* d
         throw InputError(slice.file, "pixel data holds " + std::to_string(image.GetBufferLength()) +
                                          " bytes, expected " + std::to_string(storedBytes));
     }
-    if (!perSliceRescale) {
-        if (!image.GetBuffer(reinterpret_cast<char*>(destination))) {
-            throw InputError(slice.file, "truncated or undecodable DICOM pixel data");
-        }
-        return;
-    }
     std::vector<char> stored(storedBytes);
     if (!image.GetBuffer(stored.data())) {
         throw InputError(slice.file, "truncated or undecodable DICOM pixel data");
+    }
+    // PlanarConfiguration 1 stores the red plane, then green, then blue.
+    if (series.samplesPerPixel == 3 && image.GetPlanarConfiguration() == 1) {
+        stored = interleavedFromPlanes(stored, samples / 3, bytesPerSample(series.type));
+    }
+    if (!perSliceRescale) {
+        std::copy(stored.begin(), stored.end(), reinterpret_cast<char*>(destination));
+        return;
     }
     float* out = reinterpret_cast<float*>(destination);
     dispatchSampleType(series.type, [&](auto sample) {
@@ -277,6 +345,7 @@ private:
 }  // namespace
 
 bool isDicomFile(const std::string& path) {
+    if (!std::filesystem::is_regular_file(path)) return false;  // a FIFO would block the read
     std::ifstream in(path, std::ios::binary);
     char magic[4] = {};
     in.seekg(128);  // the magic follows a 128-byte preamble

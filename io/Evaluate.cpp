@@ -65,6 +65,7 @@ std::vector<std::uint8_t> foregroundMask(const EvalOptions& options, const Float
     };
     double cut = 0.0;
     if (options.threshold) {
+        if (std::isnan(*options.threshold)) throw InputError("--threshold", "must be a number, not NaN");
         cut = *options.threshold;
         rule = "reference above " + std::to_string(cut);
     } else {

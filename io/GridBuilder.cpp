@@ -254,6 +254,13 @@ openvdb::math::Transform::Ptr transformOf(const DenseVolume& volume, const GridB
     const std::string& file = settings.sourceFile;
     const openvdb::math::Mat4d worldFromIndex = flippedWorldFromIndex(volume, settings.flip);
     const openvdb::Mat3d linear = worldFromIndex.getMat3();
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j) {
+            if (!std::isfinite(worldFromIndex(i, j))) {
+                throw InputError(file, "the voxel spacing or orientation is not a finite number (NaN or Inf)");
+            }
+        }
+    }
     std::ostringstream determinant;
     determinant << "(its determinant is " << linear.det() << ")";
     const openvdb::Vec3d spacing = axisSpacing(volume.worldFromIndex);

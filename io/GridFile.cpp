@@ -2,6 +2,7 @@
 
 #include "AtomicFile.h"
 #include "Error.h"
+#include "InputFile.h"
 #include "VdbLengths.h"
 #include "VolumeMetadata.h"
 
@@ -17,6 +18,7 @@ namespace gvr {
 void initializeOpenVdb() { openvdb::initialize(); }
 
 bool isVdbFile(const std::string& path) {
+    if (!std::filesystem::is_regular_file(path)) return false;  // a FIFO would block the read
     std::ifstream in(path, std::ios::binary);
     std::int32_t magic = 0;
     in.read(reinterpret_cast<char*>(&magic), sizeof magic);
@@ -54,6 +56,11 @@ openvdb::GridPtrVecPtr gridMetadata(const std::string& path, bool hasGridOffsets
 /// asks for the affine map, far from the file.
 void checkTransforms(const openvdb::GridPtrVec& grids, const std::string& path) {
     for (const auto& grid : grids) {
+        // A frustum's affine part is the identity: read as it, the voxels would move.
+        if (!grid->transform().isLinear()) {
+            throw InputError(path, "grid '" + grid->getName() + "' has a non-linear (frustum) transform; "
+                                   "gvr reads linear transforms only");
+        }
         bool usable = false;
         try {
             const openvdb::Mat4d matrix = grid->transform().baseMap()->getAffineMap()->getMat4();
@@ -94,7 +101,7 @@ openvdb::GridPtrVecPtr loadGrids(const std::string& path, Voxels voxels, bool ha
 
 openvdb::GridPtrVecPtr readGrids(const std::string& path, Voxels voxels) {
     initializeOpenVdb();
-    if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
+    requireRegularFile(path);
     if (!isVdbFile(path)) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
     const bool hasGridOffsets = checkVdbLengths(path);
     openvdb::GridPtrVecPtr grids;

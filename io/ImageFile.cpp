@@ -4,11 +4,13 @@
 #include "Error.h"
 #include "LowerCase.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <vector>
 
 namespace gvr {
@@ -38,19 +40,27 @@ void writeImage(const std::string& path, int width, int height, const float* pre
     if (extension != ".png" && extension != ".exr") {
         throw InputError(path, "unknown image format '" + extension + "'; write .png (8-bit) or .exr (float)");
     }
+    // Encoded in memory, then written here: OpenImageIO's PNG writer does not see a
+    // short write (a full disk, ulimit -f) and would leave a cut file behind.
+    std::vector<unsigned char> encoded;
+    OIIO::Filesystem::IOVecOutput memory(encoded);
+    auto out = OIIO::ImageOutput::create(path, &memory);
+    if (!out) throw InputError(path, "OpenImageIO cannot write this format: " + OIIO::geterror());
+    const bool png = extension == ".png";
+    OIIO::ImageSpec spec(width, height, 4, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
+    spec.attribute("oiio:UnassociatedAlpha", png ? 1 : 0);
+    const std::vector<std::uint8_t> bytes = png ? straightBytes(width, height, premultipliedRgba)
+                                                : std::vector<std::uint8_t>();
+    const bool written = out->open(path, spec) &&
+                         (png ? out->write_image(OIIO::TypeDesc::UINT8, bytes.data())
+                              : out->write_image(OIIO::TypeDesc::FLOAT, premultipliedRgba)) &&
+                         out->close();
+    if (!written) throw InputError(path, "encoding the image failed: " + out->geterror());
     writeAtomically(path, [&](const std::string& temporary) {
-        auto out = OIIO::ImageOutput::create(path);
-        if (!out) throw InputError(path, "OpenImageIO cannot write this format: " + OIIO::geterror());
-        const bool png = extension == ".png";
-        OIIO::ImageSpec spec(width, height, 4, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
-        spec.attribute("oiio:UnassociatedAlpha", png ? 1 : 0);
-        const std::vector<std::uint8_t> bytes = png ? straightBytes(width, height, premultipliedRgba)
-                                                    : std::vector<std::uint8_t>();
-        const bool written = out->open(temporary, spec) &&
-                             (png ? out->write_image(OIIO::TypeDesc::UINT8, bytes.data())
-                                  : out->write_image(OIIO::TypeDesc::FLOAT, premultipliedRgba)) &&
-                             out->close();
-        if (!written) throw InputError(path, "writing the image failed: " + out->geterror());
+        std::ofstream file(temporary, std::ios::binary);
+        file.write(reinterpret_cast<const char*>(encoded.data()), std::streamsize(encoded.size()));
+        file.close();
+        if (!file) throw InputError(path, "cannot write the image (disk full?)");
     });
 }
 

@@ -24,24 +24,39 @@ struct Page {
 struct StackLayout {
     int width = 0, height = 0;
     int channels = 0;  // 1 grey or 3 RGB, after dropping alpha
+    bool alpha = false; // some slice had an alpha channel
     SampleType type = SampleType::UInt8;
     std::vector<Page> pages;
 };
 
+/// Integers are read as the integers they are: asked for float, OpenImageIO would
+/// scale an int16 TIFF's -1024..2036 HU to -0.031..0.062.
+constexpr std::pair<OIIO::TypeDesc::BASETYPE, SampleType> kIntegerTypes[] = {
+    {OIIO::TypeDesc::UINT8, SampleType::UInt8},   {OIIO::TypeDesc::INT8, SampleType::Int8},
+    {OIIO::TypeDesc::UINT16, SampleType::UInt16}, {OIIO::TypeDesc::INT16, SampleType::Int16},
+    {OIIO::TypeDesc::UINT32, SampleType::UInt32}, {OIIO::TypeDesc::INT32, SampleType::Int32},
+};
+
 SampleType sampleTypeOf(const OIIO::TypeDesc& format) {
-    if (format == OIIO::TypeDesc::UINT8) return SampleType::UInt8;
-    if (format == OIIO::TypeDesc::UINT16) return SampleType::UInt16;
-    return SampleType::Float32;  // half, float and wide integers all fit
+    for (const auto& [base, type] : kIntegerTypes) {
+        if (format.basetype == base) return type;
+    }
+    return SampleType::Float32;  // half, float, double and 64-bit integers
 }
 
 OIIO::TypeDesc typeDescOf(SampleType type) {
-    if (type == SampleType::UInt8) return OIIO::TypeDesc::UINT8;
-    if (type == SampleType::UInt16) return OIIO::TypeDesc::UINT16;
+    for (const auto& [base, sample] : kIntegerTypes) {
+        if (sample == type) return OIIO::TypeDesc(base);
+    }
     return OIIO::TypeDesc::FLOAT;
 }
 
 std::unique_ptr<OIIO::ImageInput> openImage(const std::string& file) {
-    auto input = OIIO::ImageInput::open(file);
+    // Alpha is not part of the values: unassociated, colour and grey come as stored
+    // (premultiplied, alpha 0 would zero them), and the alpha channel is not read.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto input = OIIO::ImageInput::open(file, &config);
     if (!input) {
         std::string why = OIIO::geterror();
         if (why.empty()) why = "not a readable image";
@@ -73,6 +88,7 @@ void addPage(const std::string& file, int subimage, const OIIO::ImageSpec& spec,
                                    " but earlier slices store " + sampleTypeName(layout.type));
     }
     if (spec.depth > 1) throw InputError(file, "volume images are not supported as slices");
+    layout.alpha = layout.alpha || spec.alpha_channel >= 0 || spec.nchannels == 2 || spec.nchannels == 4;
     layout.pages.push_back({file, subimage});
 }
 
@@ -145,6 +161,7 @@ std::unique_ptr<SliceSource> openImageStack(const std::vector<std::string>& file
     layout.dims = {stack.width, stack.height, std::int64_t(stack.pages.size())};
     layout.channels = stack.channels;
     layout.type = stack.type;
+    if (stack.alpha) layout.warnings.push_back("the slices' alpha channel is ignored: values are read as stored");
     checkDimensions(culprit, layout.dims);
     setGivenSpacing(options, layout);
     return std::make_unique<ImageStack>(std::move(layout), culprit, std::move(stack));

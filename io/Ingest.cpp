@@ -59,7 +59,13 @@ IngestResult ingest(const std::string& input, IngestOptions options) {
     try {
         IngestResult result = buildImageGrid(input, options, decodedBytes);
         if (const auto warning = lungWarning(*result.grid)) result.warnings.push_back(*warning);
-        if (!options.labels.empty()) result.labels = readLabels(options, *result.grid);
+        if (!options.labels.empty()) {
+            result.labels = readLabels(options, *result.grid);
+            if (result.labels->activeVoxelCount() == 0) {
+                result.warnings.push_back("the labels of " + options.labels +
+                                          " do not overlap the image: no structure has a voxel in it");
+            }
+        }
         return result;
     } catch (const std::bad_alloc&) {
         // The memory check passed, so the machine changed under us or a library

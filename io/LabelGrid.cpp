@@ -1,6 +1,7 @@
 #include "LabelGrid.h"
 
 #include "Error.h"
+#include "InputFile.h"
 #include "SampleType.h"
 #include "VolumeMetadata.h"
 
@@ -27,9 +28,13 @@ std::vector<std::int32_t> integerLabels(const DenseVolume& volume, const std::st
         const T* data = volume.data<T>();
         for (std::size_t n = 0; n < labels.size(); ++n) {
             const double value = volume.slope * double(data[n]) + volume.intercept;
-            if (value != std::round(value) || std::abs(value) > std::numeric_limits<std::int32_t>::max()) {
+            if (value != std::round(value)) {
                 throw InputError(path, "is not a label volume: voxel " + std::to_string(n) + " holds " +
                                            std::to_string(value) + ", not an integer");
+            }
+            if (std::abs(value) > std::numeric_limits<std::int32_t>::max()) {
+                throw InputError(path, "voxel " + std::to_string(n) + " holds the label " + std::to_string(value) +
+                                           ", beyond the 32-bit labels gvr keeps");
             }
             labels[n] = std::int32_t(value);
         }
@@ -69,6 +74,7 @@ void storeNames(openvdb::GridBase& grid, const std::set<int>& present, const Lab
 }  // namespace
 
 LabelTable readLabelNames(const std::string& path) {
+    requireRegularFile(path);
     std::ifstream in(path);
     if (!in) throw InputError(path, "cannot open the label names");
     LabelTable table;

@@ -1,6 +1,7 @@
 #include "LabelStyleFile.h"
 
 #include "Error.h"
+#include "InputFile.h"
 
 #include <nlohmann/json.hpp>
 
@@ -41,6 +42,7 @@ LabelStyle parseStyle(const nlohmann::json& entry, const std::string& path, cons
 }  // namespace
 
 std::map<std::string, LabelStyle> readLabelStyles(const std::string& path) {
+    requireRegularFile(path);
     std::ifstream in(path);
     if (!in) throw InputError(path, "cannot open the label styles");
     const nlohmann::json file = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);

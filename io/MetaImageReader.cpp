@@ -50,6 +50,13 @@ void checkDataFile(const std::string& header, const std::string& samplesPath) {
 }
 
 /// Reads "Key = Value" lines up to ElementDataFile, which MetaImage requires last.
+MetaHeader readHeader(const std::string& path);
+
+/// Where @a header's samples are: @a path itself for LOCAL, else the named file
+/// beside it, which may not be the header itself.
+std::string dataFileOf(const MetaHeader& header, const std::string& path);
+
+/// Reads "Key = Value" lines up to ElementDataFile, which MetaImage requires last.
 MetaHeader readHeader(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path, "cannot open file");
@@ -77,6 +84,20 @@ const std::string& field(const MetaHeader& header, const std::string& key, const
     const auto found = header.fields.find(key);
     if (found == header.fields.end()) throw InputError(path, "MetaImage header lacks " + key);
     return found->second;
+}
+
+std::string dataFileOf(const MetaHeader& header, const std::string& path) {
+    const std::string dataFile = field(header, "ElementDataFile", path);
+    if (dataFile == "LIST" || dataFile.find('%') != std::string::npos) {
+        throw InputError(path, "MetaImage ElementDataFile '" + dataFile + "' (slice lists) is not supported");
+    }
+    if (dataFile == "LOCAL") return path;
+    const std::filesystem::path samples = std::filesystem::path(path).parent_path() / dataFile;
+    std::error_code error;
+    if (std::filesystem::equivalent(samples, path, error)) {
+        throw InputError(path, "ElementDataFile names the header itself (write LOCAL for samples after the header)");
+    }
+    return samples.string();
 }
 
 std::vector<double> numbers(const MetaHeader& header, const std::string& key, std::size_t count,
@@ -152,6 +173,8 @@ openvdb::math::Mat4d worldFromIndexOf(const MetaHeader& header, int ndims, const
 
 }  // namespace
 
+std::string metaImageDataFile(const std::string& path) { return dataFileOf(readHeader(path), path); }
+
 DenseVolume readMetaImage(const std::string& path, const ReadOptions& options) {
     const MetaHeader header = readHeader(path);
     const int ndims = countOr(header, "NDims", 0.0, path);
@@ -175,14 +198,10 @@ DenseVolume readMetaImage(const std::string& path, const ReadOptions& options) {
     volume.worldFromIndex = worldFromIndexOf(header, ndims, path);
     const bool bigEndian = isTrue(header, "BinaryDataByteOrderMSB") || isTrue(header, "ElementByteOrderMSB");
     const std::string dataFile = field(header, "ElementDataFile", path);
-    if (dataFile == "LIST" || dataFile.find('%') != std::string::npos) {
-        throw InputError(path, "MetaImage ElementDataFile '" + dataFile + "' (slice lists) is not supported");
-    }
     reserveSamples(volume, path);  // the sample reader allocates as data arrives
 
     const bool local = dataFile == "LOCAL";
-    const std::string samplesPath =
-        local ? path : (std::filesystem::path(path).parent_path() / dataFile).string();
+    const std::string samplesPath = dataFileOf(header, path);
     if (!local) checkDataFile(path, samplesPath);
     if (!local && !options.dataFilesAnywhere && !liesBelow(samplesPath, std::filesystem::path(path).parent_path())) {
         throw InputError(path, "ElementDataFile " + dataFile +

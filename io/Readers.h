@@ -54,6 +54,15 @@ bool isImageFile(const std::string& path);
 /// glob pattern of images, and reads the whole volume.
 DenseVolume readVolume(const std::string& input, const ReadOptions& options);
 
+/// The files reading @a input opens: a pattern's matches, a folder's images and
+/// DICOM files, a MetaImage header and its data file, else @a input itself. No
+/// output may be one of them.
+std::vector<std::string> filesReadFrom(const std::string& input);
+
+/// The file that holds a MetaImage's samples: the header itself for LOCAL.
+/// @throw InputError naming @a path for a corrupt header or a slice list.
+std::string metaImageDataFile(const std::string& path);
+
 /// The slab-by-slab source for @a input when its format can stream (raw files,
 /// image stacks, DICOM series; see SliceSource.h), else null.
 /// @throw InputError naming the input when it does not exist or its headers are bad.

@@ -2,6 +2,7 @@
 
 #include "AtomicFile.h"
 #include "Error.h"
+#include "InputFile.h"
 
 #include <nlohmann/json.hpp>
 
@@ -10,6 +11,7 @@
 namespace gvr {
 
 TransferFunction readTransferFunction(const std::string& path) {
+    requireRegularFile(path);
     std::ifstream in(path);
     if (!in) throw InputError(path, "cannot open the transfer function file");
     const nlohmann::json file = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);

@@ -3,6 +3,7 @@
 
 #include "Error.h"
 #include "GridFile.h"
+#include "InputFile.h"
 #include "LowerCase.h"
 #include "Readers.h"
 
@@ -63,6 +64,11 @@ std::vector<std::string> imagesInFolder(const std::string& folder) {
     return naturallySorted(files);
 }
 
+/// A pattern that names no file itself: a file called "a[1].png" is just a file.
+bool isGlobPattern(const std::string& input) {
+    return input.find_first_of("*?[") != std::string::npos && !fs::exists(input);
+}
+
 std::vector<std::string> globFiles(const std::string& pattern) {
     glob_t matches{};
     std::vector<std::string> files;
@@ -91,8 +97,8 @@ std::unique_ptr<SliceSource> openFolder(const std::string& folder, const ReadOpt
     return openImageStack(images, folder, options);
 }
 
-/// The formats that are read whole.
-DenseVolume readFile(const std::string& path, const ReadOptions& options) {
+/// The formats that are read whole, all of which carry their own geometry.
+DenseVolume readFileByFormat(const std::string& path, const ReadOptions& options) {
     if (isVdbFile(path)) return readVdb(path, options);
     const std::string name = lowerCase(path);
     if (endsWith(name, ".nii") || endsWith(name, ".nii.gz")) return readNifti(path, options);
@@ -122,17 +128,53 @@ void setGivenSpacing(const ReadOptions& options, DenseVolume& volume) {
 }
 
 std::unique_ptr<SliceSource> openSliceSource(const std::string& input, const ReadOptions& options) {
-    if (input.find_first_of("*?[") != std::string::npos && !fs::exists(input)) {
+    if (isGlobPattern(input)) {
         const std::vector<std::string> files = globFiles(input);
         if (files.empty()) throw InputError(input, "pattern matches no files");
+        for (const std::string& file : files) requireRegularFile(file);
         return openImageStack(files, input, options);
     }
     if (!fs::exists(input)) throw InputError(input, "no such file or folder");
+    if (!fs::is_directory(input)) requireRegularFile(input);
     if (options.raw) return openRawSource(input, options);
     if (fs::is_directory(input)) return openFolder(input, options);
     if (!isVdbFile(input) && isImageFile(input)) return openImageStack({input}, input, options);
     return nullptr;
 }
+
+std::vector<std::string> filesReadFrom(const std::string& input) {
+    if (isGlobPattern(input)) return globFiles(input);
+    std::error_code error;
+    if (fs::is_directory(input, error)) {
+        std::vector<std::string> files;
+        for (const auto& entry : fs::directory_iterator(input, error)) {
+            const std::string file = entry.path().string();
+            if (entry.is_regular_file() && (isImageFile(file) || isDicomFile(file))) files.push_back(file);
+        }
+        return files;
+    }
+    const std::string name = lowerCase(input);
+    if ((endsWith(name, ".mhd") || endsWith(name, ".mha")) && fs::is_regular_file(input, error)) {
+        try {
+            return {input, metaImageDataFile(input)};
+        } catch (const InputError&) {
+            // Reading will refuse the header before anything is written.
+        }
+    }
+    return {input};
+}
+
+namespace {
+
+/// The formats read whole carry their own voxel size, so --spacing (for formats
+/// without one) would be a silent choice between two answers: it is named.
+DenseVolume readFile(const std::string& path, const ReadOptions& options) {
+    DenseVolume volume = readFileByFormat(path, options);
+    if (options.spacingMm) volume.warnings.push_back("--spacing is ignored: the file gives its own voxel size");
+    return volume;
+}
+
+}  // namespace
 
 DenseVolume readVolume(const std::string& input, const ReadOptions& options) {
     if (const auto source = openSliceSource(input, options)) return readWholeVolume(*source, options.progress);

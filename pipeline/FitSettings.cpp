@@ -8,7 +8,13 @@ namespace gvr {
 
 std::string FitSettings::validate() const {
     if (iterations == 0 && !(seconds > 0.0)) return "--iterations or --time must be positive";
-    if (seconds < 0.0 || !std::isfinite(seconds)) return "--time must be a finite number of seconds >= 0";
+    if (!(seconds >= 0.0 && seconds <= kMaxFitSeconds)) {
+        return "--time must lie in [0, " + std::to_string(std::int64_t(kMaxFitSeconds)) + "] seconds (about 11 days)";
+    }
+    if (iterations > kMaxFitIterations) {
+        return "--iterations must be at most " + std::to_string(kMaxFitIterations);
+    }
+    if (voxelBatch > kMaxVoxelBatch) return "--batch must be at most " + std::to_string(kMaxVoxelBatch) + " voxels";
     // Written as !(x >= 0) and the like throughout, so that NaN is refused too.
     if (!(gradientSeedShare >= 0.0) || !(uniformSeedShare >= 0.0) || !(gradientSeedShare + uniformSeedShare > 0.0) ||
         !std::isfinite(gradientSeedShare + uniformSeedShare)) {

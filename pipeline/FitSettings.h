@@ -24,6 +24,12 @@ enum class SliceSchedule {
 /// The paper's full method and its ablations A1-A5.
 enum class Ablation { Full, A1, A2, A3, A4, A5 };
 
+/// The largest budgets a fit takes: beyond them a typo, not a plan (and 2^64 - 1
+/// iterations would never end).
+constexpr double kMaxFitSeconds = 1e6;
+constexpr std::size_t kMaxFitIterations = 1'000'000'000;
+constexpr std::size_t kMaxVoxelBatch = std::size_t(1) << 30;
+
 struct FitSettings {
     std::size_t gaussians = 0;  ///< m; the caller derives it from --ratio
     /// With a time budget and a value above 0, m is only a ceiling: the fit times

@@ -503,7 +503,8 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
 
 double psnrFromMse(double mse, double peak) {
     if (mse <= 0.0) return std::numeric_limits<double>::infinity();
-    return 10.0 * std::log10(peak * peak / mse);
+    // In logarithms, so that a peak of 1e300 does not square to infinity.
+    return 20.0 * std::log10(peak) - 10.0 * std::log10(mse);
 }
 
 GaussianParameters fitGaussians(const VolumeTarget& target, const FitSettings& settings,

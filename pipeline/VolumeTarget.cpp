@@ -6,6 +6,7 @@
 #include "VolumeMetadata.h"
 
 #include <cmath>
+#include <sstream>
 
 namespace gvr {
 
@@ -81,6 +82,20 @@ std::bitset<512> blockActiveOf(const TreeT& tree, const openvdb::Coord& origin) 
     return active;
 }
 
+/// Gaussians live in float index space, which steps by more than a voxel beyond
+/// 2^24: a grid far out there would give empty boxes (an Embree assertion).
+void requireFloatExactIndices(const openvdb::CoordBBox& box, const std::string& name) {
+    constexpr std::int64_t kLimit = std::int64_t(1) << 24;
+    for (int a = 0; a < 3; ++a) {
+        if (std::abs(std::int64_t(box.min()[a])) <= kLimit && std::abs(std::int64_t(box.max()[a])) <= kLimit) continue;
+        std::ostringstream text;
+        text << "its voxels reach index " << box.min() << " to " << box.max()
+             << ", beyond +-2^24 where float positions step by more than a voxel; "
+                "ingest it again to move its first voxel to index 0";
+        throw InputError(name, text.str());
+    }
+}
+
 }  // namespace
 
 VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& name,
@@ -104,6 +119,7 @@ VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& 
     }
     if (region) mBox.intersect(*region);
     if (mBox.empty()) throw InputError(name, "grid '" + mGrid->getName() + "' has no voxels");
+    requireFloatExactIndices(mBox, name);
     // A region's voxels may have been read on demand, never checked as a whole grid.
     if (region) requireFiniteValues(*mGrid, name, mBox);
     const openvdb::Vec3d background =

@@ -390,7 +390,7 @@ Classifier classifierOf(const RenderVolume& volume, const TransferSpec& tf) {
         return volumeClassifier(volume, TransferFunction(std::move(converted), "tf"));
     }
     const std::string& name = std::get<std::string>(tf);
-    if (!name.empty() && std::filesystem::is_regular_file(name)) return volumeClassifier(volume, readTransferFunction(name));
+    if (!name.empty() && std::filesystem::exists(name)) return volumeClassifier(volume, readTransferFunction(name));
     return presetClassifier(volume, name);
 }
 

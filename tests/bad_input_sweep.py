@@ -244,7 +244,14 @@ def damaged_assets(work, asset):
     for label, change in [("version 99", lambda d, h: struct.pack_into("<I", d, 8, 99)),
                           ("count + 1", lambda d, h: h.update(count=h["count"] + 1)),
                           ("cutoff 0", lambda d, h: h.update(cutoff_sigmas=0.0)),
-                          ("singular transform", lambda d, h: h.update(world_from_index=[0.0] * 16))]:
+                          ("singular transform", lambda d, h: h.update(world_from_index=[0.0] * 16)),
+                          ("value_scale 1e308", lambda d, h: h.update(value_scale=1e308)),
+                          ("a projective transform", lambda d, h: h.update(
+                              world_from_index=[1, 0, 0, 0.5, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1])),
+                          ("w = 0", lambda d, h: h.update(world_from_index=[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0])),
+                          ("an offset of 1e300 mm", lambda d, h: h.update(
+                              world_from_index=[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1e300, 0, 0, 1])),
+                          ("a count of 16.7 million", lambda d, h: h.update(count=1 << 24))]:
         h = dict(header)
         body = bytearray(data[:-4])
         change(body, h)
@@ -254,6 +261,12 @@ def damaged_assets(work, asset):
         target = work / f"asset-{label.replace(' ', '-')}.gvr"
         target.write_bytes(bytes(rebuilt))
         case("damaged asset", f"asset with a valid CRC but {label}", ["export", target, "-o", "out.vdb"], [target])
+        case("damaged asset", f"rendering an asset with a valid CRC but {label}", ["render", target, "-o", "out.png"],
+             [target], ["out.png"])
+    deep = work / "asset-deep.gvr"
+    text = b"[" * 100000 + b"]" * 100000
+    deep.write_bytes(data[:12] + struct.pack("<I", len(text)) + text + b"\0" * 8)
+    case("damaged asset", "asset header nested 100,000 deep", ["info", deep], [deep], ())
 
 
 def damaged_grids(work, grid):
@@ -300,6 +313,65 @@ def outputs_and_flags(work, grid, asset):
         case("flag out of range", "export " + " ".join(args), ["export", asset, "-o", "out.vdb"] + args, [asset])
 
 
+def legitimate_extremes(work, grid, asset):
+    """Valid data at the ends of the float range, and files whose values gvr must refuse to trust."""
+    rng = numpy.random.default_rng(3)
+    for scale in [1e-36, 1e-40, 3e38]:
+        values = (rng.random((12, 10, 8)) * scale).astype(numpy.float32)
+        target = nifti_float(work, f"scale-{scale:g}.nii", values)
+        for tf in ["mri", "ct-bone"]:
+            case("legitimate extremes", f"render float data of scale {scale:g} with --tf {tf}",
+                 ["render", target, "-o", "out.png", "--tf", tf], [target], ["out.png"], may_succeed=True)
+    for label, points in [("points at +-1e308", [[-1e308, 0, 0, 0, 0], [1e308, 1, 1, 1, 1]]),
+                          ("points 1e-300 apart", [[0, 0, 0, 0, 0], [1e-300, 1, 1, 1, 1]])]:
+        tf = work / f"tf-{label.replace(' ', '-')}.json"
+        tf.write_text(json.dumps({"points": points}))
+        case("legitimate extremes", f"render with a transfer function of {label}",
+             ["render", asset, "-o", "out.png", "--tf", tf], [asset, tf], ["out.png"], may_succeed=True)
+    import pyopenvdb
+    for label, value in [("a NaN voxel", float("nan")), ("an Inf voxel", float("inf"))]:
+        nan = pyopenvdb.FloatGrid()
+        nan.name = "density"
+        accessor = nan.getAccessor()
+        for ijk in [(0, 0, 0), (3, 2, 1), (5, 5, 5)]:
+            accessor.setValueOn(ijk, 1.0)
+        accessor.setValueOn((3, 3, 3), value)
+        target = work / f"grid-{label.replace(' ', '-')}.vdb"
+        pyopenvdb.write(str(target), grids=[nan])
+        for command in [["render", target, "-o", "out.png"], ["fit", target, "-o", "out.gvr", "--iterations", "2"],
+                        ["eval", target, target], ["export", asset, "-o", "out.vdb", "--like", target]]:
+            case("non-finite grid", f"{command[0]} of a .vdb with {label}", command, [target], ["out.png", "out.gvr", "out.vdb"])
+    case("flag out of range", "baseline downsample --factor 2147483647",
+         ["baseline", grid, "--method", "downsample", "--factor", "2147483647", "-o", "out.vdb", "--stream", "s.vdb"], [grid],
+         ["out.vdb", "s.vdb"])
+    for label, args in [("--time 1e30", ["--time", "1e30"]), ("--iterations 2^64-1", ["--iterations", str(2**64 - 1)])]:
+        case("flag out of range", f"fit {label}", ["fit", grid, "-o", "out.gvr"] + args, [grid], ["out.gvr"])
+    for command in [["export", asset, "-o", "out.vdb", "--threshold", "nan"], ["eval", grid, asset, "--threshold", "nan"]]:
+        case("flag out of range", f"{command[0]} --threshold nan", command, [grid, asset])
+
+
+def inputs_kept(work, grid, asset):
+    """Inputs that are not regular files, and outputs that are files an input reads."""
+    for name in ["pipe.nii.gz", "pipe.vdb", "pipe.json"]:
+        os.mkfifo(work / name)
+    for label, args in [("ingest of a FIFO", ["ingest", work / "pipe.nii.gz", "-o", "out.vdb"]),
+                        ("eval against a FIFO", ["eval", grid, work / "pipe.vdb"]),
+                        ("render --tf a FIFO", ["render", asset, "-o", "out.png", "--tf", work / "pipe.json"]),
+                        ("bench of /dev/zero", ["bench", "/dev/zero", "-o", work / "bench-out"])]:
+        case("input not a regular file", label, args, [grid, asset], ["out.vdb", "out.png"])
+    mhd = work / "vol.mhd"
+    mhd.write_text("ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = MET_UCHAR\nElementDataFile = data.vdb\n")
+    (work / "data.vdb").write_bytes(bytes(range(64)))
+    tf = work / "tf.json"
+    tf.write_text(json.dumps({"points": [[0, 0, 0, 0, 0], [100, 1, 1, 1, 0.5]]}))
+    for label, args, inputs in [
+        ("ingest -o the MetaImage's data file", ["ingest", mhd, "-o", work / "data.vdb"], [work / "data.vdb"]),
+        ("render --save-tf the input", ["render", grid, "-o", "out.png", "--save-tf", grid], [grid]),
+        ("render --stats the transfer function", ["render", grid, "-o", "out.png", "--tf", tf, "--stats", tf], [tf]),
+    ]:
+        case("input destroyed", label, args, inputs, ["out.png"])
+
+
 def run_case(gvr, work, c):
     folder = work / "runs" / f"{len(list((work / 'runs').iterdir()))}"
     folder.mkdir()
@@ -342,6 +414,8 @@ def body(gvr, shared, scratch):
     damaged_assets(work, asset)
     damaged_grids(work, grid)
     outputs_and_flags(work, grid, asset)
+    legitimate_extremes(work, grid, asset)
+    inputs_kept(work, grid, asset)
     tally = collections.OrderedDict()
     seconds = []
     for c in cases:

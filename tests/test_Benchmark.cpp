@@ -52,6 +52,16 @@ TEST(Benchmark, RunsEachMethodOnceAndReportsEveryRow) {
     options.resume = true;
     options.onRow = [](const BenchRow&, std::size_t, std::size_t) { ADD_FAILURE() << "nothing should run again"; };
     EXPECT_EQ(runBenchmark(options).rows.size(), 2u);
+    // Another manifest may not resume the folder: its rows would mix with these.
+    BenchOptions other = options;
+    other.manifest = dir.path("other.json");
+    std::filesystem::copy_file(options.manifest, other.manifest);
+    try {
+        runBenchmark(other);
+        ADD_FAILURE() << "another manifest resumed the folder";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("holds the results of"), std::string::npos) << error.what();
+    }
     const BenchSummary merged = mergeBenchResults({summary.folder}, dir.path("merged"));
     ASSERT_EQ(merged.rows.size(), 2u);
     EXPECT_EQ(merged.rows[1].get("psnr"), summary.rows[1].get("psnr"));

@@ -135,6 +135,15 @@ TEST(Bricks, MergeRefusesMissingRepeatedAndForeignParts) {
     const BrickPlan other = planBrickedFit(target, "blobs", options, {2, 4});
     EXPECT_NE(refusal({first, fitBrickPart(grid, "blobs", other, 1, 0.0)}, {"p0", "seed7"}).find("seed7: is a brick of another fit"),
               std::string::npos);
+    // Parts of fits at other ratios once merged without a word.
+    CompressOptions tenToOne = twoBrickOptions(0, 5), twentyToOne = twoBrickOptions(0, 5);
+    tenToOne.ratio = 10.0;
+    twentyToOne.ratio = 20.0;
+    const BrickPlan ten = planBrickedFit(target, "blobs", tenToOne, {2, 4});
+    const BrickPlan twenty = planBrickedFit(target, "blobs", twentyToOne, {2, 4});
+    EXPECT_NE(refusal({fitBrickPart(grid, "blobs", ten, 0, 0.0), fitBrickPart(grid, "blobs", twenty, 1, 0.0)}, {"p0", "p1"})
+                  .find("p1: is a brick of another fit"),
+              std::string::npos);
     GaussianAsset whole = first;
     whole.fitSettings.erase("brick");
     EXPECT_NE(refusal({whole, second}, {"whole", "p1"}).find("whole: is not a brick part"), std::string::npos);

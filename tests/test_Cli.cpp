@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace gvr {
@@ -324,6 +325,116 @@ TEST(Cli, OutputsNeverReplaceInputsOrSpecialFiles) {
     EXPECT_EQ(test::readBytes(grid), before) << "an input was overwritten";
     EXPECT_TRUE(std::filesystem::is_fifo(fifo)) << "the FIFO was replaced by a file";
     EXPECT_TRUE(std::filesystem::is_empty(dir.path("out"))) << "a refused command left a file";
+}
+
+TEST(Cli, NoOutputIsAFileThatAnInputReads) {
+    // One rule for every path written against every file read: the members of a
+    // series, a MetaImage's data file, a saved transfer function, orbit frames.
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    std::filesystem::create_directory(dir.path("series"));
+    for (const char* slice : {"1-001.dcm", "1-002.dcm", "1-003.dcm"}) {
+        std::filesystem::copy_file(test::sharedData(std::string("ct-chest-ricord-512/") + slice), dir.path(std::string("series/") + slice));
+    }
+    std::filesystem::rename(dir.path("series/1-002.dcm"), dir.path("series/s2.vdb"));  // DICOM by content, any name
+    test::writeBytes(dir.path("vol.mhd"), "ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = MET_UCHAR\n"
+                                          "ElementDataFile = data.vdb\n");
+    test::writeBytes(dir.path("data.vdb"), std::string(64, '\7'));
+    test::writeBytes(dir.path("tf.json"), R"({"points": [[0, 0, 0, 0, 0], [100, 1, 1, 1, 0.5]]})");
+    std::filesystem::create_directory(dir.path("frames"));
+    test::writeBytes(dir.path("frames/f_0001.png"), "an input slice");
+    const std::map<std::string, std::string> guarded = {
+        {"series/s2.vdb", "ingest '" + dir.path("series") + "' -o '" + dir.path("series/s2.vdb") + "'"},
+        {"data.vdb", "ingest '" + dir.path("vol.mhd") + "' -o '" + dir.path("data.vdb") + "'"},
+        {"tf.json", "render '" + grid + "' -o '" + dir.path("x.png") + "' --tf '" + dir.path("tf.json") + "' --stats '" +
+                        dir.path("tf.json") + "'"},
+        {"small.vdb", "render '" + grid + "' -o '" + dir.path("y.png") + "' --save-tf '" + grid + "'"},
+        {"frames/f_0001.png", "render '" + dir.path("frames/*.png") + "' --orbit 4 -o '" + dir.path("frames/f.png") + "'"},
+    };
+    for (const auto& [file, command] : guarded) {
+        const std::string before = test::readBytes(dir.path(file));
+        const test::CommandResult run = test::runGvr(command, dir);
+        EXPECT_EQ(run.exitCode, 2) << command << "\n" << run.err;
+        EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
+        EXPECT_TRUE(run.err.find("is also an input") != std::string::npos ||
+                    run.err.find("is one of the files read from") != std::string::npos)
+            << run.err;
+        EXPECT_EQ(test::readBytes(dir.path(file)), before) << file << " was overwritten by: " << command;
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir.path("x.png")));
+    EXPECT_FALSE(std::filesystem::exists(dir.path("y.png")));
+}
+
+TEST(Cli, InputsThatAreNotRegularFilesAreRefusedWithoutBlocking) {
+    // A FIFO as an input once blocked forever, and /dev/zero as a manifest read forever.
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    for (const char* name : {"pipe.vdb", "pipe.nii.gz", "pipe.png", "pipe.gvr", "pipe.json", "pipe.txt"}) {
+        ASSERT_EQ(mkfifo(dir.path(name).c_str(), 0600), 0);
+    }
+    const std::string out = " -o '" + dir.path("out.vdb") + "'";
+    for (const std::string command :
+         {"ingest '" + dir.path("pipe.nii.gz") + "'" + out, "ingest '" + dir.path("pipe.png") + "'" + out,
+          "ingest '" + dir.path("pipe*.png") + "'" + out, "info '" + dir.path("pipe.vdb") + "'",
+          "info '" + dir.path("pipe.gvr") + "'", "eval '" + grid + "' '" + dir.path("pipe.vdb") + "'",
+          "render '" + grid + "' -o '" + dir.path("x.png") + "' --tf '" + dir.path("pipe.json") + "'",
+          "ingest '" + grid + "' --labels '" + grid + "' --label-names '" + dir.path("pipe.txt") + "'" + out,
+          "bench /dev/zero -o '" + dir.path("bench") + "'", "bench '" + dir.path("pipe.json") + "' -o '" + dir.path("bench") + "'"}) {
+        const test::CommandResult run = test::runGvr("--version >/dev/null; timeout 30 '" GVR_EXECUTABLE "' " + command, dir);
+        EXPECT_EQ(run.exitCode, 2) << command << "\n" << run.err;
+        EXPECT_NE(run.err.find("is not a regular file"), std::string::npos) << command << "\n" << run.err;
+    }
+}
+
+TEST(Cli, AFailedFitLeavesNoLogAndStaleTemporariesAreCleared) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    // A temporary of a process that no longer runs (pid 999999999 never does), and one of a live process.
+    const std::string stale = dir.path(".tmp999999999-a.gvr"), live = dir.path(".tmp1-a.gvr");
+    test::writeBytes(stale, "left by SIGKILL");
+    test::writeBytes(live, "being written by pid 1");
+    const test::CommandResult ok =
+        test::runGvr("fit -q '" + grid + "' -o '" + dir.path("a.gvr") + "' --gaussians 40 --iterations 20 --log '" +
+                         dir.path("a.csv") + "'",
+                     dir);
+    ASSERT_EQ(ok.exitCode, 0) << ok.err;
+    EXPECT_FALSE(std::filesystem::exists(stale));
+    EXPECT_TRUE(std::filesystem::exists(live));
+    EXPECT_TRUE(std::filesystem::exists(dir.path("a.csv")));
+    // A fit that fails after its log was opened: ulimit -f lets the log's few rows
+    // through (512 bytes) but not the asset.
+    const test::CommandResult failed = test::runGvr("--version >/dev/null; ulimit -f 1; '" GVR_EXECUTABLE "' fit -q '" +
+                                                        grid + "' -o '" + dir.path("b.gvr") +
+                                                        "' --gaussians 60 --iterations 20 --log '" + dir.path("b.csv") + "'",
+                                                    dir);
+    EXPECT_EQ(failed.exitCode, 2) << failed.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("b.gvr")));
+    EXPECT_FALSE(std::filesystem::exists(dir.path("b.csv"))) << "a failed fit left its log";
+}
+
+TEST(Cli, NumbersOutsideTheirRangeAreRefusedAndHugePeaksStayFinite) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    const std::string asset = dir.path("a.gvr");
+    ASSERT_EQ(test::runGvr("fit -q '" + grid + "' -o '" + asset + "' --gaussians 40 --iterations 10", dir).exitCode, 0);
+    for (const std::string command : {"export '" + asset + "' -o '" + dir.path("x.vdb") + "' --threshold nan",
+                                      "eval '" + grid + "' '" + asset + "' --threshold nan",
+                                      "fit -q '" + grid + "' -o '" + dir.path("b.gvr") + "' --gaussians 40 --time 1e30",
+                                      "fit -q '" + grid + "' -o '" + dir.path("b.gvr") +
+                                          "' --gaussians 40 --iterations 18446744073709551615"}) {
+        const test::CommandResult run = test::runGvr(command, dir);
+        EXPECT_EQ(run.exitCode, 2) << command << "\n" << run.err;
+        EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir.path("x.vdb")));
+    EXPECT_FALSE(std::filesystem::exists(dir.path("b.gvr")));
+    // A peak of 1e300 squared is infinite; the PSNR is not.
+    const test::CommandResult huge = test::runGvr("eval --json '" + grid + "' '" + asset + "' --peak 1e300", dir);
+    ASSERT_EQ(huge.exitCode, 0) << huge.err;
+    const nlohmann::json psnr = nlohmann::json::parse(huge.out)["psnr"];
+    ASSERT_TRUE(psnr.is_number()) << psnr;  // "inf" before
+    EXPECT_GT(psnr.get<double>(), 5000.0);
 }
 
 TEST(Cli, FittingAnEmptyVolumeWarnsAndWritesAnEmptyAsset) {

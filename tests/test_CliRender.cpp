@@ -89,6 +89,20 @@ TEST(CliRender, PresetNamesIgnoreCase) {
     EXPECT_EQ(test::readBytes(dir.path("mri.png")), test::readBytes(dir.path("MRI.png")));
 }
 
+TEST(CliRender, AFullDiskLeavesNoFrameAndFails) {
+    // ulimit -f stands in for a full disk: OpenImageIO's PNG writer once left a cut
+    // file and gvr said "wrote".
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    const test::CommandResult run = test::runGvr("--version >/dev/null; ulimit -f 1; '" GVR_EXECUTABLE "' render '" + grid +
+                                                     "' --size 512x512 --orbit 2 -o '" + dir.path("f.png") + "'",
+                                                 dir);
+    EXPECT_EQ(run.exitCode, 2) << run.err;
+    EXPECT_NE(run.err.find("cannot write the image"), std::string::npos) << run.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("f_0000.png")));
+    EXPECT_FALSE(std::filesystem::exists(dir.path("f_0001.png")));
+}
+
 TEST(CliRender, BadInputLeavesNoImage) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);

@@ -10,6 +10,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <limits>
 
 namespace gvr {
 namespace {
@@ -235,6 +236,23 @@ TEST(Fitter, InvalidSettingsAreRejected) {
         *value = nan;
         EXPECT_FALSE(settings.validate().empty()) << "a NaN sampler setting was accepted";
     }
+}
+
+TEST(Fitter, BudgetsHaveAStatedMaximum) {
+    // --time 1e30 was accepted and --iterations 2^64 - 1 ran forever.
+    FitSettings settings = quickSettings(10, 0);
+    settings.seconds = kMaxFitSeconds;
+    EXPECT_EQ(settings.validate(), "");
+    settings.seconds = 1e30;
+    EXPECT_NE(settings.validate().find("--time must lie in [0, 1000000] seconds"), std::string::npos);
+    settings = quickSettings(10, 0);
+    settings.iterations = kMaxFitIterations;
+    EXPECT_EQ(settings.validate(), "");
+    settings.iterations = std::numeric_limits<std::size_t>::max();
+    EXPECT_NE(settings.validate().find("--iterations must be at most 1000000000"), std::string::npos);
+    settings = quickSettings(10, 5);
+    settings.voxelBatch = kMaxVoxelBatch + 1;
+    EXPECT_NE(settings.validate().find("--batch"), std::string::npos);
 }
 
 struct HardVolume {

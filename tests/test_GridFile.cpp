@@ -91,6 +91,22 @@ TEST(GridFile, RejectsFilesThatAreNotVdb) {
     }
 }
 
+TEST(GridFile, AFrustumTransformIsRefusedNotReadAsTheIdentity) {
+    test::TempDir dir;
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    grid->setName("density");
+    grid->tree().setValueOn(openvdb::Coord(1, 2, 3), 5.0f);
+    grid->setTransform(openvdb::math::Transform::createFrustumTransform(
+        openvdb::BBoxd(openvdb::Vec3d(0.0), openvdb::Vec3d(10.0)), /*taper=*/0.5, /*depth=*/20.0));
+    writeGridFile(dir.path("frustum.vdb"), {grid});
+    try {
+        readGridFile(dir.path("frustum.vdb"));
+        ADD_FAILURE() << "a frustum transform was read";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("non-linear (frustum) transform"), std::string::npos) << error.what();
+    }
+}
+
 // Found by fuzz_vdb: OpenVDB filled a 4 GiB string from a corrupt metadata length
 // before its read failed. Every length in the headers is checked first.
 TEST(GridFile, ALengthPastTheEndIsRefusedBeforeOpenVdbAllocatesIt) {

@@ -9,6 +9,7 @@
 #include <nifti2_io.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <tuple>
 
 namespace gvr {
@@ -155,7 +156,8 @@ TEST(MetaImageReader, ADataFileThatCannotBeAFileIsRefused) {
     std::filesystem::create_directories(dir.path("headers/sub"));
     const std::pair<std::string, std::string> cases[] = {{"", "is not a regular file"},
                                                          {"sub", "is not a regular file"},
-                                                         {std::string(5000, 'a'), "does not exist: File name too long"}};
+                                                         {std::string(5000, 'a'), "does not exist: File name too long"},
+                                                         {"v.mhd", "names the header itself"}};
     for (const auto& [named, problem] : cases) {
         test::writeBytes(dir.path("headers/v.mhd"), metaHeader("", named));
         try {
@@ -283,7 +285,9 @@ void writeImage(const std::string& path, int width, int height, int channels,
                 OIIO::TypeDesc type, const void* pixels) {
     auto output = OIIO::ImageOutput::create(path);
     ASSERT_TRUE(output);
-    ASSERT_TRUE(output->open(path, OIIO::ImageSpec(width, height, channels, type)));
+    OIIO::ImageSpec spec(width, height, channels, type);
+    spec.attribute("oiio:UnassociatedAlpha", 1);  // the bytes as given, alpha or not
+    ASSERT_TRUE(output->open(path, spec));
     ASSERT_TRUE(output->write_image(type, pixels));
     output->close();
 }
@@ -326,6 +330,41 @@ TEST(ImageStackReader, ReadsMultiPageTiffAsSlices) {
     EXPECT_EQ(volume.channels, 3);
     EXPECT_EQ(volume.dims[2], 2);
     EXPECT_EQ(volume.data<std::uint8_t>()[12], 150);
+}
+
+TEST(ImageStackReader, IntegerTiffsKeepTheirValues) {
+    // Asked for float, OpenImageIO once scaled int16 HU -1024..2036 to -0.031..0.062.
+    test::TempDir dir;
+    const std::vector<std::int16_t> hu = {-1024, -500, 0, 40, 1000, 2036};
+    writeImage(dir.path("ct.tif"), 3, 2, 1, OIIO::TypeDesc::INT16, hu.data());
+    const DenseVolume volume = readVolume(dir.path("ct.tif"), {});
+    ASSERT_EQ(volume.type, SampleType::Int16);
+    for (std::size_t n = 0; n < hu.size(); ++n) EXPECT_EQ(volume.data<std::int16_t>()[n], hu[n]);
+    const std::vector<std::int32_t> wide = {-70000, 5, 70000, 0, 1, 2};
+    writeImage(dir.path("wide.tif"), 3, 2, 1, OIIO::TypeDesc::INT32, wide.data());
+    const DenseVolume widened = readVolume(dir.path("wide.tif"), {});
+    ASSERT_EQ(widened.type, SampleType::Int32);
+    EXPECT_EQ(widened.data<std::int32_t>()[0], -70000);
+}
+
+TEST(ImageStackReader, AlphaNeitherScalesNorZeroesTheValues) {
+    // Premultiplied by OpenImageIO, alpha 0 once zeroed the volume.
+    test::TempDir dir;
+    const std::vector<std::uint8_t> greyAlpha = {200, 0, 100, 128, 50, 255, 10, 0};  // (grey, alpha) x 4
+    writeImage(dir.path("ga.png"), 2, 2, 2, OIIO::TypeDesc::UINT8, greyAlpha.data());
+    const DenseVolume grey = readVolume(dir.path("ga.png"), {});
+    ASSERT_EQ(grey.channels, 1);
+    EXPECT_EQ(std::vector<std::uint8_t>(grey.data<std::uint8_t>(), grey.data<std::uint8_t>() + 4),
+              (std::vector<std::uint8_t>{200, 100, 50, 10}));
+    EXPECT_NE(std::find_if(grey.warnings.begin(), grey.warnings.end(),
+                           [](const std::string& w) { return w.find("alpha channel is ignored") != std::string::npos; }),
+              grey.warnings.end());
+    const std::vector<std::uint8_t> rgba = {200, 100, 50, 0, 1, 2, 3, 128, 9, 8, 7, 255, 90, 80, 70, 0};
+    writeImage(dir.path("rgba.png"), 2, 2, 4, OIIO::TypeDesc::UINT8, rgba.data());
+    const DenseVolume colour = readVolume(dir.path("rgba.png"), {});
+    ASSERT_EQ(colour.channels, 3);
+    EXPECT_EQ(std::vector<std::uint8_t>(colour.data<std::uint8_t>(), colour.data<std::uint8_t>() + 12),
+              (std::vector<std::uint8_t>{200, 100, 50, 1, 2, 3, 9, 8, 7, 90, 80, 70}));
 }
 
 }  // namespace

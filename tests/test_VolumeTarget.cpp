@@ -1,5 +1,6 @@
 // The fit's view of a volume: values, blocks and gradients read alike.
 
+#include "Error.h"
 #include "LatticeSampler.h"
 #include "TestHelpers.h"
 #include "VolumeTarget.h"
@@ -27,6 +28,26 @@ TEST(VolumeTarget, BlockGradientsAreThePointGradientsIncludingAtFacesAndEdges) {
         }
     }
     EXPECT_EQ(checked, 3u * 2u * 2u * 512u);
+}
+
+TEST(VolumeTarget, VoxelsBeyondFloatExactIndicesAreRefusedNamingTheFix) {
+    // Near index 2^31 the fit once ended in an Embree assertion with no message.
+    for (const openvdb::Coord far : {openvdb::Coord(2147483000, 0, 0), openvdb::Coord(0, -20000000, 5)}) {
+        auto grid = openvdb::FloatGrid::create(0.0f);
+        grid->setName("density");
+        grid->tree().setValueOn(far, 1.0f);
+        grid->tree().setValueOn(far + openvdb::Coord(0, 1, 0), 1.0f);
+        try {
+            VolumeTarget target(grid, "far.vdb");
+            ADD_FAILURE() << "voxels at " << far << " were accepted";
+        } catch (const InputError& error) {
+            EXPECT_NE(std::string(error.what()).find("beyond +-2^24"), std::string::npos) << error.what();
+            EXPECT_NE(std::string(error.what()).find("ingest it again"), std::string::npos) << error.what();
+        }
+    }
+    auto near = openvdb::FloatGrid::create(0.0f);
+    near->denseFill(openvdb::CoordBBox(openvdb::Coord(16000000), openvdb::Coord(16000007)), 1.0f, true);
+    EXPECT_NO_THROW(VolumeTarget(near, "near.vdb"));
 }
 
 }  // namespace

@@ -1,15 +1,21 @@
 // One libFuzzer target per input format, all built from this file: GVR_FUZZ_FORMAT
 // names the format. Each input is written to a file, or to a file in a folder,
-// and read the way `gvr ingest` (or, for assets, `gvr info`) reads a user's file.
+// and read the way `gvr ingest` (or, for assets, `gvr info`) reads a user's file;
+// the JSON inputs as render (a transfer function, then its value levels), render
+// --label-style and bench read theirs.
 // The contract under test: any bytes give a grid, an asset or an InputError.
 // Any other exception, a crash, a leak or undefined behaviour is a finding.
 
 #include "AssetFile.h"
+#include "BenchManifest.h"
 #include "Error.h"
 #include "GridFile.h"
 #include "Ingest.h"
 #include "MemoryBudget.h"
+#include "LabelStyleFile.h"
 #include "SampleType.h"
+#include "SliceStack.h"
+#include "TransferFunctionFile.h"
 
 #include <zlib.h>
 
@@ -43,6 +49,9 @@ Format format() {
     if (name == "image") return {"stack/slice.png", true};
     if (name == "vdb") return {"volume.vdb", false};
     if (name == "asset") return {"fit.gvr", false};
+    if (name == "tf") return {"tf.json", false};
+    if (name == "labelstyle") return {"style.json", false};
+    if (name == "manifest") return {"manifest.json", false};
     std::abort();
 }
 
@@ -82,8 +91,24 @@ gvr::ReadOptions rawOptions(const std::uint8_t* data, std::size_t size) {
 
 void readAsUserInput(const fs::path& path, const Format& format, const std::uint8_t* data, std::size_t size) {
     const std::string input = format.asFolder ? path.parent_path().string() : path.string();
-    if (std::string(GVR_FUZZ_FORMAT) == "asset") {
+    const std::string name = GVR_FUZZ_FORMAT;
+    if (name == "asset") {
         gvr::readAsset(input);
+        return;
+    }
+    if (name == "tf") {
+        // Extreme points once crashed the renderer's levels, not the reader.
+        const gvr::ValueLevels levels(gvr::readTransferFunction(input), 1.0);
+        for (float value : {-3e38f, -1.0f, 0.0f, 1e-30f, 1.0f, 3e38f}) levels.rgba(levels.levelOf(value));
+        levels.anyVisible(-1.0f, 1.0f);
+        return;
+    }
+    if (name == "labelstyle") {
+        gvr::readLabelStyles(input);
+        return;
+    }
+    if (name == "manifest") {
+        gvr::benchUnits(gvr::readBenchManifest(input));
         return;
     }
     gvr::IngestOptions options;

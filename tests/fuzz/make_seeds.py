@@ -6,6 +6,7 @@ OUT/<format>/ gets the seeds of each fuzz target in tests/fuzz. Volumes are smal
 (a few hundred voxels) so that the fuzzer mutates headers and data alike. VDB grids
 and assets come from GVR itself; DICOM seeds are real slices from the shared data.
 """
+import json
 import pathlib
 import shutil
 import struct
@@ -98,9 +99,20 @@ def write_vdb_and_assets(gvr, vdb_folder, asset_folder, work):
                    check=True, stdout=subprocess.DEVNULL)
 
 
+def write_json_inputs(folders, examples):
+    tf = {"points": [[-1000, 0, 0, 0, 0], [300, 1, 0.9, 0.8, 0.05], [3000, 1, 1, 1, 0.6]]}
+    (folders["tf"] / "ct.json").write_text(json.dumps(tf))
+    (folders["tf"] / "one.json").write_text('{"points": [[0.5, 1, 1, 1, 1]]}')
+    (folders["labelstyle"] / "styles.json").write_text(
+        json.dumps({"Hippocampus_L": {"color": [1, 0, 0], "opacity": 0.5}, "17": {"opacity": 0}}))
+    for manifest in sorted(examples.glob("bench-*.json")):
+        shutil.copy(manifest, folders["manifest"] / manifest.name)
+
+
 def main():
     gvr, shared, out = sys.argv[1], pathlib.Path(sys.argv[2]), pathlib.Path(sys.argv[3])
-    folders = {name: out / name for name in ["nifti", "metaimage", "mgh", "raw", "dicom", "image", "vdb", "asset"]}
+    folders = {name: out / name for name in ["nifti", "metaimage", "mgh", "raw", "dicom", "image", "vdb", "asset",
+                                               "tf", "labelstyle", "manifest"]}
     for folder in folders.values():
         folder.mkdir(parents=True, exist_ok=True)
     write_nifti(folders["nifti"])
@@ -109,6 +121,7 @@ def main():
     write_raw(folders["raw"])
     write_images(folders["image"])
     write_dicom(folders["dicom"], shared)
+    write_json_inputs(folders, pathlib.Path(__file__).resolve().parent.parent.parent / "examples")
     work = out / "work"
     work.mkdir(exist_ok=True)
     for name in ["nifti", "mgh"]:

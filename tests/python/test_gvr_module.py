@@ -266,6 +266,16 @@ def test_errors_name_python_arguments_not_command_line_flags(ch2_vdb):
     assert str(error.value).startswith("ratio: ")
 
 
+def test_a_path_with_a_nul_byte_is_refused_not_cut_short(work, ch2_vdb):
+    # "ch2.vdb\0.txt" once read ch2.vdb, and an asset saved to "a.gvr\0x" went to a.gvr.
+    with pytest.raises(gvr.Error, match="NUL byte"):
+        gvr.ingest(str(ch2_vdb) + "\0.txt")
+    volume = gvr.Volume.from_numpy(np.arange(64, dtype=np.float32).reshape(4, 4, 4))
+    with pytest.raises(gvr.Error, match="NUL byte"):
+        volume.save(str(work / "v.vdb") + "\0x")
+    assert not (work / "v.vdb").exists()
+
+
 @pytest.mark.parametrize("dtype, stored", [(bool, "uint8"), (np.float16, "float32"), (np.int64, "int32"),
                                            (np.uint64, "int32")])
 def test_arrays_of_types_gvr_does_not_store_are_converted(dtype, stored):
