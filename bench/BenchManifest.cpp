@@ -87,10 +87,10 @@ public:
     }
 
     /// A count: 0.5 views once became 0 and a render PSNR of 0.
-    int wholeNumber(const json& value, const std::string& where) const {
+    std::int64_t wholeNumber(const json& value, const std::string& where, double most = 1e6) const {
         const double number = positive(value, where);
-        if (number != std::floor(number) || number > 1e6) fail(where, "must be a whole number");
-        return int(number);
+        if (number != std::floor(number) || number > most) fail(where, "must be a whole number up to " + std::to_string(std::int64_t(most)));
+        return std::int64_t(number);
     }
 
     double positive(const json& value, const std::string& where) const {
@@ -125,7 +125,7 @@ public:
         onlyKeys(value, where, {"seconds", "iterations", "args"});
         if (value.contains("seconds")) budget.seconds = positive(value["seconds"], where + ".seconds");
         if (value.contains("iterations")) {
-            budget.iterations = std::uint64_t(positive(value["iterations"], where + ".iterations"));
+            budget.iterations = std::uint64_t(wholeNumber(value["iterations"], where + ".iterations", 1e9));
         }
         if (value.contains("args")) budget.args = strings(value["args"], where + ".args");
         return budget;
@@ -135,7 +135,7 @@ public:
         onlyKeys(value, "render", {"size", "views", "elevation", "tf"});
         RenderPlan plan;
         if (value.contains("size")) plan.size = text(value["size"], "render.size");
-        if (value.contains("views")) plan.views = wholeNumber(value["views"], "render.views");
+        if (value.contains("views")) plan.views = int(wholeNumber(value["views"], "render.views"));
         if (value.contains("elevation")) {
             if (!value["elevation"].is_number()) fail("render.elevation", "must be a number of degrees");
             plan.elevation = value["elevation"].get<double>();

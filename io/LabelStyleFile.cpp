@@ -12,6 +12,8 @@ namespace gvr {
 
 namespace {
 
+constexpr double kMaxOpacityScale = 1000.0;
+
 LabelStyle parseStyle(const nlohmann::json& entry, const std::string& path, const std::string& key) {
     const std::string where = "structure '" + key + "'";
     if (!entry.is_object()) throw InputError(path, where + ": expected {\"color\": [r, g, b], \"opacity\": x}");
@@ -28,8 +30,9 @@ LabelStyle parseStyle(const nlohmann::json& entry, const std::string& path, cons
             }
             style.colour = rgb;
         } else if (name == "opacity") {
-            if (!value.is_number() || !(value.get<double>() >= 0.0) || !std::isfinite(value.get<double>())) {
-                throw InputError(path, where + ": opacity must be a number >= 0");
+            // Bounded before the float cast; opacities are clamped to 1 after scaling anyway.
+            if (!value.is_number() || !(value.get<double>() >= 0.0 && value.get<double>() <= kMaxOpacityScale)) {
+                throw InputError(path, where + ": opacity must be a number in [0, 1000]");
             }
             style.opacity = value.get<float>();
         } else {

@@ -28,7 +28,14 @@ TransferFunction readTransferFunction(const std::string& path) {
         }
         TransferPoint point;
         point.value = entry[0].get<double>();
-        for (int c = 0; c < 4; ++c) point.rgba[c] = entry[c + 1].get<float>();
+        for (int c = 0; c < 4; ++c) {
+            // Checked as a double: a float cast of 1e300 is undefined behaviour.
+            const double channel = entry[c + 1].get<double>();
+            if (!(channel >= 0.0 && channel <= 1.0)) {
+                throw InputError(path, "point " + std::to_string(points.size()) + ": colour and opacity must lie in [0, 1]");
+            }
+            point.rgba[c] = float(channel);
+        }
         points.push_back(point);
     }
     return TransferFunction(std::move(points), path);
