@@ -2,6 +2,7 @@
 
 #include "AssetExport.h"
 #include "AssetFile.h"
+#include "Camera.h"
 #include "Error.h"
 #include "TransferFunctionFile.h"
 #include "VolumeClassifier.h"
@@ -38,8 +39,9 @@ std::pair<int, int> parseImageSize(const std::string& text) {
     char x = 0;
     std::istringstream in(text);
     if (!(in >> width >> x >> height) || x != 'x' || !(in >> std::ws).eof() || width < 1 || height < 1 ||
-        width > 16384 || height > 16384) {
-        throw InputError("--size", "'" + text + "' is not WIDTHxHEIGHT of 1 to 16384 pixels each, e.g. 512x512");
+        width > kMaxImageSide || height > kMaxImageSide) {
+        throw InputError("--size", "'" + text + "' is not WIDTHxHEIGHT of 1 to " + std::to_string(kMaxImageSide) +
+                                       " pixels each, e.g. 512x512");
     }
     return {width, height};
 }

@@ -70,7 +70,37 @@ void removeStaleTemporaries(const fs::path& folder, const std::string& suffix) {
     }
 }
 
+/// Where a write of @a target goes first: in the same folder, so that the final
+/// rename cannot cross devices, hidden, and named for this process.
+fs::path temporaryPathFor(const fs::path& target) {
+    const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    return folder / (kTemporaryPrefix + std::to_string(getpid()) + "-" + temporarySuffix(target.filename().string()));
+}
+
 }  // namespace
+
+void writeAllOrNone(const std::vector<std::string>& paths,
+                    const std::vector<std::function<void(const std::string&)>>& writes) {
+    std::vector<fs::path> staged;
+    try {
+        for (std::size_t k = 0; k < paths.size(); ++k) {
+            // One level further hidden than writeAtomically's own temporary of the
+            // same name, which a writer may make inside this one.
+            const fs::path target(paths[k]);
+            const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+            const std::string name = "all-" + target.filename().string();
+            removeStaleTemporaries(folder, temporarySuffix(name));
+            const fs::path staging = temporaryPathFor(folder / name);
+            writes[k](staging.string());
+            staged.push_back(staging);
+        }
+        for (std::size_t k = 0; k < paths.size(); ++k) fs::rename(staged[k], paths[k]);
+    } catch (...) {
+        std::error_code ignored;
+        for (const fs::path& file : staged) fs::remove(file, ignored);
+        throw;
+    }
+}
 
 void removeTemporariesOnSignals() {
     static std::once_flag installed;
@@ -114,9 +144,8 @@ void writeAtomically(const std::string& path, const std::function<void(const std
     checkOutputPath("output", path, {});
     const fs::path target(path);
     const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    // The temporary lives in the same folder so the final rename cannot cross devices.
     const std::string suffix = temporarySuffix(target.filename().string());
-    const fs::path temporary = folder / (kTemporaryPrefix + std::to_string(getpid()) + "-" + suffix);
+    const fs::path temporary = temporaryPathFor(target);
     if (temporary.native().size() >= sizeof(gTemporary)) throw InputError(path, "path is too long");
     std::lock_guard<std::mutex> lock(gWriting);
     removeStaleTemporaries(folder, suffix);

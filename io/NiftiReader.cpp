@@ -25,6 +25,7 @@ using NiftiImagePtr = std::unique_ptr<nifti_image, NiftiImageDeleter>;
 /// (nifticlib quietly moves an offset it cannot use to the end of the header).
 struct RawHeader {
     int size = 0;           // 348 (NIfTI-1) or 540 (NIfTI-2)
+    bool swap = false;      // written in the other byte order
     double voxOffset = 0.0;
     double pixdim[3] = {1.0, 1.0, 1.0};  // as written: nifticlib turns 0 and NaN into 1
 };
@@ -52,6 +53,7 @@ RawHeader readRawHeader(const std::string& path) {
         if ((size != 348 && size != 540) || got < size) continue;
         RawHeader header;
         header.size = size;
+        header.swap = swap;
         header.voxOffset = size == 348 ? double(fieldAt<float>(bytes, 108, swap)) : fieldAt<double>(bytes, 168, swap);
         for (int axis = 0; axis < 3; ++axis) {
             header.pixdim[axis] = size == 348 ? double(fieldAt<float>(bytes, 80 + 4 * axis, swap))
@@ -63,6 +65,31 @@ RawHeader readRawHeader(const std::string& path) {
     if (size == 348 || size == 540) throw InputError(path, "file is too short for its NIfTI header");
     throw InputError(path, "corrupt NIfTI header: sizeof_hdr is " + std::to_string(size) +
                                " (expected 348 for NIfTI-1 or 540 for NIfTI-2)");
+}
+
+/// nifticlib adds each header extension to its list by copying the whole list, so
+/// 100,000 of them took minutes: a header with more than this many is refused first.
+constexpr int kMaxExtensions = 1000;
+
+void checkExtensionCount(const std::string& path, const RawHeader& header) {
+    gzFile file = gzopen(path.c_str(), "rb");
+    if (!file) return;
+    std::unique_ptr<gzFile_s, int (*)(gzFile)> closer(file, gzclose);
+    unsigned char extender[4] = {};
+    if (gzseek(file, header.size, SEEK_SET) < 0 || gzread(file, extender, 4) != 4 || extender[0] == 0) return;
+    z_off_t position = header.size + 4;
+    for (int count = 0;; ++count) {
+        if (header.voxOffset > 0.0 && double(position) + 8.0 > header.voxOffset) return;
+        unsigned char bytes[8];
+        if (gzread(file, bytes, 8) != 8) return;  // what is left is nifticlib's to judge
+        const std::int32_t esize = fieldAt<std::int32_t>(bytes, 0, header.swap);
+        if (esize < 16 || esize % 16 != 0) return;  // no extension nifticlib would read
+        if (count == kMaxExtensions) {
+            throw InputError(path, "corrupt NIfTI header: more than " + std::to_string(kMaxExtensions) + " header extensions");
+        }
+        position += esize;
+        if (gzseek(file, position, SEEK_SET) < 0) return;
+    }
 }
 
 /// The samples must start where the header says, after the header in a one-file
@@ -147,6 +174,7 @@ openvdb::math::Mat4d worldFromIndexOf(const std::string& path, const nifti_image
 
 DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
     const RawHeader header = readRawHeader(path);
+    checkExtensionCount(path, header);
     nifti_set_debug_level(0);
     NiftiImagePtr image(nifti_image_read(path.c_str(), /*read_data=*/0));
     if (!image) throw InputError(path, "corrupt NIfTI header (nifticlib could not parse it)");

@@ -49,13 +49,18 @@ void checkVolumeOutputs(const std::string& flag, const std::vector<std::string>&
 std::vector<WrittenVolume> writeVolumeOutputs(const std::vector<std::string>& outputs,
                                               const openvdb::GridCPtrVec& grids, const openvdb::CoordBBox& box,
                                               const NiftiStorage& storage) {
+    // Staged, then renamed together: a failure of the second output once deleted
+    // the first after it had replaced the user's older file of that name.
     std::vector<WrittenVolume> written;
-    try {
-        for (const std::string& path : outputs) written.push_back(writeOne(path, grids, box, storage));
-    } catch (...) {
-        for (const WrittenVolume& done : written) std::filesystem::remove(done.path);
-        throw;
+    std::vector<std::function<void(const std::string&)>> writes;
+    for (const std::string& path : outputs) {
+        writes.push_back([&, path](const std::string& staging) {
+            WrittenVolume one = writeOne(staging, grids, box, storage);
+            one.path = path;
+            written.push_back(one);
+        });
     }
+    writeAllOrNone(outputs, writes);
     return written;
 }
 

@@ -5,6 +5,7 @@
 #include "AssetExport.h"
 #include "AssetFile.h"
 #include "AssetProbe.h"
+#include "Camera.h"
 #include "ComparisonInput.h"
 #include "Compress.h"
 #include "Error.h"
@@ -397,8 +398,8 @@ Classifier classifierOf(const RenderVolume& volume, const TransferSpec& tf) {
 py::array render(const Renderable& what, double azimuth, double elevation, std::pair<int, int> size,
                  const TransferSpec& tf) {
     const auto [width, height] = size;
-    if (width < 1 || height < 1 || width > 16384 || height > 16384) {
-        throw InputError("size", "must be (width, height) in 1 to 16384 pixels");
+    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide) {
+        throw InputError("size", "must be (width, height) in 1 to " + std::to_string(kMaxImageSide) + " pixels");
     }
     Framebuffer image;
     {

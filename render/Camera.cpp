@@ -8,8 +8,9 @@
 namespace gvr {
 
 OrthoCamera makeCamera(const View& view, const std::array<openvdb::Vec3d, 8>& corners, int width, int height) {
-    if (width < 1 || height < 1 || width > 8192 || height > 8192) {
-        throw InputError("--size", "must be between 1x1 and 8192x8192 pixels");
+    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide) {
+        throw InputError("image size", "must be between 1x1 and " + std::to_string(kMaxImageSide) + "x" +
+                                           std::to_string(kMaxImageSide) + " pixels");
     }
     if (!std::isfinite(view.azimuthDeg) || !std::isfinite(view.elevationDeg)) {
         throw InputError("--azimuth/--elevation", "angles must be finite numbers of degrees");

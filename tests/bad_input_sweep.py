@@ -136,6 +136,12 @@ def absurd_headers(work, seeds):
         target = work / f"dims-{dims[0]}.mgh"
         target.write_bytes(bytes(data))
         case("absurd dimensions", f"MGH claiming {dims}", ["ingest", target, "-o", "out.vdb"], [target])
+    many = nibabel.load(seeds / "nifti/uint8.nii")
+    for _ in range(100000):  # nifticlib's list of extensions grows by copying: minutes, before
+        many.header.extensions.append(nibabel.nifti1.Nifti1Extension(0, b"gvr-test"))
+    target = work / "extensions.nii"
+    nibabel.save(many, target)
+    case("absurd dimensions", "NIfTI with 100,000 header extensions", ["ingest", target, "-o", "out.vdb"], [target])
     mha = seeds / "metaimage/short.mha"
     target = work / "dims-huge.mha"
     target.write_bytes(mha.read_bytes().replace(b"DimSize = 6 5 4", b"DimSize = 100000 100000 100000"))

@@ -13,6 +13,7 @@
 #include <sys/resource.h>
 
 #include <csignal>
+#include <cstring>
 #include <fstream>
 #include <random>
 
@@ -79,16 +80,37 @@ TEST_F(AtomicFile, AFullDiskFailsTheNiftiWriterAndKeepsTheOldFile) {
     EXPECT_TRUE(temporaries(mDir).empty());
 }
 
-TEST_F(AtomicFile, SigtermDuringAWriteRemovesTheTemporaryAndKeepsTheOldFile) {
-    const auto writeHalfThenGetKilled = [&] {
-        removeTemporariesOnSignals();
-        writeAtomically(mExisting, [](const std::string& temporary) {
-            std::ofstream(temporary) << "half of a new output";
-            std::raise(SIGTERM);
-        });
+TEST_F(AtomicFile, AnyTerminatingSignalDuringAWriteRemovesTheTemporaryAndKeepsTheOldFile) {
+    // SIGQUIT, SIGUSR1 and SIGALRM once left their temporaries behind.
+    for (const int signal : {SIGTERM, SIGINT, SIGHUP, SIGQUIT, SIGUSR1, SIGALRM, SIGPIPE}) {
+        const auto writeHalfThenGetKilled = [&] {
+            removeTemporariesOnSignals();
+            writeAtomically(mExisting, [signal](const std::string& temporary) {
+                std::ofstream(temporary) << "half of a new output";
+                std::raise(signal);
+            });
+        };
+        EXPECT_EXIT(writeHalfThenGetKilled(), ::testing::KilledBySignal(signal), "") << strsignal(signal);
+        expectExistingOutputIntact();
+    }
+}
+
+TEST_F(AtomicFile, SeveralOutputsAreWrittenAllOrNone) {
+    // When the second of two outputs failed, the first, already renamed over the
+    // user's older file, was deleted: both files were lost.
+    const std::string second = mDir.path("out.nii.gz");
+    test::writeBytes(second, "the previous NIfTI");
+    const auto writeText = [](const std::string& text) {
+        return [text](const std::string& path) { std::ofstream(path) << text; };
     };
-    EXPECT_EXIT(writeHalfThenGetKilled(), ::testing::KilledBySignal(SIGTERM), "");
+    const auto fail = [](const std::string&) { throw InputError("out.nii.gz", "cannot write (disk full?)"); };
+    EXPECT_THROW(writeAllOrNone({mExisting, second}, {writeText("new grid"), fail}), InputError);
     expectExistingOutputIntact();
+    EXPECT_EQ(test::readBytes(second), "the previous NIfTI");
+    writeAllOrNone({mExisting, second}, {writeText("new grid"), writeText("new NIfTI")});
+    EXPECT_EQ(test::readBytes(mExisting), "new grid");
+    EXPECT_EQ(test::readBytes(second), "new NIfTI");
+    EXPECT_TRUE(temporaries(mDir).empty());
 }
 
 }  // namespace

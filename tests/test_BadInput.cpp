@@ -2,8 +2,10 @@
 // crash or garbage. Corrupted copies of real data are made in a temporary folder.
 
 #include "Error.h"
+#include "GridBuilder.h"
 #include "GridFile.h"
 #include "Ingest.h"
+#include "LabelGrid.h"
 #include "MemoryBudget.h"
 #include "TestHelpers.h"
 
@@ -307,6 +309,44 @@ TEST(BadInput, EveryCommandThatReadsAVdbRefusesNonFiniteValues) {
     const test::CommandResult fixed =
         test::runGvr("ingest -q " + in + "--nan-to 0 -o '" + dir.path("fixed.vdb") + "'", dir);
     EXPECT_EQ(fixed.exitCode, 0) << fixed.err;
+}
+
+TEST(BadInput, MessagesNameTheRealProblem) {
+    test::TempDir dir;
+    // NaN spacing once read as "voxels too small (1.38e-309)".
+    DenseVolume volume = test::makeVolume<std::uint8_t>({2, 2, 2}, std::vector<std::uint8_t>(8, 1), SampleType::UInt8);
+    volume.worldFromIndex(0, 0) = std::nan("");
+    GridBuildSettings build;
+    build.sourceFile = "nan-spacing.nii";
+    try {
+        buildGrid(volume, build);
+        ADD_FAILURE() << "a NaN spacing was accepted";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("nan-spacing.nii: the voxel spacing or orientation is not a finite number"),
+                  std::string::npos)
+            << error.what();
+    }
+    // Labels above the int32 range once read as "not an integer".
+    std::string labels = "ObjectType = Image\nNDims = 3\nDimSize = 2 2 2\nElementType = MET_DOUBLE\nElementDataFile = LOCAL\n";
+    for (double value : {0.0, 1.0, 3e9, 2.0, 0.0, 0.0, 0.0, 0.0}) labels.append(reinterpret_cast<const char*>(&value), 8);
+    test::writeBytes(dir.path("labels.mha"), labels);
+    const auto image = test::makeGrid({2, 2, 2}, [](int, int, int) { return 1.0f; });
+    try {
+        buildLabelGrid(dir.path("labels.mha"), {}, *image, {});
+        ADD_FAILURE() << "a label of 3e9 was accepted";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("beyond the 32-bit labels"), std::string::npos) << error.what();
+    }
+}
+
+TEST(BadInput, AnOutputNameOfAnyValidLengthIsWritten) {
+    // A 246-character name once failed: the temporary's prefix pushed it past 255.
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    const std::string name = dir.path(std::string(246 - 4, 'n') + ".gvr");
+    const test::CommandResult run = test::runGvr("fit -q '" + grid + "' -o '" + name + "' --gaussians 20 --iterations 3", dir);
+    EXPECT_EQ(run.exitCode, 0) << run.err;
+    EXPECT_TRUE(std::filesystem::exists(name));
 }
 
 TEST(BadInput, AVdbWhoseActiveVoxelsSpanMoreThanAnIntIsRefused) {
