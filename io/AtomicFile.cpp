@@ -84,8 +84,8 @@ void writeAllOrNone(const std::vector<std::string>& paths,
     std::vector<fs::path> staged;
     try {
         for (std::size_t k = 0; k < paths.size(); ++k) {
-            // One level further hidden than writeAtomically's own temporary of the
-            // same name, which a writer may make inside this one.
+            // "all-" keeps the staged file apart from the temporary that a writer's
+            // own writeAtomically makes beside it.
             const fs::path target(paths[k]);
             const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
             const std::string name = "all-" + target.filename().string();
