@@ -148,18 +148,69 @@ public:
         return plan;
     }
 
-    std::vector<std::string> methods(const json& value) const {
+    std::vector<std::string> methods(const json& value, const std::vector<ExternalCodec>& codecs) const {
         std::vector<std::string> out = strings(value, "methods");
-        const auto& known = benchMethods();
+        std::vector<std::string> known = benchMethods();
+        for (const ExternalCodec& codec : codecs) known.push_back(codec.name);
         for (const std::string& m : out) {
             if (std::find(known.begin(), known.end(), m) == known.end()) {
                 std::string list;
                 for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-                fail("methods", "unknown method '" + m + "'; known: " + list);
+                fail("methods", "unknown method '" + m + "'; known: " + list + " (and codecs declared under \"codecs\")");
             }
         }
         if (out.empty()) fail("methods", "must name at least one method");
         return out;
+    }
+
+    std::vector<ExternalCodec> codecs(const json& value) const {
+        if (!value.is_object()) fail("codecs", "must be a table/object of codec name -> commands");
+        std::vector<ExternalCodec> out;
+        for (const auto& [name, spec] : value.items()) out.push_back(codec(name, spec));
+        return out;
+    }
+
+    ExternalCodec codec(const std::string& name, const json& spec) const {
+        const std::string where = "codecs." + name;
+        const auto& builtIn = benchMethods();
+        if (std::find(builtIn.begin(), builtIn.end(), name) != builtIn.end()) fail(where, "is a built-in method's name");
+        checkName(name, where);
+        onlyKeys(spec, where, {"compress", "decompress", "param", "version", "timeout"});
+        ExternalCodec codec;
+        codec.name = name;
+        for (const char* key : {"compress", "decompress"}) {
+            if (!spec.contains(key)) fail(where, std::string("needs a \"") + key + "\" command");
+            std::vector<std::string> args = strings(spec[key], where + "." + key);
+            if (args.empty() || args.front().empty()) fail(where + "." + key, "must start with the program");
+            if (args.front().find('/') != std::string::npos) args.front() = resolve(args.front());
+            (std::string(key) == "compress" ? codec.compress : codec.decompress) = args;
+        }
+        if (!spec.contains("param") || !spec["param"].is_array() || spec["param"].size() != 2) {
+            fail(where + ".param", "must be [smallest, largest]: the quality parameter's search range");
+        }
+        codec.paramMin = positive(spec["param"][0], where + ".param");
+        codec.paramMax = positive(spec["param"][1], where + ".param");
+        if (codec.paramMin >= codec.paramMax) fail(where + ".param", "the smallest must lie below the largest");
+        if (spec.contains("version")) {
+            if (spec["version"].is_string()) {
+                codec.version = spec["version"].get<std::string>();
+            } else {
+                codec.versionCommand = strings(spec["version"], where + ".version");
+                if (codec.versionCommand.empty()) fail(where + ".version", "must be a text or a command");
+                if (codec.versionCommand.front().find('/') != std::string::npos) {
+                    codec.versionCommand.front() = resolve(codec.versionCommand.front());
+                }
+            }
+        }
+        if (spec.contains("timeout")) codec.timeoutSeconds = positive(spec["timeout"], where + ".timeout");
+        return codec;
+    }
+
+    /// Names become folders, CSV cells and plot names.
+    void checkName(const std::string& name, const std::string& where) const {
+        if (name.empty() || name.find_first_of("/\\,\"\n|") != std::string::npos) {
+            fail(where, "a name must be non-empty, without / \\ , \" | or newlines");
+        }
     }
 
     BenchVolume volume(const json& value, std::size_t index, const std::vector<double>& ratios,
@@ -170,9 +221,7 @@ public:
         BenchVolume v;
         v.input = resolve(text(value["input"], where + ".input"));
         v.name = value.contains("name") ? text(value["name"], where + ".name") : nameFromPath(v.input);
-        if (v.name.empty() || v.name.find_first_of("/\\,\"\n") != std::string::npos) {
-            fail(where + ".name", "must be non-empty, without / \\ , \" or newlines");
-        }
+        checkName(v.name, where + ".name");
         if (value.contains("ingest")) v.ingestArgs = strings(value["ingest"], where + ".ingest");
         v.ratios = value.contains("ratios") ? this->ratios(value["ratios"], where + ".ratios") : ratios;
         v.fit = value.contains("fit") ? fit(value["fit"], fitBudget, where + ".fit") : fitBudget;
@@ -196,10 +245,16 @@ private:
 BenchManifest readBenchManifest(const std::string& path) {
     const json document = parseDocument(path);
     const ManifestReader reader(path);
-    reader.onlyKeys(document, "top level", {"name", "ratios", "methods", "fit", "render", "volumes"});
+    reader.onlyKeys(document, "top level", {"name", "ratios", "methods", "codecs", "fit", "render", "volumes"});
     BenchManifest manifest;
     manifest.path = path;
-    manifest.methods = document.contains("methods") ? reader.methods(document["methods"]) : benchMethods();
+    if (document.contains("codecs")) manifest.codecs = reader.codecs(document["codecs"]);
+    if (document.contains("methods")) {
+        manifest.methods = reader.methods(document["methods"], manifest.codecs);
+    } else {
+        manifest.methods = benchMethods();
+        for (const ExternalCodec& codec : manifest.codecs) manifest.methods.push_back(codec.name);
+    }
     const std::vector<double> ratios =
         document.contains("ratios") ? reader.ratios(document["ratios"], "ratios") : std::vector<double>{10.0};
     const FitBudget budget = document.contains("fit") ? reader.fit(document["fit"], FitBudget{}, "fit") : FitBudget{};
@@ -218,9 +273,12 @@ BenchManifest readBenchManifest(const std::string& path) {
 }
 
 std::vector<BenchUnit> benchUnits(const BenchManifest& manifest, int shard, int shards) {
-    // In benchMethods() order, whatever the manifest's: ZFP matches the size of gvr's asset, so gvr runs first.
+    // In benchMethods() order, then the codecs', whatever the manifest's: ZFP and the
+    // codecs match the size of gvr's asset, so gvr runs first.
+    std::vector<std::string> order = benchMethods();
+    for (const ExternalCodec& codec : manifest.codecs) order.push_back(codec.name);
     std::vector<std::string> chosen;
-    for (const std::string& m : benchMethods()) {
+    for (const std::string& m : order) {
         if (std::find(manifest.methods.begin(), manifest.methods.end(), m) != manifest.methods.end()) chosen.push_back(m);
     }
     std::vector<BenchUnit> all;
@@ -243,6 +301,11 @@ std::vector<BenchUnit> benchUnits(const BenchManifest& manifest, int shard, int 
         if (int(i % std::size_t(shards)) == shard) mine.push_back(all[i]);
     }
     return mine;
+}
+
+const ExternalCodec* BenchManifest::codec(const std::string& method) const {
+    const auto found = std::find_if(codecs.begin(), codecs.end(), [&](const ExternalCodec& c) { return c.name == method; });
+    return found == codecs.end() ? nullptr : &*found;
 }
 
 std::string ratioText(std::optional<double> ratio) {

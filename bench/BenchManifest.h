@@ -17,7 +17,21 @@
 /// The same keys work in TOML. Relative inputs resolve against the manifest's folder.
 /// "methods" defaults to every method; a volume's "ratios" and "fit" override the
 /// top-level ones.
+///
+/// Codecs outside gvr are declared under "codecs" and then named in "methods" like
+/// any other (see ExternalCodec.h for the placeholders):
+///
+///     "codecs": {"sz3": {
+///         "compress":   ["sz3", "-f", "-i", "{input}", "-z", "{compressed}", "-3", "{nx}", "{ny}", "{nz}", "-M", "REL", "{param}"],
+///         "decompress": ["sz3", "-f", "-z", "{compressed}", "-o", "{output}", "-3", "{nx}", "{ny}", "{nz}", "-M", "REL", "{param}"],
+///         "param": [1e-7, 0.1], "version": ["sz3", "-v"], "timeout": 600}}
+///
+/// A program holding a '/' resolves against the manifest's folder, any other is
+/// looked up on PATH when the run starts. "version" is a text, or a command whose
+/// first line of output is recorded; "timeout" is seconds per command run.
 #pragma once
+
+#include "ExternalCodec.h"
 
 #include <cstdint>
 #include <optional>
@@ -60,7 +74,11 @@ struct BenchManifest {
     std::string path;
     std::vector<BenchVolume> volumes;
     std::vector<std::string> methods;
+    std::vector<ExternalCodec> codecs;  ///< declared, whether or not "methods" names them
     RenderPlan render;
+
+    /// The declared codec named @a method, or nullptr for gvr's own methods.
+    const ExternalCodec* codec(const std::string& method) const;
 };
 
 /// @throw InputError naming the manifest (and the key) for anything malformed:

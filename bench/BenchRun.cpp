@@ -1,7 +1,10 @@
 #include "BenchRun.h"
 
+#include "BaselineCodecs.h"
 #include "ChildProcess.h"
 #include "Error.h"
+#include "ExternalCodec.h"
+#include "FloatVolume.h"
 #include "FramePath.h"
 #include "GridFile.h"
 #include "VolumeMetadata.h"
@@ -24,6 +27,12 @@ using nlohmann::json;
 
 /// A step of a run that failed; its message becomes the row's.
 struct StepFailure : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// A run that cannot start on this machine (a codec's program is missing): the row
+/// is marked skipped, not failed.
+struct RunSkipped : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
@@ -75,6 +84,8 @@ public:
                 if (mContext.onRow) mContext.onRow(row);
             }
         }
+        std::error_code ignored;
+        fs::remove_all(mWork + "/raw", ignored);  // as large as the volume in float32, and rewritten each run
     }
 
 private:
@@ -171,7 +182,10 @@ private:
         try {
             fs::remove_all(folder);  // leftovers of a killed attempt
             fs::create_directories(folder);
-            const Reconstruction r = isFitMethod(method) ? fit(unit, method, folder) : compress(unit, method, folder);
+            const ExternalCodec* codec = mContext.manifest->codec(method);
+            const Reconstruction r = isFitMethod(method) ? fit(unit, method, folder)
+                                     : codec             ? external(unit, *codec, folder)
+                                                         : compress(unit, method, folder);
             recordSize(r, row);
             evaluateVolume(r, folder, row);
             evaluateViews(r, folder, row);
@@ -179,6 +193,9 @@ private:
             row.set("status", "ok");
         } catch (const StepFailure& error) {
             fail(row, error.what());
+        } catch (const RunSkipped& skipped) {
+            row.set("status", "skipped");
+            row.set("message", skipped.what());
         } catch (const std::exception& error) {
             fail(row, std::string("bench: ") + error.what());
         }
@@ -254,6 +271,73 @@ private:
         return r;
     }
 
+    /// The size an external codec aims at: gvr's asset's where the manifest runs gvr,
+    /// else the target ratio's share of the raw source.
+    std::uint64_t codecTarget(const BenchUnit& unit) const {
+        const auto& methods = mContext.manifest->methods;
+        if (std::find(methods.begin(), methods.end(), "gvr") != methods.end()) return std::uint64_t(gvrBytes(unit));
+        return std::uint64_t(std::llround(mRawBytes / *unit.ratio));
+    }
+
+    Reconstruction external(const BenchUnit& unit, const ExternalCodec& codec, const std::string& folder) {
+        for (const auto* args : {&codec.compress, &codec.decompress}) {
+            if (findProgram(args->front()).empty()) {
+                throw RunSkipped("codec " + codec.name + ": program '" + args->front() + "' not found" +
+                                 (args->front().find('/') == std::string::npos ? " on PATH" : ""));
+            }
+        }
+        const std::uint64_t target = codecTarget(unit);
+        CodecResult result;
+        try {
+            result = runExternalCodec(codec, rawChannels(), target, folder, folder + "/log.txt");
+        } catch (const CodecFailure& error) {
+            throw StepFailure(codec.name + ": " + error.what());
+        }
+        Reconstruction r;
+        r.bytes = double(result.bytes);
+        r.compressSeconds = result.compressSeconds;
+        r.decompressSeconds = result.decompressSeconds;
+        r.peakRssMiB = result.peakRssMiB;
+        r.grid = r.renderInput = folder + "/reconstruction.vdb";
+        FloatVolume decoded;
+        decoded.dims = mRawPlacement.dims;
+        decoded.channels = mRawPlacement.channels;
+        decoded.worldFromIndex = mRawPlacement.worldFromIndex;
+        decoded.values = std::move(result.values);
+        try {
+            const auto grids = readGridMetadataFile(mSource);
+            writeGridFile(r.grid, {reconstructionOf(*chooseVolumeGrid(*grids, mSource), std::move(decoded),
+                                                    folder + "/compressed.c0")});
+        } catch (const InputError& error) {
+            throw StepFailure(std::string("reconstruction: ") + error.what());
+        }
+        std::ostringstream detail;
+        detail << std::setprecision(4) << "param " << result.param;
+        if (!result.matched) detail << " (size not matched within 5%)";
+        r.detail = detail.str();
+        return r;
+    }
+
+    /// The source's channels as raw float32 files, written on first use.
+    const RawChannels& rawChannels() {
+        if (!mRaw.files.empty()) return mRaw;
+        try {
+            const auto grids = readGridFile(mSource);
+            const openvdb::GridBase::Ptr grid = chooseVolumeGrid(*grids, mSource);
+            const FloatVolume samples = sampleGrid(*grid, volumeBox(*grid));
+            fs::create_directories(mWork + "/raw");
+            mRaw = writeRawChannels(samples, mWork + "/raw");
+            mRawPlacement.dims = samples.dims;
+            mRawPlacement.channels = samples.channels;
+            mRawPlacement.worldFromIndex = samples.worldFromIndex;
+        } catch (const InputError& error) {
+            throw StepFailure(std::string("raw channels: ") + error.what());
+        } catch (const CodecFailure& error) {
+            throw StepFailure(std::string("raw channels: ") + error.what());
+        }
+        return mRaw;
+    }
+
     static std::string baselineDetail(const json& result) {
         std::ostringstream text;
         text << std::setprecision(4);
@@ -314,6 +398,8 @@ private:
     std::vector<std::string> mTruth;
     double mRawBytes = 0, mVoxels = 0;
     int mChannels = 1;
+    RawChannels mRaw;
+    FloatVolume mRawPlacement;  ///< dims, channels and placement of mRaw; no values
 };
 
 }  // namespace

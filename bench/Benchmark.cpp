@@ -4,7 +4,9 @@
 #include "BenchReportScript.h"
 #include "BenchRun.h"
 #include "ChildProcess.h"
+#include "AtomicFile.h"
 #include "Error.h"
+#include "ExternalCodec.h"
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +17,7 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <sstream>
 #include <thread>
 
 namespace gvr {
@@ -72,7 +75,70 @@ void runGroups(const BenchContext& context, const std::vector<std::vector<BenchU
 }
 
 std::size_t failedRows(const std::vector<BenchRow>& rows) {
-    return std::size_t(std::count_if(rows.begin(), rows.end(), [](const BenchRow& r) { return r.get("status") != "ok"; }));
+    return std::size_t(std::count_if(rows.begin(), rows.end(), [](const BenchRow& r) { return r.get("status") == "failed"; }));
+}
+
+std::size_t skippedRows(const std::vector<BenchRow>& rows) {
+    return std::size_t(std::count_if(rows.begin(), rows.end(), [](const BenchRow& r) { return r.get("status") == "skipped"; }));
+}
+
+void writeJsonFile(const std::string& path, const nlohmann::json& document) {
+    writeAtomically(path, [&](const std::string& temporary) {
+        std::ofstream out(temporary);
+        out << document.dump(2) << "\n";
+        if (!out.flush()) throw InputError(path, "cannot write");
+    });
+}
+
+/// The first line a codec's version command prints, or why there is none.
+std::string versionOf(const ExternalCodec& codec, const std::string& folder) {
+    if (codec.versionCommand.empty()) return codec.version.empty() ? "not given in the manifest" : codec.version;
+    std::vector<std::string> args = codec.versionCommand;
+    args.front() = findProgram(args.front());
+    if (args.front().empty()) return "unknown: '" + codec.versionCommand.front() + "' not found";
+    const ChildResult result = runChild(args, folder + "/codecs.log", 30.0);
+    std::istringstream lines(result.output);
+    for (std::string line; std::getline(lines, line);) {
+        if (line.find_first_not_of(" \t\r") != std::string::npos) return line;
+    }
+    return "unknown: the version command printed nothing";
+}
+
+/// codecs.json: what each external codec of the run is, for the report; one warning
+/// per codec whose programs are missing (its rows are skipped).
+void recordCodecs(const BenchManifest& manifest, const std::string& folder,
+                  const std::function<void(const std::string&)>& onWarning) {
+    nlohmann::json record = nlohmann::json::object();
+    for (const ExternalCodec& codec : manifest.codecs) {
+        if (std::find(manifest.methods.begin(), manifest.methods.end(), codec.name) == manifest.methods.end()) continue;
+        nlohmann::json programs = nlohmann::json::array();
+        for (const auto* args : {&codec.compress, &codec.decompress}) {
+            const std::string program = findProgram(args->front());
+            programs.push_back(program.empty() ? nlohmann::json(nullptr) : nlohmann::json(program));
+            if (program.empty() && onWarning) {
+                onWarning("codec " + codec.name + ": program '" + args->front() + "' not found" +
+                          (args->front().find('/') == std::string::npos ? " on PATH" : "") + "; its rows are skipped");
+            }
+        }
+        record[codec.name] = {{"compress", codec.compress},   {"decompress", codec.decompress},
+                              {"param", {codec.paramMin, codec.paramMax}}, {"timeout_s", codec.timeoutSeconds},
+                              {"programs", programs},         {"version", versionOf(codec, folder)}};
+    }
+    writeJsonFile(folder + "/codecs.json", record);
+}
+
+/// The codecs recorded in @a folders, the first record of each name kept.
+nlohmann::json mergedCodecs(const std::vector<std::string>& folders) {
+    nlohmann::json merged = nlohmann::json::object();
+    for (const std::string& dir : folders) {
+        std::ifstream in(fs::path(dir) / "codecs.json");
+        const nlohmann::json record = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+        if (record.is_discarded() || !record.is_object()) continue;
+        for (const auto& [name, codec] : record.items()) {
+            if (!merged.contains(name)) merged[name] = codec;
+        }
+    }
+    return merged;
 }
 
 /// The manifest a results folder was run from, as its results.json records it.
@@ -125,6 +191,7 @@ BenchSummary runBenchmark(const BenchOptions& options) {
     const std::vector<std::vector<BenchUnit>> groups =
         groupByVolume(benchUnits(manifest, options.shard, options.shards));
     writeReportScript(summary.folder);
+    recordCodecs(manifest, summary.folder, options.onWarning);
 
     const std::size_t pending = pendingRuns(manifest, groups, table);
     std::atomic<std::size_t> done{0};
@@ -147,6 +214,7 @@ BenchSummary runBenchmark(const BenchOptions& options) {
     summary.reportOutput = writeBenchReport(summary.folder);
     summary.rows = table.rows();
     summary.failed = failedRows(summary.rows);
+    summary.skipped = skippedRows(summary.rows);
     return summary;
 }
 
@@ -171,8 +239,10 @@ BenchSummary mergeBenchResults(const std::vector<std::string>& folders, const st
     fs::create_directories(out);
     writeResultsCsv((out / "results.csv").string(), summary.rows);
     writeResultsJson((out / "results.json").string(), manifest, summary.rows);
+    writeJsonFile((out / "codecs.json").string(), mergedCodecs(folders));
     summary.reportOutput = writeBenchReport(summary.folder);
     summary.failed = failedRows(summary.rows);
+    summary.skipped = skippedRows(summary.rows);
     return summary;
 }
 

@@ -27,17 +27,21 @@ struct BenchOptions {
     /// Called after each finished run, from the thread that ran it (one at a time),
     /// with the runs finished so far and those this call had to do.
     std::function<void(const BenchRow& row, std::size_t done, std::size_t pending)> onRow;
+    /// Called before any run with each warning line (a codec whose program is missing).
+    std::function<void(const std::string& warning)> onWarning;
 };
 
 struct BenchSummary {
     std::string folder;  ///< absolute
     std::vector<BenchRow> rows;
     std::size_t failed = 0;
+    std::size_t skipped = 0;     ///< codecs whose programs are missing
     std::size_t duplicates = 0;  ///< mergeBenchResults: rows found in more than one folder
     std::string reportOutput;    ///< what the report script printed
 };
 
-/// Runs the manifest's pending units and writes the report.
+/// Runs the manifest's pending units and writes the report. The codecs the
+/// manifest runs are recorded in codecs.json (commands, programs, versions).
 /// @throw InputError for a bad manifest, shard, job count or folder, or a failed report.
 BenchSummary runBenchmark(const BenchOptions& options);
 

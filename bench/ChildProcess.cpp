@@ -3,23 +3,28 @@
 #include "Error.h"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <thread>
 
 namespace gvr {
 
 namespace {
 
 /// Runs in the forked child: only async-signal-safe calls until exec.
-[[noreturn]] void becomeChild(char* const* argv, int stdoutFd, int logFd, pid_t parent) {
+[[noreturn]] void becomeChild(char* const* argv, int stdoutFd, int logFd, pid_t parent, bool ownGroup) {
+    if (ownGroup) setpgid(0, 0);  // so that a time-out reaches any programs it starts
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(127);  // the parent died before prctl took effect
     dup2(stdoutFd, STDOUT_FILENO);
@@ -28,16 +33,44 @@ namespace {
     _exit(127);
 }
 
-std::string readAll(int fd) {
-    std::string text;
+using Clock = std::chrono::steady_clock;
+
+/// Milliseconds left until @a deadline for poll(), -1 (wait for ever) without one.
+int millisecondsLeft(const std::optional<Clock::time_point>& deadline) {
+    if (!deadline) return -1;
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(*deadline - Clock::now()).count();
+    return int(std::clamp<long long>(left, 0, 1000));
+}
+
+bool passed(const std::optional<Clock::time_point>& deadline) { return deadline && Clock::now() >= *deadline; }
+
+/// Everything written to @a fd until its writer closes it; false when @a deadline passed first.
+bool readAll(int fd, const std::optional<Clock::time_point>& deadline, std::string& text) {
     char buffer[65536];
     for (;;) {
+        if (passed(deadline)) return false;
+        pollfd ready{fd, POLLIN, 0};
+        const int polled = poll(&ready, 1, millisecondsLeft(deadline));
+        if (polled < 0 && errno != EINTR) return true;
+        if (polled <= 0) continue;
         const ssize_t n = read(fd, buffer, sizeof buffer);
         if (n > 0) {
             text.append(buffer, std::size_t(n));
         } else if (n == 0 || errno != EINTR) {
-            return text;
+            return true;
         }
+    }
+}
+
+/// Waits for @a pid to end; false when @a deadline passed first (a child may close
+/// its output and still run on).
+bool waitFor(pid_t pid, const std::optional<Clock::time_point>& deadline, int& status, rusage& usage) {
+    for (;;) {
+        const pid_t ended = wait4(pid, &status, deadline ? WNOHANG : 0, &usage);
+        if (ended == pid) return true;
+        if (ended < 0 && errno != EINTR) return true;
+        if (passed(deadline)) return false;
+        if (deadline) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
 }
 
@@ -58,7 +91,7 @@ std::string lastNonEmptyLine(const std::string& path, std::streamoff from) {
 
 }  // namespace
 
-ChildResult runChild(const std::vector<std::string>& argv, const std::string& logPath) {
+ChildResult runChild(const std::vector<std::string>& argv, const std::string& logPath, double timeoutSeconds) {
     std::vector<char*> cArgs;
     for (const std::string& a : argv) cArgs.push_back(const_cast<char*>(a.c_str()));
     cArgs.push_back(nullptr);
@@ -70,10 +103,13 @@ ChildResult runChild(const std::vector<std::string>& argv, const std::string& lo
         close(logFd);
         throw std::runtime_error("cannot create a pipe for " + argv[0]);
     }
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
+    std::optional<Clock::time_point> deadline;
+    if (timeoutSeconds > 0) deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeoutSeconds));
     const pid_t parent = getpid();
     const pid_t pid = fork();
-    if (pid == 0) becomeChild(cArgs.data(), pipeFds[1], logFd, parent);
+    if (pid == 0) becomeChild(cArgs.data(), pipeFds[1], logFd, parent, deadline.has_value());
+    if (pid > 0 && deadline) setpgid(pid, pid);  // as the child does: whichever runs first
     close(pipeFds[1]);
     close(logFd);
     if (pid < 0) {
@@ -81,13 +117,17 @@ ChildResult runChild(const std::vector<std::string>& argv, const std::string& lo
         throw std::runtime_error("cannot start " + argv[0]);
     }
     ChildResult result;
-    result.output = readAll(pipeFds[0]);
-    close(pipeFds[0]);
     int status = 0;
     rusage usage{};
-    while (wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
+    result.timedOut = !readAll(pipeFds[0], deadline, result.output) || !waitFor(pid, deadline, status, usage);
+    close(pipeFds[0]);
+    if (result.timedOut) {
+        kill(-pid, SIGKILL);
+        kill(pid, SIGKILL);  // in case it left the group
+        while (wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
+        }
     }
-    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     result.peakRssMiB = usage.ru_maxrss / 1024.0;
     result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     result.lastError = lastNonEmptyLine(logPath, logStart);

@@ -14,14 +14,17 @@ struct ChildResult {
     double peakRssMiB = 0;  ///< the child's peak resident memory
     std::string output;     ///< everything it wrote to stdout
     std::string lastError;  ///< the last non-empty line it wrote to stderr
+    bool timedOut = false;  ///< killed for running past its time limit
 
     bool ok() const { return exitCode == 0; }
 };
 
 /// Runs @a argv (argv[0] is the executable's path), with stdout kept in memory and
 /// stderr appended to @a logPath. The child is killed if this process dies, so a
-/// killed benchmark leaves no orphan writing into its folders.
-ChildResult runChild(const std::vector<std::string>& argv, const std::string& logPath);
+/// killed benchmark leaves no orphan writing into its folders. With a positive
+/// @a timeoutSeconds the child runs in its own process group, and the whole group
+/// is killed once that time has passed.
+ChildResult runChild(const std::vector<std::string>& argv, const std::string& logPath, double timeoutSeconds = 0);
 
 /// The path of the running executable, for running gvr's own subcommands.
 std::string currentExecutable();

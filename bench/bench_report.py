@@ -62,6 +62,16 @@ def load_results(results_dir):
     return str(data.get("manifest", "")), rows
 
 
+def load_codecs(results_dir):
+    """codecs.json: each external codec's commands, programs and version; {} when absent or unreadable."""
+    try:
+        with open(os.path.join(results_dir, "codecs.json"), encoding="utf-8") as file:
+            codecs = json.load(file)
+    except (OSError, ValueError):
+        return {}
+    return codecs if isinstance(codecs, dict) else {}
+
+
 def read_fit_log(results_dir, relative):
     """(seconds, psnr) pairs usable on a log time axis; [] when the log is absent or unreadable."""
     if not relative:
@@ -142,7 +152,8 @@ def plot_name(volume, ratio, kind):
 
 
 def failure(row):
-    return f"failed: {row.get('message') or 'no message'}"
+    status = "skipped" if row.get("status") == "skipped" else "failed"
+    return f"{status}: {row.get('message') or 'no message'}"
 
 
 def md_cell(text):
@@ -227,8 +238,14 @@ def ablation_verdict(title, members):
     return f"{title}: MC sampling + curriculum (gvr, {fmt(gvr.get('psnr'), 2)} dB) {'; '.join(clauses)}."
 
 
+def competitors(methods):
+    """The lossy codecs gvr is measured against at equal bytes, in report order: ZFP's
+    accuracy mode and every external codec (any method gvr does not know)."""
+    return [m for m in sorted(set(methods), key=method_order) if m == "zfp-accuracy" or m not in KNOWN_METHODS]
+
+
 def section_verdicts(title, members):
-    verdicts = [baseline_verdict(title, members, m) for m in ("zfp-accuracy", "zfp-rate") if m in members]
+    verdicts = [baseline_verdict(title, members, m) for m in ["zfp-rate"] + competitors(members) if m in members]
     if any(map(is_ablation, members)):
         verdicts.append(ablation_verdict(title, members))
     return verdicts
@@ -299,41 +316,67 @@ def ablation_table(sections):
     return md_table(["Volume", "Ratio", "Method"] + [c[0] for c in ABLATION_COLUMNS] + ["ΔPSNR vs gvr dB"], body)
 
 
-def crossover_rows(sections):
-    """Per volume: [(ratio, gvr row, zfp-accuracy row)] for the ratios where both ran."""
-    by_volume = {}
-    for volume, ratio, members in sections:
-        gvr, zfp = members.get("gvr"), members.get("zfp-accuracy")
-        if ratio is not None and gvr is not None and zfp is not None and is_ok(gvr) and is_ok(zfp):
-            by_volume.setdefault(volume, []).append((ratio, gvr, zfp))
-    return by_volume
-
-
 def crossover(points):
-    """The lowest ratio from which gvr beats ZFP fixed-accuracy at every measured ratio above it."""
+    """The lowest ratio from which gvr beats the codec at every measured ratio above it."""
     lowest = None
-    for ratio, gvr, zfp in sorted(points, key=lambda p: p[0], reverse=True):
-        gap = psnr_gap(gvr, zfp)
+    for ratio, gap in sorted(points, reverse=True):
         if gap is None or gap <= 0:
             break
         lowest = ratio
     return lowest
 
 
+def crossover_verdict(points):
+    wins = [ratio for ratio, gap in sorted(points) if gap is not None and gap > 0]
+    lowest = crossover(points)
+    if lowest is not None:
+        return f"from {fmt_ratio(lowest)}:1"
+    if not wins:
+        return "none"
+    return "at " + english_list([f"{fmt_ratio(r)}:1" for r in wins]) + " only"
+
+
+def codec_cell(row):
+    if row is None:
+        return "not run"
+    if not is_ok(row):
+        return failure(row)
+    return f"{fmt(row.get('psnr'), 2)} at {fmt(row.get('ratio_raw'), 1)}:1"
+
+
+def rate_distortion_table(sections):
+    rated = [(v, r, m) for v, r, m in sections if r is not None]
+    codecs = competitors(m for _, _, members in rated for m in members)
+    body = [[volume, fmt_ratio(ratio), codec_cell(members.get("gvr"))] + [codec_cell(members.get(c)) for c in codecs]
+            for volume, ratio, members in rated]
+    return md_table(["Volume", "Target ratio", "gvr"] + [LABELS.get(c, c) for c in codecs], body)
+
+
 def crossover_table(sections):
-    body = []
-    for volume, points in crossover_rows(sections).items():
-        lowest = crossover(points)
-        verdict = f"from {fmt_ratio(lowest)}:1" if lowest is not None else f"none up to {fmt_ratio(max(p[0] for p in points))}:1"
-        for ratio, gvr, zfp in sorted(points, key=lambda p: p[0]):
-            body.append([volume, fmt_ratio(ratio), fmt(gvr.get("bytes"), None), fmt(zfp.get("bytes"), None),
-                         fmt(gvr.get("psnr"), 2), fmt(zfp.get("psnr"), 2), fmt(psnr_gap(gvr, zfp), 2, signed=True),
-                         fmt(gvr.get("fg_psnr"), 2), fmt(zfp.get("fg_psnr"), 2), verdict])
-            verdict = ""
+    """Per volume and codec: gvr's PSNR lead at each ratio where both ran, and from where it wins."""
+    points = {}
+    for volume, ratio, members in sections:
+        gvr = members.get("gvr")
+        if ratio is None or gvr is None or not is_ok(gvr):
+            continue
+        for codec in competitors(members):
+            if is_ok(members[codec]):
+                points.setdefault((volume, codec), []).append((ratio, psnr_gap(gvr, members[codec])))
+    body = [[volume, LABELS.get(codec, codec),
+             ", ".join(f"{fmt_ratio(r)}:1 {fmt(g, 2, signed=True)}" for r, g in sorted(pts)), crossover_verdict(pts)]
+            for (volume, codec), pts in points.items()]
     if not body:
-        return "_gvr and zfp-accuracy were not both run at any ratio._\n"
-    return md_table(["Volume", "Target ratio", "gvr bytes", "ZFP bytes", "gvr PSNR dB", "ZFP PSNR dB",
-                     "ΔPSNR dB", "gvr FG PSNR dB", "ZFP FG PSNR dB", "gvr beats ZFP"], body)
+        return "_gvr and a codec were not both run at any ratio._\n"
+    return md_table(["Volume", "Codec", "gvr PSNR minus the codec's, dB, by target ratio", "gvr wins"], body)
+
+
+def codecs_table(codecs):
+    body = [[name, spec.get("version") or DASH, " ".join(spec.get("compress") or []),
+             " ".join(spec.get("decompress") or []),
+             " to ".join(f"{p:g}" for p in spec.get("param") or [] if number(p) is not None),
+             ", ".join(p or "missing" for p in dict.fromkeys(spec.get("programs") or []))]
+            for name, spec in codecs.items() if isinstance(spec, dict)]
+    return md_table(["Codec", "Version", "Compress", "Decompress", "Parameter range", "Programs"], body)
 
 
 def verdict_list(sections):
@@ -341,27 +384,36 @@ def verdict_list(sections):
     return "".join(f"- {verdict}\n" for verdict in verdicts) or "_No comparisons possible._\n"
 
 
-def failed_table(rows):
+def rows_with_status(rows, status):
     body = [[row.get("volume"), ratio_cell(number(row.get("ratio"))), method_of(row), row.get("message") or DASH]
-            for row in rows if not is_ok(row)]
+            for row in rows if row.get("status") == status]
     return md_table(["Volume", "Ratio", "Method", "Message"], body)
 
 
-def render_report(manifest, rows, sections, plots):
+def render_report(manifest, rows, sections, plots, codecs):
     ok = sum(1 for row in rows if is_ok(row))
+    skipped = sum(1 for row in rows if row.get("status") == "skipped")
     return "\n".join(
         ["# gvr benchmark report\n", f"Manifest: `{manifest or DASH}`  ",
-         f"Rows: {ok} ok, {len(rows) - ok} failed.\n",
+         f"Rows: {ok} ok, {len(rows) - ok - skipped} failed, {skipped} skipped.\n",
          "## Table 1 – gvr per dataset\n", dataset_table(sections),
          "## Table 2 – all methods\n", *method_sections(sections, plots),
          "## Table 3 – ablations\n", ablation_table(sections),
-         "## Table 4 – rate–distortion: gvr against ZFP fixed-accuracy at equal bytes\n",
-         "The crossover is the lowest target ratio from which gvr's PSNR beats ZFP's at that ratio and "
-         "at every higher one measured. Plots: PSNR against ratio, one per volume (the rate–distortion "
+         "## Table 4 – rate–distortion: gvr against every codec\n",
+         "Whole-volume PSNR in dB at the ratio each reached against the raw source. ZFP fixed-accuracy and "
+         "the external codecs search their parameter to match gvr's asset size within 5 % (or the target "
+         "ratio where gvr was not run). Plots: PSNR against ratio, one per volume (the rate–distortion "
          "links in Table 2).\n",
+         rate_distortion_table(sections),
+         "### Crossover\n",
+         "Where gvr wins: from the lowest target ratio at which gvr's PSNR beats the codec's at that ratio and "
+         "at every higher one measured; \"none\" where it wins at no ratio.\n",
          crossover_table(sections),
+         "## Codecs\n", codecs_table(codecs),
          "## Verdicts\n", verdict_list(sections),
-         "## Failed runs\n", failed_table(rows)])
+         "## Failed runs\n", rows_with_status(rows, "failed"),
+         "## Skipped runs\n", "A codec whose program was not found on this machine.\n",
+         rows_with_status(rows, "skipped")])
 
 
 # --- plots -----------------------------------------------------------------------------------------
@@ -539,7 +591,7 @@ def main(argv):
         return 1
     sections = group_sections(rows)
     plots = make_plots(results_dir, rows, sections) if plt else {}
-    report = render_report(manifest, rows, sections, plots)
+    report = render_report(manifest, rows, sections, plots, load_codecs(results_dir))
     write_atomically(os.path.join(results_dir, "report.md"), lambda file: file.write(report.encode("utf-8")))
     if plt is None:
         print(f"bench_report: plots skipped: matplotlib unavailable ({PLOTS_UNAVAILABLE})", file=sys.stderr)

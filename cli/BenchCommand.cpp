@@ -42,6 +42,7 @@ std::string describeRow(const BenchRow& row) {
     std::ostringstream text;
     text << row.get("volume") << (row.get("ratio").empty() ? "" : " at " + row.get("ratio") + ":1") << ", "
          << row.get("method") << ": ";
+    if (row.get("status") == "skipped") return text.str() + "skipped: " + row.get("message");
     if (row.get("status") != "ok") return text.str() + "FAILED: " + row.get("message");
     text << formatDb(row.number("psnr").value_or(NAN)) << " dB, " << std::fixed << std::setprecision(2)
          << row.number("ratio_raw").value_or(NAN) << ":1 vs raw, render " << formatDb(row.number("render_psnr").value_or(NAN))
@@ -53,6 +54,7 @@ void printSummary(const BenchFlags& flags, const BenchSummary& summary) {
     const std::string& folder = summary.folder;
     const nlohmann::json out = {{"rows", summary.rows.size()},
                                 {"failed", summary.failed},
+                                {"skipped", summary.skipped},
                                 {"results_csv", folder + "/results.csv"},
                                 {"results_json", folder + "/results.json"},
                                 {"report", folder + "/report.md"},
@@ -61,7 +63,7 @@ void printSummary(const BenchFlags& flags, const BenchSummary& summary) {
         std::cout << out.dump(2) << "\n";
         return;
     }
-    std::cout << summary.rows.size() << " rows (" << summary.failed << " failed)\n"
+    std::cout << summary.rows.size() << " rows (" << summary.failed << " failed, " << summary.skipped << " skipped)\n"
               << "  results: " << folder << "/results.csv and results.json\n"
               << "  report:  " << folder << "/report.md\n"
               << "  plots:   " << folder << "/plots/\n";
@@ -76,6 +78,7 @@ void runBench(const BenchFlags& flags) {
     options.jobs = flags.jobs;
     options.resume = flags.resume;
     options.retryFailed = flags.retryFailed;
+    options.onWarning = [](const std::string& warning) { diagnostics() << "gvr: warning: " << warning << std::endl; };
     if (!flags.quiet) {
         options.onRow = [](const BenchRow& row, std::size_t done, std::size_t pending) {
             diagnostics() << "[" << done << "/" << pending << "] " << describeRow(row) << std::endl;
@@ -102,7 +105,8 @@ void addBenchCommand(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "bench",
         "Batch compression benchmark: run a manifest of volumes x target ratios x methods (gvr, ablations A1-A5, "
-        "ZFP fixed-accuracy and fixed-rate, OpenVDB Blosc and half, downsampling x2/3/4), record each run in "
+        "ZFP fixed-accuracy and fixed-rate, OpenVDB Blosc and half, downsampling x2/3/4, and external codecs such "
+        "as SZ3 and SPERR declared in the manifest), record each run in "
         "results.csv/json as it ends, and write report.md with paper-style tables and PNG plots");
     command->add_option("manifest", flags->manifest, "Manifest (.json or .toml) listing volumes, ratios, methods, "
                                                      "fit budgets and views");

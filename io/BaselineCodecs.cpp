@@ -76,20 +76,6 @@ openvdb::GridBase::Ptr gridOf(const openvdb::GridBase& source, FloatVolume sampl
     return buildGrid(denseOf(std::move(samples)), build, progress);
 }
 
-/// @a decoded (the source's samples as a stream gave them back) as a grid that
-/// stands in for the source wherever the source is read.
-openvdb::GridBase::Ptr reconstruct(const openvdb::GridBase& source, FloatVolume decoded, const std::string& streamPath,
-                                   const ProgressFn& progress) {
-    openvdb::GridBase::Ptr grid = gridOf(source, std::move(decoded), streamPath, progress);
-    grid->setName(source.getName());
-    grid->setGridClass(source.getGridClass());
-    if (const auto metadata = readVolumeMetadata(source)) {
-        grid->removeMeta("gvr_threshold");  // writeVolumeMetadata leaves it when the source has none
-        writeVolumeMetadata(*metadata, *grid);
-    }
-    return grid;
-}
-
 // zfp ----------------------------------------------------------------------------
 
 struct Encoded {
@@ -314,6 +300,18 @@ std::string BaselineSettings::validate() const {
     return {};
 }
 
+openvdb::GridBase::Ptr reconstructionOf(const openvdb::GridBase& source, FloatVolume decoded, const std::string& streamPath,
+                                        const ProgressFn& progress) {
+    openvdb::GridBase::Ptr grid = gridOf(source, std::move(decoded), streamPath, progress);
+    grid->setName(source.getName());
+    grid->setGridClass(source.getGridClass());
+    if (const auto metadata = readVolumeMetadata(source)) {
+        grid->removeMeta("gvr_threshold");  // writeVolumeMetadata leaves it when the source has none
+        writeVolumeMetadata(*metadata, *grid);
+    }
+    return grid;
+}
+
 BaselineResult runBaseline(const openvdb::GridBase& source, const BaselineSettings& settings,
                            const std::string& streamPath, const ProgressFn& progress) {
     if (const std::string problem = settings.validate(); !problem.empty()) throw InputError("gvr baseline", problem);
@@ -333,7 +331,8 @@ BaselineResult runBaseline(const openvdb::GridBase& source, const BaselineSettin
         result.streamBytes = std::filesystem::file_size(streamPath);
         const auto start = Clock::now();
         result.reconstruction =
-            reconstruct(source, readStream(settings, samples, box, streamPath), streamPath, phase(progress, 0.5, 1.0));
+            reconstructionOf(source, readStream(settings, samples, box, streamPath), streamPath,
+                             phase(progress, 0.5, 1.0));
         result.decompressSeconds = secondsSince(start);
     } catch (...) {
         std::error_code ignored;

@@ -9,6 +9,7 @@
 /// metadata, with the voxels at or below the source's threshold inactive.
 #pragma once
 
+#include "FloatVolume.h"
 #include "Progress.h"
 
 #include <openvdb/openvdb.h>
@@ -74,5 +75,13 @@ struct BaselineResult {
 ///        anything fails after it was written.
 BaselineResult runBaseline(const openvdb::GridBase& source, const BaselineSettings& settings,
                            const std::string& streamPath, const ProgressFn& progress = {});
+
+/// @a decoded (the samples of volumeBox(@a source), placed by their
+/// worldFromIndex, as a codec gave them back) as a grid that stands in for the
+/// source wherever the source is read: its name, class and metadata, with its cut
+/// for the inactive voxels, and @a streamPath recorded as the source file. Only
+/// the source's metadata is read, so a grid read without its voxels will do.
+openvdb::GridBase::Ptr reconstructionOf(const openvdb::GridBase& source, FloatVolume decoded,
+                                        const std::string& streamPath, const ProgressFn& progress = {});
 
 }  // namespace gvr
