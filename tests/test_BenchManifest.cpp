@@ -137,3 +137,56 @@ TEST(BenchManifest, MistakesAreNamed) {
     EXPECT_NE(errorOf(write(dir, "i.json", R"({"render": {"views": 0.5}, )" + volume + "}")).find("render.views: must be a whole number"),
               std::string::npos);
 }
+
+TEST(BenchManifest, CodecsAreDeclaredThenRunAfterGvrLikeAnyMethod) {
+    test::TempDir dir;
+    const std::string path = write(dir, "codecs.json", R"({
+  "ratios": [10],
+  "codecs": {"sz3": {"compress": ["sz3", "-i", "{input}", "-z", "{compressed}"],
+                     "decompress": ["tools/unsz3", "{compressed}", "{output}"],
+                     "param": [1e-6, 0.1], "version": ["sz3", "-v"], "timeout": 30}},
+  "volumes": [{"input": "a.nii"}]
+})");
+    const BenchManifest manifest = readBenchManifest(path);
+    ASSERT_EQ(manifest.codecs.size(), 1u);
+    const ExternalCodec* sz3 = manifest.codec("sz3");
+    ASSERT_NE(sz3, nullptr);
+    EXPECT_EQ(manifest.codec("gvr"), nullptr);
+    EXPECT_EQ(sz3->compress.front(), "sz3") << "a bare name is looked up on PATH when the run starts";
+    EXPECT_EQ(sz3->decompress.front(), dir.path("tools/unsz3")) << "a path is relative to the manifest";
+    EXPECT_DOUBLE_EQ(sz3->paramMin, 1e-6);
+    EXPECT_DOUBLE_EQ(sz3->timeoutSeconds, 30);
+    EXPECT_EQ(sz3->versionCommand, (std::vector<std::string>{"sz3", "-v"}));
+    // Without "methods", every method runs, the codec last: it matches gvr's bytes.
+    EXPECT_EQ(manifest.methods.back(), "sz3");
+    const std::vector<BenchUnit> units = benchUnits(manifest);
+    ASSERT_EQ(units.size(), 2u);
+    EXPECT_EQ(units[1].methods.front(), "gvr");
+    EXPECT_EQ(units[1].methods.back(), "sz3");
+}
+
+TEST(BenchManifest, CodecMistakesAreNamed) {
+    test::TempDir dir;
+    const auto manifest = [&](const std::string& name, const std::string& codec) {
+        return write(dir, name, R"({"codecs": {"c": )" + codec + R"(}, "volumes": [{"input": "a.nii"}]})");
+    };
+    const std::string commands = R"("compress": ["c", "{input}"], "decompress": ["d", "{output}"])";
+    EXPECT_NE(errorOf(manifest("a.json", "{" + commands + "}")).find("codecs.c.param: must be [smallest, largest]"),
+              std::string::npos);
+    EXPECT_NE(errorOf(manifest("b.json", "{" + commands + R"(, "param": [1, 0.5]})")).find("smallest must lie below"),
+              std::string::npos);
+    EXPECT_NE(errorOf(manifest("c.json", "{" + commands + R"(, "param": [0, 1]})")).find("positive"), std::string::npos);
+    EXPECT_NE(errorOf(manifest("d.json", R"({"compress": [], "decompress": ["d"], "param": [1, 2]})"))
+                  .find("codecs.c.compress: must start with the program"),
+              std::string::npos);
+    EXPECT_NE(errorOf(manifest("e.json", "{" + commands + R"(, "param": [1, 2], "level": 3})")).find("unknown key 'level'"),
+              std::string::npos);
+    EXPECT_NE(errorOf(write(dir, "f.json", R"({"codecs": {"gvr": {}}, "volumes": [{"input": "a.nii"}]})"))
+                  .find("codecs.gvr: is a built-in method's name"),
+              std::string::npos);
+    EXPECT_NE(errorOf(write(dir, "g.json", R"({"codecs": {"a|b": {}}, "volumes": [{"input": "a.nii"}]})"))
+                  .find("a name must be non-empty"),
+              std::string::npos);
+    EXPECT_NE(errorOf(manifest("h.json", "{" + commands + R"(, "param": [1, 2], "timeout": -1})")).find("codecs.c.timeout"),
+              std::string::npos);
+}

@@ -1,6 +1,7 @@
 // gvr bench end to end on a tiny manifest: every method gives a row, a missing
 // volume gives failed rows, a kill -9 followed by --resume ends with the same
-// table as an uninterrupted run, and shards merge into the whole.
+// table as an uninterrupted run, and shards merge into the whole; external codecs
+// match gvr's bytes, and a faulty one fails only its own row.
 
 #include "BenchTable.h"
 #include "TestHelpers.h"
@@ -13,6 +14,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <map>
 #include <thread>
 
 using namespace gvr;
@@ -175,4 +177,84 @@ TEST_F(CliBench, BadFlagsAreRefused) {
     EXPECT_EQ(test::lineCount(bad.err), 1u) << bad.err;
     EXPECT_NE(bad.err.find("nope.json"), std::string::npos);
     EXPECT_FALSE(std::filesystem::exists(dir->path("z/results.csv")));
+}
+
+namespace {
+
+/// Codecs over tests/fake_codec.py: one that works and one for each way of failing.
+std::string writeCodecManifest(const test::TempDir& dir, const std::string& grid) {
+    const std::string codec = "\"/usr/bin/python3\", \"" + std::string(GVR_TEST_DATA) + "/../fake_codec.py\"";
+    const auto spec = [&](const std::string& compressMode, const std::string& decompressMode,
+                          const std::string& extra = "", const std::string& program = "") {
+        const std::string head = program.empty() ? codec : "\"" + program + "\"";
+        return R"({"compress": [)" + head + R"(, "c", ")" + compressMode +
+               R"(", "{input}", "{nx}", "{ny}", "{nz}", "{param}", "{compressed}")" + extra + R"(],
+                   "decompress": [)" + head + R"(, "d", ")" + decompressMode +
+               R"(", "{compressed}", "{output}", "{nx}", "{ny}", "{nz}"],
+                   "param": [1e-8, 10], "version": "fake 1.0", "timeout": 2})";
+    };
+    const std::string path = dir.path("codecs.json");
+    std::ofstream(path) << R"({
+  "ratios": [8],
+  "methods": ["gvr", "good", "badph", "fails", "hangs", "empty", "short", "missing"],
+  "fit": {"iterations": 20, "args": ["--batch", "2048", "--threads", "1"]},
+  "render": {"size": "32x32", "views": 2},
+  "codecs": {
+    "good": )" + spec("quantise", "quantise") + R"(,
+    "badph": )" + spec("quantise", "quantise", R"(, "{level}")") + R"(,
+    "fails": )" + spec("fail", "quantise") + R"(,
+    "hangs": )" + spec("hang", "quantise") + R"(,
+    "empty": )" + spec("nothing", "quantise") + R"(,
+    "short": )" + spec("quantise", "short") + R"(,
+    "missing": )" + spec("quantise", "quantise", "", "no-such-codec") + R"(
+  },
+  "volumes": [{"name": "blobs", "input": ")" + grid + R"("}]
+})";
+    return path;
+}
+
+}  // namespace
+
+TEST(CliBenchCodecs, ACodecMatchesGvrsBytesAndEveryFaultyCodecFailsOnlyItsOwnRow) {
+    test::TempDir dir;
+    const std::string manifest = writeCodecManifest(dir, test::smallGrid(dir));
+    const test::CommandResult run = runGvr("bench '" + manifest + "' -o '" + dir.path("out") + "'", dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    EXPECT_NE(run.out.find("8 rows (5 failed, 1 skipped)"), std::string::npos) << run.out;
+    EXPECT_NE(run.err.find("gvr: warning: codec missing: program 'no-such-codec' not found on PATH; its rows are "
+                           "skipped\n"),
+              std::string::npos)
+        << run.err;
+
+    std::map<std::string, BenchRow> rows;
+    for (const BenchRow& row : readResultsCsv(dir.path("out/results.csv"))) rows[row.get("method")] = row;
+    ASSERT_EQ(rows.size(), 8u);
+    ASSERT_EQ(rows["gvr"].get("status"), "ok") << rows["gvr"].get("message");
+    const BenchRow& good = rows["good"];
+    ASSERT_EQ(good.get("status"), "ok") << good.get("message");
+    EXPECT_NEAR(*good.number("bytes") / *rows["gvr"].number("bytes"), 1.0, 0.05) << "the search matches gvr's asset";
+    for (const char* column : {"psnr", "fg_psnr", "ssim", "ms_ssim", "render_psnr", "compress_s", "decompress_s"}) {
+        EXPECT_TRUE(good.number(column).has_value()) << column;
+    }
+    EXPECT_GT(*good.number("psnr"), 20.0);
+    EXPECT_NE(good.get("detail").find("param "), std::string::npos);
+
+    const std::map<std::string, std::string> expected = {
+        {"badph", "unknown placeholder {level}"}, {"fails", "exit 3"},        {"hangs", "time limit of 2 s"},
+        {"empty", "wrote no file"},             {"short", "float32 voxels are"}};
+    for (const auto& [method, message] : expected) {
+        SCOPED_TRACE(method);
+        EXPECT_EQ(rows[method].get("status"), "failed");
+        EXPECT_NE(rows[method].get("message").find(method + ": "), std::string::npos) << rows[method].get("message");
+        EXPECT_NE(rows[method].get("message").find(message), std::string::npos) << rows[method].get("message");
+        EXPECT_NE(run.err.find("blobs at 8:1, " + method + ": FAILED: "), std::string::npos) << "names the row";
+        for (const char* column : {"bytes", "psnr", "render_psnr"}) EXPECT_EQ(rows[method].get(column), "") << column;
+    }
+    EXPECT_EQ(rows["missing"].get("status"), "skipped");
+
+    const std::string report = test::readBytes(dir.path("out/report.md"));
+    for (const char* part : {"## Codecs", "fake 1.0", "fake_codec.py c quantise {input} {nx} {ny} {nz} {param}",
+                             "## Skipped runs", "'no-such-codec' not found", "| good |"}) {
+        EXPECT_NE(report.find(part), std::string::npos) << part;
+    }
 }

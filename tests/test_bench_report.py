@@ -1,4 +1,4 @@
-"""Tests the rate-distortion crossover of bench/bench_report.py on made-up rows.
+"""Tests the rate-distortion tables and crossovers of bench/bench_report.py on made-up rows.
 
 Usage: test_bench_report.py REPORT_SCRIPT
 """
@@ -28,23 +28,39 @@ def main():
         if not ok:
             failures.append(name)
 
+    def verdicts(rows):
+        """{codec label: the crossover table's verdict cell} for volume v."""
+        out = {}
+        for line in report.crossover_table(report.group_sections(rows)).splitlines()[2:]:
+            cells = [c.strip() for c in line.strip("|").split("|")]
+            out[cells[1]] = cells[3]
+        return out
+
     # gvr loses at 10 and 20, wins from 40 up.
     rows = [row("gvr", 10, 30), row("zfp-accuracy", 10, 35), row("gvr", 20, 28), row("zfp-accuracy", 20, 29),
             row("gvr", 40, 26), row("zfp-accuracy", 40, 24), row("gvr", 80, 24), row("zfp-accuracy", 80, 20)]
-    sections = report.group_sections(rows)
-    expect("crossover where gvr wins from 40:1 up", report.crossover(report.crossover_rows(sections)["v"]), 40)
-    table = report.crossover_table(sections)
-    expect("the table names the crossover", "from 40:1" in table, True)
-    expect("the table shows foreground PSNR", "gvr FG PSNR dB" in table, True)
+    expect("crossover where gvr wins from 40:1 up", verdicts(rows), {"ZFP fixed-accuracy": "from 40:1"})
 
     # A win at 20 that is lost again at 40 does not count: the crossover needs every higher ratio.
     rows = [row("gvr", 20, 30), row("zfp-accuracy", 20, 29), row("gvr", 40, 26), row("zfp-accuracy", 40, 27),
             row("gvr", 80, 24), row("zfp-accuracy", 80, 20)]
-    expect("a later loss moves the crossover up",
-           report.crossover(report.crossover_rows(report.group_sections(rows))["v"]), 80)
+    expect("a later loss moves the crossover up", verdicts(rows), {"ZFP fixed-accuracy": "from 80:1"})
 
     rows = [row("gvr", 10, 20), row("zfp-accuracy", 10, 35)]
-    expect("no crossover", "none up to 10:1" in report.crossover_table(report.group_sections(rows)), True)
+    expect("no crossover", verdicts(rows), {"ZFP fixed-accuracy": "none"})
+
+    # Every external codec gets its own verdict; a win that a higher ratio takes back is named as such.
+    rows = [row("gvr", 10, 30), row("gvr", 20, 28), row("gvr", 40, 25),
+            row("sz3", 10, 31), row("sz3", 20, 27), row("sz3", 40, 26),
+            row("sperr", 10, 40), row("sperr", 20, 35), row("sperr", 40, 30),
+            row("zfp-accuracy", 10, 25), row("zfp-accuracy", 20, 20), row("zfp-accuracy", 40, 10)]
+    expect("one verdict per codec", verdicts(rows),
+           {"ZFP fixed-accuracy": "from 10:1", "sperr": "none", "sz3": "at 20:1 only"})
+    skipped = dict(row("sz3", 80, 0), status="skipped", message="codec sz3: program 'sz3' not found on PATH")
+    table = report.rate_distortion_table(report.group_sections(rows + [row("gvr", 80, 24), skipped]))
+    expect("the rate-distortion table has a column per codec",
+           table.splitlines()[0], "| Volume | Target ratio | gvr | ZFP fixed-accuracy | sperr | sz3 |")
+    expect("a skipped codec says so in its cell", "skipped: codec sz3: program 'sz3' not found" in table, True)
     print(f"{len(failures)} failed" if failures else "OK")
     return 1 if failures else 0
 
