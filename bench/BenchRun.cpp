@@ -185,7 +185,7 @@ private:
             const ExternalCodec* codec = mContext.manifest->codec(method);
             const Reconstruction r = isFitMethod(method) ? fit(unit, method, folder)
                                      : codec             ? external(unit, *codec, folder)
-                                                         : compress(unit, method, folder);
+                                                         : baseline(unit, method, folder);
             recordSize(r, row);
             evaluateVolume(r, folder, row);
             evaluateViews(r, folder, row);
@@ -244,7 +244,7 @@ private:
         return *bytes;
     }
 
-    Reconstruction compress(const BenchUnit& unit, const std::string& method, const std::string& folder) {
+    Reconstruction baseline(const BenchUnit& unit, const std::string& method, const std::string& folder) {
         const std::string log = folder + "/log.txt";
         Reconstruction r;
         r.grid = r.renderInput = folder + "/reconstruction.vdb";

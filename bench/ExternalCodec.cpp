@@ -180,35 +180,42 @@ using Trial = CodecRunner::Trial;
 /// How far a size lies from the target, on a log scale: 0 on it, negative below.
 double miss(const Trial& trial, std::uint64_t target) { return std::log(double(trial.bytes) / double(target)); }
 
-/// Where the next trial goes, on log(param). Between two trials on either side of
-/// the target: the secant point, kept to the middle half of their interval so that
-/// the interval shrinks at least by a quarter each time. Without such a pair: the
-/// secant through the two nearest trials, clamped to the range; nullopt when that
-/// leads nowhere new (the target lies beyond the range's end).
+/// Where the next trial goes, on log(param). Between the two trials nearest to
+/// each other in the parameter whose sizes lie on either side of the target: the
+/// secant point, kept to the middle half of their interval so that the interval
+/// shrinks by a quarter at least each time (codecs' sizes can jump, and need not
+/// even be monotonic in a narrow range, as SZ3's are not). Without such a pair:
+/// the secant through the two nearest trials, clamped to the range. nullopt when
+/// that leads nowhere new: the target lies beyond the range's end, or between two
+/// sizes that no parameter in between separates.
 std::optional<double> nextTrial(const std::vector<Trial>& trials, std::uint64_t target, double lo, double hi) {
     if (trials.empty()) return 0.5 * (lo + hi);
     if (trials.size() == 1) return std::log(trials[0].param) + (hi - lo) / 8;
     const Trial *below = nullptr, *above = nullptr;
-    for (const Trial& t : trials) {
-        const double m = miss(t, target);
-        if (m < 0 && (!below || m > miss(*below, target))) below = &t;
-        if (m > 0 && (!above || m < miss(*above, target))) above = &t;
+    for (const Trial& b : trials) {
+        for (const Trial& a : trials) {
+            if (!(miss(b, target) < 0 && miss(a, target) > 0)) continue;
+            const double width = std::abs(std::log(a.param) - std::log(b.param));
+            if (!below || width < std::abs(std::log(above->param) - std::log(below->param))) below = &b, above = &a;
+        }
     }
-    if (below && above) {
+    double x;
+    if (below) {
         const double xb = std::log(below->param), xa = std::log(above->param);
+        if (std::abs(xa - xb) < 1e-4) return std::nullopt;  // parameters 0.01 % apart: the same setting
         const double mb = miss(*below, target), ma = miss(*above, target);
-        const double t = std::clamp(mb / (mb - ma), 0.25, 0.75);
-        if (std::abs(xa - xb) < 1e-9) return std::nullopt;
-        return xb + t * (xa - xb);
+        x = xb + std::clamp(mb / (mb - ma), 0.25, 0.75) * (xa - xb);
+    } else {
+        std::vector<const Trial*> nearest;
+        for (const Trial& t : trials) nearest.push_back(&t);
+        std::sort(nearest.begin(), nearest.end(), [&](const Trial* a, const Trial* b) {
+            return std::abs(miss(*a, target)) < std::abs(miss(*b, target));
+        });
+        const double x0 = std::log(nearest[0]->param), x1 = std::log(nearest[1]->param);
+        const double m0 = miss(*nearest[0], target), m1 = miss(*nearest[1], target);
+        x = (m0 == m1) ? (std::abs(x0 - lo) > std::abs(x0 - hi) ? lo : hi) : x0 - m0 * (x1 - x0) / (m1 - m0);
+        x = std::clamp(x, lo, hi);
     }
-    std::vector<const Trial*> nearest;
-    for (const Trial& t : trials) nearest.push_back(&t);
-    std::sort(nearest.begin(), nearest.end(),
-              [&](const Trial* a, const Trial* b) { return std::abs(miss(*a, target)) < std::abs(miss(*b, target)); });
-    const double x0 = std::log(nearest[0]->param), x1 = std::log(nearest[1]->param);
-    const double m0 = miss(*nearest[0], target), m1 = miss(*nearest[1], target);
-    double x = (m0 == m1) ? (std::abs(x0 - lo) > std::abs(x0 - hi) ? lo : hi) : x0 - m0 * (x1 - x0) / (m1 - m0);
-    x = std::clamp(x, lo, hi);
     for (const Trial& t : trials) {
         if (std::abs(std::log(t.param) - x) < 1e-9) return std::nullopt;
     }
@@ -273,6 +280,8 @@ CodecResult runExternalCodec(const ExternalCodec& codec, const RawChannels& raw,
         const std::optional<double> x = nextTrial(trials, targetBytes, lo, hi);
         if (!x) break;
         trials.push_back(runner.compress(std::exp(*x), trialFolder));
+        std::ofstream(logPath, std::ios::app) << codec.name << ": param " << parameterText(trials.back().param) << " -> "
+                                              << trials.back().bytes << " bytes (target " << targetBytes << ")\n";
         if (!best || std::abs(miss(trials.back(), targetBytes)) < std::abs(miss(*best, targetBytes))) {
             best = trials.back();
             for (std::size_t c = 0; c < raw.files.size(); ++c) {

@@ -9,6 +9,8 @@ MODE:
   quantise  round(value / STEP + dither) with zlib, the dither subtracted on the
             way back: an error of at most STEP / 2, and a size that grows as
             STEP shrinks even on integer data
+  steps     quantise with STEP rounded down to a power of 4: sizes jump, so
+            some targets lie between two sizes that no STEP separates
   first-x   keeps the first value of each row along NX and repeats it on the way
             back: exact only for data constant along the fastest axis, so a wrong
             axis order shows
@@ -51,6 +53,8 @@ def compress(mode, source, nx, ny, nz, step, target):
         kept = array.array("f", (values[row * nx] for row in range(ny * nz)))
         write(target, zlib.compress(kept.tobytes()))
         return
+    if mode == "steps":
+        step = 4.0 ** math.floor(math.log(step, 4))
     codes = array.array("q", (round(v / step + d) for v, d in zip(values, dither(len(values)))))
     write(target, struct.pack("<d", step) + zlib.compress(codes.tobytes(), 9))
 

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <set>
 
@@ -189,4 +190,20 @@ TEST(BenchManifest, CodecMistakesAreNamed) {
               std::string::npos);
     EXPECT_NE(errorOf(manifest("h.json", "{" + commands + R"(, "param": [1, 2], "timeout": -1})")).find("codecs.c.timeout"),
               std::string::npos);
+}
+
+TEST(BenchManifest, TheExampleManifestsRead) {
+    const std::filesystem::path examples = std::filesystem::path(GVR_TEST_DATA) / ".." / ".." / "examples";
+    std::size_t read = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(examples)) {
+        const std::string name = entry.path().filename().string();
+        if (name.rfind("bench-", 0) != 0 || entry.path().extension() != ".json") continue;
+        SCOPED_TRACE(name);
+        EXPECT_NO_THROW(readBenchManifest(entry.path().string()));
+        ++read;
+    }
+    EXPECT_GE(read, 5u);
+    const BenchManifest codecs = readBenchManifest((examples / "bench-codecs.json").string());
+    EXPECT_EQ(codecs.methods, (std::vector<std::string>{"gvr", "zfp-accuracy", "sz3", "sperr"}));
+    EXPECT_NE(codecs.codec("sperr"), nullptr);
 }

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <thread>
 
 using namespace gvr;
@@ -91,6 +92,26 @@ TEST(ExternalCodec, TheSearchMatchesTheTargetSizeAndTheErrorFollowsTheParameter)
         EXPECT_LE(largestError(volume, result.values), 0.5 * result.param * 1.0001 + 1e-4);
         EXPECT_GT(largestError(volume, result.values), 0.0);
     }
+}
+
+TEST(ExternalCodec, ASizeThatJumpsPastTheTargetEndsTheSearchWithTheClosest) {
+    const FloatVolume volume = smoothVolume();
+    CodecRun codec(volume);
+    // Steps of 4^k: the sizes at neighbouring steps differ by far more than 5 %.
+    const CodecResult result = codec.run(fakeCodec("steps"), 850);
+    EXPECT_FALSE(result.matched);
+    EXPECT_EQ(result.bytes, std::filesystem::file_size(codec.dir.path("run/compressed.c0")));
+    std::ifstream log(codec.dir.path("log.txt"));
+    std::set<std::string> params;
+    std::size_t trials = 0;
+    for (std::string line; std::getline(log, line);) {
+        if (line.rfind("fake: param ", 0) != 0) continue;
+        ++trials;
+        EXPECT_TRUE(params.insert(line.substr(0, line.find(" ->"))).second) << "tried twice: " << line;
+    }
+    EXPECT_GE(trials, 3u);
+    EXPECT_LE(trials, 16u);
+    EXPECT_LE(largestError(volume, result.values), 0.5 * result.param * 1.0001 + 1e-4);
 }
 
 TEST(ExternalCodec, RawFilesHoldTheFastestAxisFirstAsTheNxPlaceholderSays) {
