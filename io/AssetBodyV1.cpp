@@ -1,5 +1,8 @@
 #include "AssetBodyV1.h"
 
+#include "ByteOrder.h"
+#include "Quantisation.h"
+
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -8,26 +11,25 @@ namespace gvr {
 
 namespace {
 
-float dequantise16(std::uint16_t q, float lo, float hi) { return float(lo + (double(hi) - lo) * (q / 65535.0)); }
+float dequantise16(std::uint16_t q, float lo, float hi) { return dequantise(q, lo, hi, 16); }
 
+/// Format 1 packs the largest component's index in the top two bits and the other
+/// three in 10 bits each, highest first.
 void unpackQuaternion(std::uint32_t packed, float q[4]) {
     const int largest = int(packed >> 30);
     int shift = 20;
-    float sumSquares = 0.0f;
     for (int k = 0; k < 4; ++k) {
         if (k == largest) continue;
         const float t = float((packed >> shift) & 1023u) / 1023.0f;
         q[k] = float((2.0 * t - 1.0) / M_SQRT2);
-        sumSquares += q[k] * q[k];
         shift -= 10;
     }
-    q[largest] = std::sqrt(std::max(0.0f, 1.0f - sumSquares));
+    completeQuaternion(largest, q);
 }
 
 template <typename T>
 T take(const char*& cursor) {
-    T value;
-    std::memcpy(&value, cursor, sizeof value);
+    const T value = loadLittleEndian<T>(cursor);
     cursor += sizeof value;
     return value;
 }

@@ -1,6 +1,8 @@
 #include "AssetBodyV2.h"
 
+#include "ByteOrder.h"
 #include "GaussianKernel.h"
+#include "Quantisation.h"
 
 #include <zstd.h>
 
@@ -14,17 +16,6 @@ namespace gvr {
 namespace {
 
 constexpr int kMaxMeanBits = 21;  // three axes interleave into one 63-bit Morton code
-
-std::uint32_t quantise(float value, float lo, float hi, int bits) {
-    const std::uint32_t levels = (1u << bits) - 1u;
-    if (!(hi > lo)) return 0;
-    const double t = std::clamp((double(value) - lo) / (double(hi) - lo), 0.0, 1.0);
-    return std::uint32_t(std::lround(t * levels));
-}
-
-float dequantise(std::uint32_t q, float lo, float hi, int bits) {
-    return float(lo + (double(hi) - lo) * (double(q) / double((1u << bits) - 1u)));
-}
 
 /// Spreads the low 21 bits of @a v two bits apart, for interleaving.
 std::uint64_t spreadBits(std::uint64_t v) {
@@ -72,14 +63,11 @@ void packQuaternion(const float raw[4], int bits, std::uint64_t& largestOut, std
 }
 
 void unpackQuaternion(std::uint64_t largest, const std::uint64_t rest[3], int bits, float q[4]) {
-    float sumSquares = 0.0f;
     int slot = 0;
     for (int k = 0; k < 4; ++k) {
-        if (k == int(largest)) continue;
-        q[k] = dequantise(std::uint32_t(rest[slot++]), -float(M_SQRT1_2), float(M_SQRT1_2), bits);
-        sumSquares += q[k] * q[k];
+        if (k != int(largest)) q[k] = dequantise(std::uint32_t(rest[slot++]), -float(M_SQRT1_2), float(M_SQRT1_2), bits);
     }
-    q[largest] = std::sqrt(std::max(0.0f, 1.0f - sumSquares));
+    completeQuaternion(int(largest), q);
 }
 
 void appendPlanes(const Stream& stream, int level, std::string& body) {
@@ -91,8 +79,7 @@ void appendPlanes(const Stream& stream, int level, std::string& body) {
         frame.resize(ZSTD_compressBound(n));
         const std::size_t size = ZSTD_compress(frame.data(), frame.size(), plane.data(), n, level);
         if (ZSTD_isError(size)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(size));
-        const auto length = std::uint32_t(size);
-        body.append(reinterpret_cast<const char*>(&length), sizeof length);
+        appendLittleEndian(body, std::uint32_t(size));
         body.append(frame.data(), size);
     }
 }
@@ -102,9 +89,8 @@ void readPlanes(std::string_view body, std::size_t& cursor, std::size_t count, S
     stream.values.assign(count, 0);
     std::string plane(count, '\0');
     for (int shift = 0; shift < stream.bits; shift += 8) {
-        std::uint32_t length;
-        if (body.size() - cursor < sizeof length) throw std::runtime_error("the body ends inside a plane header");
-        std::memcpy(&length, body.data() + cursor, sizeof length);
+        if (body.size() - cursor < sizeof(std::uint32_t)) throw std::runtime_error("the body ends inside a plane header");
+        const auto length = loadLittleEndian<std::uint32_t>(body.data() + cursor);
         cursor += sizeof length;
         if (length > body.size() - cursor) throw std::runtime_error("a plane runs past the end of the body");
         const char* frame = body.data() + cursor;

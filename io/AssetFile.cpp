@@ -3,6 +3,7 @@
 #include "AssetBodyV1.h"
 
 #include "AtomicFile.h"
+#include "ByteOrder.h"
 #include "Error.h"
 #include "InputFile.h"
 #include "GaussianKernel.h"
@@ -33,14 +34,8 @@ constexpr float kMaxMeanVoxels = 1 << 24;    // where float positions still step
 constexpr float kLogScaleSlack = 0.5f;       // quantisation may step a little past the kernel's range
 
 template <typename T>
-void append(std::string& bytes, T value) {
-    bytes.append(reinterpret_cast<const char*>(&value), sizeof value);
-}
-
-template <typename T>
 T take(const unsigned char*& cursor) {
-    T value;
-    std::memcpy(&value, cursor, sizeof value);
+    const T value = loadLittleEndian<T>(cursor);
     cursor += sizeof value;
     return value;
 }
@@ -175,11 +170,11 @@ std::string encodeAsset(GaussianAsset& asset) {
     sortForStorage(asset, quantisation);
     const std::string header = headerJson(asset, quantisation.json());
     std::string bytes(kMagic, sizeof kMagic);
-    append(bytes, kAssetVersion);
-    append(bytes, std::uint32_t(header.size()));
+    appendLittleEndian(bytes, kAssetVersion);
+    appendLittleEndian(bytes, std::uint32_t(header.size()));
     bytes += header;
     bytes += encodeAssetBodyV2(asset.params, quantisation);
-    append(bytes, std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size()))));
+    appendLittleEndian(bytes, std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size()))));
     return bytes;
 }
 

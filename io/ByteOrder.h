@@ -1,11 +1,13 @@
 /// @file ByteOrder.h
-/// @brief Byte swapping for formats that store big-endian samples.
+/// @brief Words as files store them: byte swapping for samples, and the one way
+/// every reader and writer of gvr loads or stores a header field in a stated order.
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <string>
 
 namespace gvr {
 
@@ -26,6 +28,29 @@ inline void swapBytes(unsigned char* data, std::size_t wordCount, std::size_t wi
 inline void toHostOrder(unsigned char* data, std::size_t wordCount, std::size_t width,
                         bool storedBigEndian) {
     if (storedBigEndian != hostIsBigEndian()) swapBytes(data, wordCount, width);
+}
+
+/// The @a T (an integer or float) whose bytes start at @a bytes, stored in the given order.
+template <typename T>
+T loadWord(const void* bytes, bool storedBigEndian) {
+    unsigned char word[sizeof(T)];
+    std::memcpy(word, bytes, sizeof(T));
+    toHostOrder(word, 1, sizeof(T), storedBigEndian);
+    T value;
+    std::memcpy(&value, word, sizeof(T));
+    return value;
+}
+
+template <typename T>
+T loadLittleEndian(const void* bytes) { return loadWord<T>(bytes, false); }
+
+/// Appends @a value to @a bytes little-endian, whatever the host's order.
+template <typename T>
+void appendLittleEndian(std::string& bytes, T value) {
+    unsigned char word[sizeof(T)];
+    std::memcpy(word, &value, sizeof(T));
+    toHostOrder(word, 1, sizeof(T), /*storedBigEndian=*/false);  // a swap is its own inverse
+    bytes.append(reinterpret_cast<const char*>(word), sizeof(T));
 }
 
 }  // namespace gvr

@@ -1,5 +1,6 @@
 #include "DicomStructure.h"
 
+#include "ByteOrder.h"
 #include "Error.h"
 
 #include <cctype>
@@ -32,15 +33,11 @@ public:
         if (!mIn.read(reinterpret_cast<char*>(bytes), std::streamsize(count))) fail();
     }
 
+    /// The unsigned integer of @a count bytes (2 or 4) at @a at.
     std::uint64_t unsignedAt(std::uint64_t at, std::size_t count, bool bigEndian) {
         unsigned char bytes[4] = {};
         read(at, bytes, count);
-        std::uint64_t value = 0;
-        for (std::size_t k = 0; k < count; ++k) {
-            const std::size_t significance = bigEndian ? count - 1 - k : k;
-            value |= std::uint64_t(bytes[k]) << (8 * significance);
-        }
-        return value;
+        return count == 2 ? loadWord<std::uint16_t>(bytes, bigEndian) : loadWord<std::uint32_t>(bytes, bigEndian);
     }
 
 private:

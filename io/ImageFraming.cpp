@@ -1,5 +1,6 @@
 #include "ImageFraming.h"
 
+#include "ByteOrder.h"
 #include "Error.h"
 
 #include <zlib.h>
@@ -17,19 +18,9 @@ namespace {
 constexpr char kPngSignature[] = "\x89PNG\r\n\x1a\n";
 constexpr std::size_t kPngSignatureBytes = 8;
 
-/// The unsigned integer of @a width bytes (2 or 4) at @a at, in either byte order.
-std::uint32_t wordAt(const std::string& bytes, std::size_t at, int width, bool bigEndian) {
-    std::uint32_t word = 0;
-    for (int b = 0; b < width; ++b) {
-        const int shift = 8 * (bigEndian ? width - 1 - b : b);
-        word |= std::uint32_t(std::uint8_t(bytes[at + std::size_t(b)])) << shift;
-    }
-    return word;
-}
-
-std::uint32_t bigEndian32(const std::string& bytes, std::size_t at) { return wordAt(bytes, at, 4, true); }
-std::uint32_t littleEndian32(const std::string& bytes, std::size_t at) { return wordAt(bytes, at, 4, false); }
-std::uint32_t littleEndian16(const std::string& bytes, std::size_t at) { return wordAt(bytes, at, 2, false); }
+std::uint32_t bigEndian32(const std::string& bytes, std::size_t at) { return loadWord<std::uint32_t>(&bytes[at], true); }
+std::uint32_t littleEndian32(const std::string& bytes, std::size_t at) { return loadLittleEndian<std::uint32_t>(&bytes[at]); }
+std::uint32_t littleEndian16(const std::string& bytes, std::size_t at) { return loadLittleEndian<std::uint16_t>(&bytes[at]); }
 
 std::string readBytes(std::ifstream& in, std::streamoff from, std::streamoff count) {
     std::string bytes(std::size_t(count), '\0');

@@ -28,12 +28,8 @@ public:
 private:
     template <typename T>
     T read() {
-        unsigned char word[sizeof(T)];
-        std::memcpy(word, mBytes + mOffset, sizeof(T));
-        toHostOrder(word, 1, sizeof(T), /*storedBigEndian=*/true);
+        const T value = loadWord<T>(mBytes + mOffset, /*storedBigEndian=*/true);
         mOffset += sizeof(T);
-        T value;
-        std::memcpy(&value, word, sizeof(T));
         return value;
     }
     const unsigned char* mBytes;

@@ -1,5 +1,6 @@
 // NIfTI-1 and NIfTI-2 through nifticlib's nifti2 API, which reads both.
 
+#include "ByteOrder.h"
 #include "Error.h"
 #include "Readers.h"
 #include "SampleFile.h"
@@ -30,13 +31,10 @@ struct RawHeader {
     double pixdim[3] = {1.0, 1.0, 1.0};  // as written: nifticlib turns 0 and NaN into 1
 };
 
+/// A header field, @a swap when the file was written in the other byte order.
 template <typename T>
 T fieldAt(const unsigned char* bytes, std::size_t offset, bool swap) {
-    unsigned char copy[sizeof(T)];
-    for (std::size_t k = 0; k < sizeof(T); ++k) copy[k] = bytes[offset + (swap ? sizeof(T) - 1 - k : k)];
-    T value;
-    std::memcpy(&value, copy, sizeof(T));
-    return value;
+    return loadWord<T>(bytes + offset, swap != hostIsBigEndian());
 }
 
 /// nifticlib only says "failed" on stderr, so read the header ourselves first to

@@ -1,5 +1,6 @@
 #include "VdbLengths.h"
 
+#include "ByteOrder.h"
 #include "Error.h"
 
 #include <openvdb/Exceptions.h>
@@ -31,10 +32,10 @@ public:
 
     template <typename T>
     T read(const char* what) {
-        T value{};
-        mIn.read(reinterpret_cast<char*>(&value), sizeof value);
+        char bytes[sizeof(T)];
+        mIn.read(bytes, sizeof bytes);
         if (!mIn) throw InputError(mPath, std::string("truncated VDB file: it ends inside ") + what);
-        return value;
+        return loadLittleEndian<T>(bytes);
     }
 
     void skip(std::uint64_t bytes, const char* what) {

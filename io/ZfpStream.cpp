@@ -1,6 +1,7 @@
 #include "ZfpStream.h"
 
 #include "AtomicFile.h"
+#include "ByteOrder.h"
 #include "Error.h"
 #include "MemoryBudget.h"
 
@@ -34,15 +35,8 @@ template <typename T>
 using ZfpPtr = std::unique_ptr<T, ZfpDeleter>;
 
 template <typename T>
-void append(std::string& bytes, T value) {
-    bytes.append(reinterpret_cast<const char*>(&value), sizeof value);
-}
-
-template <typename T>
 T take(const std::string& bytes, std::size_t offset) {
-    T value;
-    std::memcpy(&value, bytes.data() + offset, sizeof value);
-    return value;
+    return loadLittleEndian<T>(bytes.data() + offset);
 }
 
 /// zfp's accuracy mode cuts at the power of two at or below the tolerance t.
@@ -203,11 +197,11 @@ std::string encodeZfp(const FloatVolume& volume, const ZfpSettings& settings, do
     double effective = 0.0;
     const ZfpPtr<zfp_stream> zfp = openStream(settings, effective);
     std::string bytes(kMagic, sizeof kMagic);
-    append(bytes, kVersion);
-    append(bytes, std::uint32_t(volume.channels));
-    for (int a = 0; a < 3; ++a) append(bytes, std::uint32_t(volume.dims[a]));
-    append(bytes, std::uint32_t(settings.mode == ZfpMode::FixedRate ? zfp_mode_fixed_rate : zfp_mode_fixed_accuracy));
-    append(bytes, effective);  // decoding with it sets zfp up exactly as here
+    appendLittleEndian(bytes, kVersion);
+    appendLittleEndian(bytes, std::uint32_t(volume.channels));
+    for (int a = 0; a < 3; ++a) appendLittleEndian(bytes, std::uint32_t(volume.dims[a]));
+    appendLittleEndian(bytes, std::uint32_t(settings.mode == ZfpMode::FixedRate ? zfp_mode_fixed_rate : zfp_mode_fixed_accuracy));
+    appendLittleEndian(bytes, effective);  // decoding with it sets zfp up exactly as here
     bytes.append(sizeof(std::uint64_t) * volume.channels, '\0');  // the counts, filled in below
     std::vector<float> samples = scaledSamples(volume, sampleScale(settings));
     for (int c = 0; c < volume.channels; ++c) {

@@ -16,8 +16,6 @@ using Ints4 = std::int32_t __attribute__((vector_size(16)));  ///< lane masks: -
 /// them in locals: their alignment in memory differs with and without AVX.
 using Floats8 = float __attribute__((vector_size(32)));
 
-constexpr Floats4 splat(float v) { return Floats4{v, v, v, v}; }
-
 /// exp(t) for t <= 0, within 3e-7 relative; below -87, where float runs out, it is
 /// exp(-87) (1.6e-38). Positive t gives wrong values. Any vector of floats: Floats4,
 /// or Floats8 in code compiled for AVX.

@@ -33,8 +33,4 @@ SampleType sampleTypeFromName(const std::string& name, const std::string& culpri
                                   "float32 or float64)");
 }
 
-bool isFloatingPoint(SampleType type) {
-    return type == SampleType::Float32 || type == SampleType::Float64;
-}
-
 }  // namespace gvr

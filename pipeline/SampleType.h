@@ -18,8 +18,6 @@ std::string sampleTypeName(SampleType type);
 /// Inverse of sampleTypeName. @throw InputError naming @a culprit for an unknown name.
 SampleType sampleTypeFromName(const std::string& name, const std::string& culprit);
 
-bool isFloatingPoint(SampleType type);
-
 /// Calls @a visit with a value of type T (uint8_t, int16_t, float, ...) matching @a type,
 /// so that code templated on the sample type is written once.
 template <typename Visitor>
