@@ -28,7 +28,8 @@
 ///
 /// A program holding a '/' resolves against the manifest's folder, any other is
 /// looked up on PATH when the run starts. "version" is a text, or a command whose
-/// first line of output is recorded; "timeout" is seconds per command run.
+/// first line of output is recorded; "timeout" is the seconds a row may take, every
+/// compression of its search and the decompression together.
 #pragma once
 
 #include "ExternalCodec.h"

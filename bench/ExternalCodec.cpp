@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -20,6 +21,7 @@ namespace gvr {
 namespace {
 
 namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
 
 const std::regex& placeholderPattern() {
     static const std::regex pattern(R"(\{([A-Za-z_]+)\})");
@@ -52,7 +54,9 @@ struct CommandRuns {
 class CodecRunner {
 public:
     CodecRunner(const ExternalCodec& codec, const RawChannels& raw, std::string folder, std::string log)
-        : mCodec(codec), mRaw(raw), mFolder(std::move(folder)), mLog(std::move(log)) {}
+        : mCodec(codec), mRaw(raw), mFolder(std::move(folder)), mLog(std::move(log)),
+          mDeadline(Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(codec.timeoutSeconds))) {}
 
     struct Trial {
         double param = 0;
@@ -134,11 +138,12 @@ private:
         const std::string program = findProgram(args.front());
         if (program.empty()) throw CodecFailure(step + ": program '" + args.front() + "' not found");
         args.front() = program;
-        const ChildResult result = runChild(args, mLog, mCodec.timeoutSeconds);
+        const double left = std::chrono::duration<double>(mDeadline - Clock::now()).count();
+        const ChildResult result = left > 0 ? runChild(args, mLog, left) : ChildResult{};
         runs.seconds += result.seconds;
         runs.peakRssMiB = std::max(runs.peakRssMiB, result.peakRssMiB);
-        if (result.timedOut) {
-            throw CodecFailure(step + " (" + where(channel, param) + ") ran past its time limit of " +
+        if (left <= 0 || result.timedOut) {
+            throw CodecFailure(step + " (" + where(channel, param) + ") ran past the row's time limit of " +
                                parameterText(mCodec.timeoutSeconds) + " s and was killed");
         }
         if (!result.ok()) {
@@ -173,6 +178,7 @@ private:
     const ExternalCodec& mCodec;
     const RawChannels& mRaw;
     const std::string mFolder, mLog;
+    const Clock::time_point mDeadline;  ///< for the whole row
 };
 
 using Trial = CodecRunner::Trial;

@@ -37,7 +37,8 @@ struct ExternalCodec {
     double paramMin = 0, paramMax = 0;
     std::string version;  ///< as the manifest gives it, or the first line of versionCommand's output
     std::vector<std::string> versionCommand;
-    double timeoutSeconds = 600;  ///< per command run
+    /// For a whole row: every compress run of the search and the decompression.
+    double timeoutSeconds = 600;
 };
 
 /// What a codec run failed on; the benchmark makes it the row's message.

@@ -14,6 +14,7 @@ MODE:
   first-x   keeps the first value of each row along NX and repeats it on the way
             back: exact only for data constant along the fastest axis, so a wrong
             axis order shows
+  slow      quantise, after sleeping 0.4 s
   fail      exits 3 with a message        hang    sleeps for ever
   nothing   exits 0 and writes nothing    short   decompresses to half the size
   nan       decompresses to NaN
@@ -53,6 +54,8 @@ def compress(mode, source, nx, ny, nz, step, target):
         kept = array.array("f", (values[row * nx] for row in range(ny * nz)))
         write(target, zlib.compress(kept.tobytes()))
         return
+    if mode == "slow":
+        time.sleep(0.4)
     if mode == "steps":
         step = 4.0 ** math.floor(math.log(step, 4))
     codes = array.array("q", (round(v / step + d) for v, d in zip(values, dither(len(values)))))
