@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 
 namespace gvr {
 
@@ -139,14 +140,23 @@ std::uint64_t VolumeTarget::activeVoxelCount(const openvdb::CoordBBox& region) c
     return mFloat ? activeVoxelsIn(mFloat->tree(), region) : activeVoxelsIn(mColour->tree(), region);
 }
 
-void VolumeTarget::valueAt(const openvdb::Coord& ijk, float* out) const {
-    if (mFloat) {
-        out[0] = float(mMapping.toNormalised(mFloat->tree().getValue(ijk), 0));
+template <typename TreeOrAccessor>
+void VolumeTarget::normalisedValue(const TreeOrAccessor& source, const openvdb::Coord& ijk, float* out) const {
+    if constexpr (std::is_same_v<typename TreeOrAccessor::ValueType, float>) {
+        out[0] = float(mMapping.toNormalised(source.getValue(ijk), 0));
     } else {
-        const openvdb::Vec3s v = mColour->tree().getValue(ijk);
+        const openvdb::Vec3s v = source.getValue(ijk);
         for (int c = 0; c < 3; ++c) out[c] = float(mMapping.toNormalised(v[c], c));
     }
     if (mTaper) applyTaper(ijk, out);
+}
+
+void VolumeTarget::valueAt(const openvdb::Coord& ijk, float* out) const {
+    if (mFloat) {
+        normalisedValue(mFloat->tree(), ijk, out);
+    } else {
+        normalisedValue(mColour->tree(), ijk, out);
+    }
 }
 
 namespace {
@@ -257,19 +267,26 @@ void VolumeTarget::blockGradientMagnitudes(const openvdb::Coord& origin, float* 
     constexpr int kDim = 8;
     float values[kDim * kDim * kDim * 3];
     blockValues(origin, values);
-    const auto scalarOf = [&](const float* v) { return mChannels == 1 ? v[0] : float(luminance(v)); };
-    const auto scalar = [&](const openvdb::Coord& at) {
-        const openvdb::Coord local = at - origin;
-        if (local.x() >= 0 && local.y() >= 0 && local.z() >= 0 && local.x() < kDim && local.y() < kDim &&
-            local.z() < kDim) {
-            return scalarOf(values + ((local.x() * kDim + local.y()) * kDim + local.z()) * mChannels);
+    const auto gradients = [&](const auto& accessor) {
+        const auto scalarOf = [&](const float* v) { return mChannels == 1 ? v[0] : float(luminance(v)); };
+        const auto scalar = [&](const openvdb::Coord& at) {
+            const openvdb::Coord local = at - origin;
+            if (local.x() >= 0 && local.y() >= 0 && local.z() >= 0 && local.x() < kDim && local.y() < kDim &&
+                local.z() < kDim) {
+                return scalarOf(values + ((local.x() * kDim + local.y()) * kDim + local.z()) * mChannels);
+            }
+            float v[3];
+            normalisedValue(accessor, at, v);
+            return scalarOf(v);
+        };
+        for (int offset = 0; offset < kDim * kDim * kDim; ++offset) {
+            out[offset] = centralGradientMagnitude(origin.offsetBy(offset >> 6, (offset >> 3) & 7, offset & 7), scalar);
         }
-        float v[3];
-        valueAt(at, v);
-        return scalarOf(v);
     };
-    for (int offset = 0; offset < kDim * kDim * kDim; ++offset) {
-        out[offset] = centralGradientMagnitude(origin.offsetBy(offset >> 6, (offset >> 3) & 7, offset & 7), scalar);
+    if (mFloat) {
+        gradients(mFloat->getConstAccessor());
+    } else {
+        gradients(mColour->getConstAccessor());
     }
 }
 

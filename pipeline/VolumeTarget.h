@@ -58,13 +58,18 @@ public:
     /// for grey, luminance for RGB).
     float gradientMagnitude(const openvdb::Coord& ijk) const;
     /// gradientMagnitude() of every voxel of the block at @a origin (a multiple of 8)
-    /// into out[blockOffset()], the same floats, reading the block once and only the
-    /// neighbours beyond its faces one by one.
+    /// into out[blockOffset()], the same floats, reading the block once and the
+    /// neighbours beyond its faces through one cached accessor.
     void blockGradientMagnitudes(const openvdb::Coord& origin, float* out) const;
 
 private:
     /// Kept out of valueAt(), which every fit calls for every sample.
     void applyTaper(const openvdb::Coord& ijk, float* out) const;
+
+    /// valueAt() read through @a source: a grid's tree, or an accessor of it that
+    /// caches the path to the last leaf for a run of nearby reads.
+    template <typename TreeOrAccessor>
+    void normalisedValue(const TreeOrAccessor& source, const openvdb::Coord& ijk, float* out) const;
 
     openvdb::GridBase::ConstPtr mGrid;
     openvdb::FloatGrid::ConstPtr mFloat;
