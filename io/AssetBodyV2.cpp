@@ -105,6 +105,15 @@ void readPlanes(std::string_view body, std::size_t& cursor, std::size_t count, S
 }
 
 /// The streams of the body, in file order, sized for @a count Gaussians.
+/// Where each attribute's streams stand in the body, in this order.
+enum StreamIndex : std::size_t {
+    kPositionStream = 0,        ///< Morton code steps
+    kLargestComponentStream,    ///< which quaternion component was left out
+    kRotationStreams,           ///< the other three, one stream each
+    kLogScaleStreams = kRotationStreams + 3,
+    kAmplitudeStreams = kLogScaleStreams + 3,  ///< one per channel
+};
+
 std::vector<Stream> emptyStreams(const QuantisationV2& q, std::size_t count) {
     const AssetEncoding& e = q.encoding;
     std::vector<Stream> streams;
@@ -224,18 +233,18 @@ std::vector<Stream> quantiseStreams(const GaussianParameters& params, const Quan
     std::uint64_t previous = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint64_t code = q.mortonCode(params.at(kMeans, i));
-        streams[0].values[i] = (code - previous) & mask;
+        streams[kPositionStream].values[i] = (code - previous) & mask;
         previous = code;
         std::uint64_t rest[3];
-        packQuaternion(params.at(kRotations, i), e.rotationBits, streams[1].values[i], rest);
-        for (int k = 0; k < 3; ++k) streams[2 + k].values[i] = rest[k];
+        packQuaternion(params.at(kRotations, i), e.rotationBits, streams[kLargestComponentStream].values[i], rest);
+        for (int k = 0; k < 3; ++k) streams[kRotationStreams + k].values[i] = rest[k];
         for (int a = 0; a < 3; ++a) {
-            streams[5 + a].values[i] =
+            streams[kLogScaleStreams + a].values[i] =
                 quantise(params.at(kLogScales, i)[a], q.logScaleMin[a], q.logScaleMax[a], e.logScaleBits);
         }
         const float opacity = sigmoid(*params.at(kOpacityLogits, i));
         for (int c = 0; c < q.channels; ++c) {
-            streams[8 + c].values[i] = quantise(opacity * params.at(kColours, i)[c], q.amplitudeMin[c],
+            streams[kAmplitudeStreams + c].values[i] = quantise(opacity * params.at(kColours, i)[c], q.amplitudeMin[c],
                                                 q.amplitudeMax[c], e.amplitudeBits);
         }
     }
@@ -250,21 +259,23 @@ GaussianParameters dequantiseStreams(const std::vector<Stream>& streams, std::si
     GaussianParameters params(count, q.channels);
     std::uint64_t code = 0;
     for (std::size_t i = 0; i < count; ++i) {
-        code = (code + streams[0].values[i]) & mask;
+        code = (code + streams[kPositionStream].values[i]) & mask;
         for (int a = 0; a < 3; ++a) {
             params.at(kMeans, i)[a] = float(q.meanMin[a] + double(compactBits(code >> a)) * e.meanStep);
         }
-        if (streams[1].values[i] > 3) throw std::runtime_error("a rotation names a fifth quaternion component");
-        const std::uint64_t rest[3] = {streams[2].values[i], streams[3].values[i], streams[4].values[i]};
-        unpackQuaternion(streams[1].values[i], rest, e.rotationBits, params.at(kRotations, i));
+        const std::uint64_t largest = streams[kLargestComponentStream].values[i];
+        if (largest > 3) throw std::runtime_error("a rotation names a fifth quaternion component");
+        const std::uint64_t rest[3] = {streams[kRotationStreams].values[i], streams[kRotationStreams + 1].values[i],
+                                       streams[kRotationStreams + 2].values[i]};
+        unpackQuaternion(largest, rest, e.rotationBits, params.at(kRotations, i));
         for (int a = 0; a < 3; ++a) {
-            params.at(kLogScales, i)[a] = dequantise(std::uint32_t(streams[5 + a].values[i]), q.logScaleMin[a],
+            params.at(kLogScales, i)[a] = dequantise(std::uint32_t(streams[kLogScaleStreams + a].values[i]), q.logScaleMin[a],
                                                      q.logScaleMax[a], e.logScaleBits);
         }
         // Only opacity * colour reaches the field: store it as opacity 1/2 (logit 0).
         *params.at(kOpacityLogits, i) = 0.0f;
         for (int c = 0; c < q.channels; ++c) {
-            params.at(kColours, i)[c] = 2.0f * dequantise(std::uint32_t(streams[8 + c].values[i]), q.amplitudeMin[c],
+            params.at(kColours, i)[c] = 2.0f * dequantise(std::uint32_t(streams[kAmplitudeStreams + c].values[i]), q.amplitudeMin[c],
                                                           q.amplitudeMax[c], e.amplitudeBits);
         }
     }
@@ -280,7 +291,10 @@ std::string encodeAssetBodyV2(const GaussianParameters& params, const Quantisati
     for (std::size_t s = 0; s < streams.size(); ++s) {
         const std::size_t before = body.size();
         appendPlanes(streams[s], q.encoding.zstdLevel, body);
-        std::size_t& attribute = s == 0 ? sizes.position : s < 5 ? sizes.rotation : s < 8 ? sizes.logScales : sizes.amplitudes;
+        std::size_t& attribute = s == kPositionStream    ? sizes.position
+                                 : s < kLogScaleStreams  ? sizes.rotation
+                                 : s < kAmplitudeStreams ? sizes.logScales
+                                                         : sizes.amplitudes;
         attribute += body.size() - before;
     }
     return body;
