@@ -1,0 +1,54 @@
+// What gvr opens as input (regular files only, no NUL bytes in paths), and how
+// orbit frames are named: two small rules that many commands lean on.
+
+#include "Error.h"
+#include "FramePath.h"
+#include "InputFile.h"
+#include "TestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include <filesystem>
+
+using namespace gvr;
+
+namespace {
+
+/// The InputError's message, or "" when none was thrown.
+std::string refusal(const std::function<void()>& check) {
+    try {
+        check();
+    } catch (const InputError& error) {
+        return error.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(InputFile, OnlyRegularFilesAreInputsAndEveryRefusalNamesThePath) {
+    test::TempDir dir;
+    const std::string file = dir.path("scan.raw"), link = dir.path("link.raw"), fifo = dir.path("pipe");
+    test::writeBytes(file, "1234");
+    std::filesystem::create_symlink(file, link);
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    EXPECT_EQ(refusal([&] { requireRegularFile(file); }), "");
+    EXPECT_EQ(refusal([&] { requireRegularFile(link); }), "") << "links are followed";
+    for (const std::string& path : {dir.path("missing.raw"), dir.path(""), fifo, std::string("/dev/zero")}) {
+        const std::string message = refusal([&] { requireRegularFile(path); });
+        EXPECT_NE(message, "") << path;
+        EXPECT_NE(message.find(path), std::string::npos) << message;
+    }
+    const std::string withNul = file + std::string(1, '\0') + "x";
+    EXPECT_NE(refusal([&] { requireNoNulByte(withNul); }), "");
+    EXPECT_EQ(refusal([&] { requireNoNulByte(file); }), "");
+}
+
+TEST(FramePath, OrbitFramesAreNumberedBesideTheOutputAndASingleFrameKeepsItsName) {
+    EXPECT_EQ(framePath("out/view.png", 0, 1), "out/view.png");
+    EXPECT_EQ(framePath("out/view.png", 7, 120), "out/view_0007.png");
+    EXPECT_EQ(framePath("view.exr", 12345, 20000), "view_12345.exr");
+    EXPECT_EQ(framePath("a.b/frame.png", 3, 6), "a.b/frame_0003.png") << "a dot in a folder is no extension";
+}
