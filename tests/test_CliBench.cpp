@@ -259,4 +259,10 @@ TEST(CliBenchCodecs, ACodecMatchesGvrsBytesAndEveryFaultyCodecFailsOnlyItsOwnRow
                              "## Skipped runs", "'no-such-codec' not found", "| good |"}) {
         EXPECT_NE(report.find(part), std::string::npos) << part;
     }
+    // A merged folder keeps the codecs' record, so its report still names commands and versions.
+    const test::CommandResult merged =
+        runGvr("bench --merge '" + dir.path("out") + "' -o '" + dir.path("merged") + "' -q", dir);
+    ASSERT_EQ(merged.exitCode, 0) << merged.err;
+    EXPECT_NE(test::readBytes(dir.path("merged/codecs.json")).find("\"fake 1.0\""), std::string::npos);
+    EXPECT_NE(test::readBytes(dir.path("merged/report.md")).find("fake 1.0"), std::string::npos);
 }
