@@ -14,6 +14,9 @@ packages=(
   strace
   # The man page, made from gvr --help at build time.
   help2man
+  # Loads the completion that cmake --install puts in share/bash-completion/completions
+  # when an interactive bash starts; the completion test sources it directly.
+  bash-completion
   # The sanitizer build and the libFuzzer targets (.ci/sanitize.sh).
   clang
   libclang-rt-14-dev
