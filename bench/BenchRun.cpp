@@ -276,7 +276,7 @@ private:
     std::uint64_t codecTarget(const BenchUnit& unit) const {
         const auto& methods = mContext.manifest->methods;
         if (std::find(methods.begin(), methods.end(), "gvr") != methods.end()) return std::uint64_t(gvrBytes(unit));
-        return std::uint64_t(std::llround(mRawBytes / *unit.ratio));
+        return std::max<std::uint64_t>(1, std::uint64_t(std::llround(mRawBytes / *unit.ratio)));
     }
 
     Reconstruction external(const BenchUnit& unit, const ExternalCodec& codec, const std::string& folder) {
@@ -287,9 +287,10 @@ private:
             }
         }
         const std::uint64_t target = codecTarget(unit);
+        const RawChannels& raw = rawChannels();
         CodecResult result;
         try {
-            result = runExternalCodec(codec, rawChannels(), target, folder, folder + "/log.txt");
+            result = runExternalCodec(codec, raw, target, folder, folder + "/log.txt");
         } catch (const CodecFailure& error) {
             throw StepFailure(codec.name + ": " + error.what());
         }
@@ -305,9 +306,7 @@ private:
         decoded.worldFromIndex = mRawPlacement.worldFromIndex;
         decoded.values = std::move(result.values);
         try {
-            const auto grids = readGridMetadataFile(mSource);
-            writeGridFile(r.grid, {reconstructionOf(*chooseVolumeGrid(*grids, mSource), std::move(decoded),
-                                                    folder + "/compressed.c0")});
+            writeGridFile(r.grid, {reconstructionOf(*mSourceShell, std::move(decoded), folder + "/compressed.c0")});
         } catch (const InputError& error) {
             throw StepFailure(std::string("reconstruction: ") + error.what());
         }
@@ -318,7 +317,8 @@ private:
         return r;
     }
 
-    /// The source's channels as raw float32 files, written on first use.
+    /// The source's channels as raw float32 files, written on first use, with the
+    /// source's grid kept without its voxels for the reconstructions.
     const RawChannels& rawChannels() {
         if (!mRaw.files.empty()) return mRaw;
         try {
@@ -330,6 +330,7 @@ private:
             mRawPlacement.dims = samples.dims;
             mRawPlacement.channels = samples.channels;
             mRawPlacement.worldFromIndex = samples.worldFromIndex;
+            mSourceShell = grid->copyGridWithNewTree();
         } catch (const InputError& error) {
             throw StepFailure(std::string("raw channels: ") + error.what());
         } catch (const CodecFailure& error) {
@@ -400,6 +401,7 @@ private:
     int mChannels = 1;
     RawChannels mRaw;
     FloatVolume mRawPlacement;  ///< dims, channels and placement of mRaw; no values
+    openvdb::GridBase::ConstPtr mSourceShell;  ///< the source's name, transform and metadata
 };
 
 }  // namespace

@@ -42,8 +42,8 @@ std::string parameterText(double param) {
     return text;
 }
 
-/// The most trials a size search makes; halving the log-range each time would
-/// shrink it by 2^-16 by then, far finer than the 5 % the sizes need.
+/// The most trials a size search makes: each step inside a bracket shrinks it by a
+/// quarter at least, so 16 reach far finer than the 5 % the sizes need.
 constexpr int kMaxTrials = 16;
 
 /// One run of a template over every channel.
@@ -55,6 +55,8 @@ class CodecRunner {
 public:
     CodecRunner(const ExternalCodec& codec, const RawChannels& raw, std::string folder, std::string log)
         : mCodec(codec), mRaw(raw), mFolder(std::move(folder)), mLog(std::move(log)),
+          mCompress(withProgramFound("compress", codec.compress)),
+          mDecompress(withProgramFound("decompress", codec.decompress)),
           mDeadline(Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                         std::chrono::duration<double>(codec.timeoutSeconds))) {}
 
@@ -70,7 +72,7 @@ public:
         for (std::size_t c = 0; c < mRaw.files.size(); ++c) {
             const std::string compressed = compressedFile(folder, c);
             fs::remove(compressed);
-            run("compress", mCodec.compress, c, param, compressed, "", trial.runs);
+            run("compress", mCompress, c, param, compressed, "", trial.runs);
             std::error_code error;
             const std::uintmax_t size = fs::file_size(compressed, error);
             if (error || size == 0) {
@@ -91,7 +93,7 @@ public:
         for (std::size_t c = 0; c < channels; ++c) {
             const std::string output = mFolder + "/decoded.c" + std::to_string(c) + ".f32";
             fs::remove(output);
-            run("decompress", mCodec.decompress, c, param, compressedFile(mFolder, c), output, runs);
+            run("decompress", mDecompress, c, param, compressedFile(mFolder, c), output, runs);
             readChannel(output, c, param, channel);
             fs::remove(output);
             for (std::uint64_t v = 0; v < voxels; ++v) values[v * channels + c] = channel[v];
@@ -104,6 +106,14 @@ public:
     }
 
 private:
+    /// @a templateArgs with its program's path, looked up once for the whole row.
+    static std::vector<std::string> withProgramFound(const std::string& step, std::vector<std::string> templateArgs) {
+        const std::string program = findProgram(templateArgs.front());
+        if (program.empty()) throw CodecFailure(step + ": program '" + templateArgs.front() + "' not found");
+        templateArgs.front() = program;
+        return templateArgs;
+    }
+
     std::string where(std::size_t channel, double param) const {
         return "channel " + std::to_string(channel) + ", param " + parameterText(param);
     }
@@ -134,10 +144,7 @@ private:
 
     void run(const std::string& step, const std::vector<std::string>& templateArgs, std::size_t channel, double param,
              const std::string& compressed, const std::string& output, CommandRuns& runs) {
-        std::vector<std::string> args = substitute(templateArgs, channel, param, compressed, output);
-        const std::string program = findProgram(args.front());
-        if (program.empty()) throw CodecFailure(step + ": program '" + args.front() + "' not found");
-        args.front() = program;
+        const std::vector<std::string> args = substitute(templateArgs, channel, param, compressed, output);
         const double left = std::chrono::duration<double>(mDeadline - Clock::now()).count();
         const ChildResult result = left > 0 ? runChild(args, mLog, left) : ChildResult{};
         runs.seconds += result.seconds;
@@ -178,6 +185,7 @@ private:
     const ExternalCodec& mCodec;
     const RawChannels& mRaw;
     const std::string mFolder, mLog;
+    const std::vector<std::string> mCompress, mDecompress;  ///< the templates, programs found
     const Clock::time_point mDeadline;  ///< for the whole row
 };
 
@@ -185,6 +193,10 @@ using Trial = CodecRunner::Trial;
 
 /// How far a size lies from the target, on a log scale: 0 on it, negative below.
 double miss(const Trial& trial, std::uint64_t target) { return std::log(double(trial.bytes) / double(target)); }
+
+bool withinSlack(std::uint64_t bytes, std::uint64_t target) {
+    return std::abs(double(bytes) / double(target) - 1.0) <= kTargetBytesSlack;
+}
 
 /// Where the next trial goes, on log(param). Between the two trials nearest to
 /// each other in the parameter whose sizes lie on either side of the target: the
@@ -294,13 +306,13 @@ CodecResult runExternalCodec(const ExternalCodec& codec, const RawChannels& raw,
                 fs::rename(CodecRunner::compressedFile(trialFolder, c), CodecRunner::compressedFile(folder, c));
             }
         }
-        if (std::abs(double(best->bytes) / double(targetBytes) - 1.0) <= kTargetBytesSlack) break;
+        if (withinSlack(best->bytes, targetBytes)) break;
     }
     fs::remove_all(trialFolder);
     CodecResult result;
     result.bytes = best->bytes;
     result.param = best->param;
-    result.matched = std::abs(double(best->bytes) / double(targetBytes) - 1.0) <= kTargetBytesSlack;
+    result.matched = withinSlack(best->bytes, targetBytes);
     result.compressSeconds = best->runs.seconds;
     CommandRuns decompression;
     result.values = runner.decompress(best->param, decompression);

@@ -70,11 +70,12 @@ void removeStaleTemporaries(const fs::path& folder, const std::string& suffix) {
     }
 }
 
-/// Where a write of @a target goes first: in the same folder, so that the final
-/// rename cannot cross devices, hidden, and named for this process.
-fs::path temporaryPathFor(const fs::path& target) {
-    const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    return folder / (kTemporaryPrefix + std::to_string(getpid()) + "-" + temporarySuffix(target.filename().string()));
+fs::path folderOf(const fs::path& target) { return target.has_parent_path() ? target.parent_path() : fs::path("."); }
+
+/// Where a write goes first: in the target's @a folder, so that the final rename
+/// cannot cross devices, hidden, and named for this process and the target (@a suffix).
+fs::path temporaryPathFor(const fs::path& folder, const std::string& suffix) {
+    return folder / (kTemporaryPrefix + std::to_string(getpid()) + "-" + suffix);
 }
 
 }  // namespace
@@ -87,10 +88,10 @@ void writeAllOrNone(const std::vector<std::string>& paths,
             // "all-" keeps the staged file apart from the temporary that a writer's
             // own writeAtomically makes beside it.
             const fs::path target(paths[k]);
-            const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
-            const std::string name = "all-" + target.filename().string();
-            removeStaleTemporaries(folder, temporarySuffix(name));
-            const fs::path staging = temporaryPathFor(folder / name);
+            const fs::path folder = folderOf(target);
+            const std::string suffix = temporarySuffix("all-" + target.filename().string());
+            removeStaleTemporaries(folder, suffix);
+            const fs::path staging = temporaryPathFor(folder, suffix);
             writes[k](staging.string());
             staged.push_back(staging);
         }
@@ -143,9 +144,9 @@ void checkOutputPath(const std::string& flag, const std::string& output, const s
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {
     checkOutputPath("output", path, {});
     const fs::path target(path);
-    const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    const fs::path folder = folderOf(target);
     const std::string suffix = temporarySuffix(target.filename().string());
-    const fs::path temporary = temporaryPathFor(target);
+    const fs::path temporary = temporaryPathFor(folder, suffix);
     if (temporary.native().size() >= sizeof(gTemporary)) throw InputError(path, "path is too long");
     std::lock_guard<std::mutex> lock(gWriting);
     removeStaleTemporaries(folder, suffix);

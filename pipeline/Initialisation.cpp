@@ -125,7 +125,9 @@ double offerVoxel(const openvdb::Coord& ijk, float gradient, std::mt19937_64& ra
 /// (a hash lookup per voxel was most of the set-up on a 45 M-voxel CT).
 class BlockCells {
 public:
-    BlockCells(const openvdb::CoordBBox& voxels, int cell) : mCell(cell), mFirst(cellOf(voxels.min())) {
+    /// @a scratch holds the cells' entries; one vector serves every block of a chunk.
+    BlockCells(const openvdb::CoordBBox& voxels, int cell, std::vector<Keyed>& scratch)
+        : mCell(cell), mFirst(cellOf(voxels.min())), mBest(scratch) {
         const openvdb::Coord last = cellOf(voxels.max());
         for (int a = 0; a < 3; ++a) mCount[a] = last[a] - mFirst[a] + 1;
         mBest.assign(std::size_t(mCount[0]) * mCount[1] * mCount[2], Keyed{-1.0, openvdb::Coord()});
@@ -154,7 +156,7 @@ private:
     int mCell;
     openvdb::Coord mFirst;
     int mCount[3];
-    std::vector<Keyed> mBest;
+    std::vector<Keyed>& mBest;
 };
 
 /// Blocks are shared out in this many chunks, each with its own random stream,
@@ -172,6 +174,7 @@ std::vector<openvdb::Coord> chooseSeeds(const VolumeTarget& target, std::size_t 
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t chunk) {
         SeedCandidates candidates(gradientCount, uniformCount);
         std::mt19937_64 random(streamSeed(seed, 0, chunk));
+        std::vector<Keyed> cellScratch;
         for (std::size_t b = chunk * blocks.size() / chunks; b < (chunk + 1) * blocks.size() / chunks; ++b) {
             const std::bitset<kBlockVoxels> active = target.blockActive(blocks[b]);
             if (active.none()) continue;
@@ -179,7 +182,7 @@ std::vector<openvdb::Coord> chooseSeeds(const VolumeTarget& target, std::size_t 
             target.blockGradientMagnitudes(blocks[b], gradients);
             openvdb::CoordBBox voxels(blocks[b], blocks[b].offsetBy(kBlockDim - 1));
             voxels.intersect(target.box());
-            BlockCells cells(voxels, cell);
+            BlockCells cells(voxels, cell, cellScratch);
             for (auto ijk = voxels.beginZYX(); ijk; ++ijk) {
                 const int offset = blockOffset(*ijk);
                 if (active[offset]) cells.offer(*ijk, offerVoxel(*ijk, gradients[offset], random, candidates));

@@ -37,6 +37,17 @@ private:
 std::string sharedData(const std::string& relative);
 
 std::string readBytes(const std::string& path);
+
+/// The message of the @a Error that @a run throws, or "" when it throws none.
+template <typename Error>
+std::string errorMessageOf(const std::function<void()>& run) {
+    try {
+        run();
+    } catch (const Error& error) {
+        return error.what();
+    }
+    return "";
+}
 void writeBytes(const std::string& path, const std::string& bytes);
 /// Copies @a from to @a to, keeping only the first @a keep bytes.
 void copyTruncated(const std::string& from, const std::string& to, std::size_t keep);

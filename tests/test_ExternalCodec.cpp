@@ -61,12 +61,7 @@ struct CodecRun {
 
     /// The CodecFailure's message, or "" when the run succeeded.
     std::string failure(const ExternalCodec& codec, std::uint64_t target = 1000) {
-        try {
-            run(codec, target);
-        } catch (const CodecFailure& error) {
-            return error.what();
-        }
-        return "";
+        return test::errorMessageOf<CodecFailure>([&] { run(codec, target); });
     }
 };
 

@@ -14,36 +14,22 @@
 
 using namespace gvr;
 
-namespace {
-
-/// The InputError's message, or "" when none was thrown.
-std::string refusal(const std::function<void()>& check) {
-    try {
-        check();
-    } catch (const InputError& error) {
-        return error.what();
-    }
-    return "";
-}
-
-}  // namespace
-
 TEST(InputFile, OnlyRegularFilesAreInputsAndEveryRefusalNamesThePath) {
     test::TempDir dir;
     const std::string file = dir.path("scan.raw"), link = dir.path("link.raw"), fifo = dir.path("pipe");
     test::writeBytes(file, "1234");
     std::filesystem::create_symlink(file, link);
     ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
-    EXPECT_EQ(refusal([&] { requireRegularFile(file); }), "");
-    EXPECT_EQ(refusal([&] { requireRegularFile(link); }), "") << "links are followed";
+    EXPECT_EQ(test::errorMessageOf<InputError>([&] { requireRegularFile(file); }), "");
+    EXPECT_EQ(test::errorMessageOf<InputError>([&] { requireRegularFile(link); }), "") << "links are followed";
     for (const std::string& path : {dir.path("missing.raw"), dir.path(""), fifo, std::string("/dev/zero")}) {
-        const std::string message = refusal([&] { requireRegularFile(path); });
+        const std::string message = test::errorMessageOf<InputError>([&] { requireRegularFile(path); });
         EXPECT_NE(message, "") << path;
         EXPECT_NE(message.find(path), std::string::npos) << message;
     }
     const std::string withNul = file + std::string(1, '\0') + "x";
-    EXPECT_NE(refusal([&] { requireNoNulByte(withNul); }), "");
-    EXPECT_EQ(refusal([&] { requireNoNulByte(file); }), "");
+    EXPECT_NE(test::errorMessageOf<InputError>([&] { requireNoNulByte(withNul); }), "");
+    EXPECT_EQ(test::errorMessageOf<InputError>([&] { requireNoNulByte(file); }), "");
 }
 
 TEST(FramePath, OrbitFramesAreNumberedBesideTheOutputAndASingleFrameKeepsItsName) {
