@@ -80,7 +80,7 @@ void runBaselineCommand(BaselineFlags& flags) {
         throw InputError("--stream", "must be another file than -o " + flags.output);
     }
     const IngestResult source = loadOrIngest(flags.input, toIngestOptions(flags.source));
-    for (const std::string& warning : source.warnings) diagnostics() << "gvr: warning: " << warning << "\n";
+    for (const std::string& warning : source.warnings) diagnostics() << "gvr: warning: " << inCommandLineTerms(warning) << "\n";
     BaselineResult result;
     {
         ProgressBar bar(flags.method, !flags.quiet);

@@ -102,7 +102,7 @@ void BrickTeam::broadcast(std::string& bytes) const {
 
 void BrickTeam::abortUnlessAlone(const std::exception& error) const {
     if (mSize == 1) return;
-    diagnostics() << "gvr: error (rank " << mRank << " of " << mSize << "): " << error.what() << "\n";
+    diagnostics() << "gvr: error (rank " << mRank << " of " << mSize << "): " << inCommandLineTerms(error.what()) << "\n";
     MPI_Abort(MPI_COMM_WORLD, 2);
     std::exit(2);  // MPI_Abort does not return; this tells the compiler so
 }

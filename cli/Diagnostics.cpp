@@ -1,7 +1,10 @@
 #include "Diagnostics.h"
 
+#include "SettingNames.h"
+
 #include <unistd.h>
 
+#include <algorithm>
 #include <string>
 
 namespace gvr {
@@ -54,6 +57,13 @@ std::ostream& diagnostics() { return gStream; }
 std::FILE* diagnosticsFile() { return gFile; }
 
 int diagnosticsFd() { return fileno(gFile); }
+
+std::string inCommandLineTerms(const std::string& message) {
+    return respellSettings(message, [](std::string key, const std::string& value) {
+        std::replace(key.begin(), key.end(), '_', '-');
+        return "--" + key + (value.empty() ? "" : " " + value);
+    });
+}
 
 void showLibraryOutput() {
     if (!gCaptured) return;

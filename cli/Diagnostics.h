@@ -10,6 +10,7 @@
 
 #include <cstdio>
 #include <ostream>
+#include <string>
 
 namespace gvr {
 
@@ -20,6 +21,10 @@ void divertLibraryOutput();
 std::ostream& diagnostics();
 std::FILE* diagnosticsFile();
 int diagnosticsFd();
+
+/// @a message from the library with each setting it names (`nan_to=VALUE`, see
+/// SettingNames.h) spelt as a flag: --nan-to VALUE.
+std::string inCommandLineTerms(const std::string& message);
 
 /// Prints what the libraries wrote since the diversion, each line prefixed
 /// "gvr: library: ", to the user's stderr.

@@ -32,7 +32,7 @@ std::optional<Lattice> chosenLattice(const ExportFlags& flags, const GaussianAss
         const double voxelSize = voxelSizeForResolution(asset.worldFromIndex, asset.source.dims, *flags.resolution);
         try {
             return resizedLattice(asset.worldFromIndex, asset.source.dims, voxelSize);
-        } catch (const InputError&) {  // it names --voxel-size, which this user did not give
+        } catch (const InputError&) {  // it names the voxel size, which this user did not give
             throw InputError("--resolution", std::to_string(*flags.resolution) +
                                                  " voxels along the longest axis would need more than 2^36 voxels");
         }

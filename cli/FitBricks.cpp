@@ -8,6 +8,7 @@
 #include "Report.h"
 
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 
 namespace gvr {
@@ -23,11 +24,22 @@ FitObserver barObserver(ProgressBar& bar, std::size_t brick) {
     };
 }
 
+/// The brick that tests make fail, from the environment (GVR_TEST_FAIL_BRICK): no
+/// input makes one brick of a team fail on demand, and a hook there is no flag of gvr's.
+std::optional<std::size_t> brickMadeToFail() {
+    const char* text = std::getenv("GVR_TEST_FAIL_BRICK");
+    if (!text || !*text) return std::nullopt;
+    char* end = nullptr;
+    const unsigned long long brick = std::strtoull(text, &end, 10);
+    if (*end != '\0') return std::nullopt;
+    return std::size_t(brick);
+}
+
 /// Fits brick @a index into a part; the part's brick record also tells how the
 /// fit went (the merge drops the record).
 GaussianAsset fitPart(const openvdb::GridBase::ConstPtr& grid, const std::string& name, const BrickPlan& plan,
                       std::size_t index, double seconds, const BrickFlags& flags, int rank, bool progress) {
-    if (flags.failing == index) throw InputError("--fail-brick", "brick " + std::to_string(index) + " failed on purpose");
+    if (brickMadeToFail() == index) throw InputError("GVR_TEST_FAIL_BRICK", "brick " + std::to_string(index) + " failed on purpose");
     ProgressBar bar("fitting", progress);
     FitReport report;
     GaussianAsset part = fitBrickPart(grid, name, plan, index, seconds, barObserver(bar, index), &report);
@@ -119,7 +131,6 @@ void addBrickFlags(CLI::App& command, BrickFlags& flags) {
     command.add_option("--of", flags.count, "With --brick: the number of bricks")
         ->check(CLI::Range(std::size_t(1), std::size_t(1) << 20))->needs(only);
     only->needs("--of");
-    command.add_option("--fail-brick", flags.failing, "Testing: make this brick's fit fail")->group("");
 }
 
 BrickedFitResult fitAllBricks(const BrickTeam& team, const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
@@ -150,13 +161,13 @@ BrickedFitResult fitAllBricks(const BrickTeam& team, const openvdb::GridBase::Co
 
 namespace {
 
-std::string bytesOf(const std::vector<SliceError>& slices) {
-    return std::string(reinterpret_cast<const char*>(slices.data()), slices.size() * sizeof(SliceError));
+std::string bytesOf(const std::vector<SliceSums>& slices) {
+    return std::string(reinterpret_cast<const char*>(slices.data()), slices.size() * sizeof(SliceSums));
 }
 
-std::vector<SliceError> slicesOf(const std::string& bytes) {
-    std::vector<SliceError> slices(bytes.size() / sizeof(SliceError));
-    std::memcpy(slices.data(), bytes.data(), slices.size() * sizeof(SliceError));
+std::vector<SliceSums> slicesOf(const std::string& bytes) {
+    std::vector<SliceSums> slices(bytes.size() / sizeof(SliceSums));
+    std::memcpy(slices.data(), bytes.data(), slices.size() * sizeof(SliceSums));
     return slices;
 }
 
@@ -171,20 +182,20 @@ std::vector<BrickOutcome> measureMine(const GaussianField& field, const Threshol
     for (std::size_t n = 0; n < mine.size(); ++n) {
         const auto share = [&](double fraction) { bar.update((double(n) + fraction) / double(mine.size())); };
         const Brick& brick = fit.layout[mine[n]];
-        outcomes.push_back({brick.index, rank, true, bytesOf(measureSliceErrors(field, target, brick.core, share, nearFace, cut))});
+        outcomes.push_back({brick.index, rank, true, bytesOf(measureSliceSums(field, target, brick.core, share, nearFace, cut))});
     }
     return outcomes;
 }
 
 /// Every brick core's slices added into the whole box's, in brick order: the same
 /// sums, bit for bit, whichever rank measured which brick.
-std::vector<SliceError> wholeBoxSlices(const std::vector<BrickOutcome>& outcomes, const std::vector<Brick>& layout,
+std::vector<SliceSums> wholeBoxSlices(const std::vector<BrickOutcome>& outcomes, const std::vector<Brick>& layout,
                                        const VolumeTarget& target) {
-    std::vector<SliceError> whole(std::size_t(target.box().dim().z()));
+    std::vector<SliceSums> whole(std::size_t(target.box().dim().z()));
     for (const BrickOutcome& outcome : outcomes) {
         openvdb::CoordBBox core = layout[outcome.brick].core;
         core.intersect(target.box());
-        const std::vector<SliceError> slices = slicesOf(outcome.bytes);
+        const std::vector<SliceSums> slices = slicesOf(outcome.bytes);
         for (std::size_t s = 0; s < slices.size(); ++s) {
             whole[std::size_t(core.min().z() - target.box().min().z()) + s].add(slices[s]);
         }
@@ -194,7 +205,7 @@ std::vector<SliceError> wholeBoxSlices(const std::vector<BrickOutcome>& outcomes
 
 }  // namespace
 
-VolumeError measureAcrossTeam(const BrickTeam& team, const std::string& saved, const VolumeTarget& target,
+FieldAccuracy measureAcrossTeam(const BrickTeam& team, const std::string& saved, const VolumeTarget& target,
                               const BrickedFitResult& fit, bool progress) {
     try {
         const GaussianAsset asset = decodeAsset(saved, "the merged asset");
@@ -202,7 +213,7 @@ VolumeError measureAcrossTeam(const BrickTeam& team, const std::string& saved, c
         std::vector<BrickOutcome> outcomes = measureMine(field, defaultExportCut(asset), target, fit, bricksOf(team.rank(), fit.owners),
                                                          team.rank(), progress && team.isRoot());
         outcomes = team.gather(std::move(outcomes), fit.owners);
-        return team.isRoot() ? volumeErrorOf(wholeBoxSlices(outcomes, fit.layout, target), target) : VolumeError{};
+        return team.isRoot() ? fieldAccuracyOf(wholeBoxSlices(outcomes, fit.layout, target), target) : FieldAccuracy{};
     } catch (const std::exception& error) {
         team.abortUnlessAlone(error);  // the others would wait in the gather
         throw;

@@ -5,7 +5,7 @@
 
 #include "BrickTeam.h"
 #include "BrickedFit.h"
-#include "VolumeError.h"
+#include "FieldAccuracy.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -18,9 +18,6 @@ struct BrickFlags {
     std::size_t count = 0;  ///< --bricks, or --of with --brick
     int halo = kDefaultBrickHalo;
     std::optional<std::size_t> only;  ///< --brick I: fit this one and write its part
-    /// A brick whose fit is made to fail: tests check that the failure is reported
-    /// with its brick and rank, and that nothing is written.
-    std::optional<std::size_t> failing;
 
     bool any() const { return count > 0; }
 };
@@ -50,7 +47,7 @@ BrickedFitResult fitAllBricks(const BrickTeam& team, const openvdb::GridBase::Co
 /// the voxels near brick faces marked. Each rank measures the cores of the bricks
 /// it fitted, so it reads no other part of the grid; the result, on rank 0 only,
 /// is the same to the bit for any number of ranks.
-VolumeError measureAcrossTeam(const BrickTeam& team, const std::string& saved, const VolumeTarget& target,
+FieldAccuracy measureAcrossTeam(const BrickTeam& team, const std::string& saved, const VolumeTarget& target,
                               const BrickedFitResult& fit, bool progress);
 
 /// --brick I --of N: fits brick I and returns its part asset, for writeAsset().

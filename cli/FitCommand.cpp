@@ -5,6 +5,7 @@
 #include "Compress.h"
 #include "Diagnostics.h"
 #include "Error.h"
+#include "FieldAccuracy.h"
 #include "FitBricks.h"
 #include "GaussianField.h"
 #include "GridFile.h"
@@ -14,7 +15,6 @@
 #include "ProgressBar.h"
 #include "Report.h"
 #include "SourceOptions.h"
-#include "VolumeError.h"
 
 #include <tbb/global_control.h>
 
@@ -141,7 +141,7 @@ nlohmann::json structuresJson(const GaussianAsset& asset, const std::vector<Stru
     return out;
 }
 
-void reportBricks(const BrickedFitResult& bricked, const VolumeError& error) {
+void reportBricks(const BrickedFitResult& bricked, const FieldAccuracy& error) {
     std::cout << "  seams:           " << formatDb(error.markedPsnr) << " dB within " << kSeamWidth
               << " voxels of a face between bricks (" << error.markedVoxels << " voxels), "
               << formatDb(error.unmarkedPsnr) << " dB elsewhere; over the active voxels "
@@ -155,7 +155,7 @@ void reportBricks(const BrickedFitResult& bricked, const VolumeError& error) {
     std::cout << "  merge:           " << std::setprecision(4) << bricked.mergeSeconds << " s\n";
 }
 
-void report(const FitFlags& flags, const CompressResult& result, double peak, const VolumeError& error,
+void report(const FitFlags& flags, const CompressResult& result, double peak, const FieldAccuracy& error,
             const BrickedFitResult* bricked, const Phases& phases) {
     const GaussianAsset& asset = result.asset;
     const FitReport& fit = result.fit;
@@ -253,7 +253,7 @@ IngestResult loadInput(const FitFlags& flags, bool vdbOnDemand) {
     ingestOptions.labelNames = flags.labelNames;
     ingestOptions.vdbOnDemand = vdbOnDemand;
     IngestResult loaded = loadOrIngest(flags.input, ingestOptions);
-    for (const std::string& warning : loaded.warnings) diagnostics() << "gvr: warning: " << warning << "\n";
+    for (const std::string& warning : loaded.warnings) diagnostics() << "gvr: warning: " << inCommandLineTerms(warning) << "\n";
     return loaded;
 }
 
@@ -291,7 +291,7 @@ void runBrickedFit(const FitFlags& flags, Phases& phases) {
     }
     team.broadcast(saved);
     if (saved.empty()) return;
-    const VolumeError error = measureAcrossTeam(team, saved, target, bricked, !flags.quiet);
+    const FieldAccuracy error = measureAcrossTeam(team, saved, target, bricked, !flags.quiet);
     phases.lap("measure");
     if (team.isRoot()) report(flags, bricked.result, target.peak(), error, &bricked, phases);
 }
@@ -325,8 +325,8 @@ void runFit(FitFlags& flags) {
     phases.lap("write");
     ProgressBar measuring("measuring", !flags.quiet);
     const GaussianField saved(quantisedCopy(result.asset.params, result.asset.encoding), result.asset.cutoffSigmas);
-    const VolumeError error =
-        measureVolumeError(saved, target, measuring.callback(), {}, defaultExportCut(result.asset));
+    const FieldAccuracy error =
+        measureFieldAccuracy(saved, target, measuring.callback(), {}, defaultExportCut(result.asset));
     phases.lap("measure");
     report(flags, result, target.peak(), error, nullptr, phases);
 }

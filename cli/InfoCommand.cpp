@@ -87,7 +87,7 @@ void runInfo(const InfoFlags& flags) {
     } else {
         IngestResult result = ingest(flags.input, toIngestOptions(flags.source));
         summaries.push_back(summarizeGrid(*result.grid));
-        warnings = std::move(result.warnings);
+        for (const std::string& warning : result.warnings) warnings.push_back(inCommandLineTerms(warning));
     }
     const std::uint64_t bytes = sizeOnDisk(flags.input);
     if (flags.json) {

@@ -28,8 +28,12 @@ struct IngestFlags {
     bool quiet = false;
 };
 
-void printWarnings(const std::vector<std::string>& warnings) {
-    for (const std::string& warning : warnings) diagnostics() << "gvr: warning: " << warning << "\n";
+/// Says the warnings in the command line's terms, for stderr and --json alike.
+void sayWarnings(std::vector<std::string>& warnings) {
+    for (std::string& warning : warnings) {
+        warning = inCommandLineTerms(warning);
+        diagnostics() << "gvr: warning: " << warning << "\n";
+    }
 }
 
 /// A label grid has no place in a NIfTI of the image.
@@ -59,7 +63,7 @@ void runIngest(const IngestFlags& flags) {
         result = ingest(flags.input, options);
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    printWarnings(result.warnings);
+    sayWarnings(result.warnings);
     if (result.grid->activeVoxelCount() == 0) {
         diagnostics() << "gvr: warning: no voxel is above the threshold; the grid is empty\n";
     }

@@ -30,7 +30,7 @@ struct RenderInput {
 RenderInput loadRenderInput(const std::string& path, const std::string& show, const std::string& hide, float minScale,
                             const IngestOptions& ingest, bool assetAsGrid = false);
 
-/// "512x384" as --size gives it: width and height in pixels, each 1 to 16384.
+/// "512x384" as --size gives it: width and height in pixels, each 1 to kMaxImageSide.
 /// @throw InputError naming --size.
 std::pair<int, int> parseImageSize(const std::string& text);
 

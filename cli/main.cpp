@@ -31,7 +31,7 @@ int run(CLI::App& app, int argc, char** argv) {
         const int code = app.exit(error, std::cout, gvr::diagnostics());
         return code == 0 ? 0 : 2;
     } catch (const gvr::InputError& error) {
-        gvr::diagnostics() << "gvr: error: " << error.what() << "\n";
+        gvr::diagnostics() << "gvr: error: " << gvr::inCommandLineTerms(error.what()) << "\n";
     } catch (const std::filesystem::filesystem_error& error) {
         gvr::diagnostics() << "gvr: error: " << error.what() << "\n";
     } catch (const std::bad_alloc&) {

@@ -10,8 +10,8 @@
 
 #include "AssetBodyV1.h"
 #include "AssetFile.h"
+#include "FieldAccuracy.h"
 #include "GridFile.h"
-#include "VolumeError.h"
 
 #include <cstdio>
 #include <functional>
@@ -31,7 +31,7 @@ Measured measure(const GaussianAsset& asset, const VolumeTarget& target, const A
     Measured m;
     const std::string body = encodeAssetBodyV2(asset.params, quantisation, &m.bytes);
     const GaussianField field(decodeAssetBodyV2(body, asset.params.count(), quantisation), asset.cutoffSigmas);
-    m.psnr = measureVolumeError(field, target).psnr;
+    m.psnr = measureFieldAccuracy(field, target).psnr;
     return m;
 }
 
@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
         const int channels = asset.params.channels;
 
         const GaussianField asRead(asset.params, asset.cutoffSigmas);
-        const double reference = measureVolumeError(asRead, target).psnr;
+        const double reference = measureFieldAccuracy(asRead, target).psnr;
         std::printf("%s: %zu Gaussians, %d channel(s); PSNR as read %.2f dB\n\n", argv[1], asset.params.count(),
                     channels, reference);
         if (sweeps) sweepEveryAttribute(asset, target, reference);

@@ -95,15 +95,15 @@ void describe(openvdb::GridBase& grid, const GaussianAsset& asset, const ExportR
 
 ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& settings, const ProgressFn& progress) {
     if (settings.dcc && settings.densityFrom) {
-        throw InputError("--density-from", "does not combine with --dcc, whose transfer function gives the density");
+        throw InputError("`density_from`", "does not combine with `dcc`, whose transfer function gives the density");
     }
     if (settings.densityFrom && asset.params.channels != 3) {
-        throw InputError("--density-from", "applies to RGB assets only; this asset is grey");
+        throw InputError("`density_from`", "applies to RGB assets only; this asset is grey");
     }
     const openvdb::Vec3i dims = asset.source.dims;
     ExportResult result;
     result.lattice = settings.lattice.value_or(sourceLattice(asset.worldFromIndex, dims));
-    if (settings.threshold && std::isnan(*settings.threshold)) throw InputError("--threshold", "must be a number, not NaN");
+    if (settings.threshold && std::isnan(*settings.threshold)) throw InputError("`threshold`", "must be a number, not NaN");
     result.threshold = settings.threshold.value_or(defaultExportThreshold(asset.source));
     result.thresholdAbove = defaultExportThresholdAbove(asset.source);
     const openvdb::Coord size = result.lattice.box.dim();

@@ -206,7 +206,7 @@ void writeDownsampledStream(const openvdb::GridBase& source, const FloatVolume& 
     // Beyond the longest axis every factor gives one coarse voxel, and its sums would overflow.
     const int longest = std::max({samples.dims.x(), samples.dims.y(), samples.dims.z()});
     if (factor > longest) {
-        throw InputError(streamPath, "--factor " + std::to_string(factor) + " exceeds the volume's longest axis (" +
+        throw InputError(streamPath, "`factor=" + std::to_string(factor) + "`" + " exceeds the volume's longest axis (" +
                                          std::to_string(longest) + " voxels)");
     }
     const auto start = Clock::now();
@@ -260,7 +260,7 @@ BaselineMethod parseBaselineMethod(const std::string& name) {
         if (name == methodName) return method;
         known += std::string(known.empty() ? "" : ", ") + methodName;
     }
-    throw InputError("--method", "'" + name + "' is not one of " + known);
+    throw InputError("`method`", "'" + name + "' is not one of " + known);
 }
 
 std::string baselineMethodName(BaselineMethod method) {
@@ -273,26 +273,26 @@ std::string baselineMethodName(BaselineMethod method) {
 std::string BaselineSettings::validate() const {
     const std::string name = baselineMethodName(method);
     if ((tolerance || targetBytes) && method != BaselineMethod::ZfpAccuracy) {
-        return "--tolerance and --target-bytes apply to zfp-accuracy, not " + name;
+        return "`tolerance` and `target_bytes` apply to zfp-accuracy, not " + name;
     }
-    if (rate && method != BaselineMethod::ZfpRate) return "--rate applies to zfp-rate, not " + name;
-    if (factor && method != BaselineMethod::Downsample) return "--factor applies to downsample, not " + name;
+    if (rate && method != BaselineMethod::ZfpRate) return "`rate` applies to zfp-rate, not " + name;
+    if (factor && method != BaselineMethod::Downsample) return "`factor` applies to downsample, not " + name;
     switch (method) {
         case BaselineMethod::ZfpAccuracy:
-            if (tolerance && targetBytes) return "give --tolerance or --target-bytes, not both";
-            if (!tolerance && !targetBytes) return "zfp-accuracy needs --tolerance T or --target-bytes N";
+            if (tolerance && targetBytes) return "give `tolerance` or `target_bytes`, not both";
+            if (!tolerance && !targetBytes) return "zfp-accuracy needs `tolerance=T` or `target_bytes=N`";
             if (tolerance && !(*tolerance > 0.0 && std::isfinite(*tolerance))) {
-                return "--tolerance must be a positive number (physical units)";
+                return "`tolerance` must be a positive number (physical units)";
             }
-            if (targetBytes && *targetBytes == 0) return "--target-bytes must be positive";
+            if (targetBytes && *targetBytes == 0) return "`target_bytes` must be positive";
             return {};
         case BaselineMethod::ZfpRate:
-            if (!rate) return "zfp-rate needs --rate BITS";
-            if (!(*rate > 0.0 && *rate <= 64.0)) return "--rate must be in (0, 64] bits per value";
+            if (!rate) return "zfp-rate needs `rate=BITS`";
+            if (!(*rate > 0.0 && *rate <= 64.0)) return "`rate` must be in (0, 64] bits per value";
             return {};
         case BaselineMethod::Downsample:
-            if (!factor) return "downsample needs --factor F";
-            if (*factor < 2) return "--factor must be an integer of at least 2, got " + std::to_string(*factor);
+            if (!factor) return "downsample needs `factor=F`";
+            if (*factor < 2) return "`factor` must be an integer of at least 2, got " + std::to_string(*factor);
             return {};
         case BaselineMethod::VdbBlosc:
         case BaselineMethod::VdbHalf: return {};

@@ -83,9 +83,9 @@ void checkSameFit(const GaussianAsset& first, const GaussianAsset& part, const s
 
 BrickPlan planBrickedFit(const VolumeTarget& target, const std::string& name, const CompressOptions& options,
                          const BrickOptions& bricks) {
-    if (bricks.count == 0) throw InputError("--bricks", "must be at least 1");
-    if (bricks.halo < 0) throw InputError("--halo", "must be at least 0");
-    if (!options.labels.empty()) throw InputError("--bricks", "cannot be combined with --labels");
+    if (bricks.count == 0) throw InputError("`bricks`", "must be at least 1");
+    if (bricks.halo < 0) throw InputError("`halo`", "must be at least 0");
+    if (!options.labels.empty()) throw InputError("`bricks`", "cannot be combined with `labels`");
     BrickPlan plan;
     plan.settings = checkedSettings(options);
     plan.halo = bricks.halo;

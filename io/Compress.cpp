@@ -27,7 +27,7 @@ nlohmann::json settingsJson(const FitSettings& s, const std::string& ablation) {
 }
 
 void checkRatio(double ratio) {
-    if (!(ratio >= 1.0) || !std::isfinite(ratio)) throw InputError("--ratio", "must be at least 1");
+    if (!(ratio >= 1.0) || !std::isfinite(ratio)) throw InputError("`ratio`", "must be at least 1");
 }
 
 }  // namespace
@@ -61,7 +61,7 @@ std::size_t budgetedGaussians(const GaussianAsset& asset, const CompressOptions&
     maxBytes = std::uint64_t(double(asset.source.rawSourceBytes()) / options.ratio);
     const std::size_t capacity = assetCapacity(asset, maxBytes);
     if (capacity == 0) {
-        throw InputError("--ratio", "leaves " + std::to_string(maxBytes) + " bytes, too few for even one Gaussian");
+        throw InputError("`ratio`", "leaves " + std::to_string(maxBytes) + " bytes, too few for even one Gaussian");
     }
     return capacity;
 }
@@ -87,7 +87,7 @@ void fitByLabel(const openvdb::GridBase& image, const openvdb::Int32Grid& labels
                 const CompressOptions& options, const FitObserver& observer, CompressResult& result) {
     GaussianAsset& asset = result.asset;
     const LabelTable table = labelTableOf(labels);
-    const std::vector<int> ids = selectLabels(table, options.labels, "--labels");
+    const std::vector<int> ids = selectLabels(table, options.labels, "`labels`");
     const std::vector<std::uint64_t> voxels = countLabelVoxels(labels, ids);
     const std::vector<std::size_t> budgets = structureBudgets(options, asset, voxels);
     std::vector<StructureFit> structures;
@@ -143,7 +143,7 @@ CompressResult compress(const VolumeTarget& target, const std::string& name, con
     FitSettings settings = checkedSettings(options);
     if (options.cancel && options.cancel->load()) throw Cancelled(name);
     const FitObserver observer = cancellable(userObserver, options.cancel, name);
-    if (!options.labels.empty() && !labels) throw InputError(name, "holds no label grid; ingest the image with --labels LABELS, or give the label volume");
+    if (!options.labels.empty() && !labels) throw InputError(name, "holds no label grid; ingest the image with `labels=LABELS`, or give the label volume");
 
     const openvdb::GridBase& grid = target.grid();
     CompressResult result;

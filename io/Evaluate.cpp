@@ -38,7 +38,7 @@ void matchGeometry(const std::string& testPath, bool resample, const ComparisonI
     if (!resample || reference.isImage) {
         throw InputError(testPath, (sameDims ? std::string("is placed differently in the world than the reference")
                                                : "is " + dimsText(other) + ", the reference " + dimsText(ref)) +
-                                         (reference.isImage ? "" : "; pass --resample to resample it onto the reference"));
+                                         (reference.isImage ? "" : "; pass `resample` to resample it onto the reference"));
     }
     other = resampleTrilinear(other, ref.dims, ref.worldFromIndex);
 }
@@ -65,7 +65,7 @@ std::vector<std::uint8_t> foregroundMask(const EvalOptions& options, const Float
     };
     double cut = 0.0;
     if (options.threshold) {
-        if (std::isnan(*options.threshold)) throw InputError("--threshold", "must be a number, not NaN");
+        if (std::isnan(*options.threshold)) throw InputError("`threshold`", "must be a number, not NaN");
         cut = *options.threshold;
         rule = "reference above " + std::to_string(cut);
     } else {
@@ -99,7 +99,7 @@ void evaluateStructures(const EvalOptions& options, const openvdb::Int32Grid& la
                         const FloatVolume& test, EvalResult& e) {
     e.labelTable = labelTableOf(labels);
     const std::string spec = options.structures.empty() ? "all" : options.structures;
-    const std::vector<int> ids = selectLabels(e.labelTable, spec, options.structures.empty() ? options.labels : "--structures");
+    const std::vector<int> ids = selectLabels(e.labelTable, spec, options.structures.empty() ? options.labels : "`structures`");
     e.structures = structureQuality(ref, test, labelsOnSamples(ref, labels), ids, e.peak);
 }
 
@@ -132,8 +132,8 @@ EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const
     EvalResult e;
     e.peak = options.peak.value_or(reference.dataRange);
     if (!(e.peak > 0.0) || !std::isfinite(e.peak)) {
-        throw InputError(options.peak ? "--peak" : referenceName,
-                         options.peak ? "must be a positive number" : "has no data range (a constant volume); give --peak");
+        throw InputError(options.peak ? "`peak`" : referenceName,
+                         options.peak ? "must be a positive number" : "has no data range (a constant volume); give `peak`");
     }
     const std::vector<std::uint8_t> mask = foregroundMask(options, reference.volume, e.foregroundRule);
     e.foregroundVoxels = std::size_t(std::count(mask.begin(), mask.end(), 1));

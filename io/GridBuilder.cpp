@@ -306,7 +306,7 @@ public:
         if (mRange.nonFinite > 0) {
             throw InputError(mSettings.sourceFile,
                              std::to_string(mRange.nonFinite) +
-                                 " voxels are NaN or Inf; pass --nan-to VALUE to replace them");
+                                 " voxels are NaN or Inf; pass `nan_to=VALUE` to replace them");
         }
         for (SlabRecord& record : mRecords) {
             if (record.cut != finalCut()) record = rebuildSlab(readSlab(record.first, record.count), record);
@@ -491,7 +491,7 @@ openvdb::GridBase::Ptr buildGrid(const SliceSource& source, const GridBuildSetti
         checkSlabFitsInMemory(source.culprit(), {layout.dims[0], layout.dims[1], count}, layout.channels,
                               bytesPerSample(layout.type),
                               " (slices " + std::to_string(first) + " on, of " + std::to_string(layout.dims[2]) +
-                                  "; a higher --threshold keeps fewer voxels)");
+                                  "; a higher `threshold` keeps fewer voxels)");
         source.readSlab(first, count, slab);
         return slab;
     };

@@ -46,7 +46,7 @@ std::optional<std::string> lungWarning(const openvdb::GridBase& grid) {
     std::ostringstream text;
     text << std::fixed << std::setprecision(1) << "the threshold " << *metadata->threshold << " HU leaves "
          << 100.0 * share << " % of the voxels inside the body's outline inactive (lungs are about -890 HU); "
-         << "--threshold " << kCtDefaultThreshold << " keeps them";
+         << "`threshold=" << kCtDefaultThreshold << "` keeps them";
     return text.str();
 }
 

@@ -107,7 +107,7 @@ openvdb::Int32Grid::Ptr buildLabelGrid(const std::string& path, const ReadOption
     if (!sameLattice && !settings.resample) {
         throw InputError(path, "is " + describe(volume.dims, volume.worldFromIndex) + ", the image " +
                                    describe(imageDims, imageMatrix) +
-                                   "; pass --resample-labels to resample the labels (nearest neighbour)");
+                                   "; pass `resample_labels` to resample the labels (nearest neighbour)");
     }
     auto grid = openvdb::Int32Grid::create(0);
     grid->setName(kLabelGridName);
@@ -155,7 +155,7 @@ openvdb::Int32Grid::Ptr storedLabelGrid(const openvdb::GridPtrVec& grids) {
 
 openvdb::Int32Grid::Ptr findLabelGrid(const openvdb::GridPtrVec& grids, const std::string& path) {
     if (openvdb::Int32Grid::Ptr labels = storedLabelGrid(grids)) return labels;
-    throw InputError(path, "holds no label grid; ingest the image with --labels LABELS");
+    throw InputError(path, "holds no label grid; ingest the image with `labels=LABELS`");
 }
 
 }  // namespace gvr

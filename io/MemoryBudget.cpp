@@ -78,7 +78,7 @@ void checkVolumeFitsInMemory(const std::string& file, const std::array<std::int6
     if (needed > available) {
         const std::string hint = task != "ingest" ? ""
                                                   : "; NIfTI, MGH, MetaImage and VDB volumes are read whole, while raw "
-                                                    "files (--raw-dims), image stacks and DICOM series are streamed "
+                                                    "files (`raw_dims`), image stacks and DICOM series are streamed "
                                                     "slab by slab and need memory only for their active voxels";
         throw InputError(file, "a volume of " + std::to_string(dims[0]) + "x" +
                                    std::to_string(dims[1]) + "x" + std::to_string(dims[2]) +

@@ -205,7 +205,7 @@ DenseVolume readMetaImage(const std::string& path, const ReadOptions& options) {
     if (!local) checkDataFile(path, samplesPath);
     if (!local && !options.dataFilesAnywhere && !liesBelow(samplesPath, std::filesystem::path(path).parent_path())) {
         throw InputError(path, "ElementDataFile " + dataFile +
-                                   " lies outside the header's folder (allow it with --data-files-anywhere)");
+                                   " lies outside the header's folder (allow it with `data_files_anywhere`)");
     }
     const std::uint64_t offset = local ? header.endOffset : 0;
     if (isTrue(header, "CompressedData")) {

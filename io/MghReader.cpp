@@ -106,7 +106,7 @@ DenseVolume readMgh(const std::string& path, const ReadOptions& options) {
     volume.worldFromIndex = worldFromIndexOf(cursor, volume, goodRas);
     volume.modality = "MR";
     if (options.volumeIndex < 0 || options.volumeIndex >= std::max(frames, 1)) {
-        throw InputError(path, "--volume " + std::to_string(options.volumeIndex) +
+        throw InputError(path, "`volume=" + std::to_string(options.volumeIndex) + "`" +
                                    " is out of range: the file holds " + std::to_string(frames) +
                                    " frame(s)");
     }

@@ -191,7 +191,7 @@ DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
     }
     const std::int64_t volumeCount = image->dim[0] >= 4 ? std::max<std::int64_t>(image->nt, 1) : 1;
     if (options.volumeIndex < 0 || options.volumeIndex >= volumeCount) {
-        throw InputError(path, "--volume " + std::to_string(options.volumeIndex) +
+        throw InputError(path, "`volume=" + std::to_string(options.volumeIndex) + "`" +
                                    " is out of range: the file holds " +
                                    std::to_string(volumeCount) + " volume(s), 0.." +
                                    std::to_string(volumeCount - 1));
@@ -199,7 +199,7 @@ DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
     if (volumeCount > 1) {
         volume.warnings.push_back("4D series of " + std::to_string(volumeCount) +
                                   " volumes: reading volume " +
-                                  std::to_string(options.volumeIndex) + " (choose with --volume)");
+                                  std::to_string(options.volumeIndex) + " (choose with `volume`)");
     }
     volume.worldFromIndex = worldFromIndexOf(path, *image, header, volume);
     if (image->scl_slope != 0.0 && std::isfinite(image->scl_slope) &&

@@ -106,7 +106,7 @@ DenseVolume readFileByFormat(const std::string& path, const ReadOptions& options
     if (endsWith(name, ".mha") || endsWith(name, ".mhd")) return readMetaImage(path, options);
     if (endsWith(name, ".vdb")) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
     throw InputError(path, "unknown volume format; gvr reads .nii/.nii.gz, .mgh/.mgz, .mha/.mhd, "
-                           ".vdb, a DICOM folder, image stacks, or raw data with --raw-dims");
+                           ".vdb, a DICOM folder, image stacks, or raw data with `raw_dims`");
 }
 
 }  // namespace
@@ -122,7 +122,7 @@ bool isImageFile(const std::string& path) {
 void setGivenSpacing(const ReadOptions& options, DenseVolume& volume) {
     if (!options.spacingMm) {
         volume.warnings.push_back("voxel spacing is unknown for this format; assuming 1 x 1 x 1 mm "
-                                  "(set it with --spacing X,Y,Z)");
+                                  "(set it with `spacing=X,Y,Z`)");
     }
     volume.worldFromIndex = worldFromSpacing(options.spacingMm.value_or(openvdb::Vec3d(1.0)));
 }
@@ -170,7 +170,7 @@ namespace {
 /// without one) would be a silent choice between two answers: it is named.
 DenseVolume readFile(const std::string& path, const ReadOptions& options) {
     DenseVolume volume = readFileByFormat(path, options);
-    if (options.spacingMm) volume.warnings.push_back("--spacing is ignored: the file gives its own voxel size");
+    if (options.spacingMm) volume.warnings.push_back("`spacing` is ignored: the file gives its own voxel size");
     return volume;
 }
 

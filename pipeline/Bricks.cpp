@@ -53,7 +53,7 @@ openvdb::Coord brickLattice(const openvdb::CoordBBox& box, std::size_t count) {
         }
     }
     if (best.x() == 0) {
-        throw InputError("--bricks", std::to_string(count) + " bricks of whole 8^3 leaves do not fit a volume of " +
+        throw InputError("`bricks`", std::to_string(count) + " bricks of whole 8^3 leaves do not fit a volume of " +
                                          std::to_string(leaves.x()) + " x " + std::to_string(leaves.y()) + " x " +
                                          std::to_string(leaves.z()) + " leaves");
     }

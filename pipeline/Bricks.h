@@ -39,7 +39,7 @@ struct Brick {
 
 /// Bricks along x, y and z whose product is @a count, chosen so that the bricks are
 /// as near cubes as the leaf lattice of @a box allows (the least halo per voxel).
-/// @throw InputError naming "--bricks" when @a box has fewer leaves than @a count
+/// @throw InputError naming `bricks` when @a box has fewer leaves than @a count
 ///        along every way of splitting it.
 openvdb::Coord brickLattice(const openvdb::CoordBBox& box, std::size_t count);
 

@@ -71,13 +71,13 @@ template <typename GridT>
 void requireFiniteValuesOf(const GridT& grid, const std::string& name, const std::optional<openvdb::CoordBBox>& region) {
     const std::string which = "grid '" + grid.getName() + "'";
     if (!finite(grid.background())) {
-        throw InputError(name, which + " has a NaN or infinite background; ingest it again with --nan-to VALUE");
+        throw InputError(name, which + " has a NaN or infinite background; ingest it again with `nan_to=VALUE`");
     }
     const Found found = nonFiniteValues(grid, region);
     if (found.count == 0) return;
     std::ostringstream text;
     text << which << " holds " << found.count << " NaN or infinite value" << (found.count == 1 ? "" : "s")
-         << " (the first at voxel " << found.first << "); ingest it again with --nan-to VALUE to replace them";
+         << " (the first at voxel " << found.first << "); ingest it again with `nan_to=VALUE` to replace them";
     throw InputError(name, text.str());
 }
 

@@ -3,12 +3,12 @@
 #include "Adam.h"
 #include "BlockLoss.h"
 #include "Error.h"
+#include "FieldAccuracy.h"
 #include "Loss.h"
 #include "Pruning.h"
 #include "SliceSampler.h"
 #include "StreamSeed.h"
 #include "UniformVoxels.h"
-#include "VolumeError.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>

@@ -1,6 +1,7 @@
 #include "FloatVolume.h"
 
 #include "Error.h"
+#include "Trilinear.h"
 #include "VolumeMetadata.h"
 
 #include <tbb/parallel_for.h>
@@ -73,18 +74,12 @@ FloatVolume resampleTrilinear(const FloatVolume& source, const openvdb::Coord& d
                 openvdb::Vec3d x = sourceFromTarget.transform(openvdb::Vec3d(i, j, k));
                 // Clamped before the int conversion, which far-away positions would overflow.
                 for (int a = 0; a < 3; ++a) x[a] = std::clamp(x[a], -1.0, double(source.dims[a]));
-                const openvdb::Vec3d base(std::floor(x[0]), std::floor(x[1]), std::floor(x[2]));
-                const openvdb::Vec3d t = x - base;
                 float* value = out.at(i, j, k);
-                for (int corner = 0; corner < 8; ++corner) {
-                    const int di = corner & 1, dj = (corner >> 1) & 1, dk = corner >> 2;
-                    const double weight = (di ? t[0] : 1 - t[0]) * (dj ? t[1] : 1 - t[1]) * (dk ? t[2] : 1 - t[2]);
-                    if (weight == 0.0) continue;
-                    const float* sample = source.at(clampTo(int(base[0]) + di, source.dims.x()),
-                                                    clampTo(int(base[1]) + dj, source.dims.y()),
-                                                    clampTo(int(base[2]) + dk, source.dims.z()));
+                forEachTrilinearCorner(x, [&](const openvdb::Coord& corner, double weight) {
+                    const float* sample = source.at(clampTo(corner.x(), source.dims.x()), clampTo(corner.y(), source.dims.y()),
+                                                    clampTo(corner.z(), source.dims.z()));
                     for (int c = 0; c < source.channels; ++c) value[c] += float(weight * sample[c]);
-                }
+                });
             }
         }
     });

@@ -48,7 +48,7 @@ GaussianAsset selectStructures(const GaussianAsset& asset, const std::string& sh
                                const std::string& path) {
     if (show.empty() && hide.empty()) return asset;
     if (asset.labelTable.names.empty()) {
-        throw InputError(path, "has no structures to show or hide; fit it with gvr fit --labels");
+        throw InputError(path, "has no structures to show or hide; fit it by structure (`labels`)");
     }
     return withLabels(asset, shownLabels(asset.labelTable, show, hide));
 }

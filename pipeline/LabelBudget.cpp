@@ -13,7 +13,7 @@ std::vector<std::size_t> splitBudget(std::size_t total, const std::vector<std::u
     std::size_t floors = 0;
     for (std::size_t s = 0; s < voxels.size(); ++s) floors += budget[s] = std::size_t(std::min<std::uint64_t>(floor, voxels[s]));
     if (floors > total) {
-        throw InputError("--gaussians", std::to_string(total) + " Gaussians cannot give " + std::to_string(voxels.size()) +
+        throw InputError("`gaussians`", std::to_string(total) + " Gaussians cannot give " + std::to_string(voxels.size()) +
                                             " structures their floor of " + std::to_string(floor) + " each");
     }
     const double allVoxels = double(std::accumulate(voxels.begin(), voxels.end(), std::uint64_t(0)));

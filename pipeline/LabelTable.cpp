@@ -69,9 +69,9 @@ std::vector<int> selectLabels(const LabelTable& table, const std::string& spec, 
 }
 
 std::vector<int> shownLabels(const LabelTable& table, const std::string& show, const std::string& hide) {
-    const std::vector<int> shown = selectLabels(table, show.empty() ? "all" : show, "--show");
+    const std::vector<int> shown = selectLabels(table, show.empty() ? "all" : show, "`show`");
     if (hide.empty()) return shown;
-    const std::vector<int> hidden = selectLabels(table, hide, "--hide");
+    const std::vector<int> hidden = selectLabels(table, hide, "`hide`");
     std::vector<int> result;
     std::set_difference(shown.begin(), shown.end(), hidden.begin(), hidden.end(), std::back_inserter(result));
     return result;

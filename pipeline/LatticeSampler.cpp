@@ -99,7 +99,7 @@ Lattice sourceLattice(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims) {
 
 Lattice resizedLattice(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims, double voxelSizeMm) {
     if (!(voxelSizeMm > 0.0) || !std::isfinite(voxelSizeMm)) {
-        throw InputError("--voxel-size", "must be a positive number of mm");
+        throw InputError("`voxel_size`", "must be a positive number of mm");
     }
     Mat4d sourceFromResized = Mat4d::identity();
     Coord size;
@@ -110,7 +110,7 @@ Lattice resizedLattice(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims, 
         const double count = std::max(1.0, std::ceil(dims[axis] / step - 1e-9));
         total *= count;
         if (count > 2147483647.0 || total > kMaxLatticeVoxels) {
-            throw InputError("--voxel-size", std::to_string(voxelSizeMm) + " mm would need more than 2^36 voxels");
+            throw InputError("`voxel_size`", std::to_string(voxelSizeMm) + " mm would need more than 2^36 voxels");
         }
         size[axis] = int(count);
         sourceFromResized(axis, axis) = step;
@@ -120,7 +120,7 @@ Lattice resizedLattice(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims, 
 }
 
 double voxelSizeForResolution(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims, int samples) {
-    if (samples < 1) throw InputError("--resolution", "must be at least 1 voxel");
+    if (samples < 1) throw InputError("`resolution`", "must be at least 1 voxel");
     double longest = 0.0;
     for (int axis = 0; axis < 3; ++axis) longest = std::max(longest, dims[axis] * axisSpacing(worldFromIndex)[axis]);
     return longest / samples;

@@ -3,6 +3,7 @@
 #include "Error.h"
 #include "FiniteValues.h"
 #include "Luminance.h"
+#include "Trilinear.h"
 #include "VolumeMetadata.h"
 
 #include <cmath>
@@ -205,20 +206,13 @@ bool VolumeTarget::isActive(const openvdb::Coord& ijk) const {
 }
 
 void VolumeTarget::trilinearAt(const float x[3], float* out) const {
-    const openvdb::Coord base(int(std::floor(x[0])), int(std::floor(x[1])), int(std::floor(x[2])));
-    const float t[3] = {x[0] - base.x(), x[1] - base.y(), x[2] - base.z()};
-    for (int c = 0; c < mChannels; ++c) out[c] = 0.0f;
-    float corner[3];
-    for (int k = 0; k < 2; ++k) {
-        for (int j = 0; j < 2; ++j) {
-            for (int i = 0; i < 2; ++i) {
-                const float weight = (i ? t[0] : 1 - t[0]) * (j ? t[1] : 1 - t[1]) * (k ? t[2] : 1 - t[2]);
-                if (weight == 0.0f) continue;
-                valueAt(base.offsetBy(i, j, k), corner);
-                for (int c = 0; c < mChannels; ++c) out[c] += weight * corner[c];
-            }
-        }
-    }
+    double sum[3] = {0, 0, 0};
+    forEachTrilinearCorner(openvdb::Vec3d(x[0], x[1], x[2]), [&](const openvdb::Coord& corner, double weight) {
+        float value[3];
+        valueAt(corner, value);
+        for (int c = 0; c < mChannels; ++c) sum[c] += weight * value[c];
+    });
+    for (int c = 0; c < mChannels; ++c) out[c] = float(sum[c]);
 }
 
 void VolumeTarget::forEachActiveVoxel(const std::function<void(const openvdb::Coord&)>& visit) const {

@@ -14,6 +14,7 @@
 #include "GridFile.h"
 #include "Ingest.h"
 #include "LabelGrid.h"
+#include "SettingNames.h"
 #include "ShearWarp.h"
 #include "TransferFunctionFile.h"
 #include "VolumeClassifier.h"
@@ -28,6 +29,7 @@
 #include <sstream>
 #include <memory>
 #include <optional>
+#include <set>
 #include <variant>
 
 namespace py = pybind11;
@@ -41,26 +43,17 @@ struct Volume {
     openvdb::Int32Grid::Ptr labels;  ///< structure labels on the same voxels, or null
 };
 
-/// The library's messages name the command line's flags; a Python user meets the
-/// arguments of these functions instead.
-std::string inPythonTerms(std::string message) {
-    static const std::vector<std::pair<std::string, std::string>> names = {
-        {"--nan-to VALUE", "nan_to=VALUE"}, {"--nan-to", "nan_to"}, {"--threshold", "threshold"},
-        {"--spacing", "spacing"}, {"--volume", "volume"}, {"--ratio", "ratio"}, {"--gaussians", "gaussians"},
-        {"--time", "seconds"}, {"--iterations", "iterations"}, {"--seed", "seed"}, {"--ablation", "ablation"},
-        {"--labels", "labels"}, {"--label-names", "label_names"}, {"--resample-labels", "resample_labels=True"},
-        {"--voxel-size", "voxel_size"}, {"--like", "like"}, {"--tf", "tf"}, {"--size", "size"},
-        {"--mask", "mask"}, {"--peak", "peak"}, {"--resample", "resample=True"}, {"--structures", "structures"},
-        {"--show", "structures"}, {"--hide", "hide"}};
-    for (const auto& [flag, argument] : names) {
-        for (std::size_t at = message.find(flag); at != std::string::npos; at = message.find(flag, at + argument.size())) {
-            const std::size_t end = at + flag.size();
-            const bool whole = end == message.size() || !(std::isalnum(static_cast<unsigned char>(message[end])) ||
-                                                          message[end] == '-');
-            if (whole) message.replace(at, flag.size(), argument);
-        }
-    }
-    return message;
+/// The library names settings by the command line's keys (SettingNames.h); the
+/// arguments of these functions share them but for a few.
+std::string inPythonTerms(const std::string& message) {
+    static const std::map<std::string, std::string> renamed = {{"time", "seconds"}, {"show", "structures"}};
+    static const std::set<std::string> switches = {"resample", "resample_labels"};
+    return respellSettings(message, [](const std::string& key, const std::string& value) {
+        const auto found = renamed.find(key);
+        const std::string name = found == renamed.end() ? key : found->second;
+        if (switches.count(key)) return name + "=True";
+        return value.empty() ? name : name + "=" + value;
+    });
 }
 
 /// Raised inside a fit's progress callback to stop the fit, once Python's error

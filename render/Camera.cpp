@@ -13,7 +13,7 @@ OrthoCamera makeCamera(const View& view, const std::array<openvdb::Vec3d, 8>& co
                                            std::to_string(kMaxImageSide) + " pixels");
     }
     if (!std::isfinite(view.azimuthDeg) || !std::isfinite(view.elevationDeg)) {
-        throw InputError("--azimuth/--elevation", "angles must be finite numbers of degrees");
+        throw InputError("`azimuth`/`elevation`", "angles must be finite numbers of degrees");
     }
     const double az = view.azimuthDeg * M_PI / 180.0, el = view.elevationDeg * M_PI / 180.0;
     OrthoCamera camera;

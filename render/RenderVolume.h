@@ -6,6 +6,7 @@
 #include "GaussianField.h"
 #include "LatticeSampler.h"
 #include "TransferPresets.h"
+#include "Trilinear.h"
 #include "ValueMapping.h"
 
 #include <openvdb/openvdb.h>
@@ -108,19 +109,15 @@ template <typename Accessor>
 void GridRenderVolume::trilinear(const Accessor& accessor, const openvdb::Vec3d& x, float* out) {
     using ValueT = typename Accessor::ValueType;
     constexpr int channels = std::is_same_v<ValueT, openvdb::Vec3s> ? 3 : 1;
-    const openvdb::Coord base(int(std::floor(x[0])), int(std::floor(x[1])), int(std::floor(x[2])));
-    const double t[3] = {x[0] - base.x(), x[1] - base.y(), x[2] - base.z()};
     double sum[3] = {0, 0, 0};
-    for (int corner = 0; corner < 8; ++corner) {
-        const int di = corner & 1, dj = (corner >> 1) & 1, dk = corner >> 2;
-        const double w = (di ? t[0] : 1 - t[0]) * (dj ? t[1] : 1 - t[1]) * (dk ? t[2] : 1 - t[2]);
-        const ValueT v = accessor.getValue(base.offsetBy(di, dj, dk));
+    forEachTrilinearCorner(x, [&](const openvdb::Coord& corner, double weight) {
+        const ValueT v = accessor.getValue(corner);
         if constexpr (channels == 3) {
-            for (int c = 0; c < 3; ++c) sum[c] += w * v[c];
+            for (int c = 0; c < 3; ++c) sum[c] += weight * v[c];
         } else {
-            sum[0] += w * v;
+            sum[0] += weight * v;
         }
-    }
+    });
     for (int c = 0; c < channels; ++c) out[c] = float(sum[c]);
 }
 

@@ -303,9 +303,9 @@ private:
 
 std::string ShearWarpSettings::validate() const {
     // Below a twentieth of a voxel the stack would hold thousands of slices per voxel row.
-    if (!(sliceSpacingVoxels >= 0.05) || sliceSpacingVoxels > 64.0) return "--slice-spacing must be in [0.05, 64] voxels";
-    if (!(reuseAngleDeg >= 0.0 && reuseAngleDeg <= 60.0)) return "--reuse-angle must be between 0 and 60 degrees";
-    if (!(terminationOpacity > 0.0f && terminationOpacity <= 1.0f)) return "--termination must be in (0, 1]";
+    if (!(sliceSpacingVoxels >= 0.05) || sliceSpacingVoxels > 64.0) return "`slice_spacing` must be in [0.05, 64] voxels";
+    if (!(reuseAngleDeg >= 0.0 && reuseAngleDeg <= 60.0)) return "`reuse_angle` must be between 0 and 60 degrees";
+    if (!(terminationOpacity > 0.0f && terminationOpacity <= 1.0f)) return "`termination` must be in (0, 1]";
     return {};
 }
 

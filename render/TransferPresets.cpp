@@ -66,7 +66,7 @@ TransferFunction presetTransferFunction(const std::string& name, const VolumeSta
         }
         return ramp(low, high, {1, 1, 1, 0.0f}, {1, 1, 1, 0.25f}, name);
     }
-    throw InputError("--tf " + name, "unknown transfer function; the presets are ct, ct-bone, mri and rgb, "
+    throw InputError("`tf` " + name, "unknown transfer function; the presets are ct, ct-bone, mri and rgb, "
                                      "or give a JSON file");
 }
 

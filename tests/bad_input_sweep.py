@@ -15,6 +15,7 @@ import hashlib
 import json
 import os
 import pathlib
+import re
 import struct
 import subprocess
 import sys
@@ -378,6 +379,9 @@ def inputs_kept(work, grid, asset):
         case("input destroyed", label, args, inputs, ["out.png"])
 
 
+LIBRARY_SPELLING = re.compile(r"`[a-z][a-z0-9_]*(=[^`]*)?`")
+
+
 def run_case(gvr, work, c):
     folder = work / "runs" / f"{len(list((work / 'runs').iterdir()))}"
     folder.mkdir()
@@ -399,6 +403,8 @@ def run_case(gvr, work, c):
         return f"exit {run.returncode}: {run.stderr.strip()[-300:]}"
     if len(lines) != 1 or not lines[0].startswith("gvr: error: "):
         return f"{len(lines)} lines on stderr: {run.stderr.strip()[-300:]}"
+    if LIBRARY_SPELLING.search(run.stderr):  # the library's `key`, which gvr must say as --key
+        return f"a setting in the library's spelling: {run.stderr.strip()[-300:]}"
     left = [name for name in c.outputs if (folder / name).exists()]
     if left or [p for p in folder.iterdir() if p.name.startswith(".tmp")]:
         return f"left an output behind: {left}"

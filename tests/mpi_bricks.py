@@ -24,8 +24,8 @@ MPIRUN = ["mpirun", "--oversubscribe", "-np", "2"]
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 
 
-def run(command):
-    return subprocess.run(command, capture_output=True, text=True, env=ENV)
+def run(command, env=ENV):
+    return subprocess.run(command, capture_output=True, text=True, env=env)
 
 
 def main():
@@ -52,7 +52,9 @@ def main():
           f"({os.path.getsize(ranked)} bytes), the same {report['psnr_db']} dB")
 
     failed_path = os.path.join(WORK, "failed.gvr")
-    failed = run([*MPIRUN, GVR, *FIT, "-o", failed_path, "--fail-brick", "2"])
+    # A test hook, not a flag: -x hands the variable to every rank.
+    failing = dict(ENV, GVR_TEST_FAIL_BRICK="2")
+    failed = run([*MPIRUN, "-x", "GVR_TEST_FAIL_BRICK", GVR, *FIT, "-o", failed_path], env=failing)
     assert failed.returncode != 0, "a failing brick gave exit code 0"
     assert "brick 2 (rank " in failed.stderr, failed.stderr
     assert not os.path.exists(failed_path), "a failed run wrote its output"

@@ -2,9 +2,9 @@
 // the same on any thread count, and blind to the voxels it is told to leave out.
 
 #include "AmplitudeSolver.h"
+#include "FieldAccuracy.h"
 #include "GaussianField.h"
 #include "TestHelpers.h"
-#include "VolumeError.h"
 
 #include <tbb/global_control.h>
 
@@ -35,7 +35,7 @@ GaussianParameters withWrongAmplitudes(GaussianParameters params) {
 }
 
 double psnrOf(const GaussianParameters& params, const VolumeTarget& target) {
-    return measureVolumeError(GaussianField(params, 3.0f), target).psnr;
+    return measureFieldAccuracy(GaussianField(params, 3.0f), target).psnr;
 }
 
 TEST(AmplitudeSolver, RecoversTheAmplitudesOfARepresentableField) {

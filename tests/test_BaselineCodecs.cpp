@@ -347,19 +347,19 @@ TEST(BaselineReconstruction, StreamSizeDoesNotDependOnWhereItIsWritten) {
     }
 }
 
-TEST(BaselineSettings, ValidationNamesTheFlag) {
+TEST(BaselineSettings, ValidationNamesTheSetting) {
     BaselineSettings s;
-    EXPECT_NE(s.validate().find("--tolerance"), std::string::npos);
+    EXPECT_NE(s.validate().find("`tolerance=T`"), std::string::npos);
     s.tolerance = 1.0;
     EXPECT_EQ(s.validate(), "");
     s.targetBytes = 100;
     EXPECT_NE(s.validate().find("not both"), std::string::npos);
     s = withMethod(BaselineMethod::Downsample);
     s.factor = 1;
-    EXPECT_NE(s.validate().find("--factor"), std::string::npos);
+    EXPECT_NE(s.validate().find("`factor`"), std::string::npos);
     s = withMethod(BaselineMethod::VdbBlosc);
     s.rate = 4.0;
-    EXPECT_NE(s.validate().find("--rate"), std::string::npos);
+    EXPECT_NE(s.validate().find("`rate`"), std::string::npos);
     EXPECT_THROW(parseBaselineMethod("jpeg"), InputError);
     for (const char* name : {"zfp-accuracy", "zfp-rate", "vdb-blosc", "vdb-half", "downsample"}) {
         EXPECT_EQ(baselineMethodName(parseBaselineMethod(name)), name);

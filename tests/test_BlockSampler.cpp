@@ -3,8 +3,8 @@
 
 #include "BlockLoss.h"
 #include "BlockSampler.h"
+#include "FieldAccuracy.h"
 #include "TestHelpers.h"
-#include "VolumeError.h"
 
 #include <cmath>
 

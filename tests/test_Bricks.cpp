@@ -1,9 +1,9 @@
-#include "Bricks.h"
 #include "BrickedFit.h"
+#include "Bricks.h"
 #include "Error.h"
+#include "FieldAccuracy.h"
 #include "Ingest.h"
 #include "TestHelpers.h"
-#include "VolumeError.h"
 
 #include <gtest/gtest.h>
 
@@ -34,7 +34,7 @@ TEST(Bricks, MoreBricksThanLeavesIsRefusedNamingTheFlag) {
         brickLattice(box, 16);
         FAIL() << "16 bricks of a 2 x 2 x 2-leaf volume were accepted";
     } catch (const InputError& error) {
-        EXPECT_NE(std::string(error.what()).find("--bricks"), std::string::npos) << error.what();
+        EXPECT_NE(std::string(error.what()).find("`bricks`"), std::string::npos) << error.what();
     }
     EXPECT_THROW(brickLattice(box, 7), InputError);  // 7 is prime and above 2
 }
@@ -173,10 +173,10 @@ TEST(Bricks, SeamsOfRealMriAreWithinOneDecibelOfAWholeVolumeFit) {
     const BrickSeams seams(plan.bricks, 4);
     const VoxelMarking near = [&](const openvdb::Coord& ijk) { return seams.near(ijk); };
     const auto measured = [&](const GaussianAsset& asset) {
-        return measureVolumeError(GaussianField(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas),
+        return measureFieldAccuracy(GaussianField(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas),
                                   target, {}, near);
     };
-    const VolumeError b = measured(bricked), w = measured(whole);
+    const FieldAccuracy b = measured(bricked), w = measured(whole);
     std::cout << "seams / elsewhere, dB: bricks " << b.markedPsnr << " / " << b.unmarkedPsnr << ", whole volume "
               << w.markedPsnr << " / " << w.unmarkedPsnr << "\n"
               << "over the active voxels: bricks " << b.markedForegroundPsnr << " / " << b.unmarkedForegroundPsnr

@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
+
 namespace gvr {
 namespace {
 
@@ -69,8 +71,11 @@ TEST(CliBricks, BadBrickRequestsAndMergesGiveOneLineAndNoOutput) {
 TEST(CliBricks, AFailingBrickIsNamedAndNothingIsWritten) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
-    const test::CommandResult run = test::runGvr("fit -q '" + grid + "' --gaussians 60 --iterations 5 --bricks 2 "
-                                                 "--fail-brick 1 -o '" + dir.path("out.gvr") + "'", dir);
+    // A test hook, not a flag of gvr's: the child process inherits it.
+    ::setenv("GVR_TEST_FAIL_BRICK", "1", 1);
+    const test::CommandResult run =
+        test::runGvr("fit -q '" + grid + "' --gaussians 60 --iterations 5 --bricks 2 -o '" + dir.path("out.gvr") + "'", dir);
+    ::unsetenv("GVR_TEST_FAIL_BRICK");
     EXPECT_EQ(run.exitCode, 2);
     EXPECT_NE(run.err.find("brick 1 (rank 0)"), std::string::npos) << run.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("out.gvr")));

@@ -42,7 +42,7 @@ TEST(FiniteValues, NonFiniteVoxelsActiveOrNotAreCountedAndLocated) {
     const std::string message = failure(*grid);
     EXPECT_NE(message.find("v.vdb: grid 'density' holds 2 NaN or infinite values"), std::string::npos) << message;
     EXPECT_NE(message.find("[3, 4, 5]"), std::string::npos) << message;
-    EXPECT_NE(message.find("--nan-to"), std::string::npos) << message;
+    EXPECT_NE(message.find("`nan_to=VALUE`"), std::string::npos) << message;
     // A region away from them passes; one that touches their leaf does not.
     EXPECT_EQ(failure(*grid, openvdb::CoordBBox(openvdb::Coord(8, 0, 0), openvdb::Coord(15, 7, 7))), "");
     EXPECT_NE(failure(*grid, openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(2))), "");

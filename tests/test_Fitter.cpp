@@ -2,10 +2,10 @@
 // neither crash it nor fill it with NaN.
 
 #include "Error.h"
+#include "FieldAccuracy.h"
 #include "Fitter.h"
 #include "GaussianField.h"
 #include "TestHelpers.h"
-#include "VolumeError.h"
 
 #include <tbb/global_control.h>
 
@@ -37,12 +37,12 @@ float blob(int i, int j, int k) {
 TEST(Fitter, LearnsASmoothVolume) {
     const VolumeTarget target(test::makeGrid({32, 24, 24}, blob), "blobs");
     const GaussianField start(initialiseGaussians(target, {400, 0.6, 0.4, 1}), 3.0f);
-    const double before = measureVolumeError(start, target).psnr;
+    const double before = measureFieldAccuracy(start, target).psnr;
     std::vector<double> curve;
     const GaussianParameters params = fitGaussians(target, quickSettings(400, 400), [&](const FitProgress& p) {
         if (p.heldOutEvaluated) curve.push_back(p.heldOutPsnr);
     });
-    const double after = measureVolumeError(GaussianField(params, 3.0f), target).psnr;
+    const double after = measureFieldAccuracy(GaussianField(params, 3.0f), target).psnr;
     EXPECT_GT(after, before + 10.0) << "before " << before << " dB";
     EXPECT_GT(after, 35.0);
     EXPECT_EQ(curve.size(), 400u / 25u + 1u);  // and once after the amplitude solve
@@ -117,12 +117,12 @@ TEST(Fitter, SameSeedSameResultWhateverTheThreadCount) {
 
 TEST(Fitter, EveryAblationRunsAndImproves) {
     const VolumeTarget target(test::makeGrid({24, 20, 16}, blob), "blobs");
-    const double before = measureVolumeError(GaussianField(initialiseGaussians(target, {150, 0.6, 0.4, 1}), 3.0f), target).psnr;
+    const double before = measureFieldAccuracy(GaussianField(initialiseGaussians(target, {150, 0.6, 0.4, 1}), 3.0f), target).psnr;
     for (Ablation ablation : {Ablation::Full, Ablation::A1, Ablation::A2, Ablation::A3, Ablation::A4, Ablation::A5}) {
         FitSettings settings = quickSettings(150, 120);
         applyAblation(ablation, settings);
         const GaussianParameters params = fitGaussians(target, settings);
-        const double after = measureVolumeError(GaussianField(params, 3.0f), target).psnr;
+        const double after = measureFieldAccuracy(GaussianField(params, 3.0f), target).psnr;
         EXPECT_GT(after, before) << ablationName(ablation);
     }
 }
@@ -197,7 +197,7 @@ TEST(Fitter, ANonFiniteGradientIsSkippedCountedAndForgotten) {
     const VolumeTarget target(test::makeGrid({32, 24, 24}, blob), "blobs");
     FitSettings settings = quickSettings(300, 300);
     FitReport clean;
-    const double cleanPsnr = measureVolumeError(GaussianField(fitGaussians(target, settings, {}, &clean), 3.0f),
+    const double cleanPsnr = measureFieldAccuracy(GaussianField(fitGaussians(target, settings, {}, &clean), 3.0f),
                                                 target).psnr;
     EXPECT_EQ(clean.skippedSteps, 0u);
     // Early steps, a redraw of the voxel samples among them (every refreshEvery),
@@ -210,7 +210,7 @@ TEST(Fitter, ANonFiniteGradientIsSkippedCountedAndForgotten) {
     const GaussianParameters params = fitGaussians(target, settings, {}, &injected);
     EXPECT_EQ(injected.skippedSteps, 3u);
     ASSERT_TRUE(params.allFinite());
-    const double psnr = measureVolumeError(GaussianField(params, 3.0f), target).psnr;
+    const double psnr = measureFieldAccuracy(GaussianField(params, 3.0f), target).psnr;
     EXPECT_GT(psnr, cleanPsnr - 0.5) << "three skipped steps must cost almost nothing";
 }
 
@@ -244,15 +244,15 @@ TEST(Fitter, BudgetsHaveAStatedMaximum) {
     settings.seconds = kMaxFitSeconds;
     EXPECT_EQ(settings.validate(), "");
     settings.seconds = 1e30;
-    EXPECT_NE(settings.validate().find("--time must lie in [0, 1000000] seconds"), std::string::npos);
+    EXPECT_NE(settings.validate().find("`time` must lie in [0, 1000000] seconds"), std::string::npos);
     settings = quickSettings(10, 0);
     settings.iterations = kMaxFitIterations;
     EXPECT_EQ(settings.validate(), "");
     settings.iterations = std::numeric_limits<std::size_t>::max();
-    EXPECT_NE(settings.validate().find("--iterations must be at most 1000000000"), std::string::npos);
+    EXPECT_NE(settings.validate().find("`iterations` must be at most 1000000000"), std::string::npos);
     settings = quickSettings(10, 5);
     settings.voxelBatch = kMaxVoxelBatch + 1;
-    EXPECT_NE(settings.validate().find("--batch"), std::string::npos);
+    EXPECT_NE(settings.validate().find("`batch`"), std::string::npos);
 }
 
 struct HardVolume {
@@ -278,7 +278,7 @@ TEST_P(HardVolumes, AreFittedWithoutSkippedSteps) {
     EXPECT_TRUE(params.allFinite());
     EXPECT_LE(params.count(), 200u);
     EXPECT_EQ(report.skippedSteps, 0u);
-    const VolumeError error = measureVolumeError(GaussianField(params, 3.0f), target);
+    const FieldAccuracy error = measureFieldAccuracy(GaussianField(params, 3.0f), target);
     EXPECT_GE(error.psnr, hard.minPsnr);
 }
 

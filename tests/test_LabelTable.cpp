@@ -20,7 +20,7 @@ LabelTable aal() {
 
 std::string errorOf(const std::string& spec) {
     try {
-        selectLabels(aal(), spec, "--labels");
+        selectLabels(aal(), spec, "`labels`");
     } catch (const InputError& error) {
         return error.what();
     }
@@ -39,7 +39,7 @@ TEST(LabelTable, SelectsByIdNameAndAll) {
 
 TEST(LabelTable, UnknownNamesAndIdsListTheValidOnes) {
     const std::string byName = errorOf("Amygdala_L");
-    EXPECT_NE(byName.find("--labels: no structure is named 'Amygdala_L'"), std::string::npos) << byName;
+    EXPECT_NE(byName.find("`labels`: no structure is named 'Amygdala_L'"), std::string::npos) << byName;
     EXPECT_NE(byName.find("37 Hippocampus_L, 38 Hippocampus_R, 77 Thalamus_L, 78 Thalamus_R"), std::string::npos);
     EXPECT_NE(errorOf("37,99").find("no structure has label 99; valid: 37 Hippocampus_L"), std::string::npos);
     EXPECT_NE(errorOf(" , ").find("names no structure"), std::string::npos);

@@ -306,10 +306,10 @@ TEST(ShearWarp, TransferFunctionsAtTheEndsOfTheDoubleRangeAreSafe) {
 TEST(ShearWarp, BadSettingsAndCamerasAreRefused) {
     ShearWarpSettings settings;
     settings.sliceSpacingVoxels = 0.0;
-    EXPECT_NE(settings.validate().find("--slice-spacing"), std::string::npos);
+    EXPECT_NE(settings.validate().find("`slice_spacing`"), std::string::npos);
     settings = {};
     settings.reuseAngleDeg = -1.0;
-    EXPECT_NE(settings.validate().find("--reuse-angle"), std::string::npos);
+    EXPECT_NE(settings.validate().find("`reuse_angle`"), std::string::npos);
     settings = {};
     settings.terminationOpacity = 1.5f;
     EXPECT_FALSE(settings.validate().empty());

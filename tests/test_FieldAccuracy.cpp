@@ -1,7 +1,7 @@
 // The dense error that fit reports: export's evaluation, summed exactly.
 
+#include "FieldAccuracy.h"
 #include "TestHelpers.h"
-#include "VolumeError.h"
 
 #include <gtest/gtest.h>
 
@@ -13,9 +13,9 @@ namespace {
 float ramp(int i, int j, int k) { return float(i * 7 + j * 3 - k * 5 + 40) * (i > 3 ? 1.0f : 0.0f); }
 
 /// The definition, voxel by voxel through GaussianField::evaluate.
-SliceError pointByPoint(const GaussianField& field, const VolumeTarget& target, const openvdb::CoordBBox& box,
+SliceSums pointByPoint(const GaussianField& field, const VolumeTarget& target, const openvdb::CoordBBox& box,
                         const ThresholdCut& cut) {
-    SliceError total;
+    SliceSums total;
     std::vector<std::uint32_t> hits;
     for (auto ijk = box.begin(); ijk; ++ijk) {
         const float point[3] = {float((*ijk).x()), float((*ijk).y()), float((*ijk).z())};
@@ -33,25 +33,25 @@ SliceError pointByPoint(const GaussianField& field, const VolumeTarget& target, 
     return total;
 }
 
-TEST(VolumeError, BlockByBlockEqualsPointByPointWithAndWithoutTheCut) {
+TEST(FieldAccuracy, BlockByBlockEqualsPointByPointWithAndWithoutTheCut) {
     // 21 x 19 x 13 voxels: no axis is a multiple of the 8^3 blocks.
     const VolumeTarget target(test::makeGrid({21, 19, 13}, ramp, openvdb::Vec3d(1.0), 30.0), "ramp");
     const GaussianField field(test::randomGaussians(60, 1, 20.0f, 4), 3.0f);
     const openvdb::CoordBBox part(openvdb::Coord(2, 3, 1), openvdb::Coord(17, 18, 11));
     for (const ThresholdCut& cut : {ThresholdCut(), ThresholdCut(target.mapping(), 1, 60.0)}) {
-        const std::vector<SliceError> slices = measureSliceErrors(field, target, part, {}, {}, cut);
+        const std::vector<SliceSums> slices = measureSliceSums(field, target, part, {}, {}, cut);
         ASSERT_EQ(slices.size(), 11u);
-        SliceError total;
-        for (const SliceError& slice : slices) total.add(slice);
-        const SliceError expected = pointByPoint(field, target, part, cut);
+        SliceSums total;
+        for (const SliceSums& slice : slices) total.add(slice);
+        const SliceSums expected = pointByPoint(field, target, part, cut);
         EXPECT_NEAR(total.all, expected.all, 1e-9 * std::max(1.0, expected.all));
         EXPECT_NEAR(total.foreground, expected.foreground, 1e-9 * std::max(1.0, expected.foreground));
         EXPECT_EQ(total.foregroundVoxels, expected.foregroundVoxels);
         EXPECT_GT(expected.foregroundVoxels, 0.0);
     }
     // The cut changes the number on these data: the test can tell the two apart.
-    const double uncut = measureVolumeError(field, target).mse;
-    const double cut = measureVolumeError(field, target, {}, {}, ThresholdCut(target.mapping(), 1, 60.0)).mse;
+    const double uncut = measureFieldAccuracy(field, target).mse;
+    const double cut = measureFieldAccuracy(field, target, {}, {}, ThresholdCut(target.mapping(), 1, 60.0)).mse;
     EXPECT_NE(uncut, cut);
 }
 

@@ -1,4 +1,4 @@
-#include "VolumeError.h"
+#include "FieldAccuracy.h"
 
 #include "Fitter.h"
 #include "LatticeSampler.h"
@@ -17,7 +17,7 @@ namespace {
 /// that lie in @a part into their slices (slices[0] is part.min().z()).
 void measureBlock(const LatticeSampler& sampler, const VolumeTarget& target, const openvdb::Coord& origin,
                   const openvdb::CoordBBox& part, const VoxelMarking& marked, const ThresholdCut& cut,
-                  std::vector<SliceError>& slices) {
+                  std::vector<SliceSums>& slices) {
     const int channels = target.channels();
     float field[kBlockVoxels * 3] = {}, expected[kBlockVoxels * 3];
     sampler.sampleBlock(origin, field);
@@ -35,7 +35,7 @@ void measureBlock(const LatticeSampler& sampler, const VolumeTarget& target, con
             squared += difference * difference;
         }
         squared /= channels;
-        SliceError& error = slices[std::size_t((*ijk).z() - part.min().z())];
+        SliceSums& error = slices[std::size_t((*ijk).z() - part.min().z())];
         error.all += squared;
         if (active[offset]) {
             error.foreground += squared;
@@ -54,11 +54,11 @@ void measureBlock(const LatticeSampler& sampler, const VolumeTarget& target, con
 
 }  // namespace
 
-std::vector<SliceError> measureSliceErrors(const GaussianField& field, const VolumeTarget& target,
+std::vector<SliceSums> measureSliceSums(const GaussianField& field, const VolumeTarget& target,
                                            openvdb::CoordBBox part, const ProgressFn& progress,
                                            const VoxelMarking& marked, const ThresholdCut& cut) {
     part.intersect(target.box());
-    std::vector<SliceError> slices(part.empty() ? 0 : std::size_t(part.dim().z()));
+    std::vector<SliceSums> slices(part.empty() ? 0 : std::size_t(part.dim().z()));
     if (slices.empty()) return slices;
     // Export's own evaluation, block by block, so that the numbers are export's.
     const LatticeSampler sampler(field, openvdb::math::Mat4d::identity(), Lattice{openvdb::math::Mat4d::identity(), part},
@@ -89,9 +89,9 @@ double estimateMeasurementSeconds(const GaussianField& field, const VolumeTarget
     const std::vector<openvdb::Coord> origins = blockOrigins(box);
     std::vector<openvdb::Coord> sample;
     for (std::size_t b = stride / 2; b < origins.size(); b += stride) sample.push_back(origins[b]);
-    std::vector<SliceError> slices(std::size_t(box.dim().z()));
+    std::vector<SliceSums> slices(std::size_t(box.dim().z()));
     const Clock::time_point blocksStart = Clock::now();
-    // One thread, as one of measureVolumeError's workers spends it.
+    // One thread, as one of measureFieldAccuracy's workers spends it.
     for (const openvdb::Coord& origin : sample) measureBlock(sampler, target, origin, box, {}, {}, slices);
     const double perBlock = std::chrono::duration<double>(Clock::now() - blocksStart).count() /
                             double(std::max<std::size_t>(sample.size(), 1));
@@ -99,7 +99,7 @@ double estimateMeasurementSeconds(const GaussianField& field, const VolumeTarget
     return setUp + perBlock * double(origins.size()) / double(std::max(threads, 1));
 }
 
-void SliceError::add(const SliceError& other) {
+void SliceSums::add(const SliceSums& other) {
     all += other.all;
     foreground += other.foreground;
     marked += other.marked;
@@ -109,10 +109,10 @@ void SliceError::add(const SliceError& other) {
     markedForegroundVoxels += other.markedForegroundVoxels;
 }
 
-VolumeError volumeErrorOf(const std::vector<SliceError>& slices, const VolumeTarget& target) {
-    SliceError total;
-    for (const SliceError& slice : slices) total.add(slice);
-    VolumeError error;
+FieldAccuracy fieldAccuracyOf(const std::vector<SliceSums>& slices, const VolumeTarget& target) {
+    SliceSums total;
+    for (const SliceSums& slice : slices) total.add(slice);
+    FieldAccuracy error;
     error.foregroundVoxels = std::uint64_t(total.foregroundVoxels);
     error.markedVoxels = std::uint64_t(total.markedVoxels);
     error.markedForegroundVoxels = std::uint64_t(total.markedForegroundVoxels);
@@ -136,9 +136,9 @@ VolumeError volumeErrorOf(const std::vector<SliceError>& slices, const VolumeTar
     return error;
 }
 
-VolumeError measureVolumeError(const GaussianField& field, const VolumeTarget& target, const ProgressFn& progress,
+FieldAccuracy measureFieldAccuracy(const GaussianField& field, const VolumeTarget& target, const ProgressFn& progress,
                                const VoxelMarking& marked, const ThresholdCut& cut) {
-    return volumeErrorOf(measureSliceErrors(field, target, target.box(), progress, marked, cut), target);
+    return fieldAccuracyOf(measureSliceSums(field, target, target.box(), progress, marked, cut), target);
 }
 
 }  // namespace gvr
