@@ -7,6 +7,7 @@
 #include "FloatVolume.h"
 #include "FramePath.h"
 #include "GridFile.h"
+#include "RayMarcher.h"
 #include "VolumeMetadata.h"
 
 #include <nlohmann/json.hpp>
@@ -139,7 +140,9 @@ private:
                                                               [](const std::string& p) { return fs::exists(p); });
         if (!rendered) {
             std::vector<std::string> args = renderArgs(mSource, mWork + "/truth.png");
-            args.insert(args.end(), {"--renderer", "raymarch", "--save-tf", mTf});
+            // The anti-aliased reference, several rays a pixel: every render-quality figure's.
+            args.insert(args.end(), {"--renderer", "raymarch", "--samples", std::to_string(kReferenceRaysPerSide),
+                                     "--save-tf", mTf});
             if (!mPlan.tf.empty()) args.insert(args.end(), {"--tf", mPlan.tf});
             gvr("reference render", args, log);
         }

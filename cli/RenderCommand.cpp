@@ -32,7 +32,7 @@ struct RenderFlags {
     std::string input, output, size = "512x512", tf, renderer = "shear-warp", statsPath, saveTf, show, hide, labelStyle;
     double azimuth = 30.0, elevation = 15.0, stepVoxels = 0.5;
     std::optional<double> minScale;
-    int orbit = 0;
+    int orbit = 0, samples = 1;
     bool json = false, quiet = false;
     ShearWarpSettings shearWarp;
     SourceFlags source;
@@ -86,6 +86,7 @@ void runRender(RenderFlags& flags) {
     // Below a hundredth of a voxel a ray marches for hours and looks no different.
     if (!(flags.stepVoxels >= 0.01 && flags.stepVoxels <= 0.5)) throw InputError("--step", "must be in [0.01, 0.5] voxels");
     if (flags.orbit < 0 || flags.orbit > 3600) throw InputError("--orbit", "must be between 1 and 3600 frames");
+    if (flags.samples != 1 && flags.renderer != "raymarch") throw InputError("--samples", "applies to --renderer raymarch only");
     const int frames = std::max(1, flags.orbit);
     checkRenderOutputs(flags, frames);
     const auto [width, height] = parseImageSize(flags.size);
@@ -110,7 +111,8 @@ void runRender(RenderFlags& flags) {
         Framebuffer image;
         if (flags.renderer == "raymarch") {
             const auto start = std::chrono::steady_clock::now();
-            image = rayMarch(static_cast<const GridRenderVolume&>(*volume), classifier, camera, {flags.stepVoxels, flags.shearWarp.terminationOpacity});
+            const RayMarchSettings settings{flags.stepVoxels, flags.shearWarp.terminationOpacity, flags.samples};
+            image = rayMarch(static_cast<const GridRenderVolume&>(*volume), classifier, camera, settings);
             frame.index = f;
             frame.totalMs = frame.compositeMs =
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -164,6 +166,10 @@ void addRenderCommand(CLI::App& app) {
     command->add_option("--termination", flags->shearWarp.terminationOpacity,
                         "Early ray termination at this opacity")->capture_default_str();
     command->add_option("--step", flags->stepVoxels, "Ray-march step in voxels (at most 0.5)")->capture_default_str();
+    command->add_option("--samples", flags->samples,
+                        "Ray marcher: N x N rays per pixel, averaged; 4 is the anti-aliased reference that render "
+                        "quality is measured against")
+        ->check(CLI::Range(1, kMaxRaysPerSide))->capture_default_str();
     command->add_option("--min-scale", flags->minScale,
                         "Widen Gaussians thinner than this many voxels, keeping their mass, so that they "
                         "cannot fall between slices (default: half the slice spacing; 0: off)");

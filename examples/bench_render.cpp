@@ -35,7 +35,6 @@ namespace {
 constexpr int kSize = 512;
 constexpr double kElevation = 15.0;
 constexpr int kReuseFrames = 25;  // azimuth -12..12 degrees: one axis stack, or one view stack's cone
-constexpr int kSubpixels = 4;     // the anti-aliased reference's rays a pixel, along each image axis
 
 double msSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -45,19 +44,11 @@ OrthoCamera cameraAt(const RenderVolume& volume, double azimuth) {
     return makeCamera({azimuth, kElevation}, worldCorners(volume.worldFromIndex(), volume.box()), kSize, kSize);
 }
 
-/// The ray marcher with kSubpixels^2 rays a pixel, spread evenly over it, averaged.
+/// The anti-aliased reference: the ray marcher with kReferenceRaysPerSide^2 rays a pixel.
 Framebuffer rayMarchAntialiased(const GridRenderVolume& volume, const Classifier& classifier, double azimuth) {
-    const OrthoCamera fine = makeCamera({azimuth, kElevation}, worldCorners(volume.worldFromIndex(), volume.box()),
-                                        kSize * kSubpixels, kSize * kSubpixels);
-    const Framebuffer rays = rayMarch(volume, classifier, fine, {});
-    Framebuffer image(kSize, kSize);
-    for (int y = 0; y < rays.height; ++y) {
-        for (int x = 0; x < rays.width; ++x) {
-            float* pixel = image.pixel(x / kSubpixels, y / kSubpixels);
-            for (int c = 0; c < 4; ++c) pixel[c] += rays.pixel(x, y)[c] / (kSubpixels * kSubpixels);
-        }
-    }
-    return image;
+    RayMarchSettings settings;
+    settings.raysPerSide = kReferenceRaysPerSide;
+    return rayMarch(volume, classifier, cameraAt(volume, azimuth), settings);
 }
 
 const char* nameOf(StackOrientation orientation) { return orientation == StackOrientation::axes ? "axis" : "view"; }
@@ -164,7 +155,7 @@ void compare(const char* label, const GaussianRenderVolume& gaussians, const Gri
     const References references = referencesFor(original, gaussianGrid, classifier);
     std::printf("   ray marcher on the original grid (step 0.5 voxel, early termination, VDB skipping): %.0f ms a "
                 "frame; %.1f dB against the anti-aliased one (%d x %d rays a pixel)\n", references.marchMs,
-                meanAndWorstDb(references.antialiased, references.original).first, kSubpixels, kSubpixels);
+                meanAndWorstDb(references.antialiased, references.original).first, kReferenceRaysPerSide, kReferenceRaysPerSide);
     double axisReuseMs = 0.0;
     for (const StackOrientation orientation : {StackOrientation::axes, StackOrientation::view}) {
         const ShearWarpFigures ours = measureShearWarp(gaussians, classifier, orientation);

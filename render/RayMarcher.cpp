@@ -1,9 +1,12 @@
 #include "RayMarcher.h"
 
+#include "Error.h"
+
 #include <openvdb/tools/RayIntersector.h>
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <string>
 #include <utility>
 
 namespace gvr {
@@ -39,19 +42,21 @@ void marchGrid(const GridT& grid, const GridRenderVolume& volume, const Classifi
     double reach = 0.0;  // how far behind the image plane rays must start
     for (const Vec3d& c : worldCorners(volume.worldFromIndex(), volume.box())) reach = std::max(reach, (c - camera.centre).length());
 
+    // Rays at the centres of an n x n grid over each pixel, averaged.
+    const int n = settings.raysPerSide;
+    const double weight = 1.0 / double(n * n);
     tbb::parallel_for(0, camera.height, [&](int y) {
         openvdb::tools::VolumeRayIntersector<GridT, 0> intersector(master);
         auto accessor = grid.getConstAccessor();
-        for (int x = 0; x < camera.width; ++x) {
-            const Vec3d eye = indexFromWorld.transform(camera.pixelPoint(x, y) - camera.direction * reach);
-            Ray ray(eye, unitDirection);
-            if (!ray.clip(cells)) continue;
-            const double enter = ray.t0(), exit = ray.t1();
-            if (skipEmpty && !intersector.setIndexRay(ray)) continue;
-            float* pixel = image.pixel(x, y);
+        const auto march = [&](double px, double py, float ray[4]) {
+            const Vec3d eye = indexFromWorld.transform(camera.pixelPoint(px, py) - camera.direction * reach);
+            Ray indexRay(eye, unitDirection);
+            if (!indexRay.clip(cells)) return;
+            const double enter = indexRay.t0(), exit = indexRay.t1();
+            if (skipEmpty && !intersector.setIndexRay(indexRay)) return;
             double t0 = enter, t1 = exit;
             bool whole = !skipEmpty;  // one interval, the whole crossing, when nothing may be skipped
-            while (pixel[3] < settings.terminationOpacity && (std::exchange(whole, false) || (skipEmpty && intersector.march(t0, t1)))) {
+            while (ray[3] < settings.terminationOpacity && (std::exchange(whole, false) || (skipEmpty && intersector.march(t0, t1)))) {
                 t0 = std::max(t0, enter);
                 t1 = std::min(t1, exit);
                 // Samples sit on one comb along the whole ray, so intervals never shift them.
@@ -61,12 +66,28 @@ void marchGrid(const GridT& grid, const GridRenderVolume& volume, const Classifi
                     const std::array<float, 4> rgba = classifier(value);
                     const float alpha = opacityOverLength(rgba[3], lengthRatio);
                     if (alpha <= 0.0f) continue;
-                    const float transmit = 1.0f - pixel[3];
-                    for (int c = 0; c < 3; ++c) pixel[c] += transmit * alpha * rgba[c];
-                    pixel[3] += transmit * alpha;
-                    if (pixel[3] >= settings.terminationOpacity) break;
+                    const float transmit = 1.0f - ray[3];
+                    for (int c = 0; c < 3; ++c) ray[c] += transmit * alpha * rgba[c];
+                    ray[3] += transmit * alpha;
+                    if (ray[3] >= settings.terminationOpacity) break;
                 }
             }
+        };
+        for (int x = 0; x < camera.width; ++x) {
+            float* pixel = image.pixel(x, y);
+            if (n == 1) {
+                march(x, y, pixel);
+                continue;
+            }
+            double sum[4] = {0, 0, 0, 0};
+            for (int sy = 0; sy < n; ++sy) {
+                for (int sx = 0; sx < n; ++sx) {
+                    float ray[4] = {0, 0, 0, 0};
+                    march(x - 0.5 + (sx + 0.5) / n, y - 0.5 + (sy + 0.5) / n, ray);
+                    for (int c = 0; c < 4; ++c) sum[c] += ray[c];
+                }
+            }
+            for (int c = 0; c < 4; ++c) pixel[c] = float(weight * sum[c]);
         }
     });
 }
@@ -75,6 +96,9 @@ void marchGrid(const GridT& grid, const GridRenderVolume& volume, const Classifi
 
 Framebuffer rayMarch(const GridRenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
                      const RayMarchSettings& settings) {
+    if (settings.raysPerSide < 1 || settings.raysPerSide > kMaxRaysPerSide) {
+        throw InputError("`samples`", "must be 1 to " + std::to_string(kMaxRaysPerSide) + " rays along each side of a pixel");
+    }
     Framebuffer image(camera.width, camera.height);
     if (volume.floatGrid()) marchGrid(*volume.floatGrid(), volume, classifier, camera, settings, image);
     else marchGrid(*volume.colourGrid(), volume, classifier, camera, settings, image);

@@ -16,8 +16,18 @@ namespace gvr {
 struct RayMarchSettings {
     double stepVoxels = 0.5;           ///< step along the ray, in voxels (the smallest edge); (0, 0.5]
     float terminationOpacity = 0.98f;  ///< a ray stops at this opacity
+    /// n: n x n rays per pixel on a regular grid, averaged (a box filter). One ray
+    /// aliases thin structures; 4 (kReferenceRaysPerSide) is the reference that
+    /// render quality is measured against.
+    int raysPerSide = 1;
 };
 
+/// The anti-aliased reference: 4 x 4 rays per pixel.
+constexpr int kReferenceRaysPerSide = 4;
+/// The most rays per pixel side a render takes (256 rays a pixel).
+constexpr int kMaxRaysPerSide = 16;
+
+/// @throw InputError when settings.raysPerSide is outside 1..kMaxRaysPerSide.
 Framebuffer rayMarch(const GridRenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
                      const RayMarchSettings& settings);
 
