@@ -25,8 +25,6 @@ namespace {
 using namespace gvr;
 
 constexpr int kRepeats = 9;
-// As a fit bins its Gaussians (Fitter.cpp).
-constexpr float kSlackVoxels = 0.5f, kSlackFraction = 0.05f;
 
 struct Timing {
     double seconds = 1e300;
@@ -53,8 +51,8 @@ double timeOneCall(const GaussianField& field, const BlockBins& bins, const Volu
 void measure(const char* label, const GaussianParameters& params, const VolumeTarget& target) {
     const BlockGrid grid(target.box());
     GaussianField field;
-    field.rebuild(params, kDefaultCutoffSigmas, /*fastBuild=*/true, kSlackVoxels, kSlackFraction);
-    BlockBins bins(grid, kSlackVoxels, kSlackFraction);
+    field.rebuild(params, kDefaultCutoffSigmas, /*fastBuild=*/true, kBinSlackVoxels, kBinSlackFraction);
+    BlockBins bins(grid, kBinSlackVoxels, kBinSlackFraction);
     bins.build(field);
     const FitSettings defaults;
     const BlockSampler sampler(grid, ImportanceSettings{}, defaults.rowStride);

@@ -16,6 +16,12 @@
 
 namespace gvr {
 
+/// How far a Gaussian's truncated bounds are grown where it is binned (voxels,
+/// and a share of its half-extent), so that it may move a while in its blocks: the
+/// fit's choice, which the benchmark of its kernel shares.
+constexpr float kBinSlackVoxels = 0.5f;
+constexpr float kBinSlackFraction = 0.05f;
+
 class BlockBins {
 public:
     /// @param slackVoxels, slackFraction  how far follow() grows a moved Gaussian's

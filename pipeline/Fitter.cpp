@@ -260,10 +260,6 @@ private:
     void refreshField(std::size_t iteration);
     double heldOutPsnr(const SampleSet& heldOut) const;
 
-    /// How far a Gaussian's truncated bounds are grown where it is binned (voxels,
-    /// and a share of its half-extent), so that it may move a while in its blocks.
-    static constexpr float kBinSlackVoxels = 0.5f;
-    static constexpr float kBinSlackFraction = 0.05f;
 
     const VolumeTarget& mTarget;
     const FitSettings& mSettings;

@@ -75,10 +75,6 @@ void marchGrid(const GridT& grid, const GridRenderVolume& volume, const Classifi
         };
         for (int x = 0; x < camera.width; ++x) {
             float* pixel = image.pixel(x, y);
-            if (n == 1) {
-                march(x, y, pixel);
-                continue;
-            }
             double sum[4] = {0, 0, 0, 0};
             for (int sy = 0; sy < n; ++sy) {
                 for (int sx = 0; sx < n; ++sx) {
