@@ -6,7 +6,7 @@
 #include "Commands.h"
 #include "Diagnostics.h"
 #include "Error.h"
-#include "Report.h"
+#include "Figures.h"
 
 #include <nlohmann/json.hpp>
 

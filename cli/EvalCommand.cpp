@@ -2,7 +2,7 @@
 
 #include "Commands.h"
 #include "Evaluate.h"
-#include "Report.h"
+#include "Figures.h"
 #include "SourceOptions.h"
 
 #include <iomanip>

@@ -2,19 +2,23 @@
 
 #include "AtomicFile.h"
 #include "Commands.h"
-#include "Compress.h"
+#include "FitToBudget.h"
 #include "Diagnostics.h"
 #include "Error.h"
 #include "FieldAccuracy.h"
-#include "FitBricks.h"
+#include "FitLog.h"
 #include "GaussianField.h"
 #include "GridFile.h"
 #include "GridSummary.h"
 #include "LabelBudget.h"
 #include "LabelGrid.h"
+#include "MpiTeam.h"
+#include "PhaseTimes.h"
 #include "ProgressBar.h"
-#include "Report.h"
+#include "Figures.h"
+#include "ProcessMemory.h"
 #include "SourceOptions.h"
+#include "TeamFit.h"
 
 #include <tbb/global_control.h>
 
@@ -31,91 +35,23 @@ namespace gvr {
 
 namespace {
 
+/// --bricks N, or --brick I --of N.
+struct BrickFlags {
+    std::size_t count = 0;  ///< --bricks, or --of with --brick
+    int halo = kDefaultBrickHalo;
+    std::optional<std::size_t> only;  ///< --brick I: fit this one and write its part
+
+    bool any() const { return count > 0; }
+    BrickOptions options() const { return {count, halo}; }
+};
+
 struct FitFlags {
     std::string input, output, logPath, labelVolume, labelNames;
     std::size_t threads = 0;
     bool json = false, quiet = false;
-    CompressOptions options;
+    BudgetedFitOptions options;
     SourceFlags source;
     BrickFlags bricks;
-};
-
-/// Wall seconds of each step of the command, in order, for the report.
-class Phases {
-public:
-    /// Ends the step that began at the last call (or at construction) as @a name.
-    void lap(const std::string& name) {
-        const auto now = std::chrono::steady_clock::now();
-        mSteps.emplace_back(name, std::chrono::duration<double>(now - mLast).count());
-        mLast = now;
-    }
-    nlohmann::json json() const {
-        nlohmann::json out = nlohmann::json::object();
-        for (const auto& [name, seconds] : mSteps) out[name] = seconds;
-        out["total"] = total();
-        return out;
-    }
-    std::string text() const {
-        std::ostringstream out;
-        for (const auto& [name, seconds] : mSteps) {
-            out << (&name == &mSteps.front().first ? "" : ", ") << name << " " << std::setprecision(4) << seconds << " s";
-        }
-        out << "; total " << std::setprecision(4) << total() << " s";
-        return out.str();
-    }
-    double total() const {
-        double sum = 0.0;
-        for (const auto& step : mSteps) sum += step.second;
-        return sum;
-    }
-
-private:
-    std::chrono::steady_clock::time_point mLast = std::chrono::steady_clock::now();
-    std::vector<std::pair<std::string, double>> mSteps;
-};
-
-/// The CSV of error against run time, one row per held-out evaluation: a header
-/// row and numbers only, so that any CSV reader takes it as it is. Its columns are
-/// described in the README; seconds count from the start of the command, reading
-/// the input included. Written as the fit goes, so that it can be watched; a fit
-/// that fails leaves none (see finish()).
-class FitLog {
-public:
-    FitLog(const std::string& path, double secondsBefore) : mPath(path), mSecondsBefore(secondsBefore) {
-        if (path.empty()) return;
-        mOut.open(path);
-        if (!mOut) throw InputError(path, "cannot write the fit log");
-        mOut << "iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib,gradient_share\n";
-    }
-    FitLog(const FitLog&) = delete;
-    FitLog& operator=(const FitLog&) = delete;
-    ~FitLog() {
-        if (!mOut.is_open()) return;
-        mOut.close();
-        std::error_code ignored;
-        std::filesystem::remove(mPath, ignored);
-    }
-    void record(const FitProgress& p) {
-        if (!mOut.is_open() || !p.heldOutEvaluated) return;
-        mOut << p.iteration << "," << mSecondsBefore + p.seconds << "," << p.loss << "," << formatDb(p.heldOutPsnr)
-             << "," << p.gaussians << "," << peakRssMiB() << "," << p.gradientShare << "\n"
-             << std::flush;
-        if (!mOut) throw InputError(mPath, "cannot write the fit log (disk full?)");
-    }
-    /// Keeps the log: the fit and its asset are written.
-    void finish() {
-        if (!mOut.is_open()) return;
-        mOut.close();
-        if (mOut) return;
-        std::error_code ignored;
-        std::filesystem::remove(mPath, ignored);
-        throw InputError(mPath, "cannot write the fit log (disk full?)");
-    }
-
-private:
-    std::string mPath;
-    double mSecondsBefore;
-    std::ofstream mOut;
 };
 
 FitObserver progressObserver(ProgressBar& bar, FitLog& log) {
@@ -131,6 +67,26 @@ FitObserver progressObserver(ProgressBar& bar, FitLog& log) {
     };
 }
 
+FitObserver brickObserver(ProgressBar& bar, std::size_t brick) {
+    return [&bar, brick](const FitProgress& p) {
+        bar.update(p.fraction, "brick " + std::to_string(brick) + ", it " + std::to_string(p.iteration) + ", " +
+                                   std::to_string(p.gaussians) + " Gaussians");
+    };
+}
+
+/// A bar for each brick while it is fitted.
+BrickObservers brickBars(bool shown) {
+    return [shown](std::size_t brick) {
+        auto bar = std::make_shared<ProgressBar>("fitting", shown);
+        return FitObserver([bar, observe = brickObserver(*bar, brick)](const FitProgress& p) { observe(p); });
+    };
+}
+
+/// Rank @a rank's error, before it ends the team.
+void reportTeamError(int rank, int size, const std::exception& error) {
+    diagnostics() << "gvr: error (rank " << rank << " of " << size << "): " << inCommandLineTerms(error.what()) << "\n";
+}
+
 nlohmann::json structuresJson(const GaussianAsset& asset, const std::vector<StructureFit>& structures) {
     nlohmann::json out = nlohmann::json::array();
     for (const StructureFit& s : structures) {
@@ -141,22 +97,31 @@ nlohmann::json structuresJson(const GaussianAsset& asset, const std::vector<Stru
     return out;
 }
 
-void reportBricks(const BrickedFitResult& bricked, const FieldAccuracy& error) {
+nlohmann::json bricksJson(const std::vector<BrickReport>& bricks) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const BrickReport& b : bricks) {
+        out.push_back({{"brick", b.brick}, {"budget", b.budget}, {"rank", b.run.rank}, {"gaussians", b.run.gaussians},
+                       {"iterations", b.run.iterations}, {"seconds", b.run.seconds},
+                       {"rank_peak_rss_mib", b.run.rankPeakRssMiB}});
+    }
+    return out;
+}
+
+void reportBricks(const TeamFitResult& bricked, const FieldAccuracy& error) {
     std::cout << "  seams:           " << formatDb(error.markedPsnr) << " dB within " << kSeamWidth
               << " voxels of a face between bricks (" << error.markedVoxels << " voxels), "
               << formatDb(error.unmarkedPsnr) << " dB elsewhere; over the active voxels "
               << formatDb(error.markedForegroundPsnr) << " / " << formatDb(error.unmarkedForegroundPsnr) << " dB\n";
-    for (const nlohmann::json& b : bricked.bricks) {
-        std::cout << "  brick " << b["brick"] << ":" << std::setw(8) << b["gaussians"].get<std::size_t>()
-                  << " Gaussians (budget " << b["budget"] << "), rank " << b["rank"] << ", " << b["iterations"]
-                  << " iterations in " << std::setprecision(4) << b["seconds"].get<double>() << " s, rank peak "
-                  << b["rank_peak_rss_mib"].get<double>() << " MiB\n";
+    for (const BrickReport& b : bricked.bricks) {
+        std::cout << "  brick " << b.brick << ":" << std::setw(8) << b.run.gaussians << " Gaussians (budget " << b.budget
+                  << "), rank " << b.run.rank << ", " << b.run.iterations << " iterations in " << std::setprecision(4)
+                  << b.run.seconds << " s, rank peak " << b.run.rankPeakRssMiB << " MiB\n";
     }
     std::cout << "  merge:           " << std::setprecision(4) << bricked.mergeSeconds << " s\n";
 }
 
-void report(const FitFlags& flags, const CompressResult& result, double peak, const FieldAccuracy& error,
-            const BrickedFitResult* bricked, const Phases& phases) {
+void report(const FitFlags& flags, const BudgetedFitResult& result, double peak, const FieldAccuracy& error,
+            const TeamFitResult* bricked, const PhaseTimes& phases) {
     const GaussianAsset& asset = result.asset;
     const FitReport& fit = result.fit;
     const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
@@ -184,7 +149,7 @@ void report(const FitFlags& flags, const CompressResult& result, double peak, co
                               {"phase_seconds", phases.json()}};
         if (!result.structures.empty()) out["structures"] = structuresJson(asset, result.structures);
         if (bricked) {
-            out["bricks"] = bricked->bricks;
+            out["bricks"] = bricksJson(bricked->bricks);
             out["merge_seconds"] = bricked->mergeSeconds;
             out["seam_voxels"] = error.markedVoxels;
             out["seam_psnr_db"] = jsonNumber(error.markedPsnr);
@@ -230,19 +195,25 @@ void report(const FitFlags& flags, const CompressResult& result, double peak, co
 
 /// --brick I --of N: the part, written as it is, and what it holds.
 void writePart(const FitFlags& flags, const IngestResult& loaded, const VolumeTarget& target) {
-    GaussianAsset part = fitOneBrick(loaded.grid, target, flags.input, flags.options, flags.bricks, !flags.quiet);
+    const std::size_t index = *flags.bricks.only;
+    GaussianAsset part;
+    {
+        ProgressBar bar("fitting", !flags.quiet);
+        part = fitOneBrick(loaded.grid, target, flags.input, flags.options, flags.bricks.options(), index,
+                           brickObserver(bar, index));
+    }
     writeAsset(flags.output, part);
-    const nlohmann::json run = part.fitSettings["brick"]["run"];
+    const BrickRun run = brickRunOf(part, flags.output);
     if (flags.json) {
-        std::cout << nlohmann::json{{"output", flags.output}, {"brick", *flags.bricks.only}, {"of", flags.bricks.count},
-                                    {"gaussians", part.params.count()}, {"iterations", run["iterations"]},
-                                    {"seconds", run["seconds"]}, {"peak_rss_mib", peakRssMiB()}}.dump(2)
+        std::cout << nlohmann::json{{"output", flags.output}, {"brick", index}, {"of", flags.bricks.count},
+                                    {"gaussians", part.params.count()}, {"iterations", run.iterations},
+                                    {"seconds", run.seconds}, {"peak_rss_mib", peakRssMiB()}}.dump(2)
                   << "\n";
         return;
     }
-    std::cout << "wrote " << flags.output << ": brick " << *flags.bricks.only << " of " << flags.bricks.count << ", "
-              << part.params.count() << " Gaussians, " << run["iterations"] << " iterations in "
-              << std::setprecision(4) << run["seconds"].get<double>() << " s; join the parts with gvr merge\n";
+    std::cout << "wrote " << flags.output << ": brick " << index << " of " << flags.bricks.count << ", "
+              << part.params.count() << " Gaussians, " << run.iterations << " iterations in " << std::setprecision(4)
+              << run.seconds << " s; join the parts with gvr merge\n";
 }
 
 /// The input as a grid (ingested first unless it is a .vdb), warnings printed.
@@ -268,16 +239,18 @@ VolumeTarget targetOf(const FitFlags& flags, const IngestResult& loaded) {
 /// --bricks N, alone or across the ranks of an mpirun: rank 0 merges, writes and
 /// reports; every rank measures the saved asset's error on its own bricks. Ranks
 /// of a team read a .vdb input on demand, so each holds little more than its bricks.
-void runBrickedFit(const FitFlags& flags, Phases& phases) {
-    BrickTeam team;
+void runBrickedFit(const FitFlags& flags, PhaseTimes& phases) {
+    const std::unique_ptr<BrickTeam> joined = teamOfThisLaunch(reportTeamError);
+    const BrickTeam& team = *joined;
     const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, team.threadsPerRank());
     const IngestResult loaded = loadInput(flags, /*vdbOnDemand=*/team.size() > 1);
     const VolumeTarget target = targetOf(flags, loaded);
     phases.lap("load");
-    BrickedFitResult bricked;
+    TeamFitResult bricked;
     std::string saved;  // the asset's bytes as written; empty while rank 0 has none
     try {
-        bricked = fitAllBricks(team, loaded.grid, target, flags.input, flags.options, flags.bricks, !flags.quiet);
+        bricked = fitAllBricks(team, loaded.grid, target, flags.input, flags.options, flags.bricks.options(),
+                               brickBars(!flags.quiet));
         phases.lap("fit");
         if (team.isRoot()) {
             saved = encodeAsset(bricked.result.asset);
@@ -291,7 +264,8 @@ void runBrickedFit(const FitFlags& flags, Phases& phases) {
     }
     team.broadcast(saved);
     if (saved.empty()) return;
-    const FieldAccuracy error = measureAcrossTeam(team, saved, target, bricked, !flags.quiet);
+    ProgressBar measuring("measuring", !flags.quiet && team.isRoot());
+    const FieldAccuracy error = measureAcrossTeam(team, saved, target, bricked, measuring.callback());
     phases.lap("measure");
     if (team.isRoot()) report(flags, bricked.result, target.peak(), error, &bricked, phases);
 }
@@ -305,7 +279,7 @@ void runFit(FitFlags& flags) {
         checkOutputPath("--log", flags.logPath, {flags.input, flags.output, flags.labelVolume, flags.labelNames});
     }
 
-    Phases phases;
+    PhaseTimes phases;
     if (flags.bricks.any() && !flags.bricks.only) return runBrickedFit(flags, phases);
     const IngestResult loaded = loadInput(flags, /*vdbOnDemand=*/false);
     const VolumeTarget target = targetOf(flags, loaded);
@@ -313,11 +287,11 @@ void runFit(FitFlags& flags) {
     if (flags.bricks.only) return writePart(flags, loaded, target);
 
     FitLog log(flags.logPath, phases.total());
-    CompressResult result;
+    BudgetedFitResult result;
     flags.options.settings.reserveMeasurement = true;  // --time covers the measurement below
     {
         ProgressBar bar("fitting", !flags.quiet);
-        result = compress(target, flags.input, flags.options, progressObserver(bar, log), loaded.labels.get());
+        result = fitToBudget(target, flags.input, flags.options, progressObserver(bar, log), loaded.labels.get());
     }
     phases.lap("fit");
     writeAsset(flags.output, result.asset);
@@ -329,6 +303,22 @@ void runFit(FitFlags& flags) {
         measureFieldAccuracy(saved, target, measuring.callback(), {}, defaultExportCut(result.asset));
     phases.lap("measure");
     report(flags, result, target.peak(), error, nullptr, phases);
+}
+
+void addBrickFlags(CLI::App& command, BrickFlags& flags) {
+    auto* bricks = command.add_option("--bricks", flags.count,
+                        "Fit in N bricks of whole 8^3 leaves, each with its own seed and a share of the Gaussians in "
+                        "proportion to its active voxels, then merge them into one asset. Under mpirun the ranks "
+                        "share the bricks and rank 0 writes")
+        ->check(CLI::Range(std::size_t(1), std::size_t(1) << 20));
+    command.add_option("--halo", flags.halo, "Voxels around a brick that its fit also sees")
+        ->check(CLI::Range(0, 256))->capture_default_str();
+    auto* only = command.add_option("--brick", flags.only,
+                        "Fit only brick I of --of N and write it as a part, for a job array; gvr merge joins the parts")
+        ->excludes(bricks);
+    command.add_option("--of", flags.count, "With --brick: the number of bricks")
+        ->check(CLI::Range(std::size_t(1), std::size_t(1) << 20))->needs(only);
+    only->needs("--of");
 }
 
 void addTuningFlags(CLI::App& command, FitSettings& s) {

@@ -6,7 +6,8 @@
 #include "GridSummary.h"
 #include "LabelGrid.h"
 #include "ProgressBar.h"
-#include "Report.h"
+#include "Figures.h"
+#include "ProcessMemory.h"
 #include "SourceOptions.h"
 #include "VolumeOutputOptions.h"
 

@@ -9,6 +9,7 @@
 #include "LabelStyleFile.h"
 #include "ProgressBar.h"
 #include "RayMarcher.h"
+#include "RenderFlags.h"
 #include "RenderInput.h"
 #include "ShearWarp.h"
 #include "SourceOptions.h"

@@ -6,6 +6,7 @@
 #include "Error.h"
 #include "ImageFile.h"
 #include "LabelStyle.h"
+#include "RenderFlags.h"
 #include "RenderInput.h"
 #include "SdlWindow.h"
 #include "SourceOptions.h"

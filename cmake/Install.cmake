@@ -3,22 +3,24 @@
 # this tree can find_package(gvr) and link gvr::gvr (examples/installed/).
 include(CMakePackageConfigHelpers)
 
-# gvr::gvr is everything: the readers and writers, the fit, the renderers and the
-# benchmark runner.
+# gvr::gvr is everything: the readers and writers, the fit, the renderers, the
+# workflows that combine them (without the MPI team) and the benchmark runner.
 add_library(gvr_library INTERFACE)
-target_link_libraries(gvr_library INTERFACE gvr_io gvr_render gvr_bench)
+target_link_libraries(gvr_library INTERFACE gvr_workflow gvr_bench)
 set_target_properties(gvr_library PROPERTIES EXPORT_NAME gvr)
 set_target_properties(gvr_pipeline PROPERTIES EXPORT_NAME pipeline)
 set_target_properties(gvr_io PROPERTIES EXPORT_NAME io)
 set_target_properties(gvr_render PROPERTIES EXPORT_NAME render)
 set_target_properties(gvr_bench PROPERTIES EXPORT_NAME bench)
+set_target_properties(gvr_workflow PROPERTIES EXPORT_NAME workflow)
 set_target_properties(gvr_nifti PROPERTIES EXPORT_NAME nifti)
 
 install(TARGETS gvr RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(TARGETS gvr_library gvr_pipeline gvr_io gvr_render gvr_bench gvr_nifti EXPORT gvrTargets
+install(TARGETS gvr_library gvr_pipeline gvr_io gvr_render gvr_workflow gvr_bench gvr_nifti EXPORT gvrTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 file(GLOB _gvr_headers CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/pipeline/*.h ${PROJECT_SOURCE_DIR}/io/*.h
-     ${PROJECT_SOURCE_DIR}/render/*.h ${PROJECT_SOURCE_DIR}/bench/*.h)
+     ${PROJECT_SOURCE_DIR}/render/*.h ${PROJECT_SOURCE_DIR}/workflow/*.h ${PROJECT_SOURCE_DIR}/bench/*.h)
+list(REMOVE_ITEM _gvr_headers ${PROJECT_SOURCE_DIR}/workflow/MpiTeam.h)  # its library is not installed
 install(FILES ${_gvr_headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/gvr)
 
 set(_gvr_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/gvr)

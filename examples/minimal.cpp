@@ -9,12 +9,12 @@
 
 #include "AssetExport.h"
 #include "AssetFile.h"
-#include "Compress.h"
+#include "FitToBudget.h"
 #include "GridFile.h"
 #include "ImageFile.h"
 #include "Ingest.h"
+#include "RenderInput.h"
 #include "ShearWarp.h"
-#include "VolumeClassifier.h"
 
 #include <iostream>
 
@@ -33,10 +33,10 @@ int main(int argc, char** argv) {
         //    top of the data range) and kept with what places them in the world and
         //    maps them back. 4000 Gaussians and 300 iterations take a few seconds;
         //    `gvr fit` asks for a compression ratio and a time budget instead.
-        gvr::CompressOptions options;
+        gvr::BudgetedFitOptions options;
         options.gaussians = 4000;
         options.settings.iterations = 300;
-        gvr::GaussianAsset asset = gvr::compress(grid, input, options).asset;
+        gvr::GaussianAsset asset = gvr::fitToBudget(grid, input, options).asset;
         gvr::writeAsset(out + "/minimal.gvr", asset);
         std::cout << "fitted " << asset.params.count() << " Gaussians -> " << out << "/minimal.gvr\n";
 
@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
         //    transfer function preset classifies the values; one orthographic view
         //    around the volume's centre is shear-warped into a framebuffer.
         const gvr::GaussianRenderVolume volume(asset);
-        const gvr::Classifier classifier = gvr::presetClassifier(volume, "mri");
+        const gvr::Classifier classifier = gvr::classifierFor("mri", volume);
         const gvr::OrthoCamera camera =
             gvr::makeCamera({30.0, 15.0}, gvr::worldCorners(volume.worldFromIndex(), volume.box()), 256, 256);
         gvr::ShearWarpRenderer renderer(volume, classifier, gvr::ShearWarpSettings{});

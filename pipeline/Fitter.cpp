@@ -5,6 +5,7 @@
 #include "Error.h"
 #include "FieldAccuracy.h"
 #include "Loss.h"
+#include "ProcessMemory.h"
 #include "Pruning.h"
 #include "SliceSampler.h"
 #include "StreamSeed.h"
@@ -20,10 +21,6 @@
 #include <limits>
 #include <random>
 
-#ifdef __GLIBC__  // defined by the standard headers above
-#include <malloc.h>
-#endif
-
 namespace gvr {
 
 namespace {
@@ -31,16 +28,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 enum Purpose : std::uint64_t { kVoxels = 1, kSlices = 2, kHeldOut = 3, kSeeds = 4 };
-
-/// Hands the heap's free memory back to the system. Binning afresh frees and
-/// allocates arrays as large as the Gaussians many times over; glibc raises its
-/// mmap threshold after such frees and then keeps them, so a fit's memory crept up
-/// (ch2 10:1 in 600 s: from 232 to 349 MiB).
-void releaseFreedMemory() {
-#ifdef __GLIBC__
-    malloc_trim(0);
-#endif
-}
 
 void fillVoxelTargets(const VolumeTarget& target, SampleSet& set) {
     const int channels = target.channels();

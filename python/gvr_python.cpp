@@ -7,16 +7,17 @@
 #include "AssetProbe.h"
 #include "Camera.h"
 #include "ComparisonInput.h"
-#include "Compress.h"
 #include "Error.h"
 #include "Evaluate.h"
+#include "FitToBudget.h"
 #include "GridBuilder.h"
 #include "GridFile.h"
 #include "Ingest.h"
 #include "LabelGrid.h"
+#include "RenderInput.h"
 #include "SettingNames.h"
 #include "ShearWarp.h"
-#include "TransferFunctionFile.h"
+#include "TeamFit.h"
 #include "VolumeClassifier.h"
 #include "WorldGaussians.h"
 
@@ -261,18 +262,9 @@ std::map<int, std::string> labelNamesOf(const LabelTable& table) { return {table
 
 // ---- fit ----
 
-GaussianAsset fit(const std::variant<Volume, std::string>& input, double ratio, double seconds, std::size_t gaussians,
-                  std::size_t iterations, std::uint64_t seed, const std::string& ablation, const std::string& labels,
-                  const std::optional<py::function>& progress) {
-    CompressOptions options;
-    options.labels = labels;
-    options.ratio = ratio;
-    options.gaussians = gaussians;
-    options.ablation = ablation;
-    options.settings.seed = seed;
-    options.settings.iterations = iterations;
-    options.settings.seconds = iterations > 0 ? 0.0 : seconds;
-    const FitObserver observer = [&](const FitProgress& p) {
+/// The fit's progress as a dict for @a progress, and Ctrl-C, from the fitting thread.
+FitObserver pythonObserver(const std::optional<py::function>& progress, std::optional<std::size_t> brick) {
+    return [&progress, brick](const FitProgress& p) {
         py::gil_scoped_acquire gil;
         if (PyErr_CheckSignals() != 0) throw PythonErrorPending{};  // Ctrl-C
         if (!progress) return;
@@ -284,18 +276,41 @@ GaussianAsset fit(const std::variant<Volume, std::string>& input, double ratio, 
             state["gaussians"] = p.gaussians;
             state["held_out_psnr_db"] = p.heldOutEvaluated ? py::object(py::float_(p.heldOutPsnr)) : py::object(py::none());
             state["setting_up"] = p.setUp ? py::object(py::float_(*p.setUp)) : py::object(py::none());
+            state["brick"] = brick ? py::object(py::int_(*brick)) : py::object(py::none());
             (*progress)(state);
         } catch (py::error_already_set& error) {
             error.restore();
             throw PythonErrorPending{};
         }
     };
+}
+
+/// A whole fit, or with @a bricks a bricked one in this process (as `gvr fit --bricks`).
+GaussianAsset fitLoaded(const IngestResult& loaded, const std::string& name, const BudgetedFitOptions& options,
+                        std::size_t bricks, int halo, const std::optional<py::function>& progress) {
+    if (bricks == 0) return fitToBudget(loaded.grid, name, options, pythonObserver(progress, {}), loaded.labels.get()).asset;
+    const VolumeTarget target(loaded.grid, name);
+    const BrickObservers observers = [&progress](std::size_t brick) { return pythonObserver(progress, brick); };
+    return fitAllBricks(SoloTeam(), loaded.grid, target, name, options, {bricks, halo}, observers).result.asset;
+}
+
+GaussianAsset fit(const std::variant<Volume, std::string>& input, double ratio, double seconds, std::size_t gaussians,
+                  std::size_t iterations, std::uint64_t seed, const std::string& ablation, const std::string& labels,
+                  std::size_t bricks, int halo, const std::optional<py::function>& progress) {
+    BudgetedFitOptions options;
+    options.labels = labels;
+    options.ratio = ratio;
+    options.gaussians = gaussians;
+    options.ablation = ablation;
+    options.settings.seed = seed;
+    options.settings.iterations = iterations;
+    options.settings.seconds = iterations > 0 ? 0.0 : seconds;
     try {
         py::gil_scoped_release release;
         const auto* path = std::get_if<std::string>(&input);
         const Volume volume = path ? Volume{} : std::get<Volume>(input);
         const IngestResult loaded = path ? loadOrIngest(*path, IngestOptions{}) : IngestResult{volume.grid, volume.labels, {}};
-        return compress(loaded.grid, path ? *path : "volume", options, observer, loaded.labels.get()).asset;
+        return fitLoaded(loaded, path ? *path : "volume", options, bricks, halo, progress);
     } catch (const PythonErrorPending&) {
         throw py::error_already_set();
     }
@@ -383,9 +398,13 @@ Classifier classifierOf(const RenderVolume& volume, const TransferSpec& tf) {
         for (const auto& [value, r, g, b, a] : *points) converted.push_back({value, {float(r), float(g), float(b), float(a)}});
         return volumeClassifier(volume, TransferFunction(std::move(converted), "tf"));
     }
-    const std::string& name = std::get<std::string>(tf);
-    if (!name.empty() && std::filesystem::exists(name)) return volumeClassifier(volume, readTransferFunction(name));
-    return presetClassifier(volume, name);
+    return classifierFor(std::get<std::string>(tf), volume);
+}
+
+std::unique_ptr<RenderVolume> renderVolumeOf(const Renderable& what, float minScale) {
+    if (const auto* asset = std::get_if<GaussianAsset>(&what)) return std::make_unique<GaussianRenderVolume>(*asset, minScale);
+    if (const auto* volume = std::get_if<Volume>(&what)) return std::make_unique<GridRenderVolume>(volume->grid);
+    return loadRenderInput(std::get<std::string>(what), "", "", minScale, IngestOptions{}).volume;
 }
 
 py::array render(const Renderable& what, double azimuth, double elevation, std::pair<int, int> size,
@@ -398,15 +417,7 @@ py::array render(const Renderable& what, double azimuth, double elevation, std::
     {
         py::gil_scoped_release release;
         const ShearWarpSettings settings;
-        std::unique_ptr<RenderVolume> volume;
-        const auto* path = std::get_if<std::string>(&what);
-        if (const auto* asset = std::get_if<GaussianAsset>(&what)) {
-            volume = std::make_unique<GaussianRenderVolume>(*asset, settings.minimumFootprintVoxels());
-        } else if (path && isAssetFile(*path)) {
-            volume = std::make_unique<GaussianRenderVolume>(readAsset(*path), settings.minimumFootprintVoxels());
-        } else {
-            volume = std::make_unique<GridRenderVolume>(path ? loadOrIngest(*path, {}).grid : std::get<Volume>(what).grid);
-        }
+        const std::unique_ptr<RenderVolume> volume = renderVolumeOf(what, settings.minimumFootprintVoxels());
         const OrthoCamera camera =
             makeCamera({azimuth, elevation}, worldCorners(volume->worldFromIndex(), volume->box()), width, height);
         ShearWarpRenderer renderer(*volume, classifierOf(*volume, tf), settings);
@@ -530,11 +541,14 @@ PYBIND11_MODULE(gvr, m) {
              "all), less those in hide, as gvr render --show and --hide select them");
 
     m.def("fit", &fit, "volume"_a, "ratio"_a = 10.0, "seconds"_a = 60.0, "gaussians"_a = 0, "iterations"_a = 0,
-          "seed"_a = 1, "ablation"_a = "full", "labels"_a = "", "progress"_a = py::none(),
+          "seed"_a = 1, "ablation"_a = "full", "labels"_a = "", "bricks"_a = 0, "halo"_a = kDefaultBrickHalo,
+          "progress"_a = py::none(),
           "Fit Gaussians to a Volume or a file (anything gvr ingest reads), as `gvr fit` does: as many as fit in the raw bytes / ratio (or exactly "
           "`gaussians`), within `seconds` (or exactly `iterations`, reproducible byte for byte). `progress` "
           "is called with a dict after each iteration. Ctrl-C stops the fit with KeyboardInterrupt. labels: fit "
-          "by structure (all, or ids and names) from the volume's labels, as `gvr fit --labels`.");
+          "by structure (all, or ids and names) from the volume's labels, as `gvr fit --labels`. bricks: fit in "
+          "that many bricks of whole 8^3 leaves (each seeing `halo` voxels around it) and merge them, as `gvr fit "
+          "--bricks`; the progress dict then says which brick.");
     m.def("render", &render, "what"_a, "azimuth"_a = 30.0, "elevation"_a = 15.0,
           "size"_a = std::pair<int, int>(512, 512), "tf"_a = "",
           "A shear-warp view of an Asset, a Volume or a file of either as premultiplied RGBA float32, shape (height, width, 4), "

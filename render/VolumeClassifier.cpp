@@ -16,8 +16,4 @@ TransferFunction presetFor(const RenderVolume& volume, const std::string& preset
     return tf;
 }
 
-Classifier presetClassifier(const RenderVolume& volume, const std::string& preset, std::string* mismatch) {
-    return volumeClassifier(volume, presetFor(volume, preset, mismatch));
-}
-
 }  // namespace gvr

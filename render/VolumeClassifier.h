@@ -19,7 +19,4 @@ Classifier volumeClassifier(const RenderVolume& volume, const TransferFunction& 
 /// @throw InputError naming an unknown preset.
 TransferFunction presetFor(const RenderVolume& volume, const std::string& preset, std::string* mismatch = nullptr);
 
-/// volumeClassifier() of presetFor().
-Classifier presetClassifier(const RenderVolume& volume, const std::string& preset, std::string* mismatch = nullptr);
-
 }  // namespace gvr

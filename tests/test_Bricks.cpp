@@ -92,8 +92,8 @@ TEST(Bricks, SeamsMarkTheVoxelsNearInnerFacesOnly) {
 /// With an iteration budget, fitting the bricks one by one as parts and merging
 /// them is the same whatever order the parts come in.
 /// Two bricks of a 40 x 24 x 24 blob volume, @a gaussians fitted for @a iterations.
-CompressOptions twoBrickOptions(std::size_t gaussians, std::size_t iterations) {
-    CompressOptions options;
+BudgetedFitOptions twoBrickOptions(std::size_t gaussians, std::size_t iterations) {
+    BudgetedFitOptions options;
     options.settings.seconds = 0.0;
     options.settings.iterations = iterations;
     options.gaussians = gaussians;
@@ -117,7 +117,7 @@ TEST(Bricks, MergeIsTheSameWhateverTheOrderOfTheParts) {
 TEST(Bricks, MergeRefusesMissingRepeatedAndForeignParts) {
     const openvdb::GridBase::Ptr grid = blobGrid({40, 24, 24});
     const VolumeTarget target(grid, "blobs");
-    CompressOptions options = twoBrickOptions(100, 5);
+    BudgetedFitOptions options = twoBrickOptions(100, 5);
     const BrickPlan plan = planBrickedFit(target, "blobs", options, {2, 4});
     const GaussianAsset first = fitBrickPart(grid, "blobs", plan, 0, 0.0);
     const GaussianAsset second = fitBrickPart(grid, "blobs", plan, 1, 0.0);
@@ -136,7 +136,7 @@ TEST(Bricks, MergeRefusesMissingRepeatedAndForeignParts) {
     EXPECT_NE(refusal({first, fitBrickPart(grid, "blobs", other, 1, 0.0)}, {"p0", "seed7"}).find("seed7: is a brick of another fit"),
               std::string::npos);
     // Parts of fits at other ratios once merged without a word.
-    CompressOptions tenToOne = twoBrickOptions(0, 5), twentyToOne = twoBrickOptions(0, 5);
+    BudgetedFitOptions tenToOne = twoBrickOptions(0, 5), twentyToOne = twoBrickOptions(0, 5);
     tenToOne.ratio = 10.0;
     twentyToOne.ratio = 20.0;
     const BrickPlan ten = planBrickedFit(target, "blobs", tenToOne, {2, 4});
@@ -156,7 +156,7 @@ TEST(Bricks, MergeRefusesMissingRepeatedAndForeignParts) {
 TEST(Bricks, SeamsOfRealMriAreWithinOneDecibelOfAWholeVolumeFit) {
     const IngestResult loaded = ingest("/usr/share/mricron/templates/ch2.nii.gz", {});
     const VolumeTarget target(loaded.grid, "ch2");
-    CompressOptions options;
+    BudgetedFitOptions options;
     options.settings.seconds = 0.0;
     options.settings.iterations = 100;
     options.ratio = 40.0;
@@ -168,7 +168,7 @@ TEST(Bricks, SeamsOfRealMriAreWithinOneDecibelOfAWholeVolumeFit) {
         names.push_back(std::to_string(b));
     }
     const GaussianAsset bricked = mergeBrickParts(parts, names);
-    const GaussianAsset whole = compress(target, "ch2", options).asset;
+    const GaussianAsset whole = fitToBudget(target, "ch2", options).asset;
 
     const BrickSeams seams(plan.bricks, 4);
     const VoxelMarking near = [&](const openvdb::Coord& ijk) { return seams.near(ijk); };

@@ -98,6 +98,21 @@ def test_a_fit_from_python_is_the_command_line_fit_byte_for_byte(work, ch2_vdb, 
     assert gvr.Asset.load(path).count == asset.count
 
 
+def test_a_bricked_fit_from_python_is_gvr_fit_bricks_byte_for_byte(work, ch2_vdb):
+    cli = str(work / "cli-bricks.gvr")
+    run("fit", "-q", ch2_vdb, "-o", cli, "--ratio", "40", "--iterations", "10", "--bricks", "3", "--halo", "6")
+    bricks_seen = set()
+    asset = gvr.fit(ch2_vdb, ratio=40, iterations=10, bricks=3, halo=6,
+                    progress=lambda state: bricks_seen.add(state["brick"]))
+    path = str(work / "python-bricks.gvr")
+    asset.save(path)
+    with open(path, "rb") as a, open(cli, "rb") as b:
+        assert a.read() == b.read()
+    assert bricks_seen == {0, 1, 2}
+    with pytest.raises(gvr.Error, match="bricks: cannot be combined with labels"):
+        gvr.fit(ch2_vdb, iterations=1, bricks=2, labels="all")
+
+
 def test_a_render_is_gvr_render(work, cli_asset):
     png = str(work / "cli.png")
     run("render", cli_asset, "-o", png, "--size", "160x120", "--azimuth", "40", "--elevation", "10", "--tf", "mri")

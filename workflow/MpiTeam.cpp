@@ -1,6 +1,4 @@
-#include "BrickTeam.h"
-
-#include "Diagnostics.h"
+#include "MpiTeam.h"
 
 #include <mpi.h>
 #include <tbb/task_arena.h>
@@ -9,7 +7,6 @@
 #include <climits>
 #include <cstdint>
 #include <cstdlib>
-#include <numeric>
 #include <stdexcept>
 
 namespace gvr {
@@ -49,35 +46,16 @@ BrickOutcome receive(std::size_t brick, int from) {
 
 }  // namespace
 
-BrickTeam::BrickTeam() {
-    if (!launchedByMpirun()) return;
+MpiTeam::MpiTeam(TeamErrorReporter report) : mReport(std::move(report)) {
     MPI_Init(nullptr, nullptr);
-    mMpi = true;
     MPI_Comm_rank(MPI_COMM_WORLD, &mRank);
     MPI_Comm_size(MPI_COMM_WORLD, &mSize);
     mLocalSize = localSizeFromEnvironment();
 }
 
-BrickTeam::~BrickTeam() {
-    if (mMpi) MPI_Finalize();
-}
+MpiTeam::~MpiTeam() { MPI_Finalize(); }
 
-std::vector<int> BrickTeam::owners(const std::vector<Brick>& bricks) const {
-    std::vector<std::size_t> order(bricks.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return bricks[a].budget > bricks[b].budget; });
-    std::vector<std::size_t> load(std::size_t(mSize), 0);
-    std::vector<int> owner(bricks.size(), 0);
-    for (std::size_t b : order) {
-        const auto least = std::min_element(load.begin(), load.end());
-        owner[b] = int(least - load.begin());
-        *least += bricks[b].budget;
-    }
-    return owner;
-}
-
-std::vector<BrickOutcome> BrickTeam::gather(std::vector<BrickOutcome> mine, const std::vector<int>& owners) const {
+std::vector<BrickOutcome> MpiTeam::gather(std::vector<BrickOutcome> mine, const std::vector<int>& owners) const {
     std::sort(mine.begin(), mine.end(), [](const BrickOutcome& a, const BrickOutcome& b) { return a.brick < b.brick; });
     if (!isRoot()) {
         for (const BrickOutcome& outcome : mine) send(outcome);
@@ -91,8 +69,7 @@ std::vector<BrickOutcome> BrickTeam::gather(std::vector<BrickOutcome> mine, cons
     return all;
 }
 
-void BrickTeam::broadcast(std::string& bytes) const {
-    if (!mMpi) return;
+void MpiTeam::broadcast(std::string& bytes) const {
     std::uint64_t size = bytes.size();
     MPI_Bcast(&size, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
     if (size > std::uint64_t(INT_MAX)) throw std::runtime_error("an asset of " + std::to_string(size) + " bytes is too large for one MPI message");
@@ -100,16 +77,21 @@ void BrickTeam::broadcast(std::string& bytes) const {
     MPI_Bcast(bytes.data(), int(size), MPI_CHAR, 0, MPI_COMM_WORLD);
 }
 
-void BrickTeam::abortUnlessAlone(const std::exception& error) const {
+void MpiTeam::abortUnlessAlone(const std::exception& error) const {
     if (mSize == 1) return;
-    diagnostics() << "gvr: error (rank " << mRank << " of " << mSize << "): " << inCommandLineTerms(error.what()) << "\n";
+    if (mReport) mReport(mRank, mSize, error);
     MPI_Abort(MPI_COMM_WORLD, 2);
     std::exit(2);  // MPI_Abort does not return; this tells the compiler so
 }
 
-std::size_t BrickTeam::threadsPerRank() const {
+std::size_t MpiTeam::threadsPerRank() const {
     const int cores = tbb::this_task_arena::max_concurrency();
     return std::size_t(std::max(1, cores / mLocalSize));
+}
+
+std::unique_ptr<BrickTeam> teamOfThisLaunch(TeamErrorReporter report) {
+    if (!launchedByMpirun()) return std::make_unique<SoloTeam>();
+    return std::make_unique<MpiTeam>(std::move(report));
 }
 
 }  // namespace gvr

@@ -4,7 +4,7 @@
 #include "Error.h"
 #include "Fitter.h"
 #include "GridFile.h"
-#include "JsonNumber.h"
+#include "Figures.h"
 #include "LabelGrid.h"
 #include "Luminance.h"
 

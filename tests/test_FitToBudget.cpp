@@ -1,4 +1,4 @@
-#include "Compress.h"
+#include "FitToBudget.h"
 #include "Error.h"
 #include "TestHelpers.h"
 #include "VolumeMetadata.h"
@@ -17,8 +17,8 @@ openvdb::GridBase::Ptr blobGrid() {
     });
 }
 
-CompressOptions iterationOptions(std::size_t iterations) {
-    CompressOptions options;
+BudgetedFitOptions iterationOptions(std::size_t iterations) {
+    BudgetedFitOptions options;
     options.settings.seconds = 0.0;
     options.settings.iterations = iterations;
     return options;
@@ -26,9 +26,9 @@ CompressOptions iterationOptions(std::size_t iterations) {
 
 TEST(Compress, KeepsTheAssetWithinTheRatioBudget) {
     const openvdb::GridBase::Ptr grid = blobGrid();
-    CompressOptions options = iterationOptions(20);
+    BudgetedFitOptions options = iterationOptions(20);
     options.ratio = 10.0;
-    const CompressResult result = compress(grid, "blobs", options);
+    const BudgetedFitResult result = fitToBudget(grid, "blobs", options);
     const double rawBytes = double(readVolumeMetadata(*grid)->rawSourceBytes());
     EXPECT_EQ(result.maxBytes, std::uint64_t(rawBytes / 10.0));
     EXPECT_GT(result.asset.params.count(), 0u);
@@ -37,32 +37,32 @@ TEST(Compress, KeepsTheAssetWithinTheRatioBudget) {
 
 TEST(Compress, StopsAtTheIterationAfterTheCancelFlagIsSet) {
     std::atomic<bool> cancel{false};
-    CompressOptions options = iterationOptions(1000);
+    BudgetedFitOptions options = iterationOptions(1000);
     options.cancel = &cancel;
     std::size_t lastIteration = 0;
     const FitObserver observer = [&](const FitProgress& progress) {
         lastIteration = progress.iteration;
         if (progress.iteration == 3) cancel = true;
     };
-    EXPECT_THROW(compress(blobGrid(), "blobs", options, observer), Cancelled);
+    EXPECT_THROW(fitToBudget(blobGrid(), "blobs", options, observer), Cancelled);
     EXPECT_EQ(lastIteration, 3u);
 }
 
 TEST(Compress, ACancelFlagSetBeforehandStopsBeforeAnyIteration) {
     std::atomic<bool> cancel{true};
-    CompressOptions options = iterationOptions(1000);
+    BudgetedFitOptions options = iterationOptions(1000);
     options.cancel = &cancel;
     bool observed = false;
-    EXPECT_THROW(compress(blobGrid(), "blobs", options, [&](const FitProgress&) { observed = true; }), Cancelled);
+    EXPECT_THROW(fitToBudget(blobGrid(), "blobs", options, [&](const FitProgress&) { observed = true; }), Cancelled);
     EXPECT_FALSE(observed);
 }
 
 TEST(Compress, AnUnsetCancelFlagChangesNothing) {
     std::atomic<bool> cancel{false};
-    CompressOptions watched = iterationOptions(15);
+    BudgetedFitOptions watched = iterationOptions(15);
     watched.cancel = &cancel;
-    const CompressResult a = compress(blobGrid(), "blobs", iterationOptions(15));
-    const CompressResult b = compress(blobGrid(), "blobs", watched);
+    const BudgetedFitResult a = fitToBudget(blobGrid(), "blobs", iterationOptions(15));
+    const BudgetedFitResult b = fitToBudget(blobGrid(), "blobs", watched);
     ASSERT_EQ(a.asset.params.count(), b.asset.params.count());
     EXPECT_EQ(a.asset.params.values, b.asset.params.values);
     EXPECT_EQ(a.fit.iterations, 15u);
@@ -70,9 +70,9 @@ TEST(Compress, AnUnsetCancelFlagChangesNothing) {
 }
 
 TEST(Compress, RefusesLabelsWithoutALabelGrid) {
-    CompressOptions options = iterationOptions(5);
+    BudgetedFitOptions options = iterationOptions(5);
     options.labels = "all";
-    EXPECT_THROW(compress(blobGrid(), "blobs", options), InputError);
+    EXPECT_THROW(fitToBudget(blobGrid(), "blobs", options), InputError);
 }
 
 }  // namespace

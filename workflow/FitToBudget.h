@@ -15,7 +15,7 @@
 
 namespace gvr {
 
-struct CompressOptions {
+struct BudgetedFitOptions {
     /// Against the source's raw bytes (VolumeMetadata::rawSourceBytes); the count
     /// is what fits in rawBytes / ratio. Ignored when @a gaussians is set.
     double ratio = 10.0;
@@ -28,12 +28,12 @@ struct CompressOptions {
     /// Structures to fit one by one from a label grid ("all", or ids and names,
     /// comma-separated); empty: the whole volume.
     std::string labels;
-    /// Set it (from any thread) to stop the fit at its next iteration; compress()
+    /// Set it (from any thread) to stop the fit at its next iteration; fitToBudget()
     /// then throws Cancelled. Null: the fit runs to its budget.
     const std::atomic<bool>* cancel = nullptr;
 };
 
-struct CompressResult {
+struct BudgetedFitResult {
     GaussianAsset asset;          ///< within the byte budget: writeAsset() it as it is
     FitReport fit;                ///< summed over the structures of a labelled fit
     std::uint64_t maxBytes = 0;   ///< the byte budget; 0 when a count was asked for
@@ -41,21 +41,21 @@ struct CompressResult {
     std::vector<StructureFit> structures;  ///< one per structure of a labelled fit
 };
 
-/// The fit settings compress() uses: the ablation applied, and no ceiling on the
+/// The fit settings fitToBudget() uses: the ablation applied, and no ceiling on the
 /// count when an exact count was asked for. Cheap: callers check options with it
 /// before reading a volume.
 /// @throw InputError naming "fit settings" when FitSettings::validate() refuses them.
-FitSettings checkedSettings(const CompressOptions& options);
+FitSettings checkedSettings(const BudgetedFitOptions& options);
 
 /// The asset of a fit of @a target with everything but the Gaussians: placement,
 /// value mapping, source record, settings and encoding.
-GaussianAsset assetSkeleton(const VolumeTarget& target, const FitSettings& settings, const CompressOptions& options,
+GaussianAsset assetSkeleton(const VolumeTarget& target, const FitSettings& settings, const BudgetedFitOptions& options,
                             const std::string& name);
 
 /// The whole volume's count for @a asset (a skeleton): options.gaussians, or what
 /// fits the ratio's byte budget, which goes to @a maxBytes (0 for an exact count).
 /// @throw InputError for a ratio below 1 or too high for one Gaussian.
-std::size_t budgetedGaussians(const GaussianAsset& asset, const CompressOptions& options, std::uint64_t& maxBytes);
+std::size_t budgetedGaussians(const GaussianAsset& asset, const BudgetedFitOptions& options, std::uint64_t& maxBytes);
 
 /// Fits @a grid (an ingested volume, or any float or Vec3s grid) and returns the
 /// asset. @a name names the volume in errors and, for a grid that gvr did not
@@ -65,12 +65,12 @@ std::size_t budgetedGaussians(const GaussianAsset& asset, const CompressOptions&
 /// @throw InputError for settings that validate() refuses, a ratio below 1 or too
 ///        high for one Gaussian, or labels asked for without a label grid;
 ///        Cancelled once options.cancel is set.
-CompressResult compress(const openvdb::GridBase::Ptr& grid, const std::string& name, const CompressOptions& options,
+BudgetedFitResult fitToBudget(const openvdb::GridBase::Ptr& grid, const std::string& name, const BudgetedFitOptions& options,
                         const FitObserver& observer = {}, const openvdb::Int32Grid* labels = nullptr);
 
 /// The same, for a caller that holds the grid's VolumeTarget already (to measure the
 /// result against it, say): the target's grid is fitted.
-CompressResult compress(const VolumeTarget& target, const std::string& name, const CompressOptions& options,
+BudgetedFitResult fitToBudget(const VolumeTarget& target, const std::string& name, const BudgetedFitOptions& options,
                         const FitObserver& observer = {}, const openvdb::Int32Grid* labels = nullptr);
 
 }  // namespace gvr

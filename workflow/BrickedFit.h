@@ -12,7 +12,7 @@
 #pragma once
 
 #include "Bricks.h"
-#include "Compress.h"
+#include "FitToBudget.h"
 
 #include <string>
 #include <vector>
@@ -34,20 +34,31 @@ struct BrickPlan {
     std::vector<Brick> bricks;
 };
 
-/// @throw InputError for options that compress() refuses, and for a brick count
+/// @throw InputError for options that fitToBudget() refuses, and for a brick count
 ///        that the volume's leaves cannot take.
-BrickPlan planBrickedFit(const VolumeTarget& target, const std::string& name, const CompressOptions& options,
+BrickPlan planBrickedFit(const VolumeTarget& target, const std::string& name, const BudgetedFitOptions& options,
                          const BrickOptions& bricks);
 
 /// A process's share of its time budget for brick @a index, when it fits
 /// @a mine (brick indices): in proportion to their Gaussians.
 double brickSeconds(const BrickPlan& plan, const std::vector<std::size_t>& mine, std::size_t index);
 
+/// How the fit of one brick went, as its part records it for the merged report.
+struct BrickRun {
+    int rank = 0;  ///< of the team that fitted it
+    std::size_t gaussians = 0, iterations = 0, pruned = 0, respawned = 0, solveIterations = 0;
+    double seconds = 0, solveSeconds = 0;
+    double rankPeakRssMiB = 0;  ///< the fitting process's peak so far
+};
+
 /// Fits brick @a index of @a plan with a time budget of @a seconds (ignored with an
-/// iteration budget) and returns it as a part asset.
+/// iteration budget) and returns it as a part asset, with its BrickRun recorded.
 GaussianAsset fitBrickPart(const openvdb::GridBase::ConstPtr& grid, const std::string& name, const BrickPlan& plan,
-                           std::size_t index, double seconds, const FitObserver& observer = {},
-                           FitReport* report = nullptr);
+                           std::size_t index, double seconds, const FitObserver& observer = {}, int rank = 0);
+
+/// The run that @a part records.
+/// @throw InputError naming @a name when it records none, or a corrupt one.
+BrickRun brickRunOf(const GaussianAsset& part, const std::string& name);
 
 /// Which brick of how many @a part holds (from its "brick" record).
 /// @throw InputError naming @a name when @a part is not a brick part.

@@ -1,4 +1,4 @@
-#include "Compress.h"
+#include "FitToBudget.h"
 
 #include "Error.h"
 #include "LabelBudget.h"
@@ -32,7 +32,7 @@ void checkRatio(double ratio) {
 
 }  // namespace
 
-GaussianAsset assetSkeleton(const VolumeTarget& target, const FitSettings& settings, const CompressOptions& options,
+GaussianAsset assetSkeleton(const VolumeTarget& target, const FitSettings& settings, const BudgetedFitOptions& options,
                             const std::string& name) {
     const openvdb::GridBase& grid = target.grid();
     GaussianAsset asset;
@@ -54,7 +54,7 @@ GaussianAsset assetSkeleton(const VolumeTarget& target, const FitSettings& setti
     return asset;
 }
 
-std::size_t budgetedGaussians(const GaussianAsset& asset, const CompressOptions& options, std::uint64_t& maxBytes) {
+std::size_t budgetedGaussians(const GaussianAsset& asset, const BudgetedFitOptions& options, std::uint64_t& maxBytes) {
     maxBytes = 0;
     if (options.gaussians > 0) return options.gaussians;
     checkRatio(options.ratio);
@@ -70,7 +70,7 @@ namespace {
 
 /// Gaussians per structure: the count split with a floor, or the ratio applied to
 /// each structure's own raw bytes.
-std::vector<std::size_t> structureBudgets(const CompressOptions& options, const GaussianAsset& asset,
+std::vector<std::size_t> structureBudgets(const BudgetedFitOptions& options, const GaussianAsset& asset,
                                           const std::vector<std::uint64_t>& voxels) {
     if (options.gaussians > 0) return splitBudget(options.gaussians, voxels);
     checkRatio(options.ratio);
@@ -84,7 +84,7 @@ std::vector<std::size_t> structureBudgets(const CompressOptions& options, const 
 
 /// Fits the structures that options.labels names into @a result.
 void fitByLabel(const openvdb::GridBase& image, const openvdb::Int32Grid& labels, const FitSettings& settings,
-                const CompressOptions& options, const FitObserver& observer, CompressResult& result) {
+                const BudgetedFitOptions& options, const FitObserver& observer, BudgetedFitResult& result) {
     GaussianAsset& asset = result.asset;
     const LabelTable table = labelTableOf(labels);
     const std::vector<int> ids = selectLabels(table, options.labels, "`labels`");
@@ -123,7 +123,7 @@ FitObserver cancellable(const FitObserver& observer, const std::atomic<bool>* ca
 
 }  // namespace
 
-FitSettings checkedSettings(const CompressOptions& options) {
+FitSettings checkedSettings(const BudgetedFitOptions& options) {
     FitSettings settings = options.settings;
     applyAblation(ablationFromName(options.ablation), settings);
     if (options.gaussians > 0) settings.minSamplesPerGaussian = 0.0;
@@ -132,13 +132,13 @@ FitSettings checkedSettings(const CompressOptions& options) {
     return settings;
 }
 
-CompressResult compress(const openvdb::GridBase::Ptr& grid, const std::string& name, const CompressOptions& options,
+BudgetedFitResult fitToBudget(const openvdb::GridBase::Ptr& grid, const std::string& name, const BudgetedFitOptions& options,
                         const FitObserver& observer, const openvdb::Int32Grid* labels) {
     checkedSettings(options);  // before the target reads the grid
-    return compress(VolumeTarget(grid, name), name, options, observer, labels);
+    return fitToBudget(VolumeTarget(grid, name), name, options, observer, labels);
 }
 
-CompressResult compress(const VolumeTarget& target, const std::string& name, const CompressOptions& options,
+BudgetedFitResult fitToBudget(const VolumeTarget& target, const std::string& name, const BudgetedFitOptions& options,
                         const FitObserver& userObserver, const openvdb::Int32Grid* labels) {
     FitSettings settings = checkedSettings(options);
     if (options.cancel && options.cancel->load()) throw Cancelled(name);
@@ -146,7 +146,7 @@ CompressResult compress(const VolumeTarget& target, const std::string& name, con
     if (!options.labels.empty() && !labels) throw InputError(name, "holds no label grid; ingest the image with `labels=LABELS`, or give the label volume");
 
     const openvdb::GridBase& grid = target.grid();
-    CompressResult result;
+    BudgetedFitResult result;
     result.asset = assetSkeleton(target, settings, options, name);
     if (target.activeVoxelCount() == 0) return result;
     if (labels && !options.labels.empty()) {

@@ -2,6 +2,7 @@
 
 #include "AssetFile.h"
 #include "Error.h"
+#include "ProcessMemory.h"
 
 #include <algorithm>
 
@@ -54,6 +55,34 @@ nlohmann::json brickRecord(const BrickPlan& plan, const Brick& brick) {
             {"encoding", encodingJson(plan.skeleton.encoding)}};
 }
 
+BrickRun runOf(const FitReport& report, std::size_t gaussians, int rank) {
+    BrickRun run;
+    run.rank = rank;
+    run.gaussians = gaussians;
+    run.iterations = report.iterations;
+    run.seconds = report.seconds;
+    run.pruned = report.pruned;
+    run.respawned = report.respawned;
+    run.solveIterations = report.amplitudeSolve.iterations;
+    run.solveSeconds = report.amplitudeSolve.seconds;
+    run.rankPeakRssMiB = peakRssMiB();
+    return run;
+}
+
+/// The part's record of its run, in the keys that part files have always had
+/// (gvr merge reads parts written by earlier versions).
+nlohmann::json runRecord(const BrickRun& run) {
+    return {{"rank", run.rank},
+            {"gaussians", run.gaussians},
+            {"iterations", run.iterations},
+            {"seconds", run.seconds},
+            {"pruned", run.pruned},
+            {"respawned", run.respawned},
+            {"solve_iterations", run.solveIterations},
+            {"solve_seconds", run.solveSeconds},
+            {"rank_peak_rss_mib", run.rankPeakRssMiB}};
+}
+
 /// The part's fit record without its brick: equal for all parts of one fit.
 nlohmann::json sharedRecord(const GaussianAsset& part) {
     nlohmann::json shared = part.fitSettings;
@@ -81,7 +110,7 @@ void checkSameFit(const GaussianAsset& first, const GaussianAsset& part, const s
 
 }  // namespace
 
-BrickPlan planBrickedFit(const VolumeTarget& target, const std::string& name, const CompressOptions& options,
+BrickPlan planBrickedFit(const VolumeTarget& target, const std::string& name, const BudgetedFitOptions& options,
                          const BrickOptions& bricks) {
     if (bricks.count == 0) throw InputError("`bricks`", "must be at least 1");
     if (bricks.halo < 0) throw InputError("`halo`", "must be at least 0");
@@ -105,15 +134,36 @@ double brickSeconds(const BrickPlan& plan, const std::vector<std::size_t>& mine,
 }
 
 GaussianAsset fitBrickPart(const openvdb::GridBase::ConstPtr& grid, const std::string& name, const BrickPlan& plan,
-                           std::size_t index, double seconds, const FitObserver& observer, FitReport* report) {
+                           std::size_t index, double seconds, const FitObserver& observer, int rank) {
     const Brick& brick = plan.bricks.at(index);
     FitSettings settings = plan.settings;
     if (settings.seconds > 0.0) settings.seconds = std::max(seconds, 1e-3);
     GaussianAsset part = plan.skeleton;
-    part.params = fitBrick(grid, name, brick, settings, observer, report);
+    FitReport report;
+    part.params = fitBrick(grid, name, brick, settings, observer, &report);
     part.encoding = partEncoding();
     part.fitSettings["brick"] = brickRecord(plan, brick);
+    part.fitSettings["brick"]["run"] = runRecord(runOf(report, part.params.count(), rank));
     return part;
+}
+
+BrickRun brickRunOf(const GaussianAsset& part, const std::string& name) {
+    try {
+        const nlohmann::json& run = part.fitSettings.at("brick").at("run");
+        BrickRun out;
+        out.rank = run.at("rank").get<int>();
+        out.gaussians = run.at("gaussians").get<std::size_t>();
+        out.iterations = run.at("iterations").get<std::size_t>();
+        out.seconds = run.at("seconds").get<double>();
+        out.pruned = run.at("pruned").get<std::size_t>();
+        out.respawned = run.at("respawned").get<std::size_t>();
+        out.solveIterations = run.at("solve_iterations").get<std::size_t>();
+        out.solveSeconds = run.at("solve_seconds").get<double>();
+        out.rankPeakRssMiB = run.at("rank_peak_rss_mib").get<double>();
+        return out;
+    } catch (const std::exception& error) {
+        throw InputError(name, std::string("corrupt brick run record: ") + error.what());
+    }
 }
 
 std::pair<std::size_t, std::size_t> brickOfPart(const GaussianAsset& part, const std::string& name) {

@@ -1,28 +1,19 @@
-#include "FitBricks.h"
+#include "TeamFit.h"
 
 #include "AssetFile.h"
-#include "BrickTeam.h"
 #include "Error.h"
 #include "GaussianField.h"
-#include "ProgressBar.h"
-#include "Report.h"
 
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 
 namespace gvr {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-FitObserver barObserver(ProgressBar& bar, std::size_t brick) {
-    return [&bar, brick](const FitProgress& p) {
-        bar.update(p.fraction, "brick " + std::to_string(brick) + ", it " + std::to_string(p.iteration) + ", " +
-                                   std::to_string(p.gaussians) + " Gaussians");
-    };
-}
 
 /// The brick that tests make fail, from the environment (GVR_TEST_FAIL_BRICK): no
 /// input makes one brick of a team fail on demand, and a hook there is no flag of gvr's.
@@ -35,24 +26,10 @@ std::optional<std::size_t> brickMadeToFail() {
     return std::size_t(brick);
 }
 
-/// Fits brick @a index into a part; the part's brick record also tells how the
-/// fit went (the merge drops the record).
 GaussianAsset fitPart(const openvdb::GridBase::ConstPtr& grid, const std::string& name, const BrickPlan& plan,
-                      std::size_t index, double seconds, const BrickFlags& flags, int rank, bool progress) {
+                      std::size_t index, double seconds, int rank, const FitObserver& observer) {
     if (brickMadeToFail() == index) throw InputError("GVR_TEST_FAIL_BRICK", "brick " + std::to_string(index) + " failed on purpose");
-    ProgressBar bar("fitting", progress);
-    FitReport report;
-    GaussianAsset part = fitBrickPart(grid, name, plan, index, seconds, barObserver(bar, index), &report);
-    part.fitSettings["brick"]["run"] = {{"rank", rank},
-                                        {"gaussians", part.params.count()},
-                                        {"iterations", report.iterations},
-                                        {"seconds", report.seconds},
-                                        {"pruned", report.pruned},
-                                        {"respawned", report.respawned},
-                                        {"solve_iterations", report.amplitudeSolve.iterations},
-                                        {"solve_seconds", report.amplitudeSolve.seconds},
-                                        {"rank_peak_rss_mib", peakRssMiB()}};
-    return part;
+    return fitBrickPart(grid, name, plan, index, seconds, observer, rank);
 }
 
 std::vector<std::size_t> bricksOf(int rank, const std::vector<int>& owners) {
@@ -64,13 +41,14 @@ std::vector<std::size_t> bricksOf(int rank, const std::vector<int>& owners) {
 }
 
 std::vector<BrickOutcome> fitMine(const openvdb::GridBase::ConstPtr& grid, const std::string& name,
-                                  const BrickPlan& plan, const std::vector<std::size_t>& mine,
-                                  const BrickFlags& flags, int rank, bool progress) {
+                                  const BrickPlan& plan, const std::vector<std::size_t>& mine, int rank,
+                                  const BrickObservers& observers) {
     std::vector<BrickOutcome> outcomes;
     for (std::size_t b : mine) {
         BrickOutcome outcome{b, rank, true, {}};
         try {
-            GaussianAsset part = fitPart(grid, name, plan, b, brickSeconds(plan, mine, b), flags, rank, progress);
+            const FitObserver observer = observers ? observers(b) : FitObserver{};
+            GaussianAsset part = fitPart(grid, name, plan, b, brickSeconds(plan, mine, b), rank, observer);
             outcome.bytes = encodeAsset(part);
         } catch (const std::exception& error) {
             outcome.ok = false;
@@ -93,21 +71,21 @@ std::vector<GaussianAsset> partsOf(const std::vector<BrickOutcome>& outcomes, st
     return parts;
 }
 
-BrickedFitResult merged(std::vector<GaussianAsset> parts, const std::vector<std::string>& names) {
-    BrickedFitResult out;
+/// The merged asset and report; @a layout gives each brick's budget.
+TeamFitResult merged(std::vector<GaussianAsset> parts, const std::vector<std::string>& names,
+                     const std::vector<Brick>& layout) {
+    TeamFitResult out;
     FitReport& total = out.result.fit;
-    for (const GaussianAsset& part : parts) {
-        const nlohmann::json& brick = part.fitSettings.at("brick");
-        const nlohmann::json& run = brick.at("run");
-        out.bricks.push_back({{"brick", brick.at("index")}, {"budget", brick.at("budget")}, {"rank", run.at("rank")},
-                              {"gaussians", run.at("gaussians")}, {"iterations", run.at("iterations")},
-                              {"seconds", run.at("seconds")}, {"rank_peak_rss_mib", run.at("rank_peak_rss_mib")}});
-        total.iterations += run.at("iterations").get<std::size_t>();
-        total.seconds += run.at("seconds").get<double>();
-        total.pruned += run.at("pruned").get<std::size_t>();
-        total.respawned += run.at("respawned").get<std::size_t>();
-        total.amplitudeSolve.iterations += run.at("solve_iterations").get<std::size_t>();
-        total.amplitudeSolve.seconds += run.at("solve_seconds").get<double>();
+    for (std::size_t p = 0; p < parts.size(); ++p) {
+        const std::size_t brick = brickOfPart(parts[p], names[p]).first;
+        const BrickRun run = brickRunOf(parts[p], names[p]);
+        out.bricks.push_back({brick, layout.at(brick).budget, run});
+        total.iterations += run.iterations;
+        total.seconds += run.seconds;
+        total.pruned += run.pruned;
+        total.respawned += run.respawned;
+        total.amplitudeSolve.iterations += run.solveIterations;
+        total.amplitudeSolve.seconds += run.solveSeconds;
     }
     const auto start = Clock::now();
     out.result.asset = mergeBrickParts(std::move(parts), names, &out.result.dropped);
@@ -117,32 +95,16 @@ BrickedFitResult merged(std::vector<GaussianAsset> parts, const std::vector<std:
 
 }  // namespace
 
-void addBrickFlags(CLI::App& command, BrickFlags& flags) {
-    auto* bricks = command.add_option("--bricks", flags.count,
-                        "Fit in N bricks of whole 8^3 leaves, each with its own seed and a share of the Gaussians in "
-                        "proportion to its active voxels, then merge them into one asset. Under mpirun the ranks "
-                        "share the bricks and rank 0 writes")
-        ->check(CLI::Range(std::size_t(1), std::size_t(1) << 20));
-    command.add_option("--halo", flags.halo, "Voxels around a brick that its fit also sees")
-        ->check(CLI::Range(0, 256))->capture_default_str();
-    auto* only = command.add_option("--brick", flags.only,
-                        "Fit only brick I of --of N and write it as a part, for a job array; gvr merge joins the parts")
-        ->excludes(bricks);
-    command.add_option("--of", flags.count, "With --brick: the number of bricks")
-        ->check(CLI::Range(std::size_t(1), std::size_t(1) << 20))->needs(only);
-    only->needs("--of");
-}
-
-BrickedFitResult fitAllBricks(const BrickTeam& team, const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
-                              const std::string& name, const CompressOptions& options, const BrickFlags& flags,
-                              bool progress) {
+TeamFitResult fitAllBricks(const BrickTeam& team, const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
+                           const std::string& name, const BudgetedFitOptions& options, const BrickOptions& bricks,
+                           const BrickObservers& observers) {
     std::vector<BrickOutcome> outcomes;
-    BrickedFitResult result;
+    TeamFitResult result;
     try {
-        const BrickPlan plan = planBrickedFit(target, name, options, {flags.count, flags.halo});
+        const BrickPlan plan = planBrickedFit(target, name, options, bricks);
         const std::vector<int> owners = team.owners(plan.bricks);
         const std::vector<std::size_t> mine = bricksOf(team.rank(), owners);
-        outcomes = fitMine(grid, name, plan, mine, flags, team.rank(), progress && team.isRoot());
+        outcomes = fitMine(grid, name, plan, mine, team.rank(), team.isRoot() ? observers : BrickObservers{});
         outcomes = team.gather(std::move(outcomes), owners);
         result.layout = plan.bricks;
         result.owners = owners;
@@ -153,7 +115,7 @@ BrickedFitResult fitAllBricks(const BrickTeam& team, const openvdb::GridBase::Co
     if (!team.isRoot()) return result;
     std::vector<std::string> names;
     std::vector<GaussianAsset> parts = partsOf(outcomes, names);
-    BrickedFitResult merge = merged(std::move(parts), names);
+    TeamFitResult merge = merged(std::move(parts), names, result.layout);
     merge.layout = std::move(result.layout);
     merge.owners = std::move(result.owners);
     return merge;
@@ -173,14 +135,15 @@ std::vector<SliceSums> slicesOf(const std::string& bytes) {
 
 /// This rank's bricks' cores measured, one outcome per brick.
 std::vector<BrickOutcome> measureMine(const GaussianField& field, const ThresholdCut& cut,
-                                     const VolumeTarget& target, const BrickedFitResult& fit,
-                                     const std::vector<std::size_t>& mine, int rank, bool progress) {
+                                     const VolumeTarget& target, const TeamFitResult& fit,
+                                     const std::vector<std::size_t>& mine, int rank, const ProgressFn& progress) {
     const BrickSeams seams(fit.layout, kSeamWidth);
     const VoxelMarking nearFace = [&](const openvdb::Coord& ijk) { return seams.near(ijk); };
-    ProgressBar bar("measuring", progress);
     std::vector<BrickOutcome> outcomes;
     for (std::size_t n = 0; n < mine.size(); ++n) {
-        const auto share = [&](double fraction) { bar.update((double(n) + fraction) / double(mine.size())); };
+        const ProgressFn share = [&](double fraction) {
+            if (progress) progress((double(n) + fraction) / double(mine.size()));
+        };
         const Brick& brick = fit.layout[mine[n]];
         outcomes.push_back({brick.index, rank, true, bytesOf(measureSliceSums(field, target, brick.core, share, nearFace, cut))});
     }
@@ -206,12 +169,12 @@ std::vector<SliceSums> wholeBoxSlices(const std::vector<BrickOutcome>& outcomes,
 }  // namespace
 
 FieldAccuracy measureAcrossTeam(const BrickTeam& team, const std::string& saved, const VolumeTarget& target,
-                              const BrickedFitResult& fit, bool progress) {
+                                const TeamFitResult& fit, const ProgressFn& progress) {
     try {
         const GaussianAsset asset = decodeAsset(saved, "the merged asset");
         const GaussianField field(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas);
         std::vector<BrickOutcome> outcomes = measureMine(field, defaultExportCut(asset), target, fit, bricksOf(team.rank(), fit.owners),
-                                                         team.rank(), progress && team.isRoot());
+                                                         team.rank(), team.isRoot() ? progress : ProgressFn{});
         outcomes = team.gather(std::move(outcomes), fit.owners);
         return team.isRoot() ? fieldAccuracyOf(wholeBoxSlices(outcomes, fit.layout, target), target) : FieldAccuracy{};
     } catch (const std::exception& error) {
@@ -221,14 +184,13 @@ FieldAccuracy measureAcrossTeam(const BrickTeam& team, const std::string& saved,
 }
 
 GaussianAsset fitOneBrick(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
-                          const std::string& name, const CompressOptions& options, const BrickFlags& flags,
-                          bool progress) {
-    const BrickPlan plan = planBrickedFit(target, name, options, {flags.count, flags.halo});
-    const std::size_t index = *flags.only;
+                          const std::string& name, const BudgetedFitOptions& options, const BrickOptions& bricks,
+                          std::size_t index, const FitObserver& observer) {
+    const BrickPlan plan = planBrickedFit(target, name, options, bricks);
     if (index >= plan.bricks.size()) {
-        throw InputError("--brick", std::to_string(index) + " is not below --of " + std::to_string(plan.bricks.size()));
+        throw InputError("`brick`", std::to_string(index) + " is not below `of=" + std::to_string(plan.bricks.size()) + "`");
     }
-    return fitPart(grid, name, plan, index, plan.settings.seconds, flags, 0, progress);
+    return fitPart(grid, name, plan, index, plan.settings.seconds, 0, observer);
 }
 
 }  // namespace gvr

@@ -1,5 +1,5 @@
 /// @file RenderInput.h
-/// @brief What `gvr render` and `gvr view` draw: a Gaussian asset (the structures
+/// @brief What `gvr render`, `gvr view` and Python's render draw: a Gaussian asset (the structures
 /// shown) or a grid, and the transfer function given by preset or file.
 #pragma once
 
@@ -8,8 +8,6 @@
 #include "Ingest.h"
 #include "RenderVolume.h"
 #include "ShearWarp.h"
-
-#include <CLI/CLI.hpp>
 
 #include <memory>
 #include <optional>
@@ -26,22 +24,15 @@ struct RenderInput {
 /// @a hide) or anything loadOrIngest reads. With @a assetAsGrid, an asset becomes
 /// its field exported onto its source grid, unthresholded (for the ray marcher).
 /// @param minScale  as for GaussianRenderVolume
-/// @throw InputError naming the file, or --show/--hide for a grid.
+/// @throw InputError naming the file, also when @a show or @a hide is given for a grid.
 RenderInput loadRenderInput(const std::string& path, const std::string& show, const std::string& hide, float minScale,
                             const IngestOptions& ingest, bool assetAsGrid = false);
 
-/// "512x384" as --size gives it: width and height in pixels, each 1 to kMaxImageSide.
-/// @throw InputError naming --size.
-std::pair<int, int> parseImageSize(const std::string& text);
-
-/// The transfer function of --tf: a JSON file, else a preset fitted to @a volume
+/// The transfer function @a tf names: a JSON file, else a preset fitted to @a volume
 /// (empty: the preset for data like these). @a mismatch: as for presetFor.
 TransferFunction transferFunctionFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch = nullptr);
 
 /// volumeClassifier() of transferFunctionFor().
 Classifier classifierFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch = nullptr);
-
-/// --stacks and --reuse-angle, which render and view share.
-void addStackFlags(CLI::App& command, ShearWarpSettings& settings);
 
 }  // namespace gvr

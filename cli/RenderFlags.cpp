@@ -1,0 +1,39 @@
+#include "RenderFlags.h"
+
+#include "Camera.h"
+#include "Error.h"
+
+#include <sstream>
+
+namespace gvr {
+
+void addStackFlags(CLI::App& command, ShearWarpSettings& settings) {
+    // By name only: an enum option would also take its numbers, "--stacks 1" for view.
+    command.add_option_function<std::string>(
+               "--stacks",
+               [&settings](const std::string& name) {
+                   settings.stacks = name == "view" ? StackOrientation::view : StackOrientation::axes;
+               },
+               "axes: slice stacks across the world axis nearest the view, each built once and kept "
+               "(an orbit builds two or three); view: a stack across the view, rebuilt beyond --reuse-angle")
+        ->check(CLI::IsMember({"axes", "view"}))
+        ->type_name("axes|view")
+        ->default_str("axes");
+    command.add_option("--reuse-angle", settings.reuseAngleDeg,
+                       "With --stacks view: reuse the stack while the view is within this many degrees")
+        ->capture_default_str();
+}
+
+std::pair<int, int> parseImageSize(const std::string& text) {
+    int width = 0, height = 0;
+    char x = 0;
+    std::istringstream in(text);
+    if (!(in >> width >> x >> height) || x != 'x' || !(in >> std::ws).eof() || width < 1 || height < 1 ||
+        width > kMaxImageSide || height > kMaxImageSide) {
+        throw InputError("--size", "'" + text + "' is not WIDTHxHEIGHT of 1 to " + std::to_string(kMaxImageSide) +
+                                       " pixels each, e.g. 512x512");
+    }
+    return {width, height};
+}
+
+}  // namespace gvr

@@ -1,0 +1,29 @@
+/// @file Figures.h
+/// @brief Figures as gvr writes them, in JSON and in text, where a perfect match
+/// has an infinite PSNR.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <string>
+
+namespace gvr {
+
+/// A number, or the string "inf" (JSON has no infinity; Python's float() reads it).
+inline nlohmann::json jsonNumber(double value) {
+    if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+    return value;
+}
+
+/// Decibels to two places, "38.12", or "inf" for a perfect match.
+inline std::string formatDb(double db) {
+    if (std::isinf(db)) return db > 0 ? "inf" : "-inf";
+    std::ostringstream out;
+    out << std::fixed << std::setprecision(2) << db;
+    return out.str();
+}
+
+}  // namespace gvr

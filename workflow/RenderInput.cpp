@@ -1,0 +1,45 @@
+#include "RenderInput.h"
+
+#include "AssetExport.h"
+#include "AssetFile.h"
+#include "Error.h"
+#include "TransferFunctionFile.h"
+#include "VolumeClassifier.h"
+
+#include <filesystem>
+#include <limits>
+
+namespace gvr {
+
+RenderInput loadRenderInput(const std::string& path, const std::string& show, const std::string& hide, float minScale,
+                            const IngestOptions& ingest, bool assetAsGrid) {
+    RenderInput input;
+    if (!isAssetFile(path)) {
+        if (!show.empty() || !hide.empty()) {
+            throw InputError(path, "`show` and `hide` select the structures of a Gaussian asset fitted with `labels`");
+        }
+        input.volume = std::make_unique<GridRenderVolume>(loadOrIngest(path, ingest).grid);
+        return input;
+    }
+    input.asset = selectStructures(readAsset(path), show, hide, path);
+    if (assetAsGrid) {
+        ExportSettings everything;
+        everything.threshold = -std::numeric_limits<double>::infinity();
+        input.volume = std::make_unique<GridRenderVolume>(exportAsset(*input.asset, everything).grids.front());
+    } else {
+        input.volume = std::make_unique<GaussianRenderVolume>(*input.asset, minScale);
+    }
+    return input;
+}
+
+TransferFunction transferFunctionFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch) {
+    // Anything on disk by that name is meant as a file, so a FIFO is refused as one.
+    if (!tf.empty() && std::filesystem::exists(tf)) return readTransferFunction(tf);
+    return presetFor(volume, tf, mismatch);
+}
+
+Classifier classifierFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch) {
+    return volumeClassifier(volume, transferFunctionFor(tf, volume, mismatch));
+}
+
+}  // namespace gvr
