@@ -1,7 +1,7 @@
-#include "BenchManifest.h"
+#include "bench/BenchManifest.h"
 
-#include "Error.h"
-#include "InputFile.h"
+#include "io/InputFile.h"
+#include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>

@@ -32,7 +32,7 @@
 /// compression of its search and the decompression together.
 #pragma once
 
-#include "ExternalCodec.h"
+#include "bench/ExternalCodec.h"
 
 #include <cstdint>
 #include <optional>

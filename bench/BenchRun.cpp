@@ -1,14 +1,14 @@
-#include "BenchRun.h"
+#include "bench/BenchRun.h"
 
-#include "BaselineCodecs.h"
-#include "ChildProcess.h"
-#include "Error.h"
-#include "ExternalCodec.h"
-#include "FloatVolume.h"
-#include "FramePath.h"
-#include "GridFile.h"
-#include "RayMarcher.h"
-#include "VolumeMetadata.h"
+#include "bench/ChildProcess.h"
+#include "bench/ExternalCodec.h"
+#include "io/BaselineCodecs.h"
+#include "io/FramePath.h"
+#include "io/GridFile.h"
+#include "pipeline/Error.h"
+#include "pipeline/FloatVolume.h"
+#include "pipeline/VolumeMetadata.h"
+#include "render/RayMarcher.h"
 
 #include <nlohmann/json.hpp>
 

@@ -3,8 +3,8 @@
 /// process, and turns what they print into result rows.
 #pragma once
 
-#include "BenchManifest.h"
-#include "BenchTable.h"
+#include "bench/BenchManifest.h"
+#include "bench/BenchTable.h"
 
 #include <functional>
 #include <string>

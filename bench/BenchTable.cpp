@@ -1,7 +1,7 @@
-#include "BenchTable.h"
+#include "bench/BenchTable.h"
 
-#include "AtomicFile.h"
-#include "Error.h"
+#include "io/AtomicFile.h"
+#include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
 

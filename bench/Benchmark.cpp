@@ -1,12 +1,12 @@
-#include "Benchmark.h"
+#include "bench/Benchmark.h"
 
-#include "BenchManifest.h"
 #include "BenchReportScript.h"
-#include "BenchRun.h"
-#include "ChildProcess.h"
-#include "AtomicFile.h"
-#include "Error.h"
-#include "ExternalCodec.h"
+#include "bench/BenchManifest.h"
+#include "bench/BenchRun.h"
+#include "bench/ChildProcess.h"
+#include "bench/ExternalCodec.h"
+#include "io/AtomicFile.h"
+#include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
 

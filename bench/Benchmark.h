@@ -7,7 +7,7 @@
 /// method is timed and sized alone and a crash fails one row, not the benchmark.
 #pragma once
 
-#include "BenchTable.h"
+#include "bench/BenchTable.h"
 
 #include <cstddef>
 #include <functional>

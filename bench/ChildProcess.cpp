@@ -1,6 +1,6 @@
-#include "ChildProcess.h"
+#include "bench/ChildProcess.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <fcntl.h>
 #include <poll.h>

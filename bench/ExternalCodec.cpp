@@ -1,8 +1,8 @@
-#include "ExternalCodec.h"
+#include "bench/ExternalCodec.h"
 
-#include "AtomicFile.h"
-#include "BaselineCodecs.h"
-#include "ChildProcess.h"
+#include "bench/ChildProcess.h"
+#include "io/AtomicFile.h"
+#include "io/BaselineCodecs.h"
 
 #include <unistd.h>
 

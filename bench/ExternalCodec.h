@@ -17,7 +17,7 @@
 ///   {param}       the quality parameter being searched
 #pragma once
 
-#include "FloatVolume.h"
+#include "pipeline/FloatVolume.h"
 
 #include <openvdb/openvdb.h>
 

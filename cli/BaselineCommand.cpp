@@ -1,15 +1,15 @@
 // gvr baseline INPUT --method M -o RECON.vdb --stream FILE: the reference codecs
 // that gvr's Gaussians are measured against, with the reconstruction they give.
 
-#include "AtomicFile.h"
-#include "BaselineCodecs.h"
-#include "Commands.h"
-#include "Diagnostics.h"
-#include "Error.h"
-#include "GridFile.h"
-#include "GridSummary.h"
-#include "ProgressBar.h"
-#include "SourceOptions.h"
+#include "cli/Commands.h"
+#include "cli/Diagnostics.h"
+#include "cli/ProgressBar.h"
+#include "cli/SourceOptions.h"
+#include "io/AtomicFile.h"
+#include "io/BaselineCodecs.h"
+#include "io/GridFile.h"
+#include "io/GridSummary.h"
+#include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,12 +1,12 @@
 // gvr bench MANIFEST -o RESULTS: the batch compression benchmark (gvr, its ablations,
 // ZFP, OpenVDB and downsampling), with tables and plots; and --merge of shards.
 
-#include "Benchmark.h"
-#include "ChildProcess.h"
-#include "Commands.h"
-#include "Diagnostics.h"
-#include "Error.h"
-#include "Figures.h"
+#include "bench/Benchmark.h"
+#include "bench/ChildProcess.h"
+#include "cli/Commands.h"
+#include "cli/Diagnostics.h"
+#include "io/Figures.h"
+#include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
 

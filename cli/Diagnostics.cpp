@@ -1,6 +1,6 @@
-#include "Diagnostics.h"
+#include "cli/Diagnostics.h"
 
-#include "SettingNames.h"
+#include "pipeline/SettingNames.h"
 
 #include <unistd.h>
 

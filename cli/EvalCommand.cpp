@@ -1,9 +1,9 @@
 // gvr eval REFERENCE TEST: MSE, PSNR, foreground PSNR, SSIM and MS-SSIM.
 
-#include "Commands.h"
-#include "Evaluate.h"
-#include "Figures.h"
-#include "SourceOptions.h"
+#include "cli/Commands.h"
+#include "cli/SourceOptions.h"
+#include "io/Figures.h"
+#include "workflow/Evaluate.h"
 
 #include <iomanip>
 #include <iostream>

@@ -1,15 +1,15 @@
 // gvr export ASSET -o OUT.vdb [-o OUT.nii.gz]: the reconstruction as OpenVDB grids and/or NIfTI.
 
-#include "AssetExport.h"
-#include "AssetFile.h"
-#include "Commands.h"
-#include "Diagnostics.h"
-#include "Error.h"
-#include "GridSummary.h"
-#include "ProgressBar.h"
-#include "RenderInput.h"
-#include "TransferFunctionFile.h"
-#include "VolumeOutputOptions.h"
+#include "cli/Commands.h"
+#include "cli/Diagnostics.h"
+#include "cli/ProgressBar.h"
+#include "cli/VolumeOutputOptions.h"
+#include "io/AssetExport.h"
+#include "io/AssetFile.h"
+#include "io/GridSummary.h"
+#include "io/TransferFunctionFile.h"
+#include "pipeline/Error.h"
+#include "workflow/RenderInput.h"
 
 #include <chrono>
 #include <iostream>

@@ -1,11 +1,11 @@
 // gvr info FILE: what a .vdb holds, or what ingest would make of a source volume.
 
-#include "AssetFile.h"
-#include "Commands.h"
-#include "Diagnostics.h"
-#include "GridFile.h"
-#include "GridSummary.h"
-#include "SourceOptions.h"
+#include "cli/Commands.h"
+#include "cli/Diagnostics.h"
+#include "cli/SourceOptions.h"
+#include "io/AssetFile.h"
+#include "io/GridFile.h"
+#include "io/GridSummary.h"
 
 #include <filesystem>
 #include <iostream>

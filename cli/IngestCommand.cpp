@@ -1,15 +1,15 @@
 // gvr ingest INPUT -o OUT.vdb [-o OUT.nii.gz]: any supported volume to a sparse OpenVDB grid (or NIfTI).
 
-#include "Error.h"
-#include "Commands.h"
-#include "Diagnostics.h"
-#include "GridSummary.h"
-#include "LabelGrid.h"
-#include "ProgressBar.h"
-#include "Figures.h"
-#include "ProcessMemory.h"
-#include "SourceOptions.h"
-#include "VolumeOutputOptions.h"
+#include "cli/Commands.h"
+#include "cli/Diagnostics.h"
+#include "cli/ProgressBar.h"
+#include "cli/SourceOptions.h"
+#include "cli/VolumeOutputOptions.h"
+#include "io/Figures.h"
+#include "io/GridSummary.h"
+#include "io/LabelGrid.h"
+#include "pipeline/Error.h"
+#include "pipeline/ProcessMemory.h"
 
 #include <chrono>
 #include <iomanip>

@@ -1,10 +1,10 @@
 // gvr merge PARTS... -o ASSET: the parts of a bricked fit (gvr fit --brick I --of N) as one asset.
 
-#include "AssetFile.h"
-#include "AtomicFile.h"
-#include "BrickedFit.h"
-#include "Commands.h"
-#include "GridSummary.h"
+#include "cli/Commands.h"
+#include "io/AssetFile.h"
+#include "io/AtomicFile.h"
+#include "io/GridSummary.h"
+#include "workflow/BrickedFit.h"
 
 #include <filesystem>
 #include <iostream>

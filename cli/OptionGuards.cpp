@@ -1,4 +1,4 @@
-#include "OptionGuards.h"
+#include "cli/OptionGuards.h"
 
 #include <string>
 

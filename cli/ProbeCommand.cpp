@@ -1,9 +1,9 @@
 // gvr probe ASSET --world X,Y,Z | --index I,J,K: what the Gaussian field holds at given points.
 
-#include "AssetFile.h"
-#include "AssetProbe.h"
-#include "Commands.h"
-#include "Error.h"
+#include "cli/Commands.h"
+#include "io/AssetFile.h"
+#include "pipeline/AssetProbe.h"
+#include "pipeline/Error.h"
 
 #include <iomanip>
 #include <iostream>

@@ -1,6 +1,6 @@
-#include "ProgressBar.h"
+#include "cli/ProgressBar.h"
 
-#include "Diagnostics.h"
+#include "cli/Diagnostics.h"
 
 #include <unistd.h>
 

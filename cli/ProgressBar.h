@@ -2,7 +2,7 @@
 /// @brief A one-line progress bar on gvr's stderr, shown only when that is a terminal.
 #pragma once
 
-#include "Progress.h"
+#include "pipeline/Progress.h"
 
 #include <chrono>
 #include <string>

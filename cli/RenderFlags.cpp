@@ -1,7 +1,7 @@
-#include "RenderFlags.h"
+#include "cli/RenderFlags.h"
 
-#include "Camera.h"
-#include "Error.h"
+#include "pipeline/Error.h"
+#include "render/Camera.h"
 
 #include <sstream>
 

@@ -2,7 +2,7 @@
 /// @brief The flags that `gvr render` and `gvr view` share.
 #pragma once
 
-#include "ShearWarp.h"
+#include "render/ShearWarp.h"
 
 #include <CLI/CLI.hpp>
 

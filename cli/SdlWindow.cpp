@@ -1,6 +1,6 @@
-#include "SdlWindow.h"
+#include "cli/SdlWindow.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <SDL.h>
 #include <SDL_ttf.h>

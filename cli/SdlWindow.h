@@ -4,7 +4,7 @@
 /// that SDL's software or GL renderer copies to the screen.
 #pragma once
 
-#include "Framebuffer.h"
+#include "render/Framebuffer.h"
 
 #include <string>
 #include <vector>

@@ -1,6 +1,6 @@
-#include "SourceOptions.h"
+#include "cli/SourceOptions.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <cmath>
 #include <sstream>

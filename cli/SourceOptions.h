@@ -2,7 +2,7 @@
 /// @brief The flags that say how to read a source volume, shared by ingest and info.
 #pragma once
 
-#include "Ingest.h"
+#include "io/Ingest.h"
 
 #include <CLI/CLI.hpp>
 

@@ -1,17 +1,17 @@
 // gvr view INPUT: an interactive window over the shear-warp renderer. Stacks are
 // rebuilt in the background (ViewSession), so dragging never waits for one.
 
-#include "Commands.h"
-#include "Diagnostics.h"
-#include "Error.h"
-#include "ImageFile.h"
-#include "LabelStyle.h"
-#include "RenderFlags.h"
-#include "RenderInput.h"
-#include "SdlWindow.h"
-#include "SourceOptions.h"
-#include "TransferPresets.h"
-#include "ViewSession.h"
+#include "cli/Commands.h"
+#include "cli/Diagnostics.h"
+#include "cli/RenderFlags.h"
+#include "cli/SdlWindow.h"
+#include "cli/SourceOptions.h"
+#include "io/ImageFile.h"
+#include "pipeline/Error.h"
+#include "pipeline/LabelStyle.h"
+#include "render/TransferPresets.h"
+#include "render/ViewSession.h"
+#include "workflow/RenderInput.h"
 
 #include <SDL.h>
 

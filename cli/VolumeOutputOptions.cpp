@@ -1,8 +1,8 @@
-#include "VolumeOutputOptions.h"
+#include "cli/VolumeOutputOptions.h"
 
-#include "Diagnostics.h"
-#include "Error.h"
-#include "GridSummary.h"
+#include "cli/Diagnostics.h"
+#include "io/GridSummary.h"
+#include "pipeline/Error.h"
 
 #include <iostream>
 #include <sstream>

@@ -1,11 +1,11 @@
 // gvr: medical volumes to compact Gaussian assets, and back.
 
-#include "AtomicFile.h"
-#include "Commands.h"
-#include "Diagnostics.h"
-#include "Error.h"
-#include "OptionGuards.h"
-#include "Suggestions.h"
+#include "cli/Commands.h"
+#include "cli/Diagnostics.h"
+#include "cli/OptionGuards.h"
+#include "cli/Suggestions.h"
+#include "io/AtomicFile.h"
+#include "pipeline/Error.h"
 
 #include <filesystem>
 #include <iostream>

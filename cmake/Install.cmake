@@ -1,5 +1,5 @@
 # `cmake --install build [--prefix DIR]`: the gvr command, the static libraries, their
-# headers (flat, under include/gvr) and gvrConfig.cmake, so that a project outside
+# headers (under include/gvr, by folder) and gvrConfig.cmake, so that a project outside
 # this tree can find_package(gvr) and link gvr::gvr (examples/installed/).
 include(CMakePackageConfigHelpers)
 
@@ -18,10 +18,12 @@ set_target_properties(gvr_nifti PROPERTIES EXPORT_NAME nifti)
 install(TARGETS gvr RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS gvr_library gvr_pipeline gvr_io gvr_render gvr_workflow gvr_bench gvr_nifti EXPORT gvrTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
-file(GLOB _gvr_headers CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/pipeline/*.h ${PROJECT_SOURCE_DIR}/io/*.h
-     ${PROJECT_SOURCE_DIR}/render/*.h ${PROJECT_SOURCE_DIR}/workflow/*.h ${PROJECT_SOURCE_DIR}/bench/*.h)
-list(REMOVE_ITEM _gvr_headers ${PROJECT_SOURCE_DIR}/workflow/MpiTeam.h)  # its library is not installed
-install(FILES ${_gvr_headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/gvr)
+# Headers keep their folder, as the sources include them ("pipeline/Fitter.h").
+foreach(_folder pipeline io render workflow bench)
+  file(GLOB _gvr_headers CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/${_folder}/*.h)
+  list(FILTER _gvr_headers EXCLUDE REGEX "/MpiTeam\\.h$")  # its library, gvr_mpi_team, is not installed
+  install(FILES ${_gvr_headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/gvr/${_folder})
+endforeach()
 
 set(_gvr_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/gvr)
 install(EXPORT gvrTargets NAMESPACE gvr:: DESTINATION ${_gvr_cmake_dir})

@@ -1,4 +1,4 @@
-#include "VolPackReference.h"
+#include "examples/VolPackReference.h"
 
 #include <volpack.h>
 

@@ -8,10 +8,10 @@
 // fine; then the defaults are measured together, against version 1's fixed widths.
 // PSNR is of the whole volume against SOURCE, every voxel counted.
 
-#include "AssetBodyV1.h"
-#include "AssetFile.h"
-#include "FieldAccuracy.h"
-#include "GridFile.h"
+#include "io/AssetBodyV1.h"
+#include "io/AssetFile.h"
+#include "io/GridFile.h"
+#include "pipeline/FieldAccuracy.h"
 
 #include <cstdio>
 #include <functional>

@@ -5,8 +5,8 @@
 //
 //   bench_asset_layout ASSET
 
-#include "AssetFile.h"
-#include "GaussianKernel.h"
+#include "io/AssetFile.h"
+#include "pipeline/GaussianKernel.h"
 
 #include <openvdb/points/PointConversion.h>
 

@@ -8,11 +8,11 @@
 // fastest of several calls, so that other work on a shared machine shows less; the
 // two kernels alternate, so drift hits both alike. Defaults: 10000 40000 100000 400000.
 
-#include "AssetFile.h"
-#include "BlockLoss.h"
-#include "FitSettings.h"
-#include "GridFile.h"
-#include "Initialisation.h"
+#include "io/AssetFile.h"
+#include "io/GridFile.h"
+#include "pipeline/BlockLoss.h"
+#include "pipeline/FitSettings.h"
+#include "pipeline/Initialisation.h"
 
 #include <tbb/tick_count.h>
 

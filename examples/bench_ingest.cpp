@@ -6,7 +6,7 @@
 //
 // Each input runs in a child process of its own, so peak memory is per input.
 
-#include "Ingest.h"
+#include "io/Ingest.h"
 
 #include <sys/resource.h>
 #include <unistd.h>

@@ -14,15 +14,15 @@
 // (Lacroute's shear-warp) with the same opacities per voxel, in the same run.
 // Figures are printed, never asserted.
 
-#include "AssetExport.h"
-#include "AssetFile.h"
-#include "Evaluate.h"
-#include "Fitter.h"
-#include "GridFile.h"
-#include "QualityMetrics.h"
-#include "RayMarcher.h"
-#include "ShearWarp.h"
-#include "VolPackReference.h"
+#include "examples/VolPackReference.h"
+#include "io/AssetExport.h"
+#include "io/AssetFile.h"
+#include "io/GridFile.h"
+#include "pipeline/Fitter.h"
+#include "pipeline/QualityMetrics.h"
+#include "render/RayMarcher.h"
+#include "render/ShearWarp.h"
+#include "workflow/Evaluate.h"
 
 #include <chrono>
 #include <cstdio>

@@ -7,14 +7,14 @@
 // Every step is one call; the `gvr` command does the same with progress bars,
 // flags and error messages around them. Read top to bottom.
 
-#include "AssetExport.h"
-#include "AssetFile.h"
-#include "FitToBudget.h"
-#include "GridFile.h"
-#include "ImageFile.h"
-#include "Ingest.h"
-#include "RenderInput.h"
-#include "ShearWarp.h"
+#include "io/AssetExport.h"
+#include "io/AssetFile.h"
+#include "io/GridFile.h"
+#include "io/ImageFile.h"
+#include "io/Ingest.h"
+#include "render/ShearWarp.h"
+#include "workflow/FitToBudget.h"
+#include "workflow/RenderInput.h"
 
 #include <iostream>
 

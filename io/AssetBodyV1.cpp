@@ -1,7 +1,7 @@
-#include "AssetBodyV1.h"
+#include "io/AssetBodyV1.h"
 
-#include "ByteOrder.h"
-#include "Quantisation.h"
+#include "io/ByteOrder.h"
+#include "io/Quantisation.h"
 
 #include <cmath>
 #include <cstring>

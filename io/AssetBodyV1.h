@@ -13,7 +13,7 @@
 /// gvr writes version 2 (AssetBodyV2.h) since 2026-11-23; version 1 files still load.
 #pragma once
 
-#include "GaussianParameters.h"
+#include "pipeline/GaussianParameters.h"
 
 #include <nlohmann/json.hpp>
 

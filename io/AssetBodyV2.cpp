@@ -1,8 +1,8 @@
-#include "AssetBodyV2.h"
+#include "io/AssetBodyV2.h"
 
-#include "ByteOrder.h"
-#include "GaussianKernel.h"
-#include "Quantisation.h"
+#include "io/ByteOrder.h"
+#include "io/Quantisation.h"
+#include "pipeline/GaussianKernel.h"
 
 #include <zstd.h>
 

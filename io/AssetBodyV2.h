@@ -21,8 +21,8 @@
 /// whose content is exactly one byte per Gaussian.
 #pragma once
 
-#include "AssetEncoding.h"
-#include "GaussianParameters.h"
+#include "pipeline/AssetEncoding.h"
+#include "pipeline/GaussianParameters.h"
 
 #include <nlohmann/json.hpp>
 

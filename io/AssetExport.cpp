@@ -1,12 +1,12 @@
-#include "AssetExport.h"
+#include "io/AssetExport.h"
 
-#include "Error.h"
-#include "FloatVolume.h"
-#include "Ingest.h"
-#include "Luminance.h"
-#include "MemoryBudget.h"
-#include "ThresholdCut.h"
-#include "VolumeBorder.h"
+#include "io/Ingest.h"
+#include "io/MemoryBudget.h"
+#include "pipeline/Error.h"
+#include "pipeline/FloatVolume.h"
+#include "pipeline/Luminance.h"
+#include "pipeline/ThresholdCut.h"
+#include "pipeline/VolumeBorder.h"
 
 #include <openvdb/tools/Prune.h>
 

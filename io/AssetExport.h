@@ -2,9 +2,9 @@
 /// @brief A Gaussian asset back to grids that Blender, Houdini and medical tools open.
 #pragma once
 
-#include "FieldToGrid.h"
-#include "GaussianAsset.h"
-#include "TransferFunction.h"
+#include "pipeline/FieldToGrid.h"
+#include "pipeline/GaussianAsset.h"
+#include "pipeline/TransferFunction.h"
 
 #include <openvdb/openvdb.h>
 

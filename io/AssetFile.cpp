@@ -1,13 +1,13 @@
-#include "AssetFile.h"
+#include "io/AssetFile.h"
 
-#include "AssetBodyV1.h"
+#include "io/AssetBodyV1.h"
 
-#include "AtomicFile.h"
-#include "ByteOrder.h"
-#include "Error.h"
-#include "InputFile.h"
-#include "GaussianKernel.h"
-#include "MemoryBudget.h"
+#include "io/AtomicFile.h"
+#include "io/ByteOrder.h"
+#include "io/InputFile.h"
+#include "io/MemoryBudget.h"
+#include "pipeline/Error.h"
+#include "pipeline/GaussianKernel.h"
 
 #include <zlib.h>
 

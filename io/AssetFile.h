@@ -25,8 +25,8 @@
 /// Gaussian, and readers that ignore the key still read a valid asset.
 #pragma once
 
-#include "AssetBodyV2.h"
-#include "GaussianAsset.h"
+#include "io/AssetBodyV2.h"
+#include "pipeline/GaussianAsset.h"
 
 #include <cstdint>
 #include <string>

@@ -1,8 +1,8 @@
-#include "AtomicFile.h"
+#include "io/AtomicFile.h"
 
-#include "Error.h"
-#include "InputFile.h"
-#include "Readers.h"
+#include "io/InputFile.h"
+#include "io/Readers.h"
+#include "pipeline/Error.h"
 
 #include <signal.h>
 #include <unistd.h>

@@ -1,11 +1,11 @@
-#include "BaselineCodecs.h"
+#include "io/BaselineCodecs.h"
 
-#include "Error.h"
-#include "FloatVolume.h"
-#include "GridBuilder.h"
-#include "GridFile.h"
-#include "VolumeMetadata.h"
-#include "ZfpStream.h"
+#include "io/GridBuilder.h"
+#include "io/GridFile.h"
+#include "io/ZfpStream.h"
+#include "pipeline/Error.h"
+#include "pipeline/FloatVolume.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <tbb/parallel_for.h>
 

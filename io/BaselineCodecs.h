@@ -9,8 +9,8 @@
 /// metadata, with the voxels at or below the source's threshold inactive.
 #pragma once
 
-#include "FloatVolume.h"
-#include "Progress.h"
+#include "pipeline/FloatVolume.h"
+#include "pipeline/Progress.h"
 
 #include <openvdb/openvdb.h>
 

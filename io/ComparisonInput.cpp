@@ -1,11 +1,11 @@
-#include "ComparisonInput.h"
+#include "io/ComparisonInput.h"
 
-#include "AssetExport.h"
-#include "AssetFile.h"
+#include "io/AssetExport.h"
+#include "io/AssetFile.h"
 
-#include "Error.h"
-#include "Readers.h"
-#include "VolumeMetadata.h"
+#include "io/Readers.h"
+#include "pipeline/Error.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <OpenImageIO/imageio.h>
 

@@ -4,8 +4,8 @@
 /// float samples.
 #pragma once
 
-#include "FloatVolume.h"
-#include "Ingest.h"
+#include "io/Ingest.h"
+#include "pipeline/FloatVolume.h"
 
 #include <string>
 

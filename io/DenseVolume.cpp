@@ -1,7 +1,7 @@
-#include "DenseVolume.h"
+#include "io/DenseVolume.h"
 
-#include "Error.h"
-#include "MemoryBudget.h"
+#include "io/MemoryBudget.h"
+#include "pipeline/Error.h"
 
 namespace gvr {
 

@@ -2,8 +2,8 @@
 /// @brief A decoded source volume, before it becomes a sparse grid.
 #pragma once
 
-#include "SampleType.h"
-#include "VolumeMetadata.h"
+#include "pipeline/SampleType.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <openvdb/Types.h>
 #include <openvdb/math/Mat4.h>

@@ -4,11 +4,11 @@
 // normal and to check that the series is consistent; only then are slices
 // decoded, a slab at a time, in parallel.
 
-#include "DicomStructure.h"
-#include "Error.h"
-#include "MemoryBudget.h"
-#include "Readers.h"
-#include "SliceSource.h"
+#include "io/DicomStructure.h"
+#include "io/MemoryBudget.h"
+#include "io/Readers.h"
+#include "io/SliceSource.h"
+#include "pipeline/Error.h"
 
 #include <gdcmImageHelper.h>
 #include <gdcmImageReader.h>

@@ -1,7 +1,7 @@
-#include "DicomStructure.h"
+#include "io/DicomStructure.h"
 
-#include "ByteOrder.h"
-#include "Error.h"
+#include "io/ByteOrder.h"
+#include "pipeline/Error.h"
 
 #include <cctype>
 #include <cstdint>

@@ -1,8 +1,8 @@
-#include "FitLog.h"
+#include "io/FitLog.h"
 
-#include "Error.h"
-#include "Figures.h"
-#include "ProcessMemory.h"
+#include "io/Figures.h"
+#include "pipeline/Error.h"
+#include "pipeline/ProcessMemory.h"
 
 #include <filesystem>
 

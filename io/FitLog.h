@@ -2,7 +2,7 @@
 /// @brief The CSV of a fit's error against run time (`gvr fit --log`).
 #pragma once
 
-#include "Fitter.h"
+#include "pipeline/Fitter.h"
 
 #include <fstream>
 #include <string>

@@ -1,4 +1,4 @@
-#include "FramePath.h"
+#include "io/FramePath.h"
 
 #include <filesystem>
 #include <iomanip>

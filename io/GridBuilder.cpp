@@ -1,11 +1,11 @@
-#include "GridBuilder.h"
+#include "io/GridBuilder.h"
 
-#include "Error.h"
-#include "LatticeSampler.h"
-#include "LeafAssembly.h"
-#include "Luminance.h"
-#include "MemoryBudget.h"
-#include "VolumeMetadata.h"
+#include "io/MemoryBudget.h"
+#include "pipeline/Error.h"
+#include "pipeline/LatticeSampler.h"
+#include "pipeline/LeafAssembly.h"
+#include "pipeline/Luminance.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -2,9 +2,9 @@
 /// @brief Turns a decoded volume into a sparse OpenVDB grid in physical units.
 #pragma once
 
-#include "DenseVolume.h"
-#include "Progress.h"
-#include "SliceSource.h"
+#include "io/DenseVolume.h"
+#include "io/SliceSource.h"
+#include "pipeline/Progress.h"
 
 #include <openvdb/openvdb.h>
 

@@ -1,10 +1,10 @@
-#include "GridFile.h"
+#include "io/GridFile.h"
 
-#include "AtomicFile.h"
-#include "Error.h"
-#include "InputFile.h"
-#include "VdbLengths.h"
-#include "VolumeMetadata.h"
+#include "io/AtomicFile.h"
+#include "io/InputFile.h"
+#include "io/VdbLengths.h"
+#include "pipeline/Error.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>

@@ -1,4 +1,4 @@
-#include "GridSummary.h"
+#include "io/GridSummary.h"
 
 #include <cmath>
 #include <iomanip>

@@ -1,8 +1,8 @@
-#include "ImageFile.h"
+#include "io/ImageFile.h"
 
-#include "AtomicFile.h"
-#include "Error.h"
-#include "LowerCase.h"
+#include "io/AtomicFile.h"
+#include "pipeline/Error.h"
+#include "pipeline/LowerCase.h"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>

@@ -1,7 +1,7 @@
-#include "ImageFraming.h"
+#include "io/ImageFraming.h"
 
-#include "ByteOrder.h"
-#include "Error.h"
+#include "io/ByteOrder.h"
+#include "pipeline/Error.h"
 
 #include <zlib.h>
 

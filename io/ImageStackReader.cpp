@@ -1,11 +1,11 @@
 // Stacks of 2D images (PNG, TIFF, JPEG, ...) and multi-page TIFF, through OpenImageIO.
 // Every page of every file becomes one slice, in the order given.
 
-#include "Error.h"
-#include "ImageFraming.h"
-#include "MemoryBudget.h"
-#include "Readers.h"
-#include "SliceSource.h"
+#include "io/ImageFraming.h"
+#include "io/MemoryBudget.h"
+#include "io/Readers.h"
+#include "io/SliceSource.h"
+#include "pipeline/Error.h"
 
 #include <OpenImageIO/imageio.h>
 

@@ -1,11 +1,11 @@
-#include "Ingest.h"
+#include "io/Ingest.h"
 
-#include "EnclosedShare.h"
-#include "Error.h"
-#include "FiniteValues.h"
-#include "GridFile.h"
-#include "LabelGrid.h"
-#include "MemoryBudget.h"
+#include "io/GridFile.h"
+#include "io/LabelGrid.h"
+#include "io/MemoryBudget.h"
+#include "pipeline/EnclosedShare.h"
+#include "pipeline/Error.h"
+#include "pipeline/FiniteValues.h"
 
 #include <filesystem>
 #include <iomanip>

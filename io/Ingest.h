@@ -2,8 +2,8 @@
 /// @brief Any supported source volume to a sparse grid in physical units.
 #pragma once
 
-#include "GridBuilder.h"
-#include "Readers.h"
+#include "io/GridBuilder.h"
+#include "io/Readers.h"
 
 namespace gvr {
 

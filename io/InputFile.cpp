@@ -1,6 +1,6 @@
-#include "InputFile.h"
+#include "io/InputFile.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <filesystem>
 

@@ -1,9 +1,9 @@
-#include "LabelGrid.h"
+#include "io/LabelGrid.h"
 
-#include "Error.h"
-#include "InputFile.h"
-#include "SampleType.h"
-#include "VolumeMetadata.h"
+#include "io/InputFile.h"
+#include "pipeline/Error.h"
+#include "pipeline/SampleType.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <nlohmann/json.hpp>
 

@@ -3,8 +3,8 @@
 /// "labels" on the same voxels, with the structures' names as grid metadata.
 #pragma once
 
-#include "LabelTable.h"
-#include "Readers.h"
+#include "io/Readers.h"
+#include "pipeline/LabelTable.h"
 
 #include <openvdb/openvdb.h>
 

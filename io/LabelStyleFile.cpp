@@ -1,7 +1,7 @@
-#include "LabelStyleFile.h"
+#include "io/LabelStyleFile.h"
 
-#include "Error.h"
-#include "InputFile.h"
+#include "io/InputFile.h"
+#include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
 

@@ -7,7 +7,7 @@
 /// (>= 0) on the transfer function's opacity.
 #pragma once
 
-#include "LabelStyle.h"
+#include "pipeline/LabelStyle.h"
 
 #include <map>
 #include <string>

@@ -1,6 +1,6 @@
-#include "MemoryBudget.h"
+#include "io/MemoryBudget.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <sys/resource.h>
 #include <unistd.h>

@@ -1,9 +1,9 @@
 // ITK MetaImage: a text header of "Key = Value" lines (.mhd, with the samples in a
 // separate file) or the same header followed by the samples (.mha, ElementDataFile = LOCAL).
 
-#include "Error.h"
-#include "Readers.h"
-#include "SampleFile.h"
+#include "io/Readers.h"
+#include "io/SampleFile.h"
+#include "pipeline/Error.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,10 +1,10 @@
 // FreeSurfer MGH, and MGZ (the same, gzip'd). A 284-byte big-endian header, then
 // the frames one after the other. Layout from FreeSurfer's mghformat documentation.
 
-#include "ByteOrder.h"
-#include "Error.h"
-#include "Readers.h"
-#include "SampleFile.h"
+#include "io/ByteOrder.h"
+#include "io/Readers.h"
+#include "io/SampleFile.h"
+#include "pipeline/Error.h"
 
 #include <zlib.h>
 

@@ -1,9 +1,9 @@
 // NIfTI-1 and NIfTI-2 through nifticlib's nifti2 API, which reads both.
 
-#include "ByteOrder.h"
-#include "Error.h"
-#include "Readers.h"
-#include "SampleFile.h"
+#include "io/ByteOrder.h"
+#include "io/Readers.h"
+#include "io/SampleFile.h"
+#include "pipeline/Error.h"
 
 #include <nifti2_io.h>
 #include <zlib.h>

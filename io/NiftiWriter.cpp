@@ -1,7 +1,7 @@
-#include "NiftiWriter.h"
+#include "io/NiftiWriter.h"
 
-#include "AtomicFile.h"
-#include "Error.h"
+#include "io/AtomicFile.h"
+#include "pipeline/Error.h"
 
 #include <nifti2_io.h>
 

@@ -2,9 +2,9 @@
 /// @brief Dense volumes out as NIfTI-1, for medical tools.
 #pragma once
 
-#include "FloatVolume.h"
-#include "SampleType.h"
-#include "VolumeMetadata.h"
+#include "pipeline/FloatVolume.h"
+#include "pipeline/SampleType.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <cstdint>
 #include <string>

@@ -1,10 +1,10 @@
 // Headerless raw samples, laid out as the user says (--raw-dims, --raw-type, ...).
 
-#include "ByteOrder.h"
-#include "Error.h"
-#include "MemoryBudget.h"
-#include "Readers.h"
-#include "SliceSource.h"
+#include "io/ByteOrder.h"
+#include "io/MemoryBudget.h"
+#include "io/Readers.h"
+#include "io/SliceSource.h"
+#include "pipeline/Error.h"
 
 #include <filesystem>
 #include <fstream>

@@ -7,9 +7,9 @@
 /// millimetres (NIfTI's convention); LPS formats (DICOM, MetaImage) are flipped.
 #pragma once
 
-#include "DenseVolume.h"
-#include "Progress.h"
-#include "SliceSource.h"
+#include "io/DenseVolume.h"
+#include "io/SliceSource.h"
+#include "pipeline/Progress.h"
 
 #include <openvdb/Types.h>
 

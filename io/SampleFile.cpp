@@ -1,7 +1,7 @@
-#include "SampleFile.h"
+#include "io/SampleFile.h"
 
-#include "ByteOrder.h"
-#include "Error.h"
+#include "io/ByteOrder.h"
+#include "pipeline/Error.h"
 
 #include <zlib.h>
 

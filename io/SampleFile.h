@@ -2,7 +2,7 @@
 /// @brief Reads a block of voxel samples that follows a header, plain or deflated.
 #pragma once
 
-#include "DenseVolume.h"
+#include "io/DenseVolume.h"
 
 #include <cstdint>
 #include <string>

@@ -1,6 +1,6 @@
-#include "SliceSource.h"
+#include "io/SliceSource.h"
 
-#include "MemoryBudget.h"
+#include "io/MemoryBudget.h"
 
 #include <tbb/parallel_for.h>
 

@@ -7,8 +7,8 @@
 /// the volume as a whole (NIfTI, MGH, MetaImage, VDB) are read whole instead.
 #pragma once
 
-#include "DenseVolume.h"
-#include "Progress.h"
+#include "io/DenseVolume.h"
+#include "pipeline/Progress.h"
 
 #include <cstdint>
 #include <functional>

@@ -1,8 +1,8 @@
-#include "TransferFunctionFile.h"
+#include "io/TransferFunctionFile.h"
 
-#include "AtomicFile.h"
-#include "Error.h"
-#include "InputFile.h"
+#include "io/AtomicFile.h"
+#include "io/InputFile.h"
+#include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
 

@@ -9,7 +9,7 @@
 /// Each point is [value, r, g, b, a]; values increase, and r, g, b, a lie in [0, 1].
 #pragma once
 
-#include "TransferFunction.h"
+#include "pipeline/TransferFunction.h"
 
 #include <string>
 

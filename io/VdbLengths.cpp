@@ -1,7 +1,7 @@
-#include "VdbLengths.h"
+#include "io/VdbLengths.h"
 
-#include "ByteOrder.h"
-#include "Error.h"
+#include "io/ByteOrder.h"
+#include "pipeline/Error.h"
 
 #include <openvdb/Exceptions.h>
 #include <openvdb/io/Compression.h>

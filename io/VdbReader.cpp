@@ -1,10 +1,10 @@
 // An existing .vdb file: its first scalar or colour grid, densified over the grid's
 // active bounding box so that it takes the same path through ingest as any scan.
 
-#include "Error.h"
-#include "GridFile.h"
-#include "Readers.h"
-#include "VolumeMetadata.h"
+#include "io/GridFile.h"
+#include "io/Readers.h"
+#include "pipeline/Error.h"
+#include "pipeline/VolumeMetadata.h"
 
 namespace gvr {
 

@@ -1,9 +1,9 @@
-#include "VolumeOutputs.h"
+#include "io/VolumeOutputs.h"
 
-#include "AtomicFile.h"
-#include "Error.h"
-#include "GridFile.h"
-#include "LowerCase.h"
+#include "io/AtomicFile.h"
+#include "io/GridFile.h"
+#include "pipeline/Error.h"
+#include "pipeline/LowerCase.h"
 
 #include <filesystem>
 

@@ -3,7 +3,7 @@
 /// in the format its extension names, all written or none.
 #pragma once
 
-#include "NiftiWriter.h"
+#include "io/NiftiWriter.h"
 
 #include <openvdb/openvdb.h>
 

@@ -1,11 +1,11 @@
 // Chooses a reader from what INPUT is: a folder, a glob pattern, or a file whose
 // content (VDB magic) or name (.nii, .mgz, ...) gives its format away.
 
-#include "Error.h"
-#include "GridFile.h"
-#include "InputFile.h"
-#include "LowerCase.h"
-#include "Readers.h"
+#include "io/GridFile.h"
+#include "io/InputFile.h"
+#include "io/Readers.h"
+#include "pipeline/Error.h"
+#include "pipeline/LowerCase.h"
 
 #include <glob.h>
 

@@ -1,9 +1,9 @@
-#include "ZfpStream.h"
+#include "io/ZfpStream.h"
 
-#include "AtomicFile.h"
-#include "ByteOrder.h"
-#include "Error.h"
-#include "MemoryBudget.h"
+#include "io/AtomicFile.h"
+#include "io/ByteOrder.h"
+#include "io/MemoryBudget.h"
+#include "pipeline/Error.h"
 
 #include <zfp.h>
 

@@ -20,7 +20,7 @@
 /// needs and nothing else: where the samples sit in the world is the source's.
 #pragma once
 
-#include "FloatVolume.h"
+#include "pipeline/FloatVolume.h"
 
 #include <string>
 

@@ -1,4 +1,4 @@
-#include "Adam.h"
+#include "pipeline/Adam.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 /// @brief Adam with one learning rate per parameter group, a Gaussian at a time.
 #pragma once
 
-#include "GaussianParameters.h"
+#include "pipeline/GaussianParameters.h"
 
 #include <array>
 #include <cstdint>

@@ -1,7 +1,7 @@
-#include "AmplitudeSolver.h"
+#include "pipeline/AmplitudeSolver.h"
 
-#include "GaussianField.h"
-#include "LatticeSampler.h"
+#include "pipeline/GaussianField.h"
+#include "pipeline/LatticeSampler.h"
 
 #include <tbb/parallel_for.h>
 

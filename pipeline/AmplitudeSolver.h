@@ -9,8 +9,8 @@
 /// products together), where Adam's Monte Carlo steps only approach them.
 #pragma once
 
-#include "GaussianParameters.h"
-#include "VolumeTarget.h"
+#include "pipeline/GaussianParameters.h"
+#include "pipeline/VolumeTarget.h"
 
 #include <openvdb/openvdb.h>
 

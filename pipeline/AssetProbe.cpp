@@ -1,4 +1,4 @@
-#include "AssetProbe.h"
+#include "pipeline/AssetProbe.h"
 
 namespace gvr {
 

@@ -3,8 +3,8 @@
 /// the source's physical units.
 #pragma once
 
-#include "GaussianAsset.h"
-#include "GaussianField.h"
+#include "pipeline/GaussianAsset.h"
+#include "pipeline/GaussianField.h"
 
 #include <array>
 #include <cstddef>

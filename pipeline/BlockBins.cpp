@@ -1,4 +1,4 @@
-#include "BlockBins.h"
+#include "pipeline/BlockBins.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -8,8 +8,8 @@
 /// box, and nothing else is touched, so one moving Gaussian never re-bins the rest.
 #pragma once
 
-#include "BlockGrid.h"
-#include "GaussianField.h"
+#include "pipeline/BlockGrid.h"
+#include "pipeline/GaussianField.h"
 
 #include <cstdint>
 #include <vector>

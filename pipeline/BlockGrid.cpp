@@ -1,4 +1,4 @@
-#include "BlockGrid.h"
+#include "pipeline/BlockGrid.h"
 
 #include <algorithm>
 #include <cmath>

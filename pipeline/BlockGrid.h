@@ -7,7 +7,7 @@
 /// never trained on, nor are the voxels set aside with exclude() (held-out voxels).
 #pragma once
 
-#include "LatticeSampler.h"
+#include "pipeline/LatticeSampler.h"
 
 #include <openvdb/openvdb.h>
 

@@ -1,6 +1,6 @@
-#include "BlockLoss.h"
+#include "pipeline/BlockLoss.h"
 
-#include "FastExp.h"
+#include "pipeline/FastExp.h"
 
 #include <tbb/parallel_for.h>
 

@@ -10,11 +10,11 @@
 /// Gaussian's own frame (GradientSums): one gradient write per pair, not per voxel.
 #pragma once
 
-#include "BlockBins.h"
-#include "BlockSampler.h"
-#include "Loss.h"
-#include "Pruning.h"
-#include "VolumeTarget.h"
+#include "pipeline/BlockBins.h"
+#include "pipeline/BlockSampler.h"
+#include "pipeline/Loss.h"
+#include "pipeline/Pruning.h"
+#include "pipeline/VolumeTarget.h"
 
 #include <vector>
 

@@ -1,4 +1,4 @@
-#include "BlockSampler.h"
+#include "pipeline/BlockSampler.h"
 
 #include <algorithm>
 #include <cmath>

@@ -13,7 +13,7 @@
 /// weighted sum of squared residuals an unbiased estimate of the dense sum.
 #pragma once
 
-#include "BlockGrid.h"
+#include "pipeline/BlockGrid.h"
 
 #include <cstdint>
 #include <vector>

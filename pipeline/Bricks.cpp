@@ -1,7 +1,7 @@
-#include "Bricks.h"
+#include "pipeline/Bricks.h"
 
-#include "Error.h"
-#include "LabelBudget.h"
+#include "pipeline/Error.h"
+#include "pipeline/LabelBudget.h"
 
 #include <algorithm>
 #include <cmath>

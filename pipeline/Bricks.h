@@ -12,7 +12,7 @@
 /// no Gaussian has to match a neighbour that was fitted apart from it.
 #pragma once
 
-#include "Fitter.h"
+#include "pipeline/Fitter.h"
 
 #include <openvdb/openvdb.h>
 

@@ -1,4 +1,4 @@
-#include "EnclosedShare.h"
+#include "pipeline/EnclosedShare.h"
 
 #include <algorithm>
 #include <cstdint>

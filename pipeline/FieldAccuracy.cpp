@@ -1,7 +1,7 @@
-#include "FieldAccuracy.h"
+#include "pipeline/FieldAccuracy.h"
 
-#include "Fitter.h"
-#include "LatticeSampler.h"
+#include "pipeline/Fitter.h"
+#include "pipeline/LatticeSampler.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>

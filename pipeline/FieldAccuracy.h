@@ -3,10 +3,10 @@
 /// voxel counted.
 #pragma once
 
-#include "GaussianField.h"
-#include "Progress.h"
-#include "ThresholdCut.h"
-#include "VolumeTarget.h"
+#include "pipeline/GaussianField.h"
+#include "pipeline/Progress.h"
+#include "pipeline/ThresholdCut.h"
+#include "pipeline/VolumeTarget.h"
 
 #include <functional>
 #include <vector>

@@ -1,7 +1,7 @@
-#include "FieldToGrid.h"
+#include "pipeline/FieldToGrid.h"
 
-#include "LeafAssembly.h"
-#include "ThresholdCut.h"
+#include "pipeline/LeafAssembly.h"
+#include "pipeline/ThresholdCut.h"
 
 #include <algorithm>
 

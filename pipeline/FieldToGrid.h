@@ -3,9 +3,9 @@
 /// grid in physical units: the reconstruction that `gvr export` writes.
 #pragma once
 
-#include "LatticeSampler.h"
-#include "Progress.h"
-#include "ValueMapping.h"
+#include "pipeline/LatticeSampler.h"
+#include "pipeline/Progress.h"
+#include "pipeline/ValueMapping.h"
 
 #include <openvdb/openvdb.h>
 

@@ -1,6 +1,6 @@
-#include "FiniteValues.h"
+#include "pipeline/FiniteValues.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <tbb/parallel_reduce.h>
 

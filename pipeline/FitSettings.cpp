@@ -1,6 +1,6 @@
-#include "FitSettings.h"
+#include "pipeline/FitSettings.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <cmath>
 

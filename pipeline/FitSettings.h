@@ -2,9 +2,9 @@
 /// @brief Every constant of a fit, with its default, in one place.
 #pragma once
 
-#include "GaussianKernel.h"
-#include "BlockSampler.h"
-#include "Initialisation.h"
+#include "pipeline/BlockSampler.h"
+#include "pipeline/GaussianKernel.h"
+#include "pipeline/Initialisation.h"
 
 #include <array>
 #include <functional>

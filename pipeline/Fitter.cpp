@@ -1,15 +1,15 @@
-#include "Fitter.h"
+#include "pipeline/Fitter.h"
 
-#include "Adam.h"
-#include "BlockLoss.h"
-#include "Error.h"
-#include "FieldAccuracy.h"
-#include "Loss.h"
-#include "ProcessMemory.h"
-#include "Pruning.h"
-#include "SliceSampler.h"
-#include "StreamSeed.h"
-#include "UniformVoxels.h"
+#include "pipeline/Adam.h"
+#include "pipeline/BlockLoss.h"
+#include "pipeline/Error.h"
+#include "pipeline/FieldAccuracy.h"
+#include "pipeline/Loss.h"
+#include "pipeline/ProcessMemory.h"
+#include "pipeline/Pruning.h"
+#include "pipeline/SliceSampler.h"
+#include "pipeline/StreamSeed.h"
+#include "pipeline/UniformVoxels.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>

@@ -3,10 +3,10 @@
 /// sampled Monte Carlo voxel loss plus a curriculum of random-slice losses.
 #pragma once
 
-#include "AmplitudeSolver.h"
-#include "FitSettings.h"
-#include "GaussianParameters.h"
-#include "VolumeTarget.h"
+#include "pipeline/AmplitudeSolver.h"
+#include "pipeline/FitSettings.h"
+#include "pipeline/GaussianParameters.h"
+#include "pipeline/VolumeTarget.h"
 
 #include <functional>
 #include <optional>

@@ -1,8 +1,8 @@
-#include "FloatVolume.h"
+#include "pipeline/FloatVolume.h"
 
-#include "Error.h"
-#include "Trilinear.h"
-#include "VolumeMetadata.h"
+#include "pipeline/Error.h"
+#include "pipeline/Trilinear.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <tbb/parallel_for.h>
 

@@ -1,7 +1,7 @@
-#include "GaussianAsset.h"
+#include "pipeline/GaussianAsset.h"
 
-#include "Error.h"
-#include "GaussianKernel.h"
+#include "pipeline/Error.h"
+#include "pipeline/GaussianKernel.h"
 
 #include <algorithm>
 #include <cmath>

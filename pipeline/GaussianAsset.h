@@ -4,11 +4,11 @@
 /// units, and name their structures. io/AssetFile.h stores it.
 #pragma once
 
-#include "AssetEncoding.h"
-#include "GaussianParameters.h"
-#include "LabelTable.h"
-#include "ValueMapping.h"
-#include "VolumeMetadata.h"
+#include "pipeline/AssetEncoding.h"
+#include "pipeline/GaussianParameters.h"
+#include "pipeline/LabelTable.h"
+#include "pipeline/ValueMapping.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <nlohmann/json.hpp>
 #include <openvdb/math/Mat4.h>

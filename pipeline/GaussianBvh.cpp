@@ -1,4 +1,4 @@
-#include "GaussianBvh.h"
+#include "pipeline/GaussianBvh.h"
 
 #include <embree3/rtcore.h>
 

@@ -1,4 +1,4 @@
-#include "GaussianField.h"
+#include "pipeline/GaussianField.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -3,8 +3,8 @@
 /// evaluate anywhere in index space.
 #pragma once
 
-#include "GaussianBvh.h"
-#include "GaussianKernel.h"
+#include "pipeline/GaussianBvh.h"
+#include "pipeline/GaussianKernel.h"
 
 #include <algorithm>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "GaussianKernel.h"
+#include "pipeline/GaussianKernel.h"
 
 #include <algorithm>
 #include <cmath>

@@ -7,7 +7,7 @@
 /// the cutoff stored with the model (kDefaultCutoffSigmas unless set otherwise).
 #pragma once
 
-#include "GaussianParameters.h"
+#include "pipeline/GaussianParameters.h"
 
 #include <cmath>
 

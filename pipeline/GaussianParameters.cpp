@@ -1,4 +1,4 @@
-#include "GaussianParameters.h"
+#include "pipeline/GaussianParameters.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,10 +1,10 @@
-#include "Initialisation.h"
+#include "pipeline/Initialisation.h"
 
-#include "GaussianBvh.h"
-#include "GaussianField.h"
-#include "LatticeSampler.h"
-#include "StreamSeed.h"
-#include "UniformVoxels.h"
+#include "pipeline/GaussianBvh.h"
+#include "pipeline/GaussianField.h"
+#include "pipeline/LatticeSampler.h"
+#include "pipeline/StreamSeed.h"
+#include "pipeline/UniformVoxels.h"
 
 #include <tbb/parallel_for.h>
 

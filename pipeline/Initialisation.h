@@ -2,9 +2,9 @@
 /// @brief One Gaussian per seed voxel: seeds from high gradients and at random.
 #pragma once
 
-#include "GaussianParameters.h"
-#include "Progress.h"
-#include "VolumeTarget.h"
+#include "pipeline/GaussianParameters.h"
+#include "pipeline/Progress.h"
+#include "pipeline/VolumeTarget.h"
 
 #include <cstdint>
 

@@ -1,6 +1,6 @@
-#include "LabelBudget.h"
+#include "pipeline/LabelBudget.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <algorithm>
 #include <cmath>

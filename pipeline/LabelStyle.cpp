@@ -1,4 +1,4 @@
-#include "LabelStyle.h"
+#include "pipeline/LabelStyle.h"
 
 #include <algorithm>
 

@@ -2,7 +2,7 @@
 /// @brief How one structure is drawn when the user overrides its colour or opacity.
 #pragma once
 
-#include "TransferFunction.h"
+#include "pipeline/TransferFunction.h"
 
 #include <array>
 #include <optional>

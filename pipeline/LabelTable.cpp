@@ -1,7 +1,7 @@
-#include "LabelTable.h"
+#include "pipeline/LabelTable.h"
 
-#include "Error.h"
-#include "LowerCase.h"
+#include "pipeline/Error.h"
+#include "pipeline/LowerCase.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,4 +1,4 @@
-#include "LabelledFit.h"
+#include "pipeline/LabelledFit.h"
 
 #include <algorithm>
 #include <map>

@@ -8,7 +8,7 @@
 /// outside every chosen structure are never sampled and seed no Gaussian.
 #pragma once
 
-#include "Fitter.h"
+#include "pipeline/Fitter.h"
 
 #include <openvdb/openvdb.h>
 

@@ -1,8 +1,8 @@
-#include "LatticeSampler.h"
+#include "pipeline/LatticeSampler.h"
 
-#include "Error.h"
-#include "FastExp.h"
-#include "VolumeMetadata.h"
+#include "pipeline/Error.h"
+#include "pipeline/FastExp.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <tbb/parallel_for.h>
 

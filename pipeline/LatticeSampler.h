@@ -3,7 +3,7 @@
 /// time: what export (onto grids) and the renderer (onto slice stacks) share.
 #pragma once
 
-#include "GaussianField.h"
+#include "pipeline/GaussianField.h"
 
 #include <openvdb/openvdb.h>
 

@@ -5,7 +5,7 @@
 /// leaves are made concurrently and linked afterwards by one thread, in order.
 #pragma once
 
-#include "Progress.h"
+#include "pipeline/Progress.h"
 
 #include <openvdb/openvdb.h>
 #include <tbb/parallel_for.h>

@@ -1,4 +1,4 @@
-#include "Loss.h"
+#include "pipeline/Loss.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -5,8 +5,8 @@
 /// summed in chunk order: results do not depend on the thread count or scheduling.
 #pragma once
 
-#include "BlockBins.h"
-#include "GaussianField.h"
+#include "pipeline/BlockBins.h"
+#include "pipeline/GaussianField.h"
 
 #include <array>
 #include <vector>

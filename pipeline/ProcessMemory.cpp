@@ -1,4 +1,4 @@
-#include "ProcessMemory.h"
+#include "pipeline/ProcessMemory.h"
 
 #include <sys/resource.h>
 

@@ -1,6 +1,6 @@
-#include "Pruning.h"
+#include "pipeline/Pruning.h"
 
-#include "GaussianKernel.h"
+#include "pipeline/GaussianKernel.h"
 
 #include <algorithm>
 #include <cmath>

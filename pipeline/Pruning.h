@@ -5,8 +5,8 @@
 /// parameters and the Adam moments together.
 #pragma once
 
-#include "Adam.h"
-#include "GaussianParameters.h"
+#include "pipeline/Adam.h"
+#include "pipeline/GaussianParameters.h"
 
 #include <array>
 #include <vector>

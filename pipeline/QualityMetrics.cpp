@@ -1,4 +1,4 @@
-#include "QualityMetrics.h"
+#include "pipeline/QualityMetrics.h"
 
 #include <tbb/parallel_for.h>
 

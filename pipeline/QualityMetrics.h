@@ -19,7 +19,7 @@
 /// Multi-channel inputs are compared channel by channel and the results averaged.
 #pragma once
 
-#include "FloatVolume.h"
+#include "pipeline/FloatVolume.h"
 
 namespace gvr {
 

@@ -1,6 +1,6 @@
-#include "SampleType.h"
+#include "pipeline/SampleType.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 namespace gvr {
 

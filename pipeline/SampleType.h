@@ -25,4 +25,4 @@ decltype(auto) dispatchSampleType(SampleType type, Visitor&& visit);
 
 }  // namespace gvr
 
-#include "SampleTypeDispatch.h"
+#include "pipeline/SampleTypeDispatch.h"

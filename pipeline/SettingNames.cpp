@@ -1,4 +1,4 @@
-#include "SettingNames.h"
+#include "pipeline/SettingNames.h"
 
 namespace gvr {
 

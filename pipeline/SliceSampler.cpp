@@ -1,4 +1,4 @@
-#include "SliceSampler.h"
+#include "pipeline/SliceSampler.h"
 
 #include <cmath>
 #include <random>

@@ -1,6 +1,6 @@
-#include "StructureQuality.h"
+#include "pipeline/StructureQuality.h"
 
-#include "Fitter.h"
+#include "pipeline/Fitter.h"
 
 namespace gvr {
 

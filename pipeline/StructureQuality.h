@@ -3,8 +3,8 @@
 /// Table 1: PSNR over the structure's voxels, and SSIM of the structure cut out.
 #pragma once
 
-#include "FloatVolume.h"
-#include "QualityMetrics.h"
+#include "pipeline/FloatVolume.h"
+#include "pipeline/QualityMetrics.h"
 
 #include <vector>
 

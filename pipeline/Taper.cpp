@@ -1,4 +1,4 @@
-#include "Taper.h"
+#include "pipeline/Taper.h"
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
-#include "ThresholdCut.h"
+#include "pipeline/ThresholdCut.h"
 
-#include "Luminance.h"
+#include "pipeline/Luminance.h"
 
 namespace gvr {
 

@@ -7,8 +7,8 @@
 /// reports the voxels a user gets.
 #pragma once
 
-#include "GaussianAsset.h"
-#include "ValueMapping.h"
+#include "pipeline/GaussianAsset.h"
+#include "pipeline/ValueMapping.h"
 
 #include <optional>
 

@@ -1,6 +1,6 @@
-#include "TransferFunction.h"
+#include "pipeline/TransferFunction.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "UniformVoxels.h"
+#include "pipeline/UniformVoxels.h"
 
 #include <algorithm>
 #include <random>

@@ -1,10 +1,10 @@
-#include "VolumeMetadata.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "Error.h"
-#include "SampleType.h"
+#include "pipeline/Error.h"
+#include "pipeline/SampleType.h"
 
 namespace gvr {
 

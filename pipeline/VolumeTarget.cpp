@@ -1,10 +1,10 @@
-#include "VolumeTarget.h"
+#include "pipeline/VolumeTarget.h"
 
-#include "Error.h"
-#include "FiniteValues.h"
-#include "Luminance.h"
-#include "Trilinear.h"
-#include "VolumeMetadata.h"
+#include "pipeline/Error.h"
+#include "pipeline/FiniteValues.h"
+#include "pipeline/Luminance.h"
+#include "pipeline/Trilinear.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <cmath>
 #include <sstream>

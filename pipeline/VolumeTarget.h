@@ -2,8 +2,8 @@
 /// @brief The volume a fit approximates, read from an ingested grid in normalised units.
 #pragma once
 
-#include "Taper.h"
-#include "ValueMapping.h"
+#include "pipeline/Taper.h"
+#include "pipeline/ValueMapping.h"
 
 #include <openvdb/openvdb.h>
 

@@ -1,6 +1,6 @@
-#include "WorldGaussians.h"
+#include "pipeline/WorldGaussians.h"
 
-#include "GaussianKernel.h"
+#include "pipeline/GaussianKernel.h"
 
 #include <algorithm>
 #include <cmath>

@@ -3,7 +3,7 @@
 /// someone outside gvr (numpy, a point-cloud tool) expects them.
 #pragma once
 
-#include "GaussianAsset.h"
+#include "pipeline/GaussianAsset.h"
 
 #include <array>
 #include <vector>

@@ -1,6 +1,6 @@
-#include "Camera.h"
+#include "render/Camera.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-#include "Classifier.h"
+#include "render/Classifier.h"
 
-#include "Luminance.h"
+#include "pipeline/Luminance.h"
 
 #include <algorithm>
 

@@ -3,7 +3,7 @@
 /// applied identically by every renderer.
 #pragma once
 
-#include "TransferFunction.h"
+#include "pipeline/TransferFunction.h"
 
 #include <array>
 #include <cmath>

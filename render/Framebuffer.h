@@ -2,7 +2,7 @@
 /// @brief What the renderers return: premultiplied RGBA floats, rows top to bottom.
 #pragma once
 
-#include "FloatVolume.h"
+#include "pipeline/FloatVolume.h"
 
 #include <vector>
 

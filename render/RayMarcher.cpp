@@ -1,6 +1,6 @@
-#include "RayMarcher.h"
+#include "render/RayMarcher.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <openvdb/tools/RayIntersector.h>
 #include <tbb/parallel_for.h>

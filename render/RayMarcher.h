@@ -6,10 +6,10 @@
 /// sample inside the volume's cells is taken.
 #pragma once
 
-#include "Camera.h"
-#include "Classifier.h"
-#include "Framebuffer.h"
-#include "RenderVolume.h"
+#include "render/Camera.h"
+#include "render/Classifier.h"
+#include "render/Framebuffer.h"
+#include "render/RenderVolume.h"
 
 namespace gvr {
 

@@ -1,10 +1,10 @@
-#include "RenderVolume.h"
+#include "render/RenderVolume.h"
 
-#include "Error.h"
-#include "FloatVolume.h"
-#include "Luminance.h"
-#include "VolumeMetadata.h"
-#include "VolumeBorder.h"
+#include "pipeline/Error.h"
+#include "pipeline/FloatVolume.h"
+#include "pipeline/Luminance.h"
+#include "pipeline/VolumeBorder.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <algorithm>
 #include <cmath>

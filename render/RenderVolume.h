@@ -2,12 +2,12 @@
 /// @brief What the renderers draw: a Gaussian field or a VDB grid, in physical units.
 #pragma once
 
-#include "GaussianAsset.h"
-#include "GaussianField.h"
-#include "LatticeSampler.h"
-#include "TransferPresets.h"
-#include "Trilinear.h"
-#include "ValueMapping.h"
+#include "pipeline/GaussianAsset.h"
+#include "pipeline/GaussianField.h"
+#include "pipeline/LatticeSampler.h"
+#include "pipeline/Trilinear.h"
+#include "pipeline/ValueMapping.h"
+#include "render/TransferPresets.h"
 
 #include <openvdb/openvdb.h>
 

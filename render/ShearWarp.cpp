@@ -1,6 +1,6 @@
-#include "ShearWarp.h"
+#include "render/ShearWarp.h"
 
-#include "FastExp.h"
+#include "pipeline/FastExp.h"
 
 #include <tbb/parallel_for.h>
 

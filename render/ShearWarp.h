@@ -6,9 +6,9 @@
 /// while it stays within a cone, and rebuilt beyond.
 #pragma once
 
-#include "Camera.h"
-#include "Framebuffer.h"
-#include "SliceStack.h"
+#include "render/Camera.h"
+#include "render/Framebuffer.h"
+#include "render/SliceStack.h"
 
 #include <memory>
 

@@ -1,6 +1,6 @@
-#include "SliceStack.h"
+#include "render/SliceStack.h"
 
-#include "Camera.h"
+#include "render/Camera.h"
 
 #include <tbb/parallel_for.h>
 

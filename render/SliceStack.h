@@ -14,9 +14,9 @@
 /// body too.
 #pragma once
 
-#include "Classifier.h"
-#include "Progress.h"
-#include "RenderVolume.h"
+#include "pipeline/Progress.h"
+#include "render/Classifier.h"
+#include "render/RenderVolume.h"
 
 #include <array>
 #include <cstdint>

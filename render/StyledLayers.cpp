@@ -1,6 +1,6 @@
-#include "StyledLayers.h"
+#include "render/StyledLayers.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <algorithm>
 

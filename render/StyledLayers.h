@@ -3,10 +3,10 @@
 /// its colour and opacity, then the other structures with the base classification.
 #pragma once
 
-#include "GaussianAsset.h"
-#include "LabelStyle.h"
-#include "RenderVolume.h"
-#include "SliceStack.h"
+#include "pipeline/GaussianAsset.h"
+#include "pipeline/LabelStyle.h"
+#include "render/RenderVolume.h"
+#include "render/SliceStack.h"
 
 #include <map>
 #include <memory>

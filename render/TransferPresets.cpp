@@ -1,6 +1,6 @@
-#include "TransferPresets.h"
+#include "render/TransferPresets.h"
 
-#include "Error.h"
+#include "pipeline/Error.h"
 
 #include <algorithm>
 #include <cmath>

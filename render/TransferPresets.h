@@ -14,7 +14,7 @@
 /// Opacities are per voxel of path.
 #pragma once
 
-#include "TransferFunction.h"
+#include "pipeline/TransferFunction.h"
 
 #include <string>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "ViewSession.h"
+#include "render/ViewSession.h"
 
 #include <algorithm>
 #include <chrono>

@@ -5,8 +5,8 @@
 /// Stacks across the axes are kept, so that an orbit builds each at most once.
 #pragma once
 
-#include "ShearWarp.h"
-#include "StyledLayers.h"
+#include "render/ShearWarp.h"
+#include "render/StyledLayers.h"
 
 #include <future>
 #include <memory>

@@ -1,6 +1,6 @@
-#include "VolumeClassifier.h"
+#include "render/VolumeClassifier.h"
 
-#include "LowerCase.h"
+#include "pipeline/LowerCase.h"
 
 namespace gvr {
 

@@ -2,9 +2,9 @@
 /// @brief The classifier that maps one render volume's values to colour and opacity.
 #pragma once
 
-#include "Classifier.h"
-#include "RenderVolume.h"
-#include "TransferPresets.h"
+#include "render/Classifier.h"
+#include "render/RenderVolume.h"
+#include "render/TransferPresets.h"
 
 #include <string>
 

@@ -1,6 +1,6 @@
-#include "TestHelpers.h"
+#include "tests/TestHelpers.h"
 
-#include "GridBuilder.h"
+#include "io/GridBuilder.h"
 
 #include <sys/wait.h>
 

@@ -2,8 +2,8 @@
 // small synthetic volumes.
 #pragma once
 
-#include "DenseVolume.h"
-#include "GaussianParameters.h"
+#include "io/DenseVolume.h"
+#include "pipeline/GaussianParameters.h"
 
 #include <openvdb/openvdb.h>
 

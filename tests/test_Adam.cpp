@@ -2,7 +2,7 @@
 // step, a non-finite gradient that leaves its Gaussian alone, and moments that
 // follow their Gaussians through permute, keepOnly and grow.
 
-#include "Adam.h"
+#include "pipeline/Adam.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // The least-squares amplitude solve: exact on a field it can represent, never worse,
 // the same on any thread count, and blind to the voxels it is told to leave out.
 
-#include "AmplitudeSolver.h"
-#include "FieldAccuracy.h"
-#include "GaussianField.h"
-#include "TestHelpers.h"
+#include "pipeline/AmplitudeSolver.h"
+#include "pipeline/FieldAccuracy.h"
+#include "pipeline/GaussianField.h"
+#include "tests/TestHelpers.h"
 
 #include <tbb/global_control.h>
 

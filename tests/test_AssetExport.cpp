@@ -1,13 +1,13 @@
 // Export as the DCC tools and medical readers expect it: grid names, classes,
 // metadata, derived densities, NIfTI geometry, transfer function files.
 
-#include "AssetExport.h"
-#include "Error.h"
-#include "GridFile.h"
-#include "NiftiWriter.h"
-#include "Readers.h"
-#include "TestHelpers.h"
-#include "TransferFunctionFile.h"
+#include "io/AssetExport.h"
+#include "io/GridFile.h"
+#include "io/NiftiWriter.h"
+#include "io/Readers.h"
+#include "io/TransferFunctionFile.h"
+#include "pipeline/Error.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 #include <nifti2_io.h>

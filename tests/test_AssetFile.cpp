@@ -1,9 +1,9 @@
 // The asset file: round trip within quantisation error, budgets, and corrupt files.
 
-#include "AssetFile.h"
-#include "Error.h"
-#include "GaussianField.h"
-#include "TestHelpers.h"
+#include "io/AssetFile.h"
+#include "pipeline/Error.h"
+#include "pipeline/GaussianField.h"
+#include "tests/TestHelpers.h"
 
 #include <cstring>
 #include <fstream>

@@ -3,12 +3,12 @@
 // survive and no temporary file may be left. Each fault runs in a child process
 // (a death test), so that the limit and the signal do not reach the test runner.
 
-#include "AtomicFile.h"
-#include "Error.h"
-#include "GridFile.h"
-#include "Ingest.h"
-#include "NiftiWriter.h"
-#include "TestHelpers.h"
+#include "io/AtomicFile.h"
+#include "io/GridFile.h"
+#include "io/Ingest.h"
+#include "io/NiftiWriter.h"
+#include "pipeline/Error.h"
+#include "tests/TestHelpers.h"
 
 #include <sys/resource.h>
 

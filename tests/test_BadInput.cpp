@@ -1,13 +1,13 @@
 // Broken input gets an InputError that names the file and the problem, never a
 // crash or garbage. Corrupted copies of real data are made in a temporary folder.
 
-#include "Error.h"
-#include "GridBuilder.h"
-#include "GridFile.h"
-#include "Ingest.h"
-#include "LabelGrid.h"
-#include "MemoryBudget.h"
-#include "TestHelpers.h"
+#include "io/GridBuilder.h"
+#include "io/GridFile.h"
+#include "io/Ingest.h"
+#include "io/LabelGrid.h"
+#include "io/MemoryBudget.h"
+#include "pipeline/Error.h"
+#include "tests/TestHelpers.h"
 
 #include <nifti2_io.h>
 #include <sys/resource.h>

@@ -1,14 +1,14 @@
 // The reference codecs of gvr baseline: their error bounds, stream sizes, and
 // reconstructions that stand in for the source.
 
-#include "BaselineCodecs.h"
-#include "Error.h"
-#include "FloatVolume.h"
-#include "GridBuilder.h"
-#include "GridFile.h"
-#include "TestHelpers.h"
-#include "VolumeMetadata.h"
-#include "ZfpStream.h"
+#include "io/BaselineCodecs.h"
+#include "io/GridBuilder.h"
+#include "io/GridFile.h"
+#include "io/ZfpStream.h"
+#include "pipeline/Error.h"
+#include "pipeline/FloatVolume.h"
+#include "pipeline/VolumeMetadata.h"
+#include "tests/TestHelpers.h"
 
 #include <nlohmann/json.hpp>
 

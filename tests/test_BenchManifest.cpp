@@ -1,8 +1,8 @@
 // Benchmark manifests: JSON and TOML read alike, mistakes are named, shards partition the work.
 
-#include "BenchManifest.h"
-#include "Error.h"
-#include "TestHelpers.h"
+#include "bench/BenchManifest.h"
+#include "pipeline/Error.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

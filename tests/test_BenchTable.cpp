@@ -1,9 +1,9 @@
 // Benchmark results: rows survive a round trip through results.csv, and a row torn
 // by a kill is dropped on resume.
 
-#include "BenchTable.h"
-#include "Error.h"
-#include "TestHelpers.h"
+#include "bench/BenchTable.h"
+#include "pipeline/Error.h"
+#include "tests/TestHelpers.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,9 +1,9 @@
 // The benchmark as a library call: rows reach the callback and the table, a merge
 // of the folder is the same table, and bad options are refused before any work.
 
-#include "Benchmark.h"
-#include "Error.h"
-#include "TestHelpers.h"
+#include "bench/Benchmark.h"
+#include "pipeline/Error.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // The fit's neighbour lists: every Gaussian that reaches a block is in its bin,
 // before and after the Gaussians move.
 
-#include "BlockBins.h"
-#include "TestHelpers.h"
+#include "pipeline/BlockBins.h"
+#include "tests/TestHelpers.h"
 
 namespace gvr {
 namespace {

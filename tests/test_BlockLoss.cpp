@@ -1,9 +1,9 @@
 // The block kernel: the same loss and gradient as point-by-point evaluation, the
 // gradient of its own loss (finite differences), and four lanes against eight.
 
-#include "BlockLoss.h"
-#include "FastExp.h"
-#include "TestHelpers.h"
+#include "pipeline/BlockLoss.h"
+#include "pipeline/FastExp.h"
+#include "tests/TestHelpers.h"
 
 #include <cmath>
 

@@ -1,10 +1,10 @@
 // Blocks drawn by error: the weighted loss stays an unbiased estimate of the dense
 // voxel MSE, and the blocks with the highest error are always drawn.
 
-#include "BlockLoss.h"
-#include "BlockSampler.h"
-#include "FieldAccuracy.h"
-#include "TestHelpers.h"
+#include "pipeline/BlockLoss.h"
+#include "pipeline/BlockSampler.h"
+#include "pipeline/FieldAccuracy.h"
+#include "tests/TestHelpers.h"
 
 #include <cmath>
 

@@ -1,9 +1,9 @@
-#include "BrickedFit.h"
-#include "Bricks.h"
-#include "Error.h"
-#include "FieldAccuracy.h"
-#include "Ingest.h"
-#include "TestHelpers.h"
+#include "io/Ingest.h"
+#include "pipeline/Bricks.h"
+#include "pipeline/Error.h"
+#include "pipeline/FieldAccuracy.h"
+#include "tests/TestHelpers.h"
+#include "workflow/BrickedFit.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The orbit camera: which way it looks, its axes, and how it frames a box.
 
-#include "Camera.h"
-#include "Error.h"
+#include "pipeline/Error.h"
+#include "render/Camera.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The gvr executable as a user meets it: exit codes, one-line errors, no stray files.
 
-#include "Suggestions.h"
-#include "TestHelpers.h"
+#include "cli/Suggestions.h"
+#include "tests/TestHelpers.h"
 
 #include <nlohmann/json.hpp>
 

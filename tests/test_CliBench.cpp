@@ -3,8 +3,8 @@
 // table as an uninterrupted run, and shards merge into the whole; external codecs
 // match gvr's bytes, and a faulty one fails only its own row.
 
-#include "BenchTable.h"
-#include "TestHelpers.h"
+#include "bench/BenchTable.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // gvr fit --bricks, --brick I --of N and gvr merge, as a user runs them.
 
-#include "TestHelpers.h"
+#include "tests/TestHelpers.h"
 
 #include <nlohmann/json.hpp>
 

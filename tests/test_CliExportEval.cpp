@@ -1,8 +1,8 @@
 // gvr export, eval and probe as a user meets them.
 
-#include "ImageFile.h"
-#include "Readers.h"
-#include "TestHelpers.h"
+#include "io/ImageFile.h"
+#include "io/Readers.h"
+#include "tests/TestHelpers.h"
 
 #include <nlohmann/json.hpp>
 

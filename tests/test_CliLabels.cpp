@@ -2,11 +2,11 @@
 // label per Gaussian with per-structure budgets, render and export select
 // structures without refitting, eval reports each structure.
 
-#include "AssetFile.h"
-#include "FloatVolume.h"
-#include "ImageFile.h"
-#include "NiftiWriter.h"
-#include "TestHelpers.h"
+#include "io/AssetFile.h"
+#include "io/ImageFile.h"
+#include "io/NiftiWriter.h"
+#include "pipeline/FloatVolume.h"
+#include "tests/TestHelpers.h"
 
 #include <nlohmann/json.hpp>
 

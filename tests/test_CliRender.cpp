@@ -1,10 +1,10 @@
 // gvr render as a user meets it: a CT frame against a stored image, turntables
 // and their statistics, both renderers on assets, and bad input.
 
-#include "ComparisonInput.h"
-#include "Fitter.h"
-#include "QualityMetrics.h"
-#include "TestHelpers.h"
+#include "io/ComparisonInput.h"
+#include "pipeline/Fitter.h"
+#include "pipeline/QualityMetrics.h"
+#include "tests/TestHelpers.h"
 
 #include <nlohmann/json.hpp>
 

@@ -2,9 +2,9 @@
 // naming the slice: mixed geometry, mirrored spacing, unreadable rescale text, a
 // missing position, palette colour, and RGB stored plane by plane.
 
-#include "Error.h"
-#include "Readers.h"
-#include "TestHelpers.h"
+#include "io/Readers.h"
+#include "pipeline/Error.h"
+#include "tests/TestHelpers.h"
 
 #include <gdcmImageWriter.h>
 #include <gdcmReader.h>

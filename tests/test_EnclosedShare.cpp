@@ -1,6 +1,6 @@
 // The share of a subject's inside that a threshold removed.
 
-#include "EnclosedShare.h"
+#include "pipeline/EnclosedShare.h"
 
 #include <gtest/gtest.h>
 

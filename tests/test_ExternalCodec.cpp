@@ -2,9 +2,9 @@
 // size search, the raw layout's axis order, colour channels, and every way a
 // codec can misbehave, each a one-line CodecFailure.
 
-#include "ChildProcess.h"
-#include "ExternalCodec.h"
-#include "TestHelpers.h"
+#include "bench/ChildProcess.h"
+#include "bench/ExternalCodec.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

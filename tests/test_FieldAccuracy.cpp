@@ -1,7 +1,7 @@
 // The dense error that fit reports: export's evaluation, summed exactly.
 
-#include "FieldAccuracy.h"
-#include "TestHelpers.h"
+#include "pipeline/FieldAccuracy.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

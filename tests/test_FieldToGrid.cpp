@@ -1,9 +1,9 @@
 // Sampling the Gaussian field into a sparse grid: exact against point evaluation,
 // sparse where nothing reaches, seamless across leaves at any resolution.
 
-#include "FieldToGrid.h"
-#include "FloatVolume.h"
-#include "TestHelpers.h"
+#include "pipeline/FieldToGrid.h"
+#include "pipeline/FloatVolume.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // A .vdb read as it stands must hold finite values everywhere a sampler may read:
 // active and inactive voxels, tiles and the background.
 
-#include "Error.h"
-#include "FiniteValues.h"
+#include "pipeline/Error.h"
+#include "pipeline/FiniteValues.h"
 
 #include <gtest/gtest.h>
 

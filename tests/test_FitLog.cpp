@@ -1,6 +1,6 @@
-#include "Error.h"
-#include "FitLog.h"
-#include "TestHelpers.h"
+#include "io/FitLog.h"
+#include "pipeline/Error.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

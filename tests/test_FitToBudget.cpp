@@ -1,7 +1,7 @@
-#include "FitToBudget.h"
-#include "Error.h"
-#include "TestHelpers.h"
-#include "VolumeMetadata.h"
+#include "pipeline/Error.h"
+#include "pipeline/VolumeMetadata.h"
+#include "tests/TestHelpers.h"
+#include "workflow/FitToBudget.h"
 
 #include <gtest/gtest.h>
 

@@ -1,11 +1,11 @@
 // The fit on synthetic volumes: it learns, it is reproducible, and hard inputs
 // neither crash it nor fill it with NaN.
 
-#include "Error.h"
-#include "FieldAccuracy.h"
-#include "Fitter.h"
-#include "GaussianField.h"
-#include "TestHelpers.h"
+#include "pipeline/Error.h"
+#include "pipeline/FieldAccuracy.h"
+#include "pipeline/Fitter.h"
+#include "pipeline/GaussianField.h"
+#include "tests/TestHelpers.h"
 
 #include <tbb/global_control.h>
 

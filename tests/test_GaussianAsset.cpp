@@ -1,7 +1,7 @@
 // The asset as data: dropping the weakest Gaussians, and picking structures.
 
-#include "Error.h"
-#include "GaussianAsset.h"
+#include "pipeline/Error.h"
+#include "pipeline/GaussianAsset.h"
 
 #include <gtest/gtest.h>
 

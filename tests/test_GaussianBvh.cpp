@@ -1,7 +1,7 @@
 // The Embree BVH against brute force on random configurations.
 
-#include "GaussianBvh.h"
-#include "GaussianField.h"
+#include "pipeline/GaussianBvh.h"
+#include "pipeline/GaussianField.h"
 
 #include <gtest/gtest.h>
 

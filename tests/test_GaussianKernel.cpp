@@ -1,7 +1,7 @@
 // The analytic adjoint of one Gaussian against central finite differences, and the
 // kernel's behaviour at extreme shapes.
 
-#include "GaussianKernel.h"
+#include "pipeline/GaussianKernel.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
-#include "Error.h"
-#include "GridBuilder.h"
-#include "Readers.h"
-#include "TestHelpers.h"
-#include "VolumeMetadata.h"
+#include "io/GridBuilder.h"
+#include "io/Readers.h"
+#include "pipeline/Error.h"
+#include "pipeline/VolumeMetadata.h"
+#include "tests/TestHelpers.h"
 
 #include <cmath>
 #include <limits>

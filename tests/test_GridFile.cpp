@@ -1,9 +1,9 @@
-#include "AtomicFile.h"
-#include "Error.h"
-#include "GridFile.h"
-#include "Ingest.h"
-#include "TestHelpers.h"
-#include "VolumeMetadata.h"
+#include "io/AtomicFile.h"
+#include "io/GridFile.h"
+#include "io/Ingest.h"
+#include "pipeline/Error.h"
+#include "pipeline/VolumeMetadata.h"
+#include "tests/TestHelpers.h"
 
 #include <openvdb/io/File.h>
 

@@ -1,10 +1,10 @@
 // What gvr opens as input (regular files only, no NUL bytes in paths), and how
 // orbit frames are named: two small rules that many commands lean on.
 
-#include "Error.h"
-#include "FramePath.h"
-#include "InputFile.h"
-#include "TestHelpers.h"
+#include "io/FramePath.h"
+#include "io/InputFile.h"
+#include "pipeline/Error.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

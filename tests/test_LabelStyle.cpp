@@ -1,9 +1,9 @@
 // Label styles: a style recolours and rescales a transfer function; style files are checked.
 
-#include "Error.h"
-#include "LabelStyle.h"
-#include "LabelStyleFile.h"
-#include "TestHelpers.h"
+#include "io/LabelStyleFile.h"
+#include "pipeline/Error.h"
+#include "pipeline/LabelStyle.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

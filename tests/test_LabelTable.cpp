@@ -1,8 +1,8 @@
 // Choosing structures by id or name, and splitting the Gaussian budget among them.
 
-#include "Error.h"
-#include "LabelBudget.h"
-#include "LabelTable.h"
+#include "pipeline/Error.h"
+#include "pipeline/LabelBudget.h"
+#include "pipeline/LabelTable.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Block sampling on arbitrary lattices: the skip bound never hides a value above it.
 
-#include "LatticeSampler.h"
-#include "TestHelpers.h"
+#include "pipeline/LatticeSampler.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "PhaseTimes.h"
+#include "workflow/PhaseTimes.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // Pruning and respawn: negligible Gaussians go with their Adam moments, survivors
 // keep their order, and the freed places go to the sites of largest residual.
 
-#include "Adam.h"
-#include "GaussianKernel.h"
-#include "Pruning.h"
+#include "pipeline/Adam.h"
+#include "pipeline/GaussianKernel.h"
+#include "pipeline/Pruning.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // The metrics on cases with known answers. Agreement with scikit-image is checked
 // by metrics_vs_skimage.py.
 
-#include "Fitter.h"
-#include "QualityMetrics.h"
+#include "pipeline/Fitter.h"
+#include "pipeline/QualityMetrics.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // The shared quantisation of both asset bodies, and the words of ByteOrder.h that
 // every header reader and writer goes through.
 
-#include "ByteOrder.h"
-#include "Quantisation.h"
+#include "io/ByteOrder.h"
+#include "io/Quantisation.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // The reference renderer's rays per pixel: many rays are one ray at a finer pixel
 // pitch, averaged, and they soften what one ray aliases.
 
-#include "Error.h"
-#include "RayMarcher.h"
-#include "TestHelpers.h"
+#include "pipeline/Error.h"
+#include "render/RayMarcher.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // Each reader on small files written here, with values and geometry known exactly.
 
-#include "ByteOrder.h"
-#include "Error.h"
-#include "Readers.h"
-#include "TestHelpers.h"
+#include "io/ByteOrder.h"
+#include "io/Readers.h"
+#include "pipeline/Error.h"
+#include "tests/TestHelpers.h"
 
 #include <OpenImageIO/imageio.h>
 #include <nifti2_io.h>

@@ -1,6 +1,6 @@
 // How library messages name settings, and how a front end respells them.
 
-#include "SettingNames.h"
+#include "pipeline/SettingNames.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // Every set in ../shared/data ingests with the dimensions, spacing and value
 // ranges its README states.
 
-#include "Ingest.h"
-#include "TestHelpers.h"
-#include "VolumeMetadata.h"
+#include "io/Ingest.h"
+#include "pipeline/VolumeMetadata.h"
+#include "tests/TestHelpers.h"
 
 namespace gvr {
 namespace {

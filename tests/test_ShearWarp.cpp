@@ -1,12 +1,12 @@
 // Shear-warp against the ray-marching reference, axis and view stacks and their reuse, opacity correction
 // and the stiff cases: empty volumes, sheets thinner than a slice, overflow.
 
-#include "Error.h"
-#include "Fitter.h"
-#include "QualityMetrics.h"
-#include "RayMarcher.h"
-#include "ShearWarp.h"
-#include "TestHelpers.h"
+#include "pipeline/Error.h"
+#include "pipeline/Fitter.h"
+#include "pipeline/QualityMetrics.h"
+#include "render/RayMarcher.h"
+#include "render/ShearWarp.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

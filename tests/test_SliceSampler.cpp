@@ -1,7 +1,7 @@
 // The slice loss's planes: points on one plane inside the box, normals uniform
 // over the sphere, the same points for the same seed.
 
-#include "SliceSampler.h"
+#include "pipeline/SliceSampler.h"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 // empty space, including the hollows inside a body, for classified samples and
 // for values.
 
-#include "SliceStack.h"
-#include "TestHelpers.h"
+#include "render/SliceStack.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The threshold rule that export, fit and eval share.
 
-#include "Luminance.h"
-#include "ThresholdCut.h"
+#include "pipeline/Luminance.h"
+#include "pipeline/ThresholdCut.h"
 
 #include <gtest/gtest.h>
 

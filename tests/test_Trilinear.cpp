@@ -1,7 +1,7 @@
 // Trilinear interpolation's corners and weights, on which the target, dense resampling
 // and the renderer all rely.
 
-#include "Trilinear.h"
+#include "pipeline/Trilinear.h"
 
 #include <gtest/gtest.h>
 

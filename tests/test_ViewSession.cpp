@@ -2,8 +2,8 @@
 // frames (never a wait) while a stack builds, axis stacks kept, and rebuilds on
 // scene and zoom changes.
 
-#include "TestHelpers.h"
-#include "ViewSession.h"
+#include "render/ViewSession.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // The fit's view of a volume: values, blocks and gradients read alike.
 
-#include "Error.h"
-#include "LatticeSampler.h"
-#include "TestHelpers.h"
-#include "VolumeTarget.h"
+#include "pipeline/Error.h"
+#include "pipeline/LatticeSampler.h"
+#include "pipeline/VolumeTarget.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 

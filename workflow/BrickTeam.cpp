@@ -1,4 +1,4 @@
-#include "BrickTeam.h"
+#include "workflow/BrickTeam.h"
 
 #include <tbb/task_arena.h>
 

@@ -8,7 +8,7 @@
 /// only this interface.
 #pragma once
 
-#include "Bricks.h"
+#include "pipeline/Bricks.h"
 
 #include <exception>
 #include <string>

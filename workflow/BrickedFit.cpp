@@ -1,8 +1,8 @@
-#include "BrickedFit.h"
+#include "workflow/BrickedFit.h"
 
-#include "AssetFile.h"
-#include "Error.h"
-#include "ProcessMemory.h"
+#include "io/AssetFile.h"
+#include "pipeline/Error.h"
+#include "pipeline/ProcessMemory.h"
 
 #include <algorithm>
 

@@ -11,8 +11,8 @@
 /// same asset byte for byte.
 #pragma once
 
-#include "Bricks.h"
-#include "FitToBudget.h"
+#include "pipeline/Bricks.h"
+#include "workflow/FitToBudget.h"
 
 #include <string>
 #include <vector>

@@ -1,12 +1,12 @@
-#include "Evaluate.h"
+#include "workflow/Evaluate.h"
 
-#include "AssetFile.h"
-#include "Error.h"
-#include "Fitter.h"
-#include "GridFile.h"
-#include "Figures.h"
-#include "LabelGrid.h"
-#include "Luminance.h"
+#include "io/AssetFile.h"
+#include "io/Figures.h"
+#include "io/GridFile.h"
+#include "io/LabelGrid.h"
+#include "pipeline/Error.h"
+#include "pipeline/Fitter.h"
+#include "pipeline/Luminance.h"
 
 #include <algorithm>
 #include <chrono>

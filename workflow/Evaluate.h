@@ -3,10 +3,10 @@
 /// MS-SSIM, and per structure, as `gvr eval` reports them.
 #pragma once
 
-#include "ComparisonInput.h"
-#include "LabelTable.h"
-#include "QualityMetrics.h"
-#include "StructureQuality.h"
+#include "io/ComparisonInput.h"
+#include "pipeline/LabelTable.h"
+#include "pipeline/QualityMetrics.h"
+#include "pipeline/StructureQuality.h"
 
 #include <nlohmann/json.hpp>
 

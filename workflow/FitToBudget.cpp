@@ -1,8 +1,8 @@
-#include "FitToBudget.h"
+#include "workflow/FitToBudget.h"
 
-#include "Error.h"
-#include "LabelBudget.h"
-#include "LabelGrid.h"
+#include "io/LabelGrid.h"
+#include "pipeline/Error.h"
+#include "pipeline/LabelBudget.h"
 
 #include <cmath>
 

@@ -3,9 +3,9 @@
 /// or a count, with its byte budget kept, as `gvr fit` runs it.
 #pragma once
 
-#include "AssetFile.h"
-#include "Fitter.h"
-#include "LabelledFit.h"
+#include "io/AssetFile.h"
+#include "pipeline/Fitter.h"
+#include "pipeline/LabelledFit.h"
 
 #include <openvdb/openvdb.h>
 

@@ -1,4 +1,4 @@
-#include "MpiTeam.h"
+#include "workflow/MpiTeam.h"
 
 #include <mpi.h>
 #include <tbb/task_arena.h>

@@ -3,7 +3,7 @@
 /// (gvr_mpi_team) so that only what runs under mpirun links MPI.
 #pragma once
 
-#include "BrickTeam.h"
+#include "workflow/BrickTeam.h"
 
 #include <functional>
 #include <memory>

@@ -1,10 +1,10 @@
-#include "RenderInput.h"
+#include "workflow/RenderInput.h"
 
-#include "AssetExport.h"
-#include "AssetFile.h"
-#include "Error.h"
-#include "TransferFunctionFile.h"
-#include "VolumeClassifier.h"
+#include "io/AssetExport.h"
+#include "io/AssetFile.h"
+#include "io/TransferFunctionFile.h"
+#include "pipeline/Error.h"
+#include "render/VolumeClassifier.h"
 
 #include <filesystem>
 #include <limits>

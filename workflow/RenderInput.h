@@ -3,11 +3,11 @@
 /// shown) or a grid, and the transfer function given by preset or file.
 #pragma once
 
-#include "Classifier.h"
-#include "GaussianAsset.h"
-#include "Ingest.h"
-#include "RenderVolume.h"
-#include "ShearWarp.h"
+#include "io/Ingest.h"
+#include "pipeline/GaussianAsset.h"
+#include "render/Classifier.h"
+#include "render/RenderVolume.h"
+#include "render/ShearWarp.h"
 
 #include <memory>
 #include <optional>

@@ -1,8 +1,8 @@
-#include "TeamFit.h"
+#include "workflow/TeamFit.h"
 
-#include "AssetFile.h"
-#include "Error.h"
-#include "GaussianField.h"
+#include "io/AssetFile.h"
+#include "pipeline/Error.h"
+#include "pipeline/GaussianField.h"
 
 #include <chrono>
 #include <cstdlib>

@@ -3,9 +3,9 @@
 /// across the ranks of an mpirun, merged on rank 0; or one brick of a job array.
 #pragma once
 
-#include "BrickTeam.h"
-#include "BrickedFit.h"
-#include "FieldAccuracy.h"
+#include "pipeline/FieldAccuracy.h"
+#include "workflow/BrickTeam.h"
+#include "workflow/BrickedFit.h"
 
 #include <functional>
 

@@ -6,16 +6,16 @@
 // The contract under test: any bytes give a grid, an asset or an InputError.
 // Any other exception, a crash, a leak or undefined behaviour is a finding.
 
-#include "AssetFile.h"
-#include "BenchManifest.h"
-#include "Error.h"
-#include "GridFile.h"
-#include "Ingest.h"
-#include "MemoryBudget.h"
-#include "LabelStyleFile.h"
-#include "SampleType.h"
-#include "SliceStack.h"
-#include "TransferFunctionFile.h"
+#include "bench/BenchManifest.h"
+#include "io/AssetFile.h"
+#include "io/GridFile.h"
+#include "io/Ingest.h"
+#include "io/LabelStyleFile.h"
+#include "io/MemoryBudget.h"
+#include "io/TransferFunctionFile.h"
+#include "pipeline/Error.h"
+#include "pipeline/SampleType.h"
+#include "render/SliceStack.h"
 
 #include <zlib.h>
 

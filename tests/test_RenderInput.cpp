@@ -1,0 +1,79 @@
+// What render, view and Python draw: an asset or a grid read from a file, and the
+// transfer function a name stands for.
+
+#include "io/AssetFile.h"
+#include "io/GridFile.h"
+#include "io/TransferFunctionFile.h"
+#include "pipeline/Error.h"
+#include "tests/TestHelpers.h"
+#include "workflow/FitToBudget.h"
+#include "workflow/RenderInput.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace gvr {
+namespace {
+
+openvdb::GridBase::Ptr ball() {
+    return test::makeGrid({16, 16, 16}, [](int i, int j, int k) {
+        const double r2 = (i - 8.0) * (i - 8.0) + (j - 8.0) * (j - 8.0) + (k - 8.0) * (k - 8.0);
+        return float(10.0 + 100.0 * std::exp(-r2 / 20.0));
+    });
+}
+
+struct Files {
+    test::TempDir dir;
+    std::string grid = dir.path("ball.vdb"), asset = dir.path("ball.gvr");
+    Files() {
+        writeGridFile(grid, {ball()});
+        BudgetedFitOptions options;
+        options.gaussians = 20;
+        options.settings.seconds = 0.0;
+        options.settings.iterations = 3;
+        GaussianAsset fitted = fitToBudget(ball(), "ball", options).asset;
+        writeAsset(asset, fitted);
+    }
+};
+
+TEST(RenderInput, AnAssetIsItsGaussiansAndAGridItsVoxels) {
+    const Files files;
+    const RenderInput asset = loadRenderInput(files.asset, "", "", 0.0f, {});
+    ASSERT_TRUE(asset.asset.has_value());
+    EXPECT_EQ(asset.asset->params.count(), 20u);
+    EXPECT_NE(dynamic_cast<const GaussianRenderVolume*>(asset.volume.get()), nullptr);
+
+    const RenderInput grid = loadRenderInput(files.grid, "", "", 0.0f, {});
+    EXPECT_FALSE(grid.asset.has_value());
+    EXPECT_NE(dynamic_cast<const GridRenderVolume*>(grid.volume.get()), nullptr);
+
+    // For the ray marcher, an asset becomes its field on its source's voxels.
+    const RenderInput exported = loadRenderInput(files.asset, "", "", 0.0f, {}, /*assetAsGrid=*/true);
+    ASSERT_NE(dynamic_cast<const GridRenderVolume*>(exported.volume.get()), nullptr);
+    EXPECT_EQ(exported.volume->box().dim(), openvdb::Coord(16));
+}
+
+TEST(RenderInput, StructuresOfAGridAreRefusedNamingTheSetting) {
+    const Files files;
+    const std::string message = test::errorMessageOf<InputError>([&] { loadRenderInput(files.grid, "4", "", 0.0f, {}); });
+    EXPECT_NE(message.find(files.grid), std::string::npos) << message;
+    EXPECT_NE(message.find("`show` and `hide`"), std::string::npos) << message;
+}
+
+TEST(RenderInput, ATransferFunctionIsAFileWhenOneExistsElseAPreset) {
+    const Files files;
+    const RenderInput grid = loadRenderInput(files.grid, "", "", 0.0f, {});
+    const std::string path = files.dir.path("tf.json");
+    writeTransferFunction(path, TransferFunction({{0, {0, 0, 0, 0}}, {50, {1, 0, 0, 0.5f}}}, "tf"));
+    EXPECT_EQ(transferFunctionFor(path, *grid.volume).points().size(), 2u);
+    EXPECT_FLOAT_EQ(transferFunctionFor(path, *grid.volume)(50.0)[3], 0.5f);
+    std::string mismatch;
+    const TransferFunction preset = transferFunctionFor("ct", *grid.volume, &mismatch);
+    EXPECT_GT(preset.points().size(), 2u);
+    EXPECT_NE(mismatch.find("mri fits them"), std::string::npos) << mismatch;  // no HU in these data
+    EXPECT_THROW(transferFunctionFor(files.dir.path("missing.json"), *grid.volume), InputError);
+}
+
+}  // namespace
+}  // namespace gvr
