@@ -193,6 +193,27 @@ TEST(Fitter, ATimeBudgetThatCanTrainTheAllowanceGrowsPastTheProbe) {
     EXPECT_EQ(report.requestedGaussians, 0u);
 }
 
+TEST(Fitter, TheCountGrowsPastTheProbeInStepsThatKeepMemoryNearWhatIsTrained) {
+    // An allowance of 150,000 that the time can train: from the probe's 16,384 the
+    // count may grow at most 8x a step (131,072), then reaches the allowance.
+    const VolumeTarget target(test::makeGrid({64, 64, 64}, [](int i, int j, int k) { return float(i + j + k) + blob(i, j, k); }),
+                              "blobs on a ramp");
+    FitSettings settings = quickSettings(150000, 0);
+    settings.seconds = 12.0;
+    settings.amplitudeSolveIterations = 0;
+    settings.pruneEvery = 0;
+    settings.minSamplesPerGaussian = 1.0;
+    std::vector<std::size_t> counts;
+    const FitObserver observer = [&](const FitProgress& p) {
+        if (!p.setUp && (counts.empty() || counts.back() != p.gaussians)) counts.push_back(p.gaussians);
+    };
+    const GaussianParameters fitted = fitGaussians(target, settings, observer);
+    ASSERT_GE(counts.size(), 2u);
+    EXPECT_EQ(counts.front(), 16384u);
+    for (std::size_t n = 1; n < counts.size(); ++n) EXPECT_LE(counts[n], 8 * counts[n - 1]) << n;
+    EXPECT_EQ(fitted.count(), 150000u);
+}
+
 TEST(Fitter, ANonFiniteGradientIsSkippedCountedAndForgotten) {
     const VolumeTarget target(test::makeGrid({32, 24, 24}, blob), "blobs");
     FitSettings settings = quickSettings(300, 300);
