@@ -18,6 +18,12 @@ void BlockBins::findTruncatedBounds(const GaussianField& field) {
     });
 }
 
+void BlockBins::clear() {
+    std::vector<std::vector<std::uint32_t>>().swap(mBins);
+    std::vector<Box>().swap(mBinned);
+    std::vector<Box>().swap(mTruncated);
+}
+
 void BlockBins::build(const GaussianField& field) {
     findTruncatedBounds(field);
     mBinned = field.bvh().boxes();

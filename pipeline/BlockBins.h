@@ -38,6 +38,9 @@ public:
     /// it to the blocks of its grown bounds. @return how many had left.
     std::size_t follow(const GaussianField& field);
 
+    /// Frees every bin, for a caller done with them until the next build().
+    void clear();
+
     const BlockGrid& grid() const { return mGrid; }
     /// The Gaussians that may reach @a block, in ascending order.
     const std::vector<std::uint32_t>& gaussians(std::uint32_t block) const { return mBins[block]; }

@@ -98,6 +98,11 @@ void GaussianBvh::release() {
     mScene = nullptr;
 }
 
+void GaussianBvh::clear() {
+    release();
+    std::vector<Box>().swap(mBoxes);
+}
+
 void GaussianBvh::build(std::vector<Box> boxes, bool fast) {
     release();
     mBoxes = std::move(boxes);

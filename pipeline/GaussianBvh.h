@@ -53,6 +53,9 @@ public:
     void nearestCentres(const float x[3], std::size_t k, std::uint32_t exclude,
                         std::vector<std::pair<float, std::uint32_t>>& nearest) const;
 
+    /// Frees the BVH and its boxes: queries then find nothing.
+    void clear();
+
     std::size_t size() const { return mBoxes.size(); }
     const std::vector<Box>& boxes() const { return mBoxes; }
 

@@ -30,7 +30,7 @@ void GaussianField::rebuild(const GaussianParameters& params, float cutoffSigmas
 bool GaussianField::update(const GaussianParameters& params) {
     const std::size_t count = params.count();
     if (count != mGaussians.size() || params.channels != mChannels) return false;
-    const std::vector<Box>& boxes = mBvh.boxes();
+    const std::vector<Box>& boxes = bvh().boxes();
     // In place: a second array would be as large as the field (the fit's peak memory).
     return tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, count), true,

@@ -7,6 +7,7 @@
 #include "pipeline/GaussianKernel.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <vector>
 
 namespace gvr {
@@ -40,7 +41,7 @@ public:
     /// f at @a x into value[0..channels). @a hits is scratch space, one per thread;
     /// it is left holding the indices of the Gaussians that reach x.
     void evaluate(const float x[3], float* value, std::vector<std::uint32_t>& hits) const {
-        mBvh.query(x, hits);
+        bvh().query(x, hits);
         std::sort(hits.begin(), hits.end());  // a fixed summation order
         for (int c = 0; c < mChannels; ++c) value[c] = 0.0f;
         for (std::uint32_t index : hits) accumulateValue(mGaussians[index], x, mCutoff2, mChannels, value);
@@ -50,7 +51,16 @@ public:
     float cutoff2() const { return mCutoff2; }
     float cutoffSigmas() const { return mCutoffSigmas; }
     const std::vector<ActiveGaussian>& gaussians() const { return mGaussians; }
-    const GaussianBvh& bvh() const { return mBvh; }
+    /// @throw std::logic_error after releaseBvh(), until the next rebuild().
+    const GaussianBvh& bvh() const {
+        if (mBvh.size() != mGaussians.size()) throw std::logic_error("GaussianField: its BVH was released; rebuild() first");
+        return mBvh;
+    }
+
+    /// Frees the BVH, about 250 bytes a Gaussian, for a caller that has binned the
+    /// Gaussians with it and asks its bins from then on (the fit). Until the next
+    /// rebuild(), evaluate(), bvh() and update() throw std::logic_error.
+    void releaseBvh() { mBvh.clear(); }
 
 private:
     int mChannels = 1;

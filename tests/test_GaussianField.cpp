@@ -66,5 +66,15 @@ TEST(GaussianField, AMoveWithinTheSlackKeepsTheBvhAndALargerOneDoesNot) {
     EXPECT_FALSE(field.update(two));  // another count
 }
 
+TEST(GaussianField, AReleasedBvhIsNeverQueriedSilently) {
+    GaussianField field(oneGaussian({5, 5, 5}, {1, 1, 1}), 3.0f);
+    field.releaseBvh();
+    EXPECT_THROW(valueAt(field, {5, 5, 5}), std::logic_error);  // not a silent 0
+    EXPECT_THROW(field.bvh(), std::logic_error);
+    EXPECT_EQ(field.gaussians().size(), 1u);  // the activated Gaussians stay
+    field.rebuild(oneGaussian({5, 5, 5}, {1, 1, 1}), 3.0f);
+    EXPECT_FLOAT_EQ(valueAt(field, {5, 5, 5}), 0.4f);
+}
+
 }  // namespace
 }  // namespace gvr
