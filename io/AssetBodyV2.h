@@ -43,7 +43,8 @@ struct QuantisationV2 {
 
     /// The ranges that @a params need.
     QuantisationV2(const GaussianParameters& params, const AssetEncoding& encoding);
-    /// @throw std::runtime_error for missing keys or impossible values.
+    /// @throw nlohmann::json::exception for a missing or mistyped key, std::runtime_error
+    ///        for an impossible value (AssetFile names the file for either).
     QuantisationV2(const nlohmann::json& json, int channels);
 
     nlohmann::json json() const;

@@ -1,7 +1,6 @@
 // What gvr opens as input (regular files only, no NUL bytes in paths), and how
 // orbit frames are named: two small rules that many commands lean on.
 
-#include "io/FramePath.h"
 #include "io/InputFile.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
@@ -32,9 +31,3 @@ TEST(InputFile, OnlyRegularFilesAreInputsAndEveryRefusalNamesThePath) {
     EXPECT_EQ(test::errorMessageOf<InputError>([&] { requireNoNulByte(file); }), "");
 }
 
-TEST(FramePath, OrbitFramesAreNumberedBesideTheOutputAndASingleFrameKeepsItsName) {
-    EXPECT_EQ(framePath("out/view.png", 0, 1), "out/view.png");
-    EXPECT_EQ(framePath("out/view.png", 7, 120), "out/view_0007.png");
-    EXPECT_EQ(framePath("view.exr", 12345, 20000), "view_12345.exr");
-    EXPECT_EQ(framePath("a.b/frame.png", 3, 6), "a.b/frame_0003.png") << "a dot in a folder is no extension";
-}
