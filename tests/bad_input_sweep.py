@@ -314,7 +314,8 @@ def outputs_and_flags(work, grid, asset):
     case("flag out of range", "fit --threads 100000", fit + ["--threads", "100000"], [grid], ["out.gvr"])
     render = ["render", asset, "-o", "out.png"]
     for args in [["--renderer", "raymarch", "--step", "1e-9"], ["--slice-spacing", "1e-9"], ["--size", "0x0"],
-                 ["--size", "100000x100000"]]:
+                 ["--size", "100000x100000"], ["--renderer", "raymarch", "--samples", "0"],
+                 ["--renderer", "raymarch", "--samples", "99"], ["--samples", "4"]]:
         case("flag out of range", "render " + " ".join(args), render + args, [asset], ["out.png"])
     for args in [["--resolution", "5000"], ["--voxel-size", "1e-6"]]:
         case("flag out of range", "export " + " ".join(args), ["export", asset, "-o", "out.vdb"] + args, [asset])
