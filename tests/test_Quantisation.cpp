@@ -1,13 +1,10 @@
-// The shared quantisation of both asset bodies, and the words of ByteOrder.h that
-// every header reader and writer goes through.
+// The shared quantisation of both asset bodies.
 
-#include "io/ByteOrder.h"
 #include "io/Quantisation.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <string>
 
 using namespace gvr;
 
@@ -41,20 +38,3 @@ TEST(Quantisation, TheLargestQuaternionComponentIsRecoveredFromTheOtherThree) {
     EXPECT_EQ(over[3], 0.0f);
 }
 
-TEST(ByteOrder, WordsLoadAndStoreInTheStatedOrderOnAnyHost) {
-    const unsigned char bytes[4] = {0x12, 0x34, 0x56, 0x78};
-    EXPECT_EQ(loadWord<std::uint32_t>(bytes, /*storedBigEndian=*/true), 0x12345678u);
-    EXPECT_EQ(loadWord<std::uint32_t>(bytes, false), 0x78563412u);
-    EXPECT_EQ(loadLittleEndian<std::uint16_t>(bytes + 2), 0x7856u);
-    EXPECT_EQ(loadWord<std::int16_t>(bytes, true), std::int16_t(0x1234));
-
-    std::string stored;
-    appendLittleEndian(stored, std::uint32_t(0x01020304));
-    appendLittleEndian(stored, -1.5f);
-    appendLittleEndian(stored, 2.25);
-    ASSERT_EQ(stored.size(), 16u);
-    EXPECT_EQ(stored.substr(0, 4), std::string("\x04\x03\x02\x01", 4));
-    EXPECT_EQ(stored.substr(4, 4), std::string("\x00\x00\xc0\xbf", 4)) << "-1.5f is 0xbfc00000";
-    EXPECT_EQ(loadLittleEndian<float>(stored.data() + 4), -1.5f);
-    EXPECT_EQ(loadLittleEndian<double>(stored.data() + 8), 2.25);
-}
