@@ -23,13 +23,11 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <sstream>
+#include <memory>
+#include <optional>
 
 namespace gvr {
 

@@ -250,7 +250,6 @@ private:
     double heldOutPsnr(const SampleSet& heldOut) const;
     void releaseTrainingState();
 
-
     const VolumeTarget& mTarget;
     const FitSettings& mSettings;
     Clock::time_point mStart;
@@ -362,13 +361,14 @@ void FitLoop::fitCountToTheTime() {
 /// its memory (a 24M-voxel MRI, heaptrack).
 void FitLoop::refreshField(std::size_t iteration) {
     const double fraction = fractionDone(iteration);
-    if (mRebin || measurementDue(fraction) || iteration >= mBinnedAt + mSettings.rebinEvery) {
+    const bool timeMeasurement = measurementDue(fraction);
+    if (mRebin || timeMeasurement || iteration >= mBinnedAt + mSettings.rebinEvery) {
         const std::vector<std::uint32_t> order = spatialOrder(mParams, mTarget.box());
         mParams.permute(order);
         if (mAdam) mAdam->permute(order);  // none once the training is over
         mField.rebuild(mParams, mSettings.cutoffSigmas, /*fastBuild=*/true, kBinSlackVoxels, kBinSlackFraction);
         mBins.build(mField);
-        if (measurementDue(fraction)) estimateMeasurement(fraction);
+        if (timeMeasurement) estimateMeasurement(fraction);
         mField.releaseBvh();
         mRebin = false;
         mBinnedAt = iteration;
