@@ -111,6 +111,10 @@ def test_a_bricked_fit_from_python_is_gvr_fit_bricks_byte_for_byte(work, ch2_vdb
     assert bricks_seen == {0, 1, 2}
     with pytest.raises(gvr.Error, match="bricks: cannot be combined with labels"):
         gvr.fit(ch2_vdb, iterations=1, bricks=2, labels="all")
+    with pytest.raises(gvr.Error, match="halo: must be at least 0"):
+        gvr.fit(ch2_vdb, iterations=1, bricks=2, halo=-1)
+    with pytest.raises(gvr.Error, match="bricks: 100000 bricks of whole 8\\^3 leaves do not fit"):
+        gvr.fit(ch2_vdb, iterations=1, bricks=100000)
 
 
 def test_a_render_is_gvr_render(work, cli_asset):
