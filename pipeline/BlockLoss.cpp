@@ -27,30 +27,28 @@ struct RowTerms {
 /// A Gaussian's share of a block: its rows in terms[first, end).
 struct Pair {
     std::uint32_t gaussian, first, end;
-    double uCentre[3];  ///< R^T (centre - mean)
+    double centreOffset[3];  ///< the block's centre - mean
 };
 
 /// One Gaussian's q over one block, as a quadratic in r, a voxel's offset from the
-/// block's origin: q = h + 2 gLin.r + r^T G r, with u0 = R^T (origin - mean).
+/// block's origin: q = h + 2 gLin.r + r^T G r, with G the inverse covariance and
+/// gLin = G d for d = origin - mean.
 struct BlockQuadratic {
-    double G[3][3], gLin[3], h, u0[3];
+    double G[3][3], gLin[3], h;
 };
 
-BlockQuadratic quadraticOver(const ActiveGaussian& g, const openvdb::Coord& origin) {
-    // u = R^T (p - mean) = u0 + sum_a r_a (row a of R), and q = sum_c u_c^2 / sigma_c^2.
-    const double d[3] = {origin.x() - double(g.mean[0]), origin.y() - double(g.mean[1]), origin.z() - double(g.mean[2])};
+__attribute__((always_inline)) inline BlockQuadratic quadraticOver(const ActiveGaussian& g, const double d[3]) {
+    const float* inverse = g.inverseCovariance;
+    const double G[3][3] = {{inverse[0], inverse[3], inverse[4]},
+                            {inverse[3], inverse[1], inverse[5]},
+                            {inverse[4], inverse[5], inverse[2]}};
     BlockQuadratic quad{};
-    for (int c = 0; c < 3; ++c) {
-        for (int a = 0; a < 3; ++a) quad.u0[c] += double(g.rotation[3 * a + c]) * d[a];
-        quad.h += g.invVariance[c] * quad.u0[c] * quad.u0[c];
-    }
     for (int a = 0; a < 3; ++a) {
-        for (int c = 0; c < 3; ++c) quad.gLin[a] += double(g.invVariance[c]) * g.rotation[3 * a + c] * quad.u0[c];
         for (int b = 0; b < 3; ++b) {
-            for (int c = 0; c < 3; ++c) {
-                quad.G[a][b] += double(g.invVariance[c]) * g.rotation[3 * a + c] * g.rotation[3 * b + c];
-            }
+            quad.G[a][b] = G[a][b];
+            quad.gLin[a] += G[a][b] * d[b];
         }
+        quad.h += quad.gLin[a] * d[a];
     }
     return quad;
 }
@@ -99,8 +97,7 @@ __attribute__((always_inline)) inline void addPairTerms(const BlockQuadratic& qu
         const double zLinearX = 2.0 * (G[0][2] * x + quad.gLin[2]), zLinearY = 2.0 * G[1][2];
         const double constantX = quad.h + 2.0 * quad.gLin[0] * x + G[0][0] * x * x;
         const double constantY = 2.0 * (quad.gLin[1] + G[0][1] * x);
-        for (int y = ys[0]; y <= ys[1]; ++y) {
-            if (!rowSampled(x, y, rowStride, sampled.rowPhase)) continue;
+        for (int y = firstSampledY(x, ys[0], rowStride, sampled.rowPhase); y <= ys[1]; y += rowStride) {
             // Along the row q(z) = G_zz (z - zCentre)^2 + qMin, accurate in float near the ellipsoid.
             const double zLinear = zLinearX + zLinearY * y;
             const double qMin = constantX + y * (constantY + G[1][1] * y) - 0.25 * zLinear * zLinear * inverseZz;
@@ -185,37 +182,25 @@ __attribute__((always_inline)) inline BlockMoments pairMoments(const Pair& pair,
     return m;
 }
 
-/// The moments in the Gaussian's frame: with u = uCentre + R^T r (r about the block's
-/// centre), sum t u = s0 uCentre + R^T s1, and sum t u u^T expands the same way.
-GradientSums toGaussianFrame(const ActiveGaussian& g, const double uCentre[3], BlockMoments m) {
-    for (int a = 0; a < 3; ++a) {
-        for (int b = 0; b < a; ++b) m.s2[a][b] = m.s2[b][a];
-    }
-    double rs1[3] = {0, 0, 0}, rs2r[3][3] = {};
-    for (int c = 0; c < 3; ++c) {
-        for (int a = 0; a < 3; ++a) rs1[c] += double(g.rotation[3 * a + c]) * m.s1[a];
-    }
-    for (int c = 0; c < 3; ++c) {
-        for (int d = c; d < 3; ++d) {
-            for (int a = 0; a < 3; ++a) {
-                for (int b = 0; b < 3; ++b) rs2r[c][d] += double(g.rotation[3 * a + c]) * m.s2[a][b] * g.rotation[3 * b + d];
-            }
-        }
-    }
-    const auto tuu = [&](int c, int d) {
-        return float(m.s0 * uCentre[c] * uCentre[d] + uCentre[c] * rs1[d] + rs1[c] * uCentre[d] + rs2r[c][d]);
+/// The moments about the Gaussian's mean: with d = centreOffset + r (r about the
+/// block's centre), sum t d = s0 centreOffset + s1, and sum t d d^T expands the same way.
+__attribute__((always_inline)) inline GradientSums aboutTheMean(const double centreOffset[3], BlockMoments m) {
+    const double* o = centreOffset;
+    const auto tdd = [&](int a, int b) {
+        const double s2 = a <= b ? m.s2[a][b] : m.s2[b][a];
+        return float(m.s0 * o[a] * o[b] + o[a] * m.s1[b] + m.s1[a] * o[b] + s2);
     };
     GradientSums sums;
-    for (int c = 0; c < 3; ++c) {
-        sums.upstreamE[c] = float(m.upstreamE[c]);
-        sums.tu[c] = float(m.s0 * uCentre[c] + rs1[c]);
+    for (int a = 0; a < 3; ++a) {
+        sums.upstreamE[a] = float(m.upstreamE[a]);
+        sums.td[a] = float(m.s0 * o[a] + m.s1[a]);
     }
-    sums.tuu[0] = tuu(0, 0);
-    sums.tuu[1] = tuu(1, 1);
-    sums.tuu[2] = tuu(2, 2);
-    sums.tuu[3] = tuu(0, 1);
-    sums.tuu[4] = tuu(0, 2);
-    sums.tuu[5] = tuu(1, 2);
+    sums.tdd[0] = tdd(0, 0);
+    sums.tdd[1] = tdd(1, 1);
+    sums.tdd[2] = tdd(2, 2);
+    sums.tdd[3] = tdd(0, 1);
+    sums.tdd[4] = tdd(0, 2);
+    sums.tdd[5] = tdd(1, 2);
     return sums;
 }
 
@@ -228,8 +213,7 @@ double residuals(const Pass& pass, const SampledBlock& sampled, const openvdb::C
     const float gain = float(2.0 * pass.settings.scale * sampled.weight);
     double squared = 0.0;
     for (int x = 0; x < kBlockDim; ++x) {
-        for (int y = 0; y < kBlockDim; ++y) {
-            if (!rowSampled(x, y, rowStride, sampled.rowPhase)) continue;
+        for (int y = firstSampledY(x, 0, rowStride, sampled.rowPhase); y < kBlockDim; y += rowStride) {
             for (int z = 0; z < kBlockDim; ++z) {
                 const int offset = (x * kBlockDim + y) * kBlockDim + z;
                 if (!work.trainable[offset]) {
@@ -277,19 +261,17 @@ __attribute__((always_inline)) inline double evaluateBlockWith(const Pass& pass,
             !offsetsWithin(bounds.lower[2], bounds.upper[2], origin.z(), zs)) {
             continue;
         }
-        const BlockQuadratic quad = quadraticOver(g, origin);
+        const double originOffset[3] = {origin.x() - double(g.mean[0]), origin.y() - double(g.mean[1]),
+                                        origin.z() - double(g.mean[2])};
+        const BlockQuadratic quad = quadraticOver(g, originOffset);
         // A copy: stores to the block could otherwise alias the Gaussian's amplitudes.
         float amplitude[3];
         std::copy(g.amplitude, g.amplitude + channels, amplitude);
         const std::uint32_t first = std::uint32_t(work.terms.size());
         addPairTerms<Floats>(quad, xs, ys, sampled, pass.settings.rowStride, field.cutoff2(), amplitude, channels, work);
         if (work.terms.size() == first) continue;
-        Pair pair{index, first, std::uint32_t(work.terms.size()), {}};
-        for (int c = 0; c < 3; ++c) {
-            pair.uCentre[c] = quad.u0[c];
-            for (int a = 0; a < 3; ++a) pair.uCentre[c] += kCentre * double(g.rotation[3 * a + c]);
-        }
-        work.pairs.push_back(pair);
+        work.pairs.push_back({index, first, std::uint32_t(work.terms.size()),
+                              {originOffset[0] + kCentre, originOffset[1] + kCentre, originOffset[2] + kCentre}});
     }
     pass.target.blockValues(origin, work.target);
     const double squared = residuals(pass, sampled, origin, work, outcome);
@@ -298,7 +280,7 @@ __attribute__((always_inline)) inline double evaluateBlockWith(const Pass& pass,
         const ActiveGaussian& g = field.gaussians()[pair.gaussian];
         float amplitude[3];
         std::copy(g.amplitude, g.amplitude + channels, amplitude);
-        gradients->sumsOf(chunk, pair.gaussian) += toGaussianFrame(g, pair.uCentre, pairMoments<Floats>(pair, amplitude, channels, work));
+        gradients->sumsOf(chunk, pair.gaussian) += aboutTheMean(pair.centreOffset, pairMoments<Floats>(pair, amplitude, channels, work));
     }
     return squared;
 }

@@ -6,8 +6,8 @@
 /// of the block and put through a polynomial exp several lanes at a time (pass 1,
 /// which also keeps the kernel values). With the residuals known, pass 2 sums what
 /// the pair's voxels give the gradient as moments in the block's frame (the sums of
-/// t, t r and t r r^T, and of upstream * e), converted once per pair to the
-/// Gaussian's own frame (GradientSums): one gradient write per pair, not per voxel.
+/// t, t r and t r r^T, and of upstream * e), shifted once per pair to moments about
+/// the Gaussian's mean (GradientSums): one gradient write per pair, not per voxel.
 #pragma once
 
 #include "pipeline/BlockBins.h"

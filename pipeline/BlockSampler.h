@@ -63,9 +63,11 @@ private:
     double mTotal = 0.0;         ///< sum over blocks of (error + epsilon) * trainable voxels
 };
 
-/// Whether row (x, y) of a block (x, y in 0..7) is in the sub-lattice of @a phase.
-inline bool rowSampled(int x, int y, int rowStride, std::uint32_t phase) {
-    return std::uint32_t((x + y) % rowStride) == phase;
+/// The smallest y >= @a yFrom whose row (x, y) of a block is in the sub-lattice of
+/// @a phase, (x + y) mod rowStride = phase; the next ones follow every @a rowStride.
+inline int firstSampledY(int x, int yFrom, int rowStride, std::uint32_t phase) {
+    const int shift = (int(phase) - x - yFrom) % rowStride;
+    return yFrom + (shift < 0 ? shift + rowStride : shift);
 }
 
 }  // namespace gvr

@@ -21,6 +21,22 @@ float peakAmplitude(const GaussianParameters& params, std::size_t index) {
     return peak;
 }
 
+namespace {
+
+/// Sigma^-1 = R S^-2 R^T, summed in double: its entries cancel for thin Gaussians.
+void setInverseCovariance(ActiveGaussian& g) {
+    constexpr int kRows[6] = {0, 1, 2, 0, 0, 1}, kColumns[6] = {0, 1, 2, 1, 2, 2};
+    for (int k = 0; k < 6; ++k) {
+        double sum = 0.0;
+        for (int c = 0; c < 3; ++c) {
+            sum += double(g.invVariance[c]) * g.rotation[3 * kRows[k] + c] * g.rotation[3 * kColumns[k] + c];
+        }
+        g.inverseCovariance[k] = float(sum);
+    }
+}
+
+}  // namespace
+
 ActiveGaussian activate(const GaussianParameters& params, std::size_t index) {
     ActiveGaussian g{};
     std::copy_n(params.at(kMeans, index), 3, g.mean);
@@ -38,6 +54,7 @@ ActiveGaussian activate(const GaussianParameters& params, std::size_t index) {
         g.scale[a] = std::exp(std::clamp(logScale[a], kMinLogScale, kMaxLogScale));
         g.invVariance[a] = 1.0f / (g.scale[a] * g.scale[a]);
     }
+    setInverseCovariance(g);
     g.opacity = sigmoid(*params.at(kOpacityLogits, index));
     const float* colour = params.at(kColours, index);
     for (int c = 0; c < params.channels; ++c) {
@@ -86,8 +103,9 @@ void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float 
     float u[3];
     const float q = mahalanobis2(g, x, u);
     if (q > cutoff2) return;
+    const float d[3] = {x[0] - g.mean[0], x[1] - g.mean[1], x[2] - g.mean[2]};
     GradientSums sums;
-    sums.add(g, gradient.channels, u, std::exp(-0.5f * q), upstream);
+    sums.add(g, gradient.channels, d, std::exp(-0.5f * q), upstream);
     accumulateGradient(g, index, sums, gradient);
 }
 
@@ -102,26 +120,33 @@ void accumulateGradient(const ActiveGaussian& g, std::size_t index, const Gradie
     }
     *gradient.at(kOpacityLogits, index) += upstreamDotColour * g.opacity * (1.0f - g.opacity);
 
-    // Per point dU_a = 2 t u_a / sigma_a^2, so the sums give sum dU, and
-    // dL/dR_ba = sum d_b dU_a with d = R u, i.e. (R T)_ba scaled per column a.
-    const float tuu[3][3] = {{sums.tuu[0], sums.tuu[3], sums.tuu[4]},
-                             {sums.tuu[3], sums.tuu[1], sums.tuu[5]},
-                             {sums.tuu[4], sums.tuu[5], sums.tuu[2]}};
-    float dU[3];
+    // In the Gaussian's frame u = R^T d, and per point dL/du_a = 2 t u_a / sigma_a^2,
+    // so dL/dmean = -R (2 S^-2 R^T sum t d) and dL/dR = 2 T R S^-2 with T = sum t d d^T;
+    // dL/dlog sigma_a = -2 (R^T T R)_aa / sigma_a^2.
+    const float T[3][3] = {{sums.tdd[0], sums.tdd[3], sums.tdd[4]},
+                           {sums.tdd[3], sums.tdd[1], sums.tdd[5]},
+                           {sums.tdd[4], sums.tdd[5], sums.tdd[2]}};
+    float TR[3][3] = {}, dU[3] = {0, 0, 0};
+    for (int b = 0; b < 3; ++b) {
+        for (int a = 0; a < 3; ++a) {
+            for (int c = 0; c < 3; ++c) TR[b][a] += T[b][c] * g.rotation[3 * c + a];
+            dU[a] += g.rotation[3 * b + a] * sums.td[b];
+        }
+    }
     float* dLogScale = gradient.at(kLogScales, index);
+    float dR[9];
     for (int a = 0; a < 3; ++a) {
-        dU[a] = 2.0f * g.invVariance[a] * sums.tu[a];
-        dLogScale[a] += -2.0f * g.invVariance[a] * tuu[a][a];
+        dU[a] *= 2.0f * g.invVariance[a];
+        float uTu = 0.0f;
+        for (int b = 0; b < 3; ++b) {
+            dR[3 * b + a] = 2.0f * g.invVariance[a] * TR[b][a];
+            uTu += g.rotation[3 * b + a] * TR[b][a];
+        }
+        dLogScale[a] += -2.0f * g.invVariance[a] * uTu;
     }
     float* dMean = gradient.at(kMeans, index);
-    float dR[9];
     for (int b = 0; b < 3; ++b) {
         dMean[b] -= g.rotation[3 * b] * dU[0] + g.rotation[3 * b + 1] * dU[1] + g.rotation[3 * b + 2] * dU[2];
-        for (int a = 0; a < 3; ++a) {
-            float rt = 0.0f;
-            for (int c = 0; c < 3; ++c) rt += g.rotation[3 * b + c] * tuu[c][a];
-            dR[3 * b + a] = 2.0f * g.invVariance[a] * rt;
-        }
     }
     float dQuat[4];
     quaternionAdjoint(g, dR, dQuat);

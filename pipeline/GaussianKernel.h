@@ -29,6 +29,7 @@ struct ActiveGaussian {
     float rotation[9];     ///< row-major R; column a is the Gaussian's axis a
     float scale[3];        ///< standard deviation per axis, voxels
     float invVariance[3];  ///< 1 / scale^2
+    float inverseCovariance[6];  ///< R S^-2 R^T in world axes: xx, yy, zz, xy, xz, yz
     float opacity;         ///< sigmoid(logit), in (0, 1)
     float colour[3];
     float amplitude[3];    ///< opacity * colour
@@ -74,35 +75,36 @@ inline void accumulateValue(const ActiveGaussian& g, const float x[3], float cut
 void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float x[3],
                         float cutoff2, const float* upstream, GaussianParameters& gradient);
 
-/// One Gaussian's gradient summed over many points, gathered in its own frame so
-/// that the rotation and quaternion adjoints run once per Gaussian, not per point.
-/// With t = -e/2 sum_c upstream_c amplitude_c = dL/dq at a point:
+/// One Gaussian's gradient summed over many points, gathered in world axes about
+/// its mean, so that a block's moments add without a rotation and the adjoints of
+/// the rotation and the quaternion run once per Gaussian, not per point or block.
+/// With t = -e/2 sum_c upstream_c amplitude_c = dL/dq at a point, d = x - mean:
 struct GradientSums {
     float upstreamE[3] = {0, 0, 0};  ///< sum of upstream_c e, per channel
-    float tu[3] = {0, 0, 0};         ///< sum of t u_a
-    float tuu[6] = {0, 0, 0, 0, 0, 0};  ///< sum of t u_a u_b: xx, yy, zz, xy, xz, yz
+    float td[3] = {0, 0, 0};         ///< sum of t d_a
+    float tdd[6] = {0, 0, 0, 0, 0, 0};  ///< sum of t d_a d_b: xx, yy, zz, xy, xz, yz
 
-    /// Adds one point inside the cutoff: u = R^T (x - mean), e = exp(-q/2).
-    void add(const ActiveGaussian& g, int channels, const float u[3], float e, const float* upstream) {
+    /// Adds one point inside the cutoff: d = x - mean, e = exp(-q/2).
+    void add(const ActiveGaussian& g, int channels, const float d[3], float e, const float* upstream) {
         float upstreamDotAmplitude = 0.0f;
         for (int c = 0; c < channels; ++c) {
             upstreamE[c] += upstream[c] * e;
             upstreamDotAmplitude += upstream[c] * g.amplitude[c];
         }
         const float t = -0.5f * upstreamDotAmplitude * e;
-        for (int a = 0; a < 3; ++a) tu[a] += t * u[a];
-        tuu[0] += t * u[0] * u[0];
-        tuu[1] += t * u[1] * u[1];
-        tuu[2] += t * u[2] * u[2];
-        tuu[3] += t * u[0] * u[1];
-        tuu[4] += t * u[0] * u[2];
-        tuu[5] += t * u[1] * u[2];
+        for (int a = 0; a < 3; ++a) td[a] += t * d[a];
+        tdd[0] += t * d[0] * d[0];
+        tdd[1] += t * d[1] * d[1];
+        tdd[2] += t * d[2] * d[2];
+        tdd[3] += t * d[0] * d[1];
+        tdd[4] += t * d[0] * d[2];
+        tdd[5] += t * d[1] * d[2];
     }
 
     GradientSums& operator+=(const GradientSums& other) {
         for (int k = 0; k < 3; ++k) upstreamE[k] += other.upstreamE[k];
-        for (int k = 0; k < 3; ++k) tu[k] += other.tu[k];
-        for (int k = 0; k < 6; ++k) tuu[k] += other.tuu[k];
+        for (int k = 0; k < 3; ++k) td[k] += other.td[k];
+        for (int k = 0; k < 6; ++k) tdd[k] += other.tdd[k];
         return *this;
     }
 };

@@ -67,7 +67,7 @@ namespace {
 struct Contribution {
     std::uint32_t index;
     float e;
-    float u[3];
+    float d[3];  ///< x - mean
 };
 
 /// f(x) into value[] from the Gaussians @a ids[0..count), recording every
@@ -80,11 +80,11 @@ void evaluateRecorded(const GaussianField& field, const float x[3], const std::u
     for (int c = 0; c < channels; ++c) value[c] = 0.0f;
     for (std::size_t k = 0; k < count; ++k) {
         const std::uint32_t index = ids[k];
-        Contribution contribution{index, 0.0f, {}};
-        const float q = mahalanobis2(field.gaussians()[index], x, contribution.u);
+        const ActiveGaussian& g = field.gaussians()[index];
+        float u[3];
+        const float q = mahalanobis2(g, x, u);
         if (q > field.cutoff2()) continue;
-        contribution.e = std::exp(-0.5f * q);
-        contributions.push_back(contribution);
+        contributions.push_back({index, std::exp(-0.5f * q), {x[0] - g.mean[0], x[1] - g.mean[1], x[2] - g.mean[2]}});
     }
     // Sum in index order, so the result does not depend on the BVH traversal.
     if (!idsAscending) {
@@ -124,7 +124,7 @@ double pointsSquaredError(const GaussianField& field, const SampleSet& samples, 
         sum += double(samples.weights[s]) * squared;
         if (!gradients) continue;
         for (const Contribution& c : contributions) {
-            gradients->sumsOf(chunk, c.index).add(field.gaussians()[c.index], channels, c.u, c.e, upstream);
+            gradients->sumsOf(chunk, c.index).add(field.gaussians()[c.index], channels, c.d, c.e, upstream);
         }
     }
     return sum;

@@ -99,5 +99,20 @@ TEST(BlockSampler, UniformSamplingDrawsBlocksInProportionToTheirVoxels) {
     EXPECT_NEAR(sampler.inclusionProbability(1, 100.0), 100.0 / kBlockVoxels * 256.0 / 768.0, 1e-12);
 }
 
+TEST(BlockSampler, FirstSampledYIsTheFirstRowOfThePhaseFromWhereItStarts) {
+    for (int stride = 1; stride <= 8; ++stride) {
+        for (int phase = 0; phase < stride; ++phase) {
+            for (int x = 0; x < kBlockDim; ++x) {
+                for (int yFrom = 0; yFrom < kBlockDim; ++yFrom) {
+                    int expected = yFrom;
+                    while ((x + expected) % stride != phase) ++expected;
+                    EXPECT_EQ(firstSampledY(x, yFrom, stride, std::uint32_t(phase)), expected)
+                        << "stride " << stride << ", phase " << phase << ", x " << x << ", from " << yFrom;
+                }
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace gvr

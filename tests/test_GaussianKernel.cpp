@@ -77,7 +77,8 @@ TEST_P(KernelGradient, SumsOverManyPointsMatchPointByPoint) {
             accumulateGradient(g, 0, x, 1e6f, upstream, pointByPoint);
             float u[3];
             const float q = mahalanobis2(g, x, u);
-            sums.add(g, channels, u, std::exp(-0.5f * q), upstream);
+            const float d[3] = {x[0] - g.mean[0], x[1] - g.mean[1], x[2] - g.mean[2]};
+            sums.add(g, channels, d, std::exp(-0.5f * q), upstream);
         }
         accumulateGradient(g, 0, sums, summed);
         for (int group = 0; group < kGroupCount; ++group) {
@@ -87,6 +88,22 @@ TEST_P(KernelGradient, SumsOverManyPointsMatchPointByPoint) {
                     << groupName(ParameterGroup(group)) << "[" << k << "], trial " << trial;
             }
         }
+    }
+}
+
+TEST(Kernel, InverseCovarianceGivesTheSameQAsTheRotatedFrame) {
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    for (int trial = 0; trial < 50; ++trial) {
+        const ActiveGaussian g = activate(randomGaussian(random, 1), 0);
+        const float x[3] = {g.mean[0] + 3 * unit(random), g.mean[1] + 3 * unit(random), g.mean[2] + 3 * unit(random)};
+        float u[3];
+        const double expected = mahalanobis2(g, x, u);
+        const double d[3] = {double(x[0]) - g.mean[0], double(x[1]) - g.mean[1], double(x[2]) - g.mean[2]};
+        const float* G = g.inverseCovariance;
+        const double q = G[0] * d[0] * d[0] + G[1] * d[1] * d[1] + G[2] * d[2] * d[2] +
+                         2.0 * (G[3] * d[0] * d[1] + G[4] * d[0] * d[2] + G[5] * d[1] * d[2]);
+        EXPECT_NEAR(q, expected, 1e-4 * (1.0 + expected)) << "trial " << trial;
     }
 }
 
