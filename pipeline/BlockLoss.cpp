@@ -80,7 +80,7 @@ bool offsetsWithin(float lower, float upper, int o, int range[2]) {
 
 /// Pass 1 for one pair: amplitude x exp(-q/2) into the block's field over the sampled
 /// rows of [xs] x [ys] (z in lanes of Floats: Floats4, or Floats8 in code compiled for
-/// AVX2), keeping the rows' kernel values.
+/// AVX2 and FMA), keeping the rows' kernel values.
 template <typename Floats>
 __attribute__((always_inline)) inline void addPairTerms(const BlockQuadratic& quad, const int xs[2], const int ys[2],
                                                         const SampledBlock& sampled, int rowStride, float cutoff2,
@@ -285,7 +285,7 @@ __attribute__((always_inline)) inline double evaluateBlockWith(const Pass& pass,
     return squared;
 }
 
-__attribute__((target("avx2"))) double evaluateBlockAvx2(const Pass& pass, const SampledBlock& sampled, BlockWork& work,
+__attribute__((target("avx2,fma"))) double evaluateBlockAvx2Fma(const Pass& pass, const SampledBlock& sampled, BlockWork& work,
                                                          BlockOutcome& outcome, GradientChunks* gradients,
                                                          std::size_t chunk) {
     return evaluateBlockWith<Floats8>(pass, sampled, work, outcome, gradients, chunk);
@@ -302,8 +302,8 @@ double blockSquaredError(const GaussianField& field, const BlockBins& bins, cons
                          const std::vector<SampledBlock>& blocks, const BlockLossSettings& settings,
                          GradientChunks* gradients, std::vector<BlockOutcome>* outcomes) {
     const Pass pass{field, bins, target, settings};
-    const bool eightLanes = settings.kernel == BlockKernel::best && processorHasAvx2();
-    const auto evaluate = eightLanes ? evaluateBlockAvx2 : evaluateBlockFourLanes;
+    const bool eightLanes = settings.kernel == BlockKernel::best && processorHasAvx2Fma();
+    const auto evaluate = eightLanes ? evaluateBlockAvx2Fma : evaluateBlockFourLanes;
     const std::size_t n = blocks.size();
     std::vector<BlockOutcome> local;
     std::vector<BlockOutcome>& seen = outcomes ? *outcomes : local;

@@ -29,7 +29,7 @@ struct BlockOutcome {
 };
 
 enum class BlockKernel {
-    best,       ///< eight lanes where the processor has AVX2, else four
+    best,       ///< eight lanes with fused multiply-adds where the processor has AVX2 and FMA, else four
     fourLanes,  ///< four lanes on any processor, for tests against best
 };
 

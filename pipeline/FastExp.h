@@ -42,4 +42,11 @@ inline bool processorHasAvx2() {
     return has;
 }
 
+/// Whether it also runs code compiled with target("avx2,fma"): fused multiply-adds
+/// halve the exp polynomial's chain of dependent operations.
+inline bool processorHasAvx2Fma() {
+    static const bool has = processorHasAvx2() && __builtin_cpu_supports("fma");
+    return has;
+}
+
 }  // namespace gvr
