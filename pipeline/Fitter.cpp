@@ -363,6 +363,10 @@ void FitLoop::refreshField(std::size_t iteration) {
     const double fraction = fractionDone(iteration);
     const bool timeMeasurement = measurementDue(fraction);
     if (mRebin || timeMeasurement || iteration >= mBinnedAt + mSettings.rebinEvery) {
+        // The last step's gradient is dead until the next step fills it again; free
+        // it, or the BVH built below comes on top of it and sets the fit's peak memory.
+        mChunks = GradientChunks();
+        mGradient = GaussianParameters();
         const std::vector<std::uint32_t> order = spatialOrder(mParams, mTarget.box());
         mParams.permute(order);
         if (mAdam) mAdam->permute(order);  // none once the training is over
