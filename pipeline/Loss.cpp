@@ -18,18 +18,18 @@ void GradientChunks::reset(std::size_t count) {
             for (std::uint32_t index : mTouched[c]) mSlots[c][index] = kUntouched;
         }
         mTouched[c].clear();
-        mSums[c].clear();
     });
 }
 
 GradientSums& GradientChunks::sumsOf(std::size_t c, std::uint32_t index) {
     std::uint32_t& slot = mSlots[c][index];
-    if (slot == kUntouched) {
-        slot = std::uint32_t(mSums[c].size());
-        mSums[c].emplace_back();
-        mTouched[c].push_back(index);
-    }
-    return mSums[c][slot];
+    if (slot != kUntouched) return sumsAt(c, slot);
+    slot = std::uint32_t(mTouched[c].size());
+    mTouched[c].push_back(index);
+    if (slot / kPageSums == mPages[c].size()) mPages[c].push_back(std::make_unique<GradientSums[]>(kPageSums));
+    GradientSums& fresh = sumsAt(c, slot);
+    fresh = GradientSums();
+    return fresh;
 }
 
 std::size_t GradientChunks::sumInto(const GaussianField& field, GaussianParameters& gradient) const {
@@ -50,7 +50,7 @@ std::size_t GradientChunks::sumInto(const GaussianField& field, GaussianParamete
             for (std::size_t c = 0; c < kChunks; ++c) {  // chunk order, whatever the threads did
                 const std::uint32_t slot = mSlots[c][index];
                 if (slot == kUntouched) continue;
-                total += mSums[c][slot];
+                total += sumsAt(c, slot);
                 written = true;
             }
             if (!written) continue;

@@ -9,6 +9,7 @@
 #include "pipeline/GaussianField.h"
 
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace gvr {
@@ -25,7 +26,9 @@ struct SampleSet {
 /// GradientSums of each Gaussian it touched, so that the rotation and quaternion
 /// adjoints run once per Gaussian in sumInto(). The sums are stored densely in
 /// the order of first touch, behind a slot per Gaussian: a chunk touches only part
-/// of the Gaussians, and clearing costs what a pass touched.
+/// of the Gaussians, and clearing costs what a pass touched. They sit in fixed pages,
+/// not a growing vector, whose doubling left up to half of the fit's largest
+/// buffer unused.
 class GradientChunks {
 public:
     static constexpr std::size_t kChunks = 8;
@@ -40,8 +43,13 @@ public:
 
 private:
     static constexpr std::uint32_t kUntouched = ~std::uint32_t(0);
+    static constexpr std::uint32_t kPageSums = 2048;
 
-    std::array<std::vector<GradientSums>, kChunks> mSums;     ///< by slot
+    GradientSums& sumsAt(std::size_t c, std::uint32_t slot) const {
+        return mPages[c][slot / kPageSums][slot % kPageSums];
+    }
+
+    std::array<std::vector<std::unique_ptr<GradientSums[]>>, kChunks> mPages;  ///< by slot, kPageSums a page
     std::array<std::vector<std::uint32_t>, kChunks> mTouched; ///< slot -> Gaussian
     std::array<std::vector<std::uint32_t>, kChunks> mSlots;   ///< Gaussian -> slot, or kUntouched
 };
