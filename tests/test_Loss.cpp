@@ -73,5 +73,49 @@ TEST(Loss, GradientMatchesFiniteDifferences) {
     }
 }
 
+TEST(Loss, ChunksKeepEachGaussiansSumsAcrossPagesAndResets) {
+    constexpr std::size_t kCount = 5000;  // more than two pages of sums in a chunk
+    GaussianParameters params(kCount, 1);
+    for (std::size_t i = 0; i < kCount; ++i) {
+        params.at(kMeans, i)[0] = float(i % 40);
+        params.at(kMeans, i)[1] = float(i / 40);
+        params.at(kRotations, i)[0] = 1.0f;
+        params.at(kRotations, i)[3] = 0.001f * float(i % 97);
+        params.at(kColours, i)[0] = 0.5f;
+    }
+    const GaussianField field(params, 3.0f);
+    const auto point = [](std::size_t i, std::size_t c, float d[3], float upstream[1]) {
+        d[0] = 0.1f * float(c + 1);
+        d[1] = -0.05f * float(i % 7);
+        d[2] = 0.02f * float(c);
+        upstream[0] = 0.001f * float(i % 13) - 0.005f;
+    };
+    GradientChunks chunks;
+    chunks.reset(kCount);
+    float d[3], upstream[1];
+    for (std::size_t i = 0; i < kCount; ++i) {  // a step before, whose sums the reset must clear
+        const float stale[3] = {9, 9, 9}, big[1] = {9};
+        chunks.sumsOf(i % 5, std::uint32_t(i)).add(field.gaussians()[i], 1, stale, 1.0f, big);
+    }
+    chunks.reset(kCount);
+    GaussianParameters expected(kCount, 1);
+    for (std::size_t i = 0; i < kCount; ++i) {
+        GradientSums total;
+        for (std::size_t c : {i % 3, std::size_t(7)}) {
+            point(i, c, d, upstream);
+            GradientSums one;
+            one.add(field.gaussians()[i], 1, d, 0.5f, upstream);
+            total += one;
+            chunks.sumsOf(c, std::uint32_t(i)).add(field.gaussians()[i], 1, d, 0.5f, upstream);
+        }
+        accumulateGradient(field.gaussians()[i], i, total, expected);
+    }
+    GaussianParameters gradient;
+    EXPECT_EQ(chunks.sumInto(field, gradient), kCount);
+    for (int group = 0; group < kGroupCount; ++group) {
+        EXPECT_EQ(gradient.values[group], expected.values[group]) << groupName(ParameterGroup(group));
+    }
+}
+
 }  // namespace
 }  // namespace gvr
