@@ -40,7 +40,9 @@ void BlockBins::build(const GaussianField& field) {
                 field.bvh().overlapping(lower, upper, hits);
             }
             std::sort(hits.begin(), hits.end());
-            mBins[b].assign(hits.begin(), hits.end());
+            // A fresh list of the exact size: reusing the old one would keep the
+            // capacity of its largest size, which early, wide Gaussians set.
+            mBins[b] = std::vector<std::uint32_t>(hits.begin(), hits.end());
         }
     });
 }
@@ -76,7 +78,12 @@ void BlockBins::addToBlocks(std::uint32_t gaussian, const Box& box) {
             for (int bx = lo[0]; bx <= hi[0]; ++bx) {
                 std::vector<std::uint32_t>& bin = mBins[mGrid.blockAt(bx, by, bz)];
                 const auto at = std::lower_bound(bin.begin(), bin.end(), gaussian);
-                if (at == bin.end() || *at != gaussian) bin.insert(at, gaussian);
+                if (at != bin.end() && *at == gaussian) continue;
+                const std::ptrdiff_t offset = at - bin.begin();
+                // Grow by an eighth, not the doubling insert() would make: a list
+                // gains few Gaussians between builds.
+                if (bin.size() == bin.capacity()) bin.reserve(bin.size() + bin.size() / 8 + 4);
+                bin.insert(bin.begin() + offset, gaussian);
             }
         }
     }
