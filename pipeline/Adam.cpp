@@ -33,7 +33,7 @@ void Adam::update(GaussianParameters& params, const GaussianParameters& gradient
     for (int g = 0; g < kGroupCount; ++g) {
         const std::size_t width = std::size_t(params.width(ParameterGroup(g)));
         const std::size_t from = begin * width, count = (end - begin) * width;
-        const float* grad = gradient.values[g].data() + from;
+        const float* grad = gradient.values[g].data();
         const float* value = params.values[g].data() + from;
         const float* m = mFirst.values[g].data() + from;
         const float* v = mSecond.values[g].data() + from;

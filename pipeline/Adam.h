@@ -22,10 +22,11 @@ public:
     /// Starts a step: params -= rate[g] * mhat / (sqrt(vhat) + eps) per group g, for
     /// each Gaussian that update() is then called for.
     void beginStep(const std::array<double, kGroupCount>& rates);
-    /// The share of the step begun last of Gaussians [begin, end). A Gaussian whose
-    /// gradient or any result is not finite keeps its parameters and moments, and
-    /// gets updated[i - begin] = 0; the others get 1. Calls for disjoint ranges may
-    /// run at the same time.
+    /// The share of the step begun last of Gaussians [begin, end), whose gradient is
+    /// @a gradient (Gaussian begin + i at its index i). A Gaussian whose gradient or
+    /// any result is not finite keeps its parameters and moments, and gets
+    /// updated[i] = 0; the others get 1. Calls for disjoint ranges may run at the
+    /// same time.
     void update(GaussianParameters& params, const GaussianParameters& gradient, std::size_t begin, std::size_t end,
                 std::uint8_t* updated);
 

@@ -20,6 +20,10 @@ using Clock = std::chrono::steady_clock;
 /// Blocks are split into this many fixed runs, each summed on its own and then in
 /// order, so that the result does not depend on the thread count.
 constexpr std::size_t kChunks = 16;
+/// Runs evaluated at once. Each holds a dense sum over every Gaussian until it is
+/// added in, so all sixteen at once were the largest buffers of a whole fit.
+constexpr std::size_t kChunksAtOnce = 4;
+static_assert(kChunks % kChunksAtOnce == 0);
 
 /// One Gaussian's kernel value at one voxel of a block.
 struct Entry {
@@ -47,21 +51,24 @@ public:
     /// sum over voxels and channels of w^2.
     std::vector<double> apply(const std::vector<double>& v, bool residual, double& squared) const {
         const std::size_t width = mField.gaussians().size() * std::size_t(mField.channels());
-        std::array<std::vector<double>, kChunks> out;
-        std::array<double, kChunks> partial{};
-        tbb::parallel_for(std::size_t(0), kChunks, [&](std::size_t c) {
-            out[c].assign(width, 0.0);
-            std::vector<Entry> entries;
-            std::vector<std::uint32_t> hits;
-            for (std::size_t b = c * mBlocks.size() / kChunks; b < (c + 1) * mBlocks.size() / kChunks; ++b) {
-                partial[c] += applyBlock(mBlocks[b], v, residual, entries, hits, out[c]);
-            }
-        });
         std::vector<double> sum(width, 0.0);
         squared = 0.0;
-        for (std::size_t c = 0; c < kChunks; ++c) {
-            for (std::size_t k = 0; k < width; ++k) sum[k] += out[c][k];
-            squared += partial[c];
+        std::array<std::vector<double>, kChunksAtOnce> out;
+        for (std::size_t first = 0; first < kChunks; first += kChunksAtOnce) {
+            std::array<double, kChunksAtOnce> partial{};
+            tbb::parallel_for(std::size_t(0), kChunksAtOnce, [&](std::size_t k) {
+                const std::size_t c = first + k;
+                out[k].assign(width, 0.0);
+                std::vector<Entry> entries;
+                std::vector<std::uint32_t> hits;
+                for (std::size_t b = c * mBlocks.size() / kChunks; b < (c + 1) * mBlocks.size() / kChunks; ++b) {
+                    partial[k] += applyBlock(mBlocks[b], v, residual, entries, hits, out[k]);
+                }
+            });
+            for (std::size_t k = 0; k < kChunksAtOnce; ++k) {  // in chunk order, as if all ran at once
+                for (std::size_t j = 0; j < width; ++j) sum[j] += out[k][j];
+                squared += partial[k];
+            }
         }
         return sum;
     }

@@ -86,9 +86,10 @@ struct FitSettings {
     /// known: the amplitude solve then runs on the stored geometry and makes up for
     /// its rounding and for any Gaussians left out.
     std::function<GaussianParameters(const GaussianParameters&)> storedGeometry;
-    /// Sees each iteration's gradient before the step; tests use it to inject the
-    /// non-finite values that the fit must skip and survive.
-    std::function<void(std::size_t iteration, GaussianParameters& gradient)> gradientHook;
+    /// Sees each iteration's gradient before the step, a range of Gaussians at a time
+    /// (Gaussian first + i at index i); tests use it to inject the non-finite values
+    /// that the fit must skip and survive.
+    std::function<void(std::size_t iteration, std::size_t first, GaussianParameters& gradient)> gradientHook;
 
     std::size_t heldOutVoxels = 32768;  ///< fixed voxels for the PSNR curve
     std::size_t logEvery = 50;          ///< iterations between held-out PSNR evaluations

@@ -245,7 +245,12 @@ private:
     void fitCountToTheTime();
     double step(std::size_t iteration, double fraction, FitProgress& progress);
     double voxelLoss(std::size_t iteration, double share);
-    std::size_t updateEveryGaussian();
+    /// What one pass of updateEveryGaussian() saw.
+    struct Update {
+        std::size_t withGradient = 0;  ///< Gaussians that got a gradient
+        std::size_t kept = 0;          ///< Gaussians kept for a non-finite gradient or result
+    };
+    Update updateEveryGaussian(std::size_t iteration);
     void refreshField(std::size_t iteration);
     double heldOutPsnr(const SampleSet& heldOut) const;
     void releaseTrainingState();
@@ -257,7 +262,7 @@ private:
     BlockGrid mGrid;
     BlockSampler mSampler;
     BlockBins mBins;
-    GaussianParameters mParams, mGradient;
+    GaussianParameters mParams;
     GaussianField mField;
     GradientChunks mChunks;
     std::vector<SampledBlock> mBlocks;
@@ -363,10 +368,9 @@ void FitLoop::refreshField(std::size_t iteration) {
     const double fraction = fractionDone(iteration);
     const bool timeMeasurement = measurementDue(fraction);
     if (mRebin || timeMeasurement || iteration >= mBinnedAt + mSettings.rebinEvery) {
-        // The last step's gradient is dead until the next step fills it again; free
-        // it, or the BVH built below comes on top of it and sets the fit's peak memory.
+        // The last step's gradient sums are dead until the next step fills them again;
+        // free them, or the BVH built below comes on top and sets the fit's peak memory.
         mChunks = GradientChunks();
-        mGradient = GaussianParameters();
         const std::vector<std::uint32_t> order = spatialOrder(mParams, mTarget.box());
         mParams.permute(order);
         if (mAdam) mAdam->permute(order);  // none once the training is over
@@ -410,43 +414,49 @@ double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progre
                                                streamSeed(mSettings.seed, kSlices, iteration));
         loss += weightedSquaredError(mField, slice, sliceShare, &mChunks, &mBins);
     }
-    const std::size_t touched = mChunks.sumInto(mField, mGradient);
-    if (mSettings.gradientHook) mSettings.gradientHook(iteration, mGradient);
     progress.sliceWeight = sliceShare;
-    progress.gradientShare = mParams.count() ? double(touched) / double(mParams.count()) : 0.0;
-    mReport.meanGradientShare += progress.gradientShare;
-
     if (!std::isfinite(loss)) {
         ++mReport.skippedSteps;
         mOutcomes.clear();  // NaN residuals would poison the respawn order
         return loss;
     }
     mAdam->beginStep(rates(fraction));
-    if (updateEveryGaussian() > 0) ++mReport.skippedSteps;
+    const Update update = updateEveryGaussian(iteration);
+    if (update.kept > 0) ++mReport.skippedSteps;
+    progress.gradientShare = mParams.count() ? double(update.withGradient) / double(mParams.count()) : 0.0;
+    mReport.meanGradientShare += progress.gradientShare;
     return loss;
 }
 
-/// Adam, repair and re-activation, a Gaussian at a time in one parallel pass.
-/// @return how many Gaussians kept their parameters for a non-finite gradient or result.
-std::size_t FitLoop::updateEveryGaussian() {
+/// The gradient, Adam, repair and re-activation, a Gaussian at a time in one
+/// parallel pass: each range's gradient is summed from the chunks just before its
+/// step, so no gradient of every Gaussian is ever held.
+FitLoop::Update FitLoop::updateEveryGaussian(std::size_t iteration) {
     const openvdb::Vec3f lower = mTarget.box().min().asVec3s() - openvdb::Vec3f(8.0f);
     const openvdb::Vec3f upper = mTarget.box().max().asVec3s() + openvdb::Vec3f(8.0f);
     return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, mParams.count(), 4096), std::size_t(0),
-        [&](const tbb::blocked_range<std::size_t>& range, std::size_t kept) {
+        tbb::blocked_range<std::size_t>(0, mParams.count(), 4096), Update(),
+        [&](const tbb::blocked_range<std::size_t>& range, Update seen) {
+            GaussianParameters gradient;
+            seen.withGradient += mChunks.sumInto(mField, range.begin(), range.end(), gradient);
+            if (mSettings.gradientHook) mSettings.gradientHook(iteration, range.begin(), gradient);
             std::vector<std::uint8_t> updated(range.size());
-            mAdam->update(mParams, mGradient, range.begin(), range.end(), updated.data());
+            mAdam->update(mParams, gradient, range.begin(), range.end(), updated.data());
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
                 if (!updated[i - range.begin()]) {
-                    ++kept;
+                    ++seen.kept;
                     continue;
                 }
                 repair(mParams, i, lower, upper);
                 mField.reactivate(mParams, i);
             }
-            return kept;
+            return seen;
         },
-        std::plus<std::size_t>());
+        [](Update a, const Update& b) {
+            a.withGradient += b.withGradient;
+            a.kept += b.kept;
+            return a;
+        });
 }
 
 double FitLoop::heldOutPsnr(const SampleSet& heldOut) const {
@@ -484,14 +494,15 @@ void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOut
     observer(progress);
 }
 
-/// Frees what only Adam's steps need (the optimiser's moments, the gradient and its
-/// chunks, the bins, the drawn blocks) before the amplitude solve, which builds a
-/// field of its own: that solve set the fit's peak memory (a 24M-voxel MRI at 640k
-/// Gaussians: 829 MiB, against 638 through the steps).
+/// Frees what only Adam's steps need (the optimiser's moments, the gradient
+/// chunks, the field and its bins, the drawn blocks) before the amplitude solve,
+/// which builds a field of its own: that solve set the fit's peak memory (a
+/// 24M-voxel MRI at 640k Gaussians: 829 MiB, against 638 through the steps).
+/// refreshField() builds the field again for the held-out PSNR after it.
 void FitLoop::releaseTrainingState() {
     mAdam.reset();
-    mGradient = GaussianParameters();
     mChunks = GradientChunks();
+    mField.clear();
     mBins.clear();
     std::vector<SampledBlock>().swap(mBlocks);
     std::vector<BlockOutcome>().swap(mOutcomes);

@@ -61,6 +61,11 @@ public:
     /// Gaussians with it and asks its bins from then on (the fit). Until the next
     /// rebuild(), evaluate(), bvh() and update() throw std::logic_error.
     void releaseBvh() { mBvh.clear(); }
+    /// Frees every Gaussian and the BVH: an empty field until the next rebuild().
+    void clear() {
+        std::vector<ActiveGaussian>().swap(mGaussians);
+        mBvh.clear();
+    }
 
 private:
     int mChannels = 1;

@@ -1,12 +1,9 @@
 #include "pipeline/Loss.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 
 namespace gvr {
 
@@ -32,33 +29,28 @@ GradientSums& GradientChunks::sumsOf(std::size_t c, std::uint32_t index) {
     return fresh;
 }
 
-std::size_t GradientChunks::sumInto(const GaussianField& field, GaussianParameters& gradient) const {
-    const std::size_t count = field.gaussians().size();
-    if (gradient.count() != count || gradient.channels != field.channels()) {
-        gradient = GaussianParameters(count, field.channels());
+std::size_t GradientChunks::sumInto(const GaussianField& field, std::size_t begin, std::size_t end,
+                                    GaussianParameters& gradient) const {
+    if (gradient.count() != end - begin || gradient.channels != field.channels()) {
+        gradient = GaussianParameters(end - begin, field.channels());
+    } else {
+        for (std::vector<float>& values : gradient.values) std::fill(values.begin(), values.end(), 0.0f);
     }
-    return tbb::parallel_reduce(tbb::blocked_range<std::size_t>(0, count, 4096), std::size_t(0),
-                                [&](const tbb::blocked_range<std::size_t>& range, std::size_t touched) {
-        for (int group = 0; group < kGroupCount; ++group) {
-            const std::size_t width = std::size_t(gradient.width(ParameterGroup(group)));
-            std::fill(gradient.values[group].begin() + range.begin() * width,
-                      gradient.values[group].begin() + range.end() * width, 0.0f);
+    std::size_t touched = 0;
+    for (std::size_t index = begin; index != end; ++index) {
+        GradientSums total;
+        bool written = false;
+        for (std::size_t c = 0; c < kChunks; ++c) {  // chunk order, whatever the threads did
+            const std::uint32_t slot = mSlots[c][index];
+            if (slot == kUntouched) continue;
+            total += sumsAt(c, slot);
+            written = true;
         }
-        for (std::size_t index = range.begin(); index != range.end(); ++index) {
-            GradientSums total;
-            bool written = false;
-            for (std::size_t c = 0; c < kChunks; ++c) {  // chunk order, whatever the threads did
-                const std::uint32_t slot = mSlots[c][index];
-                if (slot == kUntouched) continue;
-                total += sumsAt(c, slot);
-                written = true;
-            }
-            if (!written) continue;
-            accumulateGradient(field.gaussians()[index], index, total, gradient);
-            ++touched;
-        }
-        return touched;
-    }, std::plus<std::size_t>());
+        if (!written) continue;
+        accumulateGradient(field.gaussians()[index], index - begin, total, gradient);
+        ++touched;
+    }
+    return touched;
 }
 
 namespace {

@@ -226,9 +226,11 @@ TEST(Fitter, ANonFiniteGradientIsSkippedCountedAndForgotten) {
     EXPECT_EQ(clean.skippedSteps, 0u);
     // Early steps, a redraw of the voxel samples among them (every refreshEvery),
     // so that a residual kept from a bad step would reach the importance sampler.
-    settings.gradientHook = [](std::size_t iteration, GaussianParameters& gradient) {
+    settings.gradientHook = [](std::size_t iteration, std::size_t first, GaussianParameters& gradient) {
         const float poison[] = {std::nanf(""), INFINITY, -INFINITY};
-        if (iteration >= 10 && iteration < 13) gradient.at(kMeans, iteration % gradient.count())[1] = poison[iteration - 10];
+        if (first == 0 && iteration >= 10 && iteration < 13) {
+            gradient.at(kMeans, iteration % gradient.count())[1] = poison[iteration - 10];
+        }
     };
     FitReport injected;
     const GaussianParameters params = fitGaussians(target, settings, {}, &injected);
