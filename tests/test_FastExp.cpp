@@ -1,12 +1,10 @@
 // The polynomial exp of the fit's kernel and the renderer: its stated accuracy on
 // t <= 0, its floor below -87, and the same values in four and eight lanes.
 
-// GCC notes that returning eight floats by value without AVX would change the
-// ABI. Every function here that handles them is compiled with AVX2 and inlines
-// expNonPositive (whose declaration the note points at), so no such value crosses a call.
-#if defined(__GNUC__) && !defined(__clang__)
+// GCC and clang note that passing eight floats by value without AVX would change
+// the ABI. Every function here that passes them is inlined into one compiled with
+// AVX2 (or handles four floats), so no such value crosses a call.
 #pragma GCC diagnostic ignored "-Wpsabi"
-#endif
 
 #include "pipeline/FastExp.h"
 
@@ -45,19 +43,22 @@ std::vector<float> inLanes(const std::vector<float>& t, ExpOfLanes expOfLanes) {
     return out;
 }
 
-void expOfFourLanes(const float* in, float* out) {
-    Floats4 t;
+/// One call of expNonPositive on kLanes floats. Vectors pass only between inlined
+/// functions without a target of their own, as in the fit's kernel: clang refuses
+/// an AVX vector argument between a function compiled for AVX and one that is not.
+template <typename Floats>
+__attribute__((always_inline)) inline void expOfLanes(const float* in, float* out) {
+    Floats t;
     std::memcpy(&t, in, sizeof t);
-    const Floats4 e = expNonPositive(t);
+    const Floats e = expNonPositive(t);
     std::memcpy(out, &e, sizeof e);
 }
 
+void expOfFourLanes(const float* in, float* out) { expOfLanes<Floats4>(in, out); }
+
 /// Compiled as the fit's eight-lane kernel is: AVX2 with fused multiply-adds.
 __attribute__((target("avx2,fma"))) void expOfEightLanes(const float* in, float* out) {
-    Floats8 t;
-    std::memcpy(&t, in, sizeof t);
-    const Floats8 e = expNonPositive(t);
-    std::memcpy(out, &e, sizeof e);
+    expOfLanes<Floats8>(in, out);
 }
 
 std::vector<float> expInLanes(const std::vector<float>& t) { return inLanes<4>(t, expOfFourLanes); }
