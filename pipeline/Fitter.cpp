@@ -438,7 +438,7 @@ FitLoop::Update FitLoop::updateEveryGaussian(std::size_t iteration) {
         tbb::blocked_range<std::size_t>(0, mParams.count(), 4096), Update(),
         [&](const tbb::blocked_range<std::size_t>& range, Update seen) {
             GaussianParameters gradient;
-            seen.withGradient += mChunks.sumInto(mField, range.begin(), range.end(), gradient);
+            seen.withGradient += mChunks.sumInto(mField, mParams, range.begin(), range.end(), gradient);
             if (mSettings.gradientHook) mSettings.gradientHook(iteration, range.begin(), gradient);
             std::vector<std::uint8_t> updated(range.size());
             mAdam->update(mParams, gradient, range.begin(), range.end(), updated.data());

@@ -14,6 +14,18 @@ void rotationFromQuaternion(const float q[4], float r[9]) {
     r[6] = 2 * (x * z - w * y);     r[7] = 2 * (y * z + w * x);     r[8] = 1 - 2 * (x * x + y * y);
 }
 
+UnitQuaternion unitQuaternion(const float raw[4]) {
+    UnitQuaternion unit{};
+    unit.norm = std::sqrt(raw[0] * raw[0] + raw[1] * raw[1] + raw[2] * raw[2] + raw[3] * raw[3]);
+    if (unit.norm > 1e-12f) {
+        for (int k = 0; k < 4; ++k) unit.q[k] = raw[k] / unit.norm;
+    } else {  // a vanished quaternion means no rotation; its gradient is dropped
+        unit.q[0] = 1.0f;
+        unit.norm = 0.0f;
+    }
+    return unit;
+}
+
 float peakAmplitude(const GaussianParameters& params, std::size_t index) {
     const float opacity = sigmoid(*params.at(kOpacityLogits, index));
     float peak = 0.0f;
@@ -40,27 +52,16 @@ void setInverseCovariance(ActiveGaussian& g) {
 ActiveGaussian activate(const GaussianParameters& params, std::size_t index) {
     ActiveGaussian g{};
     std::copy_n(params.at(kMeans, index), 3, g.mean);
-    const float* q = params.at(kRotations, index);
-    g.quatNorm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (g.quatNorm > 1e-12f) {
-        for (int k = 0; k < 4; ++k) g.quat[k] = q[k] / g.quatNorm;
-    } else {  // a vanished quaternion means no rotation; its gradient is dropped
-        g.quat[0] = 1.0f;
-        g.quatNorm = 0.0f;
-    }
-    rotationFromQuaternion(g.quat, g.rotation);
+    rotationFromQuaternion(unitQuaternion(params.at(kRotations, index)).q, g.rotation);
     const float* logScale = params.at(kLogScales, index);
     for (int a = 0; a < 3; ++a) {
-        g.scale[a] = std::exp(std::clamp(logScale[a], kMinLogScale, kMaxLogScale));
-        g.invVariance[a] = 1.0f / (g.scale[a] * g.scale[a]);
+        const float scale = std::exp(std::clamp(logScale[a], kMinLogScale, kMaxLogScale));
+        g.invVariance[a] = 1.0f / (scale * scale);
     }
     setInverseCovariance(g);
-    g.opacity = sigmoid(*params.at(kOpacityLogits, index));
+    const float opacity = sigmoid(*params.at(kOpacityLogits, index));
     const float* colour = params.at(kColours, index);
-    for (int c = 0; c < params.channels; ++c) {
-        g.colour[c] = colour[c];
-        g.amplitude[c] = g.opacity * colour[c];
-    }
+    for (int c = 0; c < params.channels; ++c) g.amplitude[c] = opacity * colour[c];
     return g;
 }
 
@@ -69,8 +70,8 @@ void truncatedBounds(const ActiveGaussian& g, float cutoffSigmas, float lower[3]
     for (int a = 0; a < 3; ++a) {
         float variance = 0.0f;
         for (int b = 0; b < 3; ++b) {
-            const float rs = g.rotation[3 * a + b] * g.scale[b];
-            variance += rs * rs;
+            const float r = g.rotation[3 * a + b];
+            variance += r * r / g.invVariance[b];
         }
         const float half = cutoffSigmas * std::sqrt(variance);
         lower[a] = g.mean[a] - half;
@@ -78,12 +79,12 @@ void truncatedBounds(const ActiveGaussian& g, float cutoffSigmas, float lower[3]
     }
 }
 
-void quaternionAdjoint(const ActiveGaussian& g, const float dR[9], float dQuat[4]) {
-    if (g.quatNorm == 0.0f) {
+void quaternionAdjoint(const UnitQuaternion& unit, const float dR[9], float dQuat[4]) {
+    if (unit.norm == 0.0f) {
         std::fill_n(dQuat, 4, 0.0f);
         return;
     }
-    const float w = g.quat[0], x = g.quat[1], y = g.quat[2], z = g.quat[3];
+    const float w = unit.q[0], x = unit.q[1], y = unit.q[2], z = unit.q[3];
     // dL/dq_hat: each term is dR_ij/dq times dL/dR_ij, from rotationFromQuaternion.
     const float dHat[4] = {
         2 * (-z * dR[1] + y * dR[2] + z * dR[3] - x * dR[5] - y * dR[6] + x * dR[7]),
@@ -95,30 +96,32 @@ void quaternionAdjoint(const ActiveGaussian& g, const float dR[9], float dQuat[4
              x * dR[6] + y * dR[7])};
     // q_hat = q / |q|:  dL/dq = (dL/dq_hat - q_hat (q_hat . dL/dq_hat)) / |q|
     const float along = w * dHat[0] + x * dHat[1] + y * dHat[2] + z * dHat[3];
-    for (int k = 0; k < 4; ++k) dQuat[k] = (dHat[k] - g.quat[k] * along) / g.quatNorm;
+    for (int k = 0; k < 4; ++k) dQuat[k] = (dHat[k] - unit.q[k] * along) / unit.norm;
 }
 
-void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float x[3],
-                        float cutoff2, const float* upstream, GaussianParameters& gradient) {
+void accumulateGradient(const GaussianParameters& params, const ActiveGaussian& g, std::size_t index,
+                        const float x[3], float cutoff2, const float* upstream, GaussianParameters& gradient) {
     float u[3];
     const float q = mahalanobis2(g, x, u);
     if (q > cutoff2) return;
     const float d[3] = {x[0] - g.mean[0], x[1] - g.mean[1], x[2] - g.mean[2]};
     GradientSums sums;
     sums.add(g, gradient.channels, d, std::exp(-0.5f * q), upstream);
-    accumulateGradient(g, index, sums, gradient);
+    accumulateGradient(params, g, index, sums, gradient, index);
 }
 
-void accumulateGradient(const ActiveGaussian& g, std::size_t index, const GradientSums& sums,
-                        GaussianParameters& gradient) {
+void accumulateGradient(const GaussianParameters& params, const ActiveGaussian& g, std::size_t index,
+                        const GradientSums& sums, GaussianParameters& gradient, std::size_t gradientIndex) {
     const int channels = gradient.channels;
-    float* dColour = gradient.at(kColours, index);
+    const float opacity = sigmoid(*params.at(kOpacityLogits, index));
+    const float* colour = params.at(kColours, index);
+    float* dColour = gradient.at(kColours, gradientIndex);
     float upstreamDotColour = 0.0f;
     for (int c = 0; c < channels; ++c) {
-        dColour[c] += g.opacity * sums.upstreamE[c];
-        upstreamDotColour += g.colour[c] * sums.upstreamE[c];
+        dColour[c] += opacity * sums.upstreamE[c];
+        upstreamDotColour += colour[c] * sums.upstreamE[c];
     }
-    *gradient.at(kOpacityLogits, index) += upstreamDotColour * g.opacity * (1.0f - g.opacity);
+    *gradient.at(kOpacityLogits, gradientIndex) += upstreamDotColour * opacity * (1.0f - opacity);
 
     // In the Gaussian's frame u = R^T d, and per point dL/du_a = 2 t u_a / sigma_a^2,
     // so dL/dmean = -R (2 S^-2 R^T sum t d) and dL/dR = 2 T R S^-2 with T = sum t d d^T;
@@ -133,7 +136,7 @@ void accumulateGradient(const ActiveGaussian& g, std::size_t index, const Gradie
             dU[a] += g.rotation[3 * b + a] * sums.td[b];
         }
     }
-    float* dLogScale = gradient.at(kLogScales, index);
+    float* dLogScale = gradient.at(kLogScales, gradientIndex);
     float dR[9];
     for (int a = 0; a < 3; ++a) {
         dU[a] *= 2.0f * g.invVariance[a];
@@ -144,13 +147,13 @@ void accumulateGradient(const ActiveGaussian& g, std::size_t index, const Gradie
         }
         dLogScale[a] += -2.0f * g.invVariance[a] * uTu;
     }
-    float* dMean = gradient.at(kMeans, index);
+    float* dMean = gradient.at(kMeans, gradientIndex);
     for (int b = 0; b < 3; ++b) {
         dMean[b] -= g.rotation[3 * b] * dU[0] + g.rotation[3 * b + 1] * dU[1] + g.rotation[3 * b + 2] * dU[2];
     }
     float dQuat[4];
-    quaternionAdjoint(g, dR, dQuat);
-    float* dRotation = gradient.at(kRotations, index);
+    quaternionAdjoint(unitQuaternion(params.at(kRotations, index)), dR, dQuat);
+    float* dRotation = gradient.at(kRotations, gradientIndex);
     for (int k = 0; k < 4; ++k) dRotation[k] += dQuat[k];
 }
 

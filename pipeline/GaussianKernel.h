@@ -21,21 +21,27 @@ constexpr float kDefaultCutoffSigmas = 3.0f;
 constexpr float kMinLogScale = -6.9f;
 constexpr float kMaxLogScale = 9.0f;
 
-/// A Gaussian after activation, ready to evaluate. Index space throughout.
+/// A Gaussian after activation, ready to evaluate. Index space throughout. The fit
+/// keeps one for every Gaussian, so it holds only what evaluation and the rotation
+/// adjoint read; the backward pass derives the rest (the unit quaternion, opacity
+/// and colour) from the parameters, once per Gaussian and step.
 struct ActiveGaussian {
     float mean[3];
-    float quat[4];         ///< unit quaternion (w, x, y, z)
-    float quatNorm;        ///< norm of the raw quaternion, for the normalisation adjoint
     float rotation[9];     ///< row-major R; column a is the Gaussian's axis a
-    float scale[3];        ///< standard deviation per axis, voxels
-    float invVariance[3];  ///< 1 / scale^2
+    float invVariance[3];  ///< 1 / sigma_a^2, sigma_a the standard deviation along axis a, voxels
     float inverseCovariance[6];  ///< R S^-2 R^T in world axes: xx, yy, zz, xy, xz, yz
-    float opacity;         ///< sigmoid(logit), in (0, 1)
-    float colour[3];
     float amplitude[3];    ///< opacity * colour
 };
 
 float sigmoid(float x);
+
+/// A raw quaternion made unit, with the norm its adjoint divides by.
+struct UnitQuaternion {
+    float q[4];  ///< (w, x, y, z)
+    float norm;  ///< of the raw quaternion; 0 when it vanished, and q is then the identity
+};
+
+UnitQuaternion unitQuaternion(const float raw[4]);
 
 /// Unit quaternion (w, x, y, z) to a row-major rotation matrix.
 void rotationFromQuaternion(const float q[4], float r[9]);
@@ -70,10 +76,11 @@ inline void accumulateValue(const ActiveGaussian& g, const float x[3], float cut
     for (int c = 0; c < channels; ++c) value[c] += g.amplitude[c] * e;
 }
 
-/// Adds dL/d(parameters of Gaussian @a index) to @a gradient, given dL/df at x
-/// (@a upstream, one per channel). Zero outside the cutoff, like the value.
-void accumulateGradient(const ActiveGaussian& g, std::size_t index, const float x[3],
-                        float cutoff2, const float* upstream, GaussianParameters& gradient);
+/// Adds dL/d(parameters of Gaussian @a index) to @a gradient at @a index, given
+/// dL/df at x (@a upstream, one per channel); @a g is that Gaussian of @a params,
+/// activated. Zero outside the cutoff, like the value.
+void accumulateGradient(const GaussianParameters& params, const ActiveGaussian& g, std::size_t index,
+                        const float x[3], float cutoff2, const float* upstream, GaussianParameters& gradient);
 
 /// One Gaussian's gradient summed over many points, gathered in world axes about
 /// its mean, so that a block's moments add without a rotation and the adjoints of
@@ -109,13 +116,14 @@ struct GradientSums {
     }
 };
 
-/// Adds to @a gradient what the points gathered in @a sums give: the same as
-/// calling accumulateGradient() at each of them, up to rounding.
-void accumulateGradient(const ActiveGaussian& g, std::size_t index, const GradientSums& sums,
-                        GaussianParameters& gradient);
+/// Adds to @a gradient, at @a gradientIndex, what the points gathered in @a sums
+/// give Gaussian @a index of @a params (@a g, activated): the same as calling
+/// accumulateGradient() at each of them, up to rounding.
+void accumulateGradient(const GaussianParameters& params, const ActiveGaussian& g, std::size_t index,
+                        const GradientSums& sums, GaussianParameters& gradient, std::size_t gradientIndex);
 
 /// Adjoint of rotationFromQuaternion followed by normalisation: dL/dR (row-major)
 /// to dL/d(raw quaternion).
-void quaternionAdjoint(const ActiveGaussian& g, const float dR[9], float dQuat[4]);
+void quaternionAdjoint(const UnitQuaternion& unit, const float dR[9], float dQuat[4]);
 
 }  // namespace gvr

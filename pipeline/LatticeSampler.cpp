@@ -146,7 +146,7 @@ float LatticeSampler::reachCeiling(const std::vector<std::uint32_t>& hits, const
             const float gap = std::max({lower[a] - g.mean[a], 0.0f, g.mean[a] - upper[a]});
             d2 += gap * gap;
         }
-        const float widest = std::max({g.scale[0], g.scale[1], g.scale[2]});
+        const float widest = 1.0f / std::sqrt(std::min({g.invVariance[0], g.invVariance[1], g.invVariance[2]}));
         float peak = 0.0f;
         for (int c = 0; c < channels; ++c) peak = std::max(peak, std::abs(g.amplitude[c]));
         ceiling += peak * std::exp(-0.5f * d2 / (widest * widest));

@@ -29,8 +29,8 @@ GradientSums& GradientChunks::sumsOf(std::size_t c, std::uint32_t index) {
     return fresh;
 }
 
-std::size_t GradientChunks::sumInto(const GaussianField& field, std::size_t begin, std::size_t end,
-                                    GaussianParameters& gradient) const {
+std::size_t GradientChunks::sumInto(const GaussianField& field, const GaussianParameters& params,
+                                    std::size_t begin, std::size_t end, GaussianParameters& gradient) const {
     if (gradient.count() != end - begin || gradient.channels != field.channels()) {
         gradient = GaussianParameters(end - begin, field.channels());
     } else {
@@ -47,7 +47,7 @@ std::size_t GradientChunks::sumInto(const GaussianField& field, std::size_t begi
             written = true;
         }
         if (!written) continue;
-        accumulateGradient(field.gaussians()[index], index - begin, total, gradient);
+        accumulateGradient(params, field.gaussians()[index], index, total, gradient, index - begin);
         ++touched;
     }
     return touched;

@@ -37,15 +37,16 @@ public:
     void reset(std::size_t count);
     /// Gaussian @a index's sums in chunk @a c, to add a point to.
     GradientSums& sumsOf(std::size_t c, std::uint32_t index);
-    /// dL/dparams of Gaussians [begin, end) of @a field into @a gradient (resized to
-    /// end - begin and overwritten, Gaussian begin + i at index i), summing the
-    /// chunks in chunk order. Calls for disjoint ranges may run at the same time.
-    /// @return how many of them got a gradient.
-    std::size_t sumInto(const GaussianField& field, std::size_t begin, std::size_t end,
-                        GaussianParameters& gradient) const;
+    /// dL/dparams of Gaussians [begin, end) of @a field, activated from @a params,
+    /// into @a gradient (resized to end - begin and overwritten, Gaussian begin + i at
+    /// index i), summing the chunks in chunk order. Calls for disjoint ranges may run
+    /// at the same time. @return how many of them got a gradient.
+    std::size_t sumInto(const GaussianField& field, const GaussianParameters& params, std::size_t begin,
+                        std::size_t end, GaussianParameters& gradient) const;
     /// The same for every Gaussian of @a field.
-    std::size_t sumInto(const GaussianField& field, GaussianParameters& gradient) const {
-        return sumInto(field, 0, field.gaussians().size(), gradient);
+    std::size_t sumInto(const GaussianField& field, const GaussianParameters& params,
+                        GaussianParameters& gradient) const {
+        return sumInto(field, params, 0, field.gaussians().size(), gradient);
     }
 
 private:

@@ -23,17 +23,16 @@ PruneResult pruneAndRespawn(GaussianParameters& params, Adam& adam, double thres
     adam.keepOnly(keep);
 
     result.respawned = std::min(result.removed, sites.size());
-    const std::size_t kept = params.count();
-    GaussianParameters grown(kept + result.respawned, params.channels);
-    for (int g = 0; g < kGroupCount; ++g) std::copy(params.values[g].begin(), params.values[g].end(), grown.values[g].begin());
+    // Appended within the capacity keepOnly() left, so that no second copy of every
+    // Gaussian is made: pruning runs at the fit's peak memory.
+    GaussianParameters respawned(result.respawned, params.channels);
     for (std::size_t s = 0; s < result.respawned; ++s) {
-        const std::size_t i = kept + s;
-        std::copy_n(sites[s].position.data(), 3, grown.at(kMeans, i));
-        grown.at(kRotations, i)[0] = 1.0f;
+        std::copy_n(sites[s].position.data(), 3, respawned.at(kMeans, s));
+        respawned.at(kRotations, s)[0] = 1.0f;
         // colour = residual / opacity, with opacity 1/2
-        for (int c = 0; c < params.channels; ++c) grown.at(kColours, i)[c] = 2.0f * sites[s].residual[c];
+        for (int c = 0; c < params.channels; ++c) respawned.at(kColours, s)[c] = 2.0f * sites[s].residual[c];
     }
-    params = std::move(grown);
+    params.append(respawned);
     adam.grow(params.count());
     return result;
 }

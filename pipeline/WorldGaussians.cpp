@@ -18,7 +18,7 @@ Mat3d indexCovariance(const ActiveGaussian& g) {
     Mat3d r, s = Mat3d::zero();
     for (int row = 0; row < 3; ++row) {
         for (int column = 0; column < 3; ++column) r(row, column) = g.rotation[3 * row + column];
-        s(row, row) = double(g.scale[row]) * g.scale[row];
+        s(row, row) = 1.0 / double(g.invVariance[row]);
     }
     return r * s * r.transpose();
 }

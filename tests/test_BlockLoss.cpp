@@ -63,9 +63,9 @@ SampleSet trainablePoints(const Volume& volume) {
     return set;
 }
 
-GaussianParameters gradientOf(const GaussianField& field, GradientChunks& chunks) {
+GaussianParameters gradientOf(const GaussianField& field, const GaussianParameters& params, GradientChunks& chunks) {
     GaussianParameters gradient;
-    chunks.sumInto(field, gradient);
+    chunks.sumInto(field, params, gradient);
     return gradient;
 }
 
@@ -87,7 +87,8 @@ class BlockPath : public ::testing::TestWithParam<int> {};
 TEST_P(BlockPath, GivesTheLossAndGradientOfPointEvaluation) {
     const int channels = GetParam();
     const Volume volume(channels, {21, 19, 18});
-    const GaussianField field(test::randomGaussians(40, channels, 20.0f, 3), 3.0f);
+    const GaussianParameters params = test::randomGaussians(40, channels, 20.0f, 3);
+    const GaussianField field(params, 3.0f);
     BlockBins bins(volume.grid, 0.0f, 0.0f);
     bins.build(field);
     BlockLossSettings settings;
@@ -100,7 +101,7 @@ TEST_P(BlockPath, GivesTheLossAndGradientOfPointEvaluation) {
     ASSERT_EQ(points.size(), volume.grid.trainableVoxels());
     const double point = weightedSquaredError(field, points, 0.25, &pointChunks);
     EXPECT_NEAR(block, point, 1e-5 * point);
-    expectClose(gradientOf(field, blockChunks), gradientOf(field, pointChunks), 1e-4);
+    expectClose(gradientOf(field, params, blockChunks), gradientOf(field, params, pointChunks), 1e-4);
 }
 
 INSTANTIATE_TEST_SUITE_P(GreyAndColour, BlockPath, ::testing::Values(1, 3));
@@ -141,7 +142,7 @@ TEST(BlockLoss, GradientMatchesFiniteDifferences) {
     GradientChunks chunks;
     chunks.reset(params.count());
     loss(params, &chunks);
-    const GaussianParameters gradient = gradientOf(GaussianField(params, 10.0f), chunks);
+    const GaussianParameters gradient = gradientOf(GaussianField(params, 10.0f), params, chunks);
     for (int g = 0; g < kGroupCount; ++g) {
         for (std::size_t k = 0; k < params.values[g].size(); ++k) {
             const float h = 1e-2f;
@@ -159,7 +160,8 @@ TEST(BlockLoss, GradientMatchesFiniteDifferences) {
 TEST(BlockLoss, EightLanesAgreeWithFour) {
     if (!processorHasAvx2Fma()) GTEST_SKIP() << "no AVX2 and FMA on this processor: both kernels are the four-lane one";
     const Volume volume(3, {23, 17, 20});
-    const GaussianField field(test::randomGaussians(50, 3, 20.0f, 13), 3.0f);
+    const GaussianParameters params = test::randomGaussians(50, 3, 20.0f, 13);
+    const GaussianField field(params, 3.0f);
     BlockBins bins(volume.grid, 0.0f, 0.0f);
     bins.build(field);
     BlockLossSettings settings;
@@ -174,7 +176,7 @@ TEST(BlockLoss, EightLanesAgreeWithFour) {
     // rounding apart, not an algorithm apart.
     EXPECT_NEAR(eightLanes, fourLanes, 1e-6 * fourLanes);
     EXPECT_NE(eightLanes, 0.0);
-    expectClose(gradientOf(field, eight), gradientOf(field, four), 1e-5);
+    expectClose(gradientOf(field, params, eight), gradientOf(field, params, four), 1e-5);
 }
 
 }  // namespace

@@ -44,7 +44,7 @@ TEST_P(KernelGradient, MatchesCentralFiniteDifferences) {
                             params.at(kMeans, 0)[2] + unit(random)};
         const float upstream[3] = {unit(random), unit(random), unit(random)};
         GaussianParameters gradient(1, channels);
-        accumulateGradient(activate(params, 0), 0, x, 1e6f, upstream, gradient);
+        accumulateGradient(params, activate(params, 0), 0, x, 1e6f, upstream, gradient);
         for (int g = 0; g < kGroupCount; ++g) {
             for (int k = 0; k < params.width(ParameterGroup(g)); ++k) {
                 const float step = 1e-3f;
@@ -74,13 +74,13 @@ TEST_P(KernelGradient, SumsOverManyPointsMatchPointByPoint) {
         for (int p = 0; p < 7; ++p) {
             const float x[3] = {g.mean[0] + 2 * unit(random), g.mean[1] + 2 * unit(random), g.mean[2] + 2 * unit(random)};
             const float upstream[3] = {unit(random), unit(random), unit(random)};
-            accumulateGradient(g, 0, x, 1e6f, upstream, pointByPoint);
+            accumulateGradient(params, g, 0, x, 1e6f, upstream, pointByPoint);
             float u[3];
             const float q = mahalanobis2(g, x, u);
             const float d[3] = {x[0] - g.mean[0], x[1] - g.mean[1], x[2] - g.mean[2]};
             sums.add(g, channels, d, std::exp(-0.5f * q), upstream);
         }
-        accumulateGradient(g, 0, sums, summed);
+        accumulateGradient(params, g, 0, sums, summed, 0);
         for (int group = 0; group < kGroupCount; ++group) {
             for (int k = 0; k < params.width(ParameterGroup(group)); ++k) {
                 const float expected = pointByPoint.at(ParameterGroup(group), 0)[k];
@@ -140,7 +140,7 @@ TEST(Kernel, BoundsContainTheRotatedEllipsoid) {
             const float norm = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
             for (int a = 0; a < 3; ++a) {
                 float world = g.mean[a];
-                for (int b = 0; b < 3; ++b) world += g.rotation[3 * a + b] * g.scale[b] * 3.0f * dir[b] / norm;
+                for (int b = 0; b < 3; ++b) world += g.rotation[3 * a + b] * 3.0f * dir[b] / (norm * std::sqrt(g.invVariance[b]));
                 EXPECT_GE(world, lower[a] - 1e-3f);
                 EXPECT_LE(world, upper[a] + 1e-3f);
             }
@@ -170,7 +170,7 @@ TEST(Kernel, GradientAtNeedlesAndSheetsMatchesFiniteDifferences) {
         const float x[3] = {5.0f + shape.offset[0], 6.0f + shape.offset[1], 7.0f + shape.offset[2]};
         const float upstream[1] = {1.0f};
         GaussianParameters gradient(1, 1);
-        accumulateGradient(activate(params, 0), 0, x, 1e6f, upstream, gradient);
+        accumulateGradient(params, activate(params, 0), 0, x, 1e6f, upstream, gradient);
         ASSERT_GT(objective(params, x, upstream), 0.1) << shape.name << ": the point must sit where the value is large";
         for (int g = 0; g < kGroupCount; ++g) {
             for (int k = 0; k < params.width(ParameterGroup(g)); ++k) {
@@ -206,7 +206,7 @@ TEST(Kernel, ExtremeShapesStayFinite) {
                 accumulateValue(g, x, 9.0f, 3, value);
                 const float upstream[3] = {1.0f, -1.0f, 0.5f};
                 GaussianParameters gradient(1, 3);
-                accumulateGradient(g, 0, x, 9.0f, upstream, gradient);
+                accumulateGradient(params, g, 0, x, 9.0f, upstream, gradient);
                 EXPECT_TRUE(std::isfinite(value[0]) && std::isfinite(value[1]) && std::isfinite(value[2]));
                 EXPECT_TRUE(gradient.allFinite()) << "shape " << shape[0] << "," << shape[1] << "," << shape[2];
             }

@@ -56,7 +56,7 @@ TEST(Loss, GradientMatchesFiniteDifferences) {
     const GaussianField field(params, 3.0f);
     weightedSquaredError(field, samples, 1.0, &chunks);
     GaussianParameters gradient;
-    EXPECT_EQ(chunks.sumInto(field, gradient), 2u);
+    EXPECT_EQ(chunks.sumInto(field, params, gradient), 2u);
 
     const auto lossWith = [&](ParameterGroup group, std::size_t i, int k, float delta) {
         GaussianParameters moved = params;
@@ -108,10 +108,10 @@ TEST(Loss, ChunksKeepEachGaussiansSumsAcrossPagesAndResets) {
             total += one;
             chunks.sumsOf(c, std::uint32_t(i)).add(field.gaussians()[i], 1, d, 0.5f, upstream);
         }
-        accumulateGradient(field.gaussians()[i], i, total, expected);
+        accumulateGradient(params, field.gaussians()[i], i, total, expected, i);
     }
     GaussianParameters gradient;
-    EXPECT_EQ(chunks.sumInto(field, gradient), kCount);
+    EXPECT_EQ(chunks.sumInto(field, params, gradient), kCount);
     for (int group = 0; group < kGroupCount; ++group) {
         EXPECT_EQ(gradient.values[group], expected.values[group]) << groupName(ParameterGroup(group));
     }
