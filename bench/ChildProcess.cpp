@@ -81,8 +81,9 @@ std::string lastNonEmptyLine(const std::string& path, std::streamoff from) {
     while (std::getline(in, line)) {
         const auto end = line.find_last_not_of(" \r\t");
         // Progress bars redraw with '\r'; the message that matters follows the last one.
-        const auto start = line.find_last_of('\r', end == std::string::npos ? 0 : end);
-        const std::string text = end == std::string::npos ? "" : line.substr(start == std::string::npos ? 0 : start + 1, end + 1);
+        const auto redraw = line.find_last_of('\r', end == std::string::npos ? 0 : end);
+        const std::size_t begin = redraw == std::string::npos ? 0 : redraw + 1;
+        const std::string text = end == std::string::npos ? "" : line.substr(begin, end + 1 - begin);
         // CLI11 follows a parse error with this hint; the error itself is more use.
         if (!text.empty() && text != "Run with --help for more information.") last = text;
     }

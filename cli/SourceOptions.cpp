@@ -46,6 +46,10 @@ namespace {
 /// "j,k" as flags for i, j and k. @throw InputError naming --flip for anything else.
 std::array<bool, 3> flippedAxes(const std::string& text) {
     std::array<bool, 3> flip{false, false, false};
+    // getline() yields no empty token after a trailing comma, so "j," would pass unseen.
+    if (!text.empty() && text.back() == ',') {
+        throw InputError("--flip", "'" + text + "' ends with a comma: give i, j and/or k, comma-separated");
+    }
     std::istringstream in(text);
     for (std::string axis; std::getline(in, axis, ',');) {
         if (axis != "i" && axis != "j" && axis != "k") {

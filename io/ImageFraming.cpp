@@ -66,8 +66,10 @@ void checkBmpHeader(const std::string& file, const std::string& header, std::str
     const std::uint32_t infoBytes = littleEndian32(header, 14);
     const bool core = infoBytes == 12;  // OS/2 BITMAPCOREHEADER: 16-bit sizes, no compression field
     if (!core && (infoBytes < 40 || header.size() < 34)) throw InputError(file, "corrupt BMP: unknown header");
-    const std::int64_t width = core ? littleEndian16(header, 18) : std::int32_t(littleEndian32(header, 18));
-    const std::int64_t height = core ? littleEndian16(header, 20) : std::int32_t(littleEndian32(header, 22));
+    // Signed: a negative height marks a top-down BMP. (Both branches as int64, or the
+    // conditional's common type, uint32, would turn -2 rows into 4 billion.)
+    const std::int64_t width = core ? std::int64_t(littleEndian16(header, 18)) : std::int64_t(std::int32_t(littleEndian32(header, 18)));
+    const std::int64_t height = core ? std::int64_t(littleEndian16(header, 20)) : std::int64_t(std::int32_t(littleEndian32(header, 22)));
     const std::uint32_t bits = littleEndian16(header, core ? 24 : 28);
     const std::uint32_t compression = core ? 0 : littleEndian32(header, 30);
     const bool standardDepth = bits == 1 || bits == 4 || bits == 8 || bits == 16 || bits == 24 || bits == 32;

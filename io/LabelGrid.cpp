@@ -32,7 +32,7 @@ std::vector<std::int32_t> integerLabels(const DenseVolume& volume, const std::st
                 throw InputError(path, "is not a label volume: voxel " + std::to_string(n) + " holds " +
                                            std::to_string(value) + ", not an integer");
             }
-            if (std::abs(value) > std::numeric_limits<std::int32_t>::max()) {
+            if (value < std::numeric_limits<std::int32_t>::min() || value > std::numeric_limits<std::int32_t>::max()) {
                 throw InputError(path, "voxel " + std::to_string(n) + " holds the label " + std::to_string(value) +
                                            ", beyond the 32-bit labels gvr keeps");
             }
@@ -88,6 +88,10 @@ LabelTable readLabelNames(const std::string& path) {
         const long value = std::strtol(id.c_str(), &end, 10);
         if (*end != '\0' || !(fields >> name)) {
             throw InputError(path, "line " + std::to_string(number) + " is not \"ID NAME ...\": " + line);
+        }
+        if (value < std::numeric_limits<std::int32_t>::min() || value > std::numeric_limits<std::int32_t>::max()) {
+            throw InputError(path, "line " + std::to_string(number) + " names label " + id +
+                                       ", beyond the 32-bit labels gvr keeps");
         }
         if (value != 0) table.names[int(value)] = name;
     }

@@ -72,6 +72,11 @@ void readGzipSamples(const std::string& file, std::uint64_t offset, bool bigEndi
     if (code == Z_DATA_ERROR || code == Z_STREAM_ERROR || code == Z_MEM_ERROR) {
         throw InputError(file, "corrupt compressed data (zlib: " + zlibMessage + ")");
     }
+    // zlib's word for a file that ends early; with every sample read, what is missing
+    // is the trailer whose CRC would vouch for them.
+    if (code == Z_BUF_ERROR && filled == expected) {
+        throw InputError(file, "truncated: the compressed stream ends before its checksum");
+    }
     if (filled != expected) {
         throw InputError(file, "truncated: voxel data holds " + std::to_string(filled) +
                                    " bytes, expected " + std::to_string(expected));

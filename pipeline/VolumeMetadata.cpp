@@ -24,6 +24,12 @@ std::uint64_t VolumeMetadata::rawSourceBytes() const {
 }
 
 bool samePlacement(const openvdb::math::Mat4d& a, const openvdb::math::Mat4d& b, double relativeTolerance) {
+    // eq() asks !(|a - b| > tolerance), which holds for NaN: a matrix with NaN places nothing.
+    for (int r = 0; r < 4; ++r) {
+        for (int c = 0; c < 4; ++c) {
+            if (!std::isfinite(a(r, c)) || !std::isfinite(b(r, c))) return false;
+        }
+    }
     double scale = 0.0;
     for (int r = 0; r < 4; ++r) {
         for (int c = 0; c < 3; ++c) scale = std::max(scale, std::abs(a(r, c)));

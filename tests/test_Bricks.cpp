@@ -89,66 +89,6 @@ TEST(Bricks, SeamsMarkTheVoxelsNearInnerFacesOnly) {
     }
 }
 
-/// With an iteration budget, fitting the bricks one by one as parts and merging
-/// them is the same whatever order the parts come in.
-/// Two bricks of a 40 x 24 x 24 blob volume, @a gaussians fitted for @a iterations.
-BudgetedFitOptions twoBrickOptions(std::size_t gaussians, std::size_t iterations) {
-    BudgetedFitOptions options;
-    options.settings.seconds = 0.0;
-    options.settings.iterations = iterations;
-    options.gaussians = gaussians;
-    return options;
-}
-
-TEST(Bricks, MergeIsTheSameWhateverTheOrderOfTheParts) {
-    const openvdb::GridBase::Ptr grid = blobGrid({40, 24, 24});
-    const VolumeTarget target(grid, "blobs");
-    const BrickPlan plan = planBrickedFit(target, "blobs", twoBrickOptions(200, 15), {2, 4});
-    std::vector<GaussianAsset> parts;
-    for (std::size_t b = 0; b < plan.bricks.size(); ++b) parts.push_back(fitBrickPart(grid, "blobs", plan, b, 0.0));
-    GaussianAsset forward = mergeBrickParts(parts, {"a", "b"});
-    GaussianAsset backward = mergeBrickParts({parts[1], parts[0]}, {"b", "a"});
-    EXPECT_EQ(forward.params.count(), 200u);
-    EXPECT_EQ(encodeAsset(forward), encodeAsset(backward));
-    EXPECT_FALSE(forward.fitSettings.contains("brick"));
-    EXPECT_EQ(forward.fitSettings.at("bricks").at("count"), 2);
-}
-
-TEST(Bricks, MergeRefusesMissingRepeatedAndForeignParts) {
-    const openvdb::GridBase::Ptr grid = blobGrid({40, 24, 24});
-    const VolumeTarget target(grid, "blobs");
-    BudgetedFitOptions options = twoBrickOptions(100, 5);
-    const BrickPlan plan = planBrickedFit(target, "blobs", options, {2, 4});
-    const GaussianAsset first = fitBrickPart(grid, "blobs", plan, 0, 0.0);
-    const GaussianAsset second = fitBrickPart(grid, "blobs", plan, 1, 0.0);
-    const auto refusal = [](std::vector<GaussianAsset> parts, std::vector<std::string> names) {
-        try {
-            mergeBrickParts(std::move(parts), names);
-        } catch (const InputError& error) {
-            return std::string(error.what());
-        }
-        return std::string("accepted");
-    };
-    EXPECT_NE(refusal({first}, {"p0"}).find("bricks 1 of 2 are missing"), std::string::npos);
-    EXPECT_NE(refusal({first, first}, {"p0", "again"}).find("again: repeats brick 0"), std::string::npos);
-    options.settings.seed = 7;
-    const BrickPlan other = planBrickedFit(target, "blobs", options, {2, 4});
-    EXPECT_NE(refusal({first, fitBrickPart(grid, "blobs", other, 1, 0.0)}, {"p0", "seed7"}).find("seed7: is a brick of another fit"),
-              std::string::npos);
-    // Parts of fits at other ratios once merged without a word.
-    BudgetedFitOptions tenToOne = twoBrickOptions(0, 5), twentyToOne = twoBrickOptions(0, 5);
-    tenToOne.ratio = 10.0;
-    twentyToOne.ratio = 20.0;
-    const BrickPlan ten = planBrickedFit(target, "blobs", tenToOne, {2, 4});
-    const BrickPlan twenty = planBrickedFit(target, "blobs", twentyToOne, {2, 4});
-    EXPECT_NE(refusal({fitBrickPart(grid, "blobs", ten, 0, 0.0), fitBrickPart(grid, "blobs", twenty, 1, 0.0)}, {"p0", "p1"})
-                  .find("p1: is a brick of another fit"),
-              std::string::npos);
-    GaussianAsset whole = first;
-    whole.fitSettings.erase("brick");
-    EXPECT_NE(refusal({whole, second}, {"whole", "p1"}).find("whole: is not a brick part"), std::string::npos);
-}
-
 /// Seams on real MRI, against a fit of the whole volume with the same Gaussians and
 /// iterations, on the same voxels: those within 4 voxels of a face between bricks
 /// lie across the middle of the brain, where any fit does worse than on average

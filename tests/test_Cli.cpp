@@ -1,6 +1,5 @@
 // The gvr executable as a user meets it: exit codes, one-line errors, no stray files.
 
-#include "cli/Suggestions.h"
 #include "tests/TestHelpers.h"
 
 #include <nlohmann/json.hpp>
@@ -103,13 +102,6 @@ TEST(Cli, MistypedCommandsAndFlagsGetASuggestion) {
     EXPECT_EQ(flag.exitCode, 2);
     EXPECT_NE(flag.err.find("did you mean --time?"), std::string::npos) << flag.err;
     EXPECT_EQ(test::runGvr("bogus", dir).err.find("did you mean"), std::string::npos);  // nothing near
-}
-
-TEST(Suggestions, NearestNameOrNone) {
-    EXPECT_EQ(closestName("--tim", {"--time", "--tf", "--threads"}), "--time");
-    EXPECT_EQ(closestName("exprot", {"export", "eval", "info"}), "export");
-    EXPECT_EQ(closestName("--iter", {"--iterations", "--time"}), "--iterations");  // the only one it begins
-    EXPECT_EQ(closestName("zzzzzz", {"export", "eval"}), "");
 }
 
 TEST(Cli, InfoWarnsOnStderrLikeEveryCommand) {

@@ -2,7 +2,6 @@
 // size search, the raw layout's axis order, colour channels, and every way a
 // codec can misbehave, each a one-line CodecFailure.
 
-#include "bench/ChildProcess.h"
 #include "bench/ExternalCodec.h"
 #include "tests/TestHelpers.h"
 
@@ -13,7 +12,6 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
-#include <thread>
 
 using namespace gvr;
 
@@ -184,35 +182,4 @@ TEST(ExternalCodec, FindProgramLooksOnThePathAndTakesPathsAsGiven) {
     EXPECT_EQ(findProgram("no-such-program-anywhere"), "");
     EXPECT_EQ(findProgram("/no/such/program"), "");
     EXPECT_EQ(findProgram(kFakeCodec.substr(0, kFakeCodec.size() - 3)), "") << "not a file";
-}
-
-/// Whether process @a pid has ended (gone, or a zombie waiting for its reaper).
-bool ended(const std::string& pid) {
-    std::ifstream stat("/proc/" + pid + "/stat");
-    std::string line;
-    if (!std::getline(stat, line)) return true;
-    return line.find(") Z") != std::string::npos;
-}
-
-TEST(ChildProcess, ATimeLimitKillsTheChildAndItsChildren) {
-    test::TempDir dir;
-    const auto start = std::chrono::steady_clock::now();
-    const std::string pidFile = dir.path("background.pid");
-    const ChildResult result =
-        runChild({"/bin/sh", "-c", "sleep 30 & echo $! > '" + pidFile + "'; sleep 30; echo never"}, dir.path("log"), 0.5);
-    EXPECT_TRUE(result.timedOut);
-    EXPECT_FALSE(result.ok());
-    EXPECT_EQ(result.output, "");
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
-    const std::string background = test::readBytes(pidFile).substr(0, test::readBytes(pidFile).find('\n'));
-    ASSERT_FALSE(background.empty());
-    for (int tries = 0; tries < 200 && !ended(background); ++tries) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    EXPECT_TRUE(ended(background)) << "the time limit left process " << background << " running";
-
-    const ChildResult quick = runChild({"/bin/sh", "-c", "echo done"}, dir.path("log"), 10);
-    EXPECT_FALSE(quick.timedOut);
-    EXPECT_TRUE(quick.ok());
-    EXPECT_EQ(quick.output, "done\n");
 }

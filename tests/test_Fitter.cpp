@@ -127,32 +127,6 @@ TEST(Fitter, EveryAblationRunsAndImproves) {
     }
 }
 
-TEST(Fitter, CurriculumWeightsFollowTheSchedule) {
-    FitSettings settings;
-    EXPECT_NEAR(sliceWeight(settings, settings.sliceGamma), 0.5 * settings.sliceMax, 1e-12);
-    EXPECT_LT(sliceWeight(settings, 0.0), 0.01 * settings.sliceMax);
-    EXPECT_GT(sliceWeight(settings, 1.0), 0.99 * settings.sliceMax);
-    applyAblation(Ablation::A3, settings);
-    EXPECT_GT(sliceWeight(settings, 0.0), 0.99);
-    applyAblation(Ablation::A4, settings);
-    EXPECT_EQ(sliceWeight(settings, 0.3), 1.0);
-    applyAblation(Ablation::A5, settings);
-    EXPECT_EQ(sliceWeight(settings, 0.9), 0.0);
-}
-
-TEST(Fitter, TheSlicePassWaitsForOnePercentOfItsMaximumWeight) {
-    FitSettings settings;  // voxels then slices: 0.1 sigmoid((t - 0.5) / 0.08)
-    const double onePercent = settings.sliceGamma + settings.sliceBeta * std::log(0.01 / 0.99);  // about 0.132
-    EXPECT_FALSE(slicePassRuns(settings, 0.0));
-    EXPECT_FALSE(slicePassRuns(settings, onePercent - 0.002));
-    EXPECT_TRUE(slicePassRuns(settings, onePercent + 0.002));
-    EXPECT_TRUE(slicePassRuns(settings, 1.0));
-    settings.schedule = SliceSchedule::None;
-    EXPECT_FALSE(slicePassRuns(settings, 1.0));
-    settings.schedule = SliceSchedule::SlicesOnly;
-    EXPECT_TRUE(slicePassRuns(settings, 0.0));
-}
-
 TEST(Fitter, ATimeBudgetTooShortForTheCountFitsFewerGaussians) {
     const VolumeTarget target(test::makeGrid({32, 28, 24}, blob), "blobs");
     FitSettings settings = quickSettings(2000, 0);

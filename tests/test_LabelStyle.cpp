@@ -1,6 +1,5 @@
-// Label styles: a style recolours and rescales a transfer function; style files are checked.
+// Label styles: a style recolours and rescales a transfer function (style files: test_LabelStyleFile.cpp).
 
-#include "io/LabelStyleFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/LabelStyle.h"
 #include "tests/TestHelpers.h"
@@ -26,24 +25,4 @@ TEST(LabelStyle, RecoloursEveryPointAndScalesOpacityUpToOne) {
     LabelStyle fadeOnly;
     fadeOnly.opacity = 0.5f;
     EXPECT_EQ(styledTransferFunction(base, fadeOnly)(200.0), (std::array<float, 4>{1, 0.9f, 0.8f, 0.45f}));
-}
-
-TEST(LabelStyleFile, ReadsStylesAndRefusesMistakes) {
-    test::TempDir dir;
-    const auto write = [&](const std::string& text) {
-        std::ofstream(dir.path("s.json")) << text;
-        return dir.path("s.json");
-    };
-    const auto styles = readLabelStyles(write(R"({"Thalamus_L": {"color": [1, 0, 0]}, "37": {"opacity": 0.25}})"));
-    ASSERT_EQ(styles.size(), 2u);
-    EXPECT_EQ(styles.at("Thalamus_L").colour, (std::array<float, 3>{1, 0, 0}));
-    EXPECT_EQ(styles.at("Thalamus_L").opacity, 1.0f);
-    EXPECT_FALSE(styles.at("37").colour);
-    EXPECT_EQ(styles.at("37").opacity, 0.25f);
-
-    for (const char* bad : {R"({"x": {"color": [1, 0]}})", R"({"x": {"color": [2, 0, 0]}})", R"({"x": {"opacity": -1}})",
-                            R"({"x": {"colour": [1, 0, 0]}})", R"({"x": 3})", "[1, 2]", "{oops"}) {
-        EXPECT_THROW(readLabelStyles(write(bad)), InputError) << bad;
-    }
-    EXPECT_THROW(readLabelStyles(dir.path("missing.json")), InputError);
 }

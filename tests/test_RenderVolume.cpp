@@ -1,0 +1,116 @@
+// The render volumes: a Gaussian field sampled on a lattice in physical units, its
+// widening of thin Gaussians at constant mass, and grids sampled trilinearly.
+
+#include "render/RenderVolume.h"
+
+#include "pipeline/Error.h"
+#include "tests/TestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+namespace gvr {
+namespace {
+
+using openvdb::Coord;
+
+constexpr int kSide = 16;
+
+/// One grey Gaussian at the voxel (8, 8, 8), opacity 1/2, round with standard deviation @a sigma.
+GaussianParameters oneGaussian(float sigma, float colour) {
+    GaussianParameters params(1, 1);
+    for (int a = 0; a < 3; ++a) params.at(kMeans, 0)[a] = 8.0f;
+    params.at(kRotations, 0)[0] = 1.0f;
+    for (int a = 0; a < 3; ++a) params.at(kLogScales, 0)[a] = std::log(sigma);
+    *params.at(kOpacityLogits, 0) = 0.0f;
+    params.at(kColours, 0)[0] = colour;
+    return params;
+}
+
+GaussianRenderVolume volumeOf(const GaussianParameters& params, const ValueMapping& mapping, float minScale) {
+    return GaussianRenderVolume(params, kDefaultCutoffSigmas, openvdb::math::Mat4d::identity(),
+                                openvdb::Vec3i(kSide, kSide, kSide), mapping, 1.0, 0.0, minScale);
+}
+
+/// The block at (8, 8, 8) on the volume's own lattice, every block visible.
+std::vector<float> blockAtTheMean(const RenderVolume& volume) {
+    const Lattice lattice = sourceLattice(volume.worldFromIndex(), openvdb::Vec3i(kSide, kSide, kSide));
+    const auto blocks = volume.blocksOn(lattice, -1e30);
+    std::vector<float> values(kBlockVoxels * std::size_t(volume.channels()));
+    blocks->sampleBlock(Coord(8, 8, 8), values.data());
+    return values;
+}
+
+TEST(GaussianRenderVolume, SamplesTheMappedFieldAndTheBackgroundBeyondTheCutoff) {
+    ValueMapping mapping;
+    mapping.offset = {100.0, 0.0, 0.0};
+    mapping.scale = 2.0;
+    const GaussianRenderVolume volume = volumeOf(oneGaussian(2.0f, 0.8f), mapping, 0.0f);
+    const std::vector<float> block = blockAtTheMean(volume);
+    const float peak = 2.0f * 0.5f * 0.8f;  // scale * opacity * colour
+    EXPECT_NEAR(block[blockOffset(Coord(8, 8, 8))], 100.0f + peak, 1e-4f);
+    // Two voxels along x is one standard deviation: q = 1.
+    EXPECT_NEAR(block[blockOffset(Coord(10, 8, 8))], 100.0f + peak * std::exp(-0.5f), 1e-4f);
+    // (15, 15, 15) lies at q = 3 * 49 / 4, beyond the cutoff of 3 sigmas: the background, exactly.
+    EXPECT_EQ(block[blockOffset(Coord(15, 15, 15))], 100.0f);
+    EXPECT_EQ(volume.backgroundKey(), 100.0);
+}
+
+TEST(GaussianRenderVolume, WidensThinGaussiansAndKeepsTheirMass) {
+    const ValueMapping identity;
+    const float thin = 0.25f, floor = 0.5f;
+    const std::vector<float> widened = blockAtTheMean(volumeOf(oneGaussian(thin, 1.0f), identity, floor));
+    const std::vector<float> kept = blockAtTheMean(volumeOf(oneGaussian(thin, 1.0f), identity, 0.0f));
+    // Sigma doubled on three axes: the peak falls by 2^3, so peak * sigma^3 stays.
+    EXPECT_NEAR(widened[blockOffset(Coord(8, 8, 8))], 0.5f / 8.0f, 1e-6f);
+    EXPECT_NEAR(kept[blockOffset(Coord(8, 8, 8))], 0.5f, 1e-6f);
+    // One voxel away the thin Gaussian is at q = 16 (cut); the widened one at q = 4.
+    EXPECT_EQ(kept[blockOffset(Coord(9, 8, 8))], 0.0f);
+    EXPECT_NEAR(widened[blockOffset(Coord(9, 8, 8))], 0.5f / 8.0f * std::exp(-2.0f), 1e-6f);
+}
+
+TEST(GridRenderVolume, SamplesTrilinearlyBetweenVoxelCentres) {
+    openvdb::FloatGrid grid(0.0f);
+    auto accessor = grid.getAccessor();
+    accessor.setValue(Coord(1, 0, 0), 2.0f);
+    accessor.setValue(Coord(1, 1, 0), 4.0f);
+    float out[1];
+    GridRenderVolume::trilinear(grid.getConstAccessor(), openvdb::Vec3d(0.25, 0.0, 0.0), out);
+    EXPECT_FLOAT_EQ(out[0], 0.5f);
+    GridRenderVolume::trilinear(grid.getConstAccessor(), openvdb::Vec3d(1.0, 0.5, 0.0), out);
+    EXPECT_FLOAT_EQ(out[0], 3.0f);
+
+    openvdb::Vec3SGrid colour(openvdb::Vec3s(0.0f));
+    colour.getAccessor().setValue(Coord(0, 0, 1), openvdb::Vec3s(1.0f, 2.0f, 4.0f));
+    float rgb[3];
+    GridRenderVolume::trilinear(colour.getConstAccessor(), openvdb::Vec3d(0.0, 0.0, 0.5), rgb);
+    EXPECT_FLOAT_EQ(rgb[0], 0.5f);
+    EXPECT_FLOAT_EQ(rgb[1], 1.0f);
+    EXPECT_FLOAT_EQ(rgb[2], 2.0f);
+}
+
+TEST(GridRenderVolume, RefusesOtherValueTypesNamingTheGrid) {
+    openvdb::Int32Grid::Ptr labels = openvdb::Int32Grid::create(0);
+    labels->setName("labels");
+    try {
+        GridRenderVolume volume(labels);
+        FAIL() << "an int32 grid was accepted";
+    } catch (const InputError& error) {
+        const std::string message = error.what();
+        EXPECT_NE(message.find("labels"), std::string::npos) << message;
+        EXPECT_NE(message.find("int32"), std::string::npos) << message;
+    }
+}
+
+TEST(GridRenderVolume, KeepsTheGridsSpacingAndBox) {
+    const GridRenderVolume volume(test::makeGrid({6, 5, 4}, [](int i, int, int) { return float(i); },
+                                                 openvdb::Vec3d(0.5, 1.0, 2.0)));
+    EXPECT_EQ(volume.channels(), 1);
+    EXPECT_DOUBLE_EQ(volume.voxelMm(), 0.5);
+    EXPECT_DOUBLE_EQ(volume.worldFromIndex()[1][1], 1.0);
+}
+
+}  // namespace
+}  // namespace gvr
