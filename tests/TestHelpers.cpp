@@ -61,6 +61,13 @@ openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<flo
     return buildGrid(volume, settings);
 }
 
+openvdb::GridBase::Ptr blobGrid(std::array<int, 3> dims) {
+    return makeGrid(dims, [dims](int i, int j, int k) {
+        const double x = i - 0.5 * dims[0], y = j - 0.5 * dims[1], z = k - 0.5 * dims[2];
+        return float(20.0 + 200.0 * std::exp(-(x * x + y * y + z * z) / 90.0) + 30.0 * std::sin(0.4 * i));
+    });
+}
+
 CommandResult runGvr(const std::string& arguments, const TempDir& dir) {
     const std::string outPath = dir.path("stdout.txt"), errPath = dir.path("stderr.txt");
     const std::string command = std::string("'") + GVR_EXECUTABLE + "' " + arguments + " >'" + outPath + "' 2>'" +

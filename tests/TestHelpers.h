@@ -72,6 +72,10 @@ openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<flo
                                 openvdb::Vec3d spacingMm = openvdb::Vec3d(1.0),
                                 std::optional<double> threshold = std::nullopt);
 
+/// A blob on a gentle ripple over a floor of 20: smooth content with one bright
+/// centre, for fits that must converge quickly (the bricked-fit tests).
+openvdb::GridBase::Ptr blobGrid(std::array<int, 3> dims);
+
 struct CommandResult {
     int exitCode = -1;
     std::string out, err;

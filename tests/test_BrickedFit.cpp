@@ -18,13 +18,6 @@
 namespace gvr {
 namespace {
 
-openvdb::GridBase::Ptr blobGrid(std::array<int, 3> dims) {
-    return test::makeGrid(dims, [dims](int i, int j, int k) {
-        const double x = i - 0.5 * dims[0], y = j - 0.5 * dims[1], z = k - 0.5 * dims[2];
-        return float(20.0 + 200.0 * std::exp(-(x * x + y * y + z * z) / 90.0) + 30.0 * std::sin(0.4 * i));
-    });
-}
-
 /// Two bricks of a 40 x 24 x 24 blob volume, @a gaussians fitted for @a iterations.
 BudgetedFitOptions twoBrickOptions(std::size_t gaussians, std::size_t iterations) {
     BudgetedFitOptions options;
@@ -39,7 +32,7 @@ std::string planRefusal(const VolumeTarget& target, const BudgetedFitOptions& op
 }
 
 TEST(BrickedFit, PlanSplitsTheCountAndRecordsTheBricksInTheSkeleton) {
-    const VolumeTarget target(blobGrid({40, 24, 24}), "blobs");
+    const VolumeTarget target(test::blobGrid({40, 24, 24}), "blobs");
     const BrickPlan plan = planBrickedFit(target, "blobs", twoBrickOptions(200, 15), {2, 4});
     ASSERT_EQ(plan.bricks.size(), 2u);
     EXPECT_EQ(plan.lattice, openvdb::Coord(2, 1, 1));  // across the long axis
@@ -54,7 +47,7 @@ TEST(BrickedFit, PlanSplitsTheCountAndRecordsTheBricksInTheSkeleton) {
 }
 
 TEST(BrickedFit, PlanRefusesBadBrickOptionsNamingTheSetting) {
-    const VolumeTarget target(blobGrid({40, 24, 24}), "blobs");
+    const VolumeTarget target(test::blobGrid({40, 24, 24}), "blobs");
     const BudgetedFitOptions options = twoBrickOptions(200, 15);
     EXPECT_EQ(planRefusal(target, options, {0, 4}), "`bricks`: must be at least 1");
     EXPECT_EQ(planRefusal(target, options, {2, -1}), "`halo`: must be at least 0");
@@ -66,7 +59,7 @@ TEST(BrickedFit, PlanRefusesBadBrickOptionsNamingTheSetting) {
 }
 
 TEST(BrickedFit, EachBrickGetsItsShareOfTheTimeByGaussians) {
-    const VolumeTarget target(blobGrid({40, 24, 24}), "blobs");
+    const VolumeTarget target(test::blobGrid({40, 24, 24}), "blobs");
     BrickPlan plan = planBrickedFit(target, "blobs", twoBrickOptions(200, 15), {2, 4});
     plan.settings.seconds = 8.0;
     plan.bricks[0].budget = 30;
@@ -79,7 +72,7 @@ TEST(BrickedFit, EachBrickGetsItsShareOfTheTimeByGaussians) {
 }
 
 TEST(BrickedFit, APartRecordsItsBrickItsRunAndAFineEncoding) {
-    const openvdb::GridBase::Ptr grid = blobGrid({40, 24, 24});
+    const openvdb::GridBase::Ptr grid = test::blobGrid({40, 24, 24});
     const VolumeTarget target(grid, "blobs");
     const BrickPlan plan = planBrickedFit(target, "blobs", twoBrickOptions(100, 5), {2, 4});
     const GaussianAsset part = fitBrickPart(grid, "blobs", plan, 1, 0.0, {}, /*rank=*/3);
@@ -128,7 +121,7 @@ TEST(BrickedFit, MissingOrCorruptRecordsAreRefusedNamingThePart) {
 }
 
 TEST(BrickedFit, MergeIsTheSameWhateverTheOrderOfTheParts) {
-    const openvdb::GridBase::Ptr grid = blobGrid({40, 24, 24});
+    const openvdb::GridBase::Ptr grid = test::blobGrid({40, 24, 24});
     const VolumeTarget target(grid, "blobs");
     const BrickPlan plan = planBrickedFit(target, "blobs", twoBrickOptions(200, 15), {2, 4});
     std::vector<GaussianAsset> parts;
@@ -142,7 +135,7 @@ TEST(BrickedFit, MergeIsTheSameWhateverTheOrderOfTheParts) {
 }
 
 TEST(BrickedFit, MergeRefusesMissingRepeatedAndForeignParts) {
-    const openvdb::GridBase::Ptr grid = blobGrid({40, 24, 24});
+    const openvdb::GridBase::Ptr grid = test::blobGrid({40, 24, 24});
     const VolumeTarget target(grid, "blobs");
     BudgetedFitOptions options = twoBrickOptions(100, 5);
     const BrickPlan plan = planBrickedFit(target, "blobs", options, {2, 4});

@@ -12,13 +12,6 @@
 namespace gvr {
 namespace {
 
-openvdb::GridBase::Ptr blobGrid(std::array<int, 3> dims) {
-    return test::makeGrid(dims, [dims](int i, int j, int k) {
-        const double x = i - 0.5 * dims[0], y = j - 0.5 * dims[1], z = k - 0.5 * dims[2];
-        return float(20.0 + 200.0 * std::exp(-(x * x + y * y + z * z) / 90.0) + 30.0 * std::sin(0.4 * i));
-    });
-}
-
 TEST(Bricks, LatticeCutsTheLongAxisOfAnElongatedVolume) {
     const openvdb::CoordBBox box(openvdb::Coord(0), openvdb::Coord(63, 63, 255));
     EXPECT_EQ(brickLattice(box, 4), openvdb::Coord(1, 1, 4));
@@ -40,7 +33,7 @@ TEST(Bricks, MoreBricksThanLeavesIsRefusedNamingTheFlag) {
 }
 
 TEST(Bricks, CoresTileTheVolumeOnLeafBoundariesAndBudgetsAddUp) {
-    const VolumeTarget target(blobGrid({45, 37, 30}), "blobs");
+    const VolumeTarget target(test::blobGrid({45, 37, 30}), "blobs");
     const std::vector<Brick> bricks = planBricks(target, openvdb::Coord(3, 2, 2), 4, 1000);
     ASSERT_EQ(bricks.size(), 12u);
     std::uint64_t voxels = 0, active = 0;
@@ -64,7 +57,7 @@ TEST(Bricks, CoresTileTheVolumeOnLeafBoundariesAndBudgetsAddUp) {
 }
 
 TEST(Bricks, TapersAddUpToOneAtEveryVoxel) {
-    const VolumeTarget target(blobGrid({45, 37, 30}), "blobs");
+    const VolumeTarget target(test::blobGrid({45, 37, 30}), "blobs");
     for (int halo : {0, 3, 8}) {
         const std::vector<Brick> bricks = planBricks(target, openvdb::Coord(3, 2, 2), halo, 100);
         for (auto ijk = target.box().begin(); ijk; ++ijk) {
@@ -81,7 +74,7 @@ TEST(Bricks, TapersAddUpToOneAtEveryVoxel) {
 }
 
 TEST(Bricks, SeamsMarkTheVoxelsNearInnerFacesOnly) {
-    const VolumeTarget target(blobGrid({32, 16, 16}), "blobs");
+    const VolumeTarget target(test::blobGrid({32, 16, 16}), "blobs");
     const std::vector<Brick> bricks = planBricks(target, openvdb::Coord(2, 1, 1), 4, 100);  // cut at x = 16
     const BrickSeams seams(bricks, 4);
     for (int x = 0; x < 32; ++x) {
