@@ -19,6 +19,11 @@ namespace {
 
 constexpr const char* kNamesKey = "gvr_label_names";
 
+/// Whether a whole number fits the 32-bit labels gvr keeps.
+bool isInt32(double value) {
+    return value >= std::numeric_limits<std::int32_t>::min() && value <= std::numeric_limits<std::int32_t>::max();
+}
+
 /// Label values in the file's own voxel order. @throw InputError for non-integers.
 std::vector<std::int32_t> integerLabels(const DenseVolume& volume, const std::string& path) {
     if (volume.channels != 1) throw InputError(path, "a label volume must have one channel, not " + std::to_string(volume.channels));
@@ -32,7 +37,7 @@ std::vector<std::int32_t> integerLabels(const DenseVolume& volume, const std::st
                 throw InputError(path, "is not a label volume: voxel " + std::to_string(n) + " holds " +
                                            std::to_string(value) + ", not an integer");
             }
-            if (value < std::numeric_limits<std::int32_t>::min() || value > std::numeric_limits<std::int32_t>::max()) {
+            if (!isInt32(value)) {
                 throw InputError(path, "voxel " + std::to_string(n) + " holds the label " + std::to_string(value) +
                                            ", beyond the 32-bit labels gvr keeps");
             }
@@ -89,7 +94,7 @@ LabelTable readLabelNames(const std::string& path) {
         if (*end != '\0' || !(fields >> name)) {
             throw InputError(path, "line " + std::to_string(number) + " is not \"ID NAME ...\": " + line);
         }
-        if (value < std::numeric_limits<std::int32_t>::min() || value > std::numeric_limits<std::int32_t>::max()) {
+        if (!isInt32(double(value))) {
             throw InputError(path, "line " + std::to_string(number) + " names label " + id +
                                        ", beyond the 32-bit labels gvr keeps");
         }
