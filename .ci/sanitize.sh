@@ -7,8 +7,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${GVR_FUZZ_SECONDS:-30}
 build=build-asan
+# The unit tests left out under the sanitizers (the comment above ctest below says why).
+skip=Bricks.SeamsOfRealMriAreWithinOneDecibelOfAWholeVolumeFit
+skip+=:Cli.IngestStreamsARawVolumeInLessMemoryThanHalfItsSamples
+skip+=:Cli.TheTimeBudgetCoversTheFitTheSolveAndTheMeasurement
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DGVR_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" > /dev/null
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DGVR_TESTS_SKIP="$skip" > /dev/null
 # Only what the tests and fuzzers run: the benchmark examples gain nothing from sanitizers.
 cmake --build "$build" -j 2 --target gvr gvr_tests \
   fuzz_nifti fuzz_metaimage fuzz_mgh fuzz_raw fuzz_dicom fuzz_image fuzz_asset fuzz_tf fuzz_labelstyle fuzz_manifest
@@ -36,7 +40,7 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$(pwd)/.ci/
 # closing measurement alone take longer than its 4 s budget (20.4 s in all, measured).
 # The man page and the completion are release artefacts that this build does not make.
 ctest --test-dir "$build" --output-on-failure -j 2 \
-  -E "export_clients|blender_silhouettes|deps_audit|example_minimal|bad_input_sweep|mpi_bricks|man_and_completion|Bricks.SeamsOfRealMri|Cli.IngestStreamsARawVolume|Cli.TheTimeBudgetCoversTheFitTheSolveAndTheMeasurement"
+  -E "^(export_clients_blender_pyopenvdb_nibabel|blender_silhouettes|deps_audit_catches_missing_packages|example_minimal|bad_input_sweep|mpi_bricks|man_and_completion)$"
 
 seeds=$build/fuzz-seeds
 rm -rf "$seeds" "$build/fuzz-corpus"

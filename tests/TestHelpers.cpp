@@ -40,6 +40,10 @@ void writeBytes(const std::string& path, const std::string& bytes) {
     out.write(bytes.data(), std::streamsize(bytes.size()));
 }
 
+std::string littleEndian16(std::uint32_t value) { return {char(value & 0xff), char((value >> 8) & 0xff)}; }
+
+std::string littleEndian32(std::uint32_t value) { return littleEndian16(value & 0xffff) + littleEndian16(value >> 16); }
+
 void copyTruncated(const std::string& from, const std::string& to, std::size_t keep) {
     writeBytes(to, readBytes(from).substr(0, keep));
 }

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -49,6 +50,14 @@ std::string errorMessageOf(const std::function<void()>& run) {
     return "";
 }
 void writeBytes(const std::string& path, const std::string& bytes);
+/// The bytes of @a values in the host's order, as a raw volume file holds them.
+template <typename T>
+std::string rawBytes(const std::vector<T>& values) {
+    return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+/// The low two or four bytes of @a value, least significant first, as file formats store them.
+std::string littleEndian16(std::uint32_t value);
+std::string littleEndian32(std::uint32_t value);
 /// Copies @a from to @a to, keeping only the first @a keep bytes.
 void copyTruncated(const std::string& from, const std::string& to, std::size_t keep);
 

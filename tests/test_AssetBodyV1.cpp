@@ -13,8 +13,6 @@
 namespace gvr {
 namespace {
 
-std::string le16(std::uint32_t v) { return {char(v & 0xff), char((v >> 8) & 0xff)}; }
-std::string le32(std::uint32_t v) { return le16(v & 0xffff) + le16(v >> 16); }
 
 nlohmann::json quantisation() {
     return {{"mean_min", {0.0, 0.0, -2.0}},     {"mean_max", {10.0, 20.0, 2.0}},
@@ -25,15 +23,15 @@ nlohmann::json quantisation() {
 /// Two grey Gaussians, each attribute's array after the other's.
 std::string twoGaussians() {
     std::string body;
-    body += le16(0) + le16(65535) + le16(65535);  // means of Gaussian 0: the ranges' ends
-    body += le16(65535) + le16(0) + le16(0);      // Gaussian 1
+    body += test::littleEndian16(0) + test::littleEndian16(65535) + test::littleEndian16(65535);  // means of Gaussian 0: the ranges' ends
+    body += test::littleEndian16(65535) + test::littleEndian16(0) + test::littleEndian16(0);      // Gaussian 1
     // Largest component z (index 3); w, x, y at 10 bits each, highest first.
-    body += le32((3u << 30) | (1023u << 20) | (511u << 10) | 511u);
-    body += le32((0u << 30) | (0u << 20) | (511u << 10) | 511u);  // largest w
-    body += le16(0) + le16(21845) + le16(65535);  // log-scales: -1, -1 + 4/3, 3
-    body += le16(65535) + le16(65535) + le16(65535);
+    body += test::littleEndian32((3u << 30) | (1023u << 20) | (511u << 10) | 511u);
+    body += test::littleEndian32((0u << 30) | (0u << 20) | (511u << 10) | 511u);  // largest w
+    body += test::littleEndian16(0) + test::littleEndian16(21845) + test::littleEndian16(65535);  // log-scales: -1, -1 + 4/3, 3
+    body += test::littleEndian16(65535) + test::littleEndian16(65535) + test::littleEndian16(65535);
     body += std::string(1, char(127)) + std::string(1, char(255));  // opacities
-    body += le16(65535) + le16(0);                                  // colours
+    body += test::littleEndian16(65535) + test::littleEndian16(0);                                  // colours
     return body;
 }
 

@@ -19,13 +19,8 @@ std::string write(const test::TempDir& dir, const std::string& name, const std::
     return dir.path(name);
 }
 
-std::string errorOf(const std::string& path) {
-    try {
-        readBenchManifest(path);
-    } catch (const InputError& error) {
-        return error.what();
-    }
-    return "";
+std::string manifestError(const std::string& path) {
+    return test::errorMessageOf<InputError>([&] { readBenchManifest(path); });
 }
 
 const char* kJson = R"({
@@ -121,21 +116,21 @@ TEST(BenchManifest, ShardsCoverEveryUnitExactlyOnce) {
 TEST(BenchManifest, MistakesAreNamed) {
     test::TempDir dir;
     const auto volume = std::string(R"("volumes": [{"input": "a.nii"}])");
-    EXPECT_NE(errorOf(write(dir, "a.json", R"({"methods": ["gvr", "sz3"], )" + volume + "}")).find("unknown method 'sz3'; known: gvr, A1"),
+    EXPECT_NE(manifestError(write(dir, "a.json", R"({"methods": ["gvr", "sz3"], )" + volume + "}")).find("unknown method 'sz3'; known: gvr, A1"),
               std::string::npos);
-    EXPECT_NE(errorOf(write(dir, "b.json", R"({"ratio": [10], )" + volume + "}")).find("unknown key 'ratio'"),
+    EXPECT_NE(manifestError(write(dir, "b.json", R"({"ratio": [10], )" + volume + "}")).find("unknown key 'ratio'"),
               std::string::npos);
-    EXPECT_NE(errorOf(write(dir, "c.json", R"({"ratios": [1], )" + volume + "}")).find("above 1"), std::string::npos);
-    EXPECT_NE(errorOf(write(dir, "d.json", R"({"volumes": [{"input": "a.nii"}, {"input": "x/a.nii"}]})"))
+    EXPECT_NE(manifestError(write(dir, "c.json", R"({"ratios": [1], )" + volume + "}")).find("above 1"), std::string::npos);
+    EXPECT_NE(manifestError(write(dir, "d.json", R"({"volumes": [{"input": "a.nii"}, {"input": "x/a.nii"}]})"))
                   .find("duplicate name 'a'"),
               std::string::npos);
-    EXPECT_NE(errorOf(write(dir, "e.json", R"({"volumes": []})")).find("at least one volume"), std::string::npos);
-    EXPECT_NE(errorOf(write(dir, "f.json", "{not json")).find("not valid JSON"), std::string::npos);
-    EXPECT_NE(errorOf(write(dir, "g.toml", "ratios = [10\n")).find("not valid TOML"), std::string::npos);
-    EXPECT_NE(errorOf(write(dir, "h.json", R"({"render": {"size": 64}, )" + volume + "}")).find("render.size: must be a string"),
+    EXPECT_NE(manifestError(write(dir, "e.json", R"({"volumes": []})")).find("at least one volume"), std::string::npos);
+    EXPECT_NE(manifestError(write(dir, "f.json", "{not json")).find("not valid JSON"), std::string::npos);
+    EXPECT_NE(manifestError(write(dir, "g.toml", "ratios = [10\n")).find("not valid TOML"), std::string::npos);
+    EXPECT_NE(manifestError(write(dir, "h.json", R"({"render": {"size": 64}, )" + volume + "}")).find("render.size: must be a string"),
               std::string::npos);
-    EXPECT_NE(errorOf(dir.path("missing.json")).find("no such file"), std::string::npos);
-    EXPECT_NE(errorOf(write(dir, "i.json", R"({"render": {"views": 0.5}, )" + volume + "}")).find("render.views: must be a whole number"),
+    EXPECT_NE(manifestError(dir.path("missing.json")).find("no such file"), std::string::npos);
+    EXPECT_NE(manifestError(write(dir, "i.json", R"({"render": {"views": 0.5}, )" + volume + "}")).find("render.views: must be a whole number"),
               std::string::npos);
 }
 
@@ -172,23 +167,23 @@ TEST(BenchManifest, CodecMistakesAreNamed) {
         return write(dir, name, R"({"codecs": {"c": )" + codec + R"(}, "volumes": [{"input": "a.nii"}]})");
     };
     const std::string commands = R"("compress": ["c", "{input}"], "decompress": ["d", "{output}"])";
-    EXPECT_NE(errorOf(manifest("a.json", "{" + commands + "}")).find("codecs.c.param: must be [smallest, largest]"),
+    EXPECT_NE(manifestError(manifest("a.json", "{" + commands + "}")).find("codecs.c.param: must be [smallest, largest]"),
               std::string::npos);
-    EXPECT_NE(errorOf(manifest("b.json", "{" + commands + R"(, "param": [1, 0.5]})")).find("smallest must lie below"),
+    EXPECT_NE(manifestError(manifest("b.json", "{" + commands + R"(, "param": [1, 0.5]})")).find("smallest must lie below"),
               std::string::npos);
-    EXPECT_NE(errorOf(manifest("c.json", "{" + commands + R"(, "param": [0, 1]})")).find("positive"), std::string::npos);
-    EXPECT_NE(errorOf(manifest("d.json", R"({"compress": [], "decompress": ["d"], "param": [1, 2]})"))
+    EXPECT_NE(manifestError(manifest("c.json", "{" + commands + R"(, "param": [0, 1]})")).find("positive"), std::string::npos);
+    EXPECT_NE(manifestError(manifest("d.json", R"({"compress": [], "decompress": ["d"], "param": [1, 2]})"))
                   .find("codecs.c.compress: must start with the program"),
               std::string::npos);
-    EXPECT_NE(errorOf(manifest("e.json", "{" + commands + R"(, "param": [1, 2], "level": 3})")).find("unknown key 'level'"),
+    EXPECT_NE(manifestError(manifest("e.json", "{" + commands + R"(, "param": [1, 2], "level": 3})")).find("unknown key 'level'"),
               std::string::npos);
-    EXPECT_NE(errorOf(write(dir, "f.json", R"({"codecs": {"gvr": {}}, "volumes": [{"input": "a.nii"}]})"))
+    EXPECT_NE(manifestError(write(dir, "f.json", R"({"codecs": {"gvr": {}}, "volumes": [{"input": "a.nii"}]})"))
                   .find("codecs.gvr: is a built-in method's name"),
               std::string::npos);
-    EXPECT_NE(errorOf(write(dir, "g.json", R"({"codecs": {"a|b": {}}, "volumes": [{"input": "a.nii"}]})"))
+    EXPECT_NE(manifestError(write(dir, "g.json", R"({"codecs": {"a|b": {}}, "volumes": [{"input": "a.nii"}]})"))
                   .find("a name must be non-empty"),
               std::string::npos);
-    EXPECT_NE(errorOf(manifest("h.json", "{" + commands + R"(, "param": [1, 2], "timeout": -1})")).find("codecs.c.timeout"),
+    EXPECT_NE(manifestError(manifest("h.json", "{" + commands + R"(, "param": [1, 2], "timeout": -1})")).find("codecs.c.timeout"),
               std::string::npos);
 }
 

@@ -14,7 +14,7 @@ using namespace gvr;
 
 namespace {
 
-std::string writeManifest(const test::TempDir& dir, const std::string& grid) {
+std::string writeQuickManifest(const test::TempDir& dir, const std::string& grid) {
     const std::string path = dir.path("bench.json");
     std::ofstream(path) << R"({
   "methods": ["vdb-half", "down2"],
@@ -26,7 +26,7 @@ std::string writeManifest(const test::TempDir& dir, const std::string& grid) {
 
 BenchOptions optionsFor(const test::TempDir& dir, const std::string& folder) {
     BenchOptions options;
-    options.manifest = writeManifest(dir, test::smallGrid(dir));
+    options.manifest = writeQuickManifest(dir, test::smallGrid(dir));
     options.folder = dir.path(folder);
     options.executable = GVR_EXECUTABLE;
     return options;

@@ -23,7 +23,7 @@ using test::runGvr;
 namespace {
 
 /// Reproducible: fits by iteration count, so quality and sizes repeat exactly.
-std::string writeManifest(const test::TempDir& dir, const std::string& grid) {
+std::string writeReproducibleManifest(const test::TempDir& dir, const std::string& grid) {
     const std::string path = dir.path("bench.json");
     std::ofstream(path) << R"({
   "ratios": [8],
@@ -70,7 +70,7 @@ class CliBench : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         dir = new test::TempDir;
-        manifest = writeManifest(*dir, test::smallGrid(*dir));
+        manifest = writeReproducibleManifest(*dir, test::smallGrid(*dir));
         complete = runGvr("bench '" + manifest + "' -o '" + dir->path("complete") + "' --json", *dir);
     }
     static void TearDownTestSuite() { delete dir; }

@@ -18,15 +18,13 @@ const char* const kExplicitLittle = "1.2.840.10008.1.2.1";
 const char* const kImplicitLittle = "1.2.840.10008.1.2";
 const char* const kDeflated = "1.2.840.10008.1.2.1.99";
 
-std::string le16(std::uint32_t v) { return {char(v & 0xff), char((v >> 8) & 0xff)}; }
-std::string le32(std::uint32_t v) { return le16(v & 0xffff) + le16(v >> 16); }
-std::string tag(std::uint32_t group, std::uint32_t element) { return le16(group) + le16(element); }
+std::string tag(std::uint32_t group, std::uint32_t element) { return test::littleEndian16(group) + test::littleEndian16(element); }
 
 /// An explicit-VR element; OB, OW, SQ and UN take a 4-byte length.
 std::string explicitElement(std::uint32_t group, std::uint32_t element, const std::string& vr,
                             const std::string& value, std::uint32_t length) {
     const bool longLength = vr == "OB" || vr == "OW" || vr == "SQ" || vr == "UN";
-    return tag(group, element) + vr + (longLength ? std::string(2, '\0') + le32(length) : le16(length)) + value;
+    return tag(group, element) + vr + (longLength ? std::string(2, '\0') + test::littleEndian32(length) : test::littleEndian16(length)) + value;
 }
 std::string explicitElement(std::uint32_t group, std::uint32_t element, const std::string& vr, const std::string& value) {
     return explicitElement(group, element, vr, value, std::uint32_t(value.size()));
@@ -72,9 +70,9 @@ TEST(DicomStructure, CompressedFragmentsMustEndWithTheirDelimiter) {
     test::TempDir dir;
     const std::string head = preambleAndMeta("1.2.840.10008.1.2.4.50") + patientName();
     const std::string fragments = explicitElement(0x7fe0, 0x0010, "OB", "", 0xffffffffu) +
-                                  tag(0xfffe, 0xe000) + le32(0) +                  // empty offset table
-                                  tag(0xfffe, 0xe000) + le32(4) + "JPEG" +         // one fragment
-                                  tag(0xfffe, 0xe0dd) + le32(0);                   // the delimiter
+                                  tag(0xfffe, 0xe000) + test::littleEndian32(0) +                  // empty offset table
+                                  tag(0xfffe, 0xe000) + test::littleEndian32(4) + "JPEG" +         // one fragment
+                                  tag(0xfffe, 0xe0dd) + test::littleEndian32(0);                   // the delimiter
     const std::string whole = head + fragments;
     EXPECT_EQ(errorFor(dir, whole), "");
     // Cut anywhere after the pixel data's tag starts: in a fragment, or before the delimiter.
@@ -86,7 +84,7 @@ TEST(DicomStructure, CompressedFragmentsMustEndWithTheirDelimiter) {
 TEST(DicomStructure, AnElementLongerThanItsSequenceIsRefused) {
     test::TempDir dir;
     // A 10-byte sequence whose item claims 100 bytes: inside the file, but not inside its parent.
-    const std::string item = tag(0xfffe, 0xe000) + le32(100) + "ab";
+    const std::string item = tag(0xfffe, 0xe000) + test::littleEndian32(100) + "ab";
     const std::string sequence = explicitElement(0x0008, 0x1115, "SQ", item);
     const std::string bytes = preambleAndMeta(kExplicitLittle) + sequence + patientName() + std::string(200, ' ');
     EXPECT_EQ(errorFor(dir, bytes), dir.path("slice.dcm") + ": truncated DICOM file: it ends inside an element");
@@ -96,7 +94,7 @@ TEST(DicomStructure, SequencesNestedTooDeeplyAreRefusedNotRecursedInto) {
     test::TempDir dir;
     std::string nested = preambleAndMeta(kExplicitLittle);
     for (int level = 0; level < 40; ++level) {
-        nested += explicitElement(0x0008, 0x1115, "SQ", "", 0xffffffffu) + tag(0xfffe, 0xe000) + le32(0xffffffffu);
+        nested += explicitElement(0x0008, 0x1115, "SQ", "", 0xffffffffu) + tag(0xfffe, 0xe000) + test::littleEndian32(0xffffffffu);
     }
     EXPECT_EQ(errorFor(dir, nested), dir.path("slice.dcm") + ": corrupt DICOM header: sequences nested too deeply");
 }
@@ -104,11 +102,11 @@ TEST(DicomStructure, SequencesNestedTooDeeplyAreRefusedNotRecursedInto) {
 TEST(DicomStructure, ImplicitVrLengthsAreReadWithoutAVr) {
     test::TempDir dir;
     const std::string head = preambleAndMeta(kImplicitLittle);
-    const std::string name = tag(0x0010, 0x0010) + le32(6) + "Doe^J ";
-    const std::string pixels = tag(0x7fe0, 0x0010) + le32(8) + std::string(8, '\0');
+    const std::string name = tag(0x0010, 0x0010) + test::littleEndian32(6) + "Doe^J ";
+    const std::string pixels = tag(0x7fe0, 0x0010) + test::littleEndian32(8) + std::string(8, '\0');
     EXPECT_EQ(errorFor(dir, head + name + pixels), "");
     // Read as explicit VR, "\x06\0" would be the VR: the length must come from the 4 bytes.
-    const std::string tooLong = tag(0x0010, 0x0010) + le32(600) + "Doe^J ";
+    const std::string tooLong = tag(0x0010, 0x0010) + test::littleEndian32(600) + "Doe^J ";
     EXPECT_EQ(errorFor(dir, head + tooLong + pixels),
               dir.path("slice.dcm") + ": truncated DICOM file: it ends inside an element");
 }

@@ -18,10 +18,6 @@ namespace {
 std::string bigEndian32(std::uint32_t v) {
     return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
 }
-std::string littleEndian32(std::uint32_t v) {
-    return std::string{char(v), char(v >> 8), char(v >> 16), char(v >> 24)};
-}
-std::string littleEndian16(std::uint16_t v) { return std::string{char(v), char(v >> 8)}; }
 
 std::string pngChunk(const std::string& type, const std::string& data) {
     const std::string body = type + data;
@@ -39,10 +35,10 @@ std::string wholePng() {
 /// A BITMAPINFOHEADER (54 bytes) followed by @a pixelBytes bytes.
 std::string bmp(std::int32_t width, std::int32_t height, std::uint16_t bits, std::uint32_t compression,
                 std::size_t pixelBytes) {
-    std::string header = "BM" + littleEndian32(std::uint32_t(54 + pixelBytes)) + littleEndian32(0) +
-                         littleEndian32(54) + littleEndian32(40) + littleEndian32(std::uint32_t(width)) +
-                         littleEndian32(std::uint32_t(height)) + littleEndian16(1) + littleEndian16(bits) +
-                         littleEndian32(compression);
+    std::string header = "BM" + test::littleEndian32(std::uint32_t(54 + pixelBytes)) + test::littleEndian32(0) +
+                         test::littleEndian32(54) + test::littleEndian32(40) + test::littleEndian32(std::uint32_t(width)) +
+                         test::littleEndian32(std::uint32_t(height)) + test::littleEndian16(1) + test::littleEndian16(bits) +
+                         test::littleEndian32(compression);
     header.resize(54, '\0');
     return header + std::string(pixelBytes, '\x7f');
 }

@@ -21,10 +21,6 @@
 namespace gvr {
 namespace {
 
-std::string bytesOf(const std::vector<std::int16_t>& values) {
-    return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(std::int16_t));
-}
-
 IngestOptions rawInt16(std::array<std::int64_t, 3> dims) {
     IngestOptions options;
     options.read.raw = RawLayout{dims, SampleType::Int16, 1, hostIsBigEndian(), 0};
@@ -46,7 +42,7 @@ std::vector<std::int16_t> smallVolume() {
 TEST(Ingest, ARawVolumeBecomesAGridWithItsValuesAndItsSource) {
     test::TempDir dir;
     const std::string path = dir.path("scan.raw");
-    test::writeBytes(path, bytesOf(smallVolume()));
+    test::writeBytes(path, test::rawBytes(smallVolume()));
     const IngestResult result = ingest(path, rawInt16({4, 3, 2}));
     ASSERT_TRUE(result.grid);
     EXPECT_EQ(result.grid->valueType(), "float");
@@ -61,10 +57,10 @@ TEST(Ingest, ARawVolumeBecomesAGridWithItsValuesAndItsSource) {
 
 TEST(Ingest, LabelsArePlacedOnTheImageAndAWarningSaysWhenTheyMissIt) {
     test::TempDir dir;
-    test::writeBytes(dir.path("scan.raw"), bytesOf(smallVolume()));
+    test::writeBytes(dir.path("scan.raw"), test::rawBytes(smallVolume()));
     std::vector<std::int16_t> labels(24, 0);
     labels[5] = 7;
-    test::writeBytes(dir.path("labels.raw"), bytesOf(labels));
+    test::writeBytes(dir.path("labels.raw"), test::rawBytes(labels));
     IngestOptions options = rawInt16({4, 3, 2});
     options.labels = dir.path("labels.raw");
     const IngestResult placed = ingest(dir.path("scan.raw"), options);
@@ -73,7 +69,7 @@ TEST(Ingest, LabelsArePlacedOnTheImageAndAWarningSaysWhenTheyMissIt) {
     EXPECT_EQ(placed.labels->tree().getValue(openvdb::Coord(1, 1, 0)), 7);
     EXPECT_TRUE(placed.warnings.empty());
 
-    test::writeBytes(dir.path("labels.raw"), bytesOf(std::vector<std::int16_t>(24, 0)));
+    test::writeBytes(dir.path("labels.raw"), test::rawBytes(std::vector<std::int16_t>(24, 0)));
     const IngestResult missed = ingest(dir.path("scan.raw"), options);
     ASSERT_EQ(missed.warnings.size(), 1u);
     EXPECT_NE(missed.warnings[0].find("do not overlap the image"), std::string::npos) << missed.warnings[0];
@@ -81,10 +77,10 @@ TEST(Ingest, LabelsArePlacedOnTheImageAndAWarningSaysWhenTheyMissIt) {
 
 TEST(Ingest, LoadOrIngestReadsAVdbAsItIsWithItsLabels) {
     test::TempDir dir;
-    test::writeBytes(dir.path("scan.raw"), bytesOf(smallVolume()));
+    test::writeBytes(dir.path("scan.raw"), test::rawBytes(smallVolume()));
     std::vector<std::int16_t> labels(24, 0);
     labels[23] = 3;
-    test::writeBytes(dir.path("labels.raw"), bytesOf(labels));
+    test::writeBytes(dir.path("labels.raw"), test::rawBytes(labels));
     IngestOptions options = rawInt16({4, 3, 2});
     options.labels = dir.path("labels.raw");
     const IngestResult ingested = ingest(dir.path("scan.raw"), options);
@@ -115,7 +111,7 @@ std::vector<std::int16_t> chest(int side) {
 TEST(Ingest, ACtThresholdThatEmptiesTheLungsIsWarnedAndTheDefaultIsNot) {
     test::TempDir dir;
     constexpr int kSide = 24;
-    test::writeBytes(dir.path("chest.raw"), bytesOf(chest(kSide)));
+    test::writeBytes(dir.path("chest.raw"), test::rawBytes(chest(kSide)));
     IngestOptions options = rawInt16({kSide, kSide, kSide});
     options.build.modality = "CT";
     EXPECT_TRUE(ingest(dir.path("chest.raw"), options).warnings.empty()) << "-950 HU keeps the lung";

@@ -18,11 +18,6 @@
 namespace gvr {
 namespace {
 
-template <typename T>
-std::string bytesOf(const std::vector<T>& values) {
-    return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
-}
-
 ReadOptions rawOptions(std::array<std::int64_t, 3> dims, SampleType type,
                        openvdb::Vec3d spacing = openvdb::Vec3d(1.0), int channels = 1) {
     ReadOptions options;
@@ -66,7 +61,7 @@ TEST(LabelGrid, LabelsOnTheImagesLatticeKeepEverySixteenBitValueAndTheirNames) {
     test::TempDir dir;
     const std::string path = dir.path("labels.raw");
     const std::vector<std::int16_t> values{0, 5, 0, -32768, 7, 0, 0, 0, 5, 0, 0, 32767};
-    test::writeBytes(path, bytesOf(values));
+    test::writeBytes(path, test::rawBytes(values));
     const auto image = imageOf({3, 2, 2});
     LabelGridSettings settings;
     settings.names.names[5] = "Thalamus_L";
@@ -92,7 +87,7 @@ TEST(LabelGrid, NonIntegerNaNAndManyChannelLabelsAreRefused) {
     const std::string path = dir.path("labels.raw");
     const auto image = imageOf({2, 1, 1});
     const auto errorFor = [&](const std::vector<float>& values, int channels) {
-        test::writeBytes(path, bytesOf(values));
+        test::writeBytes(path, test::rawBytes(values));
         const ReadOptions options = rawOptions({2, 1, 1}, SampleType::Float32, openvdb::Vec3d(1.0), channels);
         return test::errorMessageOf<InputError>([&] { buildLabelGrid(path, options, *image, {}); });
     };
@@ -133,7 +128,7 @@ TEST(LabelGrid, ADifferentLatticeIsRefusedUnlessResampledToTheNearestLabel) {
     test::TempDir dir;
     const std::string path = dir.path("labels.raw");
     // 2 x 2 x 2 labels of 2 mm along x: 10 in the first column, 20 in the second.
-    test::writeBytes(path, bytesOf(std::vector<std::int32_t>{10, 20, 10, 20, 10, 20, 10, 20}));
+    test::writeBytes(path, test::rawBytes(std::vector<std::int32_t>{10, 20, 10, 20, 10, 20, 10, 20}));
     const ReadOptions options = rawOptions({2, 2, 2}, SampleType::Int32, openvdb::Vec3d(2.0, 1.0, 1.0));
     const auto image = imageOf({4, 2, 2});
     const std::string refused = test::errorMessageOf<InputError>([&] { buildLabelGrid(path, options, *image, {}); });
@@ -158,7 +153,7 @@ TEST(LabelGrid, ADifferentLatticeIsRefusedUnlessResampledToTheNearestLabel) {
 TEST(LabelGrid, AnImageNotFromIngestIsRefused) {
     test::TempDir dir;
     const std::string path = dir.path("labels.raw");
-    test::writeBytes(path, bytesOf(std::vector<std::uint8_t>{1, 2}));
+    test::writeBytes(path, test::rawBytes(std::vector<std::uint8_t>{1, 2}));
     const openvdb::FloatGrid::Ptr bare = openvdb::FloatGrid::create(0.0f);
     EXPECT_EQ(test::errorMessageOf<InputError>(
                   [&] { buildLabelGrid(path, rawOptions({2, 1, 1}, SampleType::UInt8), *bare, {}); }),

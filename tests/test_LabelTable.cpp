@@ -2,6 +2,7 @@
 
 #include "pipeline/Error.h"
 #include "pipeline/LabelTable.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 
@@ -16,13 +17,8 @@ LabelTable aal() {
     return table;
 }
 
-std::string errorOf(const std::string& spec) {
-    try {
-        selectLabels(aal(), spec, "`labels`");
-    } catch (const InputError& error) {
-        return error.what();
-    }
-    return "";
+std::string selectionError(const std::string& spec) {
+    return test::errorMessageOf<InputError>([&] { selectLabels(aal(), spec, "`labels`"); });
 }
 
 }  // namespace
@@ -36,10 +32,10 @@ TEST(LabelTable, SelectsByIdNameAndAll) {
 }
 
 TEST(LabelTable, UnknownNamesAndIdsListTheValidOnes) {
-    const std::string byName = errorOf("Amygdala_L");
+    const std::string byName = selectionError("Amygdala_L");
     EXPECT_NE(byName.find("`labels`: no structure is named 'Amygdala_L'"), std::string::npos) << byName;
     EXPECT_NE(byName.find("37 Hippocampus_L, 38 Hippocampus_R, 77 Thalamus_L, 78 Thalamus_R"), std::string::npos);
-    EXPECT_NE(errorOf("37,99").find("no structure has label 99; valid: 37 Hippocampus_L"), std::string::npos);
-    EXPECT_NE(errorOf(" , ").find("names no structure"), std::string::npos);
+    EXPECT_NE(selectionError("37,99").find("no structure has label 99; valid: 37 Hippocampus_L"), std::string::npos);
+    EXPECT_NE(selectionError(" , ").find("names no structure"), std::string::npos);
 }
 

@@ -5,6 +5,7 @@
 
 #include "pipeline/Error.h"
 #include "render/Camera.h"
+#include "tests/ParseFlags.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -15,16 +16,11 @@
 namespace gvr {
 namespace {
 
-void parse(CLI::App& app, std::vector<const char*> args) {
-    args.insert(args.begin(), "gvr");
-    app.parse(int(args.size()), args.data());
-}
-
 TEST(RenderFlags, StacksAndReuseAngleReachTheSettings) {
     ShearWarpSettings settings;
     CLI::App app;
     addStackFlags(app, settings);
-    parse(app, {"--stacks", "view", "--reuse-angle", "25"});
+    test::parseFlags(app, {"--stacks", "view", "--reuse-angle", "25"});
     EXPECT_EQ(settings.stacks, StackOrientation::view);
     EXPECT_EQ(settings.reuseAngleDeg, 25.0);
 
@@ -32,7 +28,7 @@ TEST(RenderFlags, StacksAndReuseAngleReachTheSettings) {
     back.stacks = StackOrientation::view;
     CLI::App again;
     addStackFlags(again, back);
-    parse(again, {"--stacks", "axes"});
+    test::parseFlags(again, {"--stacks", "axes"});
     EXPECT_EQ(back.stacks, StackOrientation::axes);
 }
 
@@ -40,7 +36,7 @@ TEST(RenderFlags, WithoutFlagsTheSettingsKeepTheirDefaultsAndHelpShowsThem) {
     ShearWarpSettings settings;
     CLI::App app;
     addStackFlags(app, settings);
-    parse(app, {});
+    test::parseFlags(app, {});
     EXPECT_EQ(settings.stacks, StackOrientation::axes);
     EXPECT_EQ(settings.reuseAngleDeg, 15.0);
     EXPECT_EQ(app.get_option("--stacks")->get_default_str(), "axes");
@@ -53,7 +49,7 @@ TEST(RenderFlags, StacksTakesNamesOnlyNotTheEnumsNumbers) {
         ShearWarpSettings settings;
         CLI::App app;
         addStackFlags(app, settings);
-        EXPECT_THROW(parse(app, {"--stacks", bad}), CLI::ParseError) << bad;
+        EXPECT_THROW(test::parseFlags(app, {"--stacks", bad}), CLI::ParseError) << bad;
         EXPECT_EQ(settings.stacks, StackOrientation::axes) << bad;
     }
 }

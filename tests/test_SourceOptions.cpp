@@ -4,6 +4,7 @@
 #include "cli/SourceOptions.h"
 
 #include "pipeline/Error.h"
+#include "tests/ParseFlags.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -17,11 +18,6 @@
 namespace gvr {
 namespace {
 
-void parse(CLI::App& app, std::vector<const char*> args) {
-    args.insert(args.begin(), "gvr");
-    app.parse(int(args.size()), args.data());
-}
-
 std::string refusal(const SourceFlags& flags) {
     return test::errorMessageOf<InputError>([&] { toIngestOptions(flags); });
 }
@@ -30,7 +26,7 @@ TEST(SourceOptions, NoFlagsReadTheFileAsItSays) {
     SourceFlags flags;
     CLI::App app;
     addSourceFlags(app, flags);
-    parse(app, {});
+    test::parseFlags(app, {});
     const IngestOptions options = toIngestOptions(flags);
     EXPECT_EQ(options.read.volumeIndex, 0);
     EXPECT_FALSE(options.read.spacingMm);
@@ -47,7 +43,7 @@ TEST(SourceOptions, EveryFlagReachesTheIngestOptions) {
     SourceFlags flags;
     CLI::App app;
     addSourceFlags(app, flags);
-    parse(app, {"--volume", "2", "--spacing", "0.5,0.75,2", "--raw-dims", "4,5,6", "--raw-type", "int16",
+    test::parseFlags(app, {"--volume", "2", "--spacing", "0.5,0.75,2", "--raw-dims", "4,5,6", "--raw-type", "int16",
                 "--endian", "big", "--header-bytes", "352", "--raw-channels", "3", "--threshold", "10",
                 "--threshold-above", "200", "--flip", "j,k", "--nan-to", "-1", "--modality", "CT",
                 "--data-files-anywhere"});
@@ -85,7 +81,7 @@ TEST(SourceOptions, ChoicesAreCheckedWhileParsing) {
         SourceFlags flags;
         CLI::App app;
         addSourceFlags(app, flags);
-        EXPECT_THROW(parse(app, bad), CLI::ParseError) << bad[0] << " " << bad[1];
+        EXPECT_THROW(test::parseFlags(app, bad), CLI::ParseError) << bad[0] << " " << bad[1];
     }
 }
 

@@ -20,7 +20,7 @@ openvdb::GridBase::Ptr blobGrid() {
 }
 
 /// encodeAsset() of a copy (it records the format version it writes).
-std::string bytesOf(GaussianAsset asset) { return encodeAsset(asset); }
+std::string fileBytes(GaussianAsset asset) { return encodeAsset(asset); }
 
 BudgetedFitOptions iterationOptions() {
     BudgetedFitOptions options;
@@ -43,9 +43,9 @@ TEST(TeamFit, AloneItMergesWhatTheBrickPartsWouldGive) {
 
     // Parts as a job array's tasks write them and gvr merge reads them.
     const BrickPlan plan = planBrickedFit(target, "blobs", options, {2, 4});
-    const auto part = [&](std::size_t b) { return decodeAsset(bytesOf(fitBrickPart(grid, "blobs", plan, b, 0.0)), "part"); };
+    const auto part = [&](std::size_t b) { return decodeAsset(fileBytes(fitBrickPart(grid, "blobs", plan, b, 0.0)), "part"); };
     const GaussianAsset merged = mergeBrickParts({part(0), part(1)}, {"0", "1"});
-    EXPECT_EQ(bytesOf(fit.result.asset), bytesOf(merged));
+    EXPECT_EQ(fileBytes(fit.result.asset), fileBytes(merged));
     EXPECT_EQ(observed, (std::vector<std::size_t>{0, 1}));
     EXPECT_EQ(fit.owners, (std::vector<int>{0, 0}));
     ASSERT_EQ(fit.bricks.size(), 2u);
@@ -75,7 +75,7 @@ TEST(TeamFit, MeasuredAcrossTheTeamItIsTheWholeVolumesMeasure) {
     const VolumeTarget target(grid, "blobs");
     const SoloTeam team;
     const TeamFitResult fit = fitAllBricks(team, grid, target, "blobs", iterationOptions(), {2, 4});
-    const std::string saved = bytesOf(fit.result.asset);
+    const std::string saved = fileBytes(fit.result.asset);
     const FieldAccuracy across = measureAcrossTeam(team, saved, target, fit);
 
     const GaussianAsset asset = decodeAsset(saved, "saved");
@@ -94,7 +94,7 @@ TEST(TeamFit, OneBrickRecordsItsRunAndRefusesAnIndexBeyondTheCount) {
     const VolumeTarget target(grid, "blobs");
     const GaussianAsset part = fitOneBrick(grid, target, "blobs", iterationOptions(), {2, 4}, 1);
     EXPECT_EQ(brickOfPart(part, "part"), (std::pair<std::size_t, std::size_t>{1, 2}));
-    const BrickRun run = brickRunOf(decodeAsset(bytesOf(part), "part"), "part");
+    const BrickRun run = brickRunOf(decodeAsset(fileBytes(part), "part"), "part");
     EXPECT_EQ(run.iterations, 12u);
     EXPECT_EQ(run.gaussians, part.params.count());
 

@@ -5,6 +5,7 @@
 
 #include "cli/Diagnostics.h"
 #include "pipeline/Error.h"
+#include "tests/ParseFlags.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -20,11 +21,6 @@
 
 namespace gvr {
 namespace {
-
-void parse(CLI::App& app, std::vector<const char*> args) {
-    args.insert(args.begin(), "gvr");
-    app.parse(int(args.size()), args.data());
-}
 
 struct Printed {
     std::string out, err;
@@ -66,7 +62,7 @@ TEST(VolumeOutputOptions, OutputsRepeatAndOneIsRequired) {
     bool float32 = false;
     CLI::App app;
     addVolumeOutputOptions(app, outputs, float32);
-    parse(app, {"-o", "a.vdb", "--output", "b.nii.gz", "--float32"});
+    test::parseFlags(app, {"-o", "a.vdb", "--output", "b.nii.gz", "--float32"});
     EXPECT_EQ(outputs, (std::vector<std::string>{"a.vdb", "b.nii.gz"}));
     EXPECT_TRUE(float32);
 
@@ -74,7 +70,7 @@ TEST(VolumeOutputOptions, OutputsRepeatAndOneIsRequired) {
     bool unset = false;
     CLI::App bare;
     addVolumeOutputOptions(bare, none, unset);
-    EXPECT_THROW(parse(bare, {"--float32"}), CLI::RequiredError);
+    EXPECT_THROW(test::parseFlags(bare, {"--float32"}), CLI::RequiredError);
 }
 
 TEST(VolumeOutputOptions, RemovedFormatIsHiddenParsedAndThenRefused) {
@@ -82,7 +78,7 @@ TEST(VolumeOutputOptions, RemovedFormatIsHiddenParsedAndThenRefused) {
     CLI::App app;
     addRemovedFormatOption(app, format);
     EXPECT_EQ(app.help().find("--format"), std::string::npos) << app.help();
-    parse(app, {"--format", "nifti"});
+    test::parseFlags(app, {"--format", "nifti"});
     EXPECT_EQ(format, "nifti");
     EXPECT_EQ(test::errorMessageOf<InputError>([&] { rejectRemovedFormat(format); }),
               "--format: was removed: the extension of -o chooses the format; for a VDB and a NIfTI pass "
