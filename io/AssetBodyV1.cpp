@@ -27,13 +27,6 @@ void unpackQuaternion(std::uint32_t packed, float q[4]) {
     completeQuaternion(largest, q);
 }
 
-template <typename T>
-T take(const char*& cursor) {
-    const T value = loadLittleEndian<T>(cursor);
-    cursor += sizeof value;
-    return value;
-}
-
 }  // namespace
 
 std::size_t assetV1BytesPerGaussian(int channels) { return 17 + 2 * std::size_t(channels); }
@@ -55,21 +48,21 @@ GaussianParameters decodeAssetBodyV1(std::string_view body, std::size_t count, i
     const char* cursor = body.data();
     GaussianParameters params(count, channels);
     for (std::size_t i = 0; i < count; ++i) {
-        for (int a = 0; a < 3; ++a) params.at(kMeans, i)[a] = dequantise16(take<std::uint16_t>(cursor), meanMin[a], meanMax[a]);
+        for (int a = 0; a < 3; ++a) params.at(kMeans, i)[a] = dequantise16(takeLittleEndian<std::uint16_t>(cursor), meanMin[a], meanMax[a]);
     }
-    for (std::size_t i = 0; i < count; ++i) unpackQuaternion(take<std::uint32_t>(cursor), params.at(kRotations, i));
+    for (std::size_t i = 0; i < count; ++i) unpackQuaternion(takeLittleEndian<std::uint32_t>(cursor), params.at(kRotations, i));
     for (std::size_t i = 0; i < count; ++i) {
         for (int a = 0; a < 3; ++a) {
-            params.at(kLogScales, i)[a] = dequantise16(take<std::uint16_t>(cursor), scaleMin[a], scaleMax[a]);
+            params.at(kLogScales, i)[a] = dequantise16(takeLittleEndian<std::uint16_t>(cursor), scaleMin[a], scaleMax[a]);
         }
     }
     for (std::size_t i = 0; i < count; ++i) {
-        const float opacity = (take<std::uint8_t>(cursor) + 0.5f) / 256.0f;
+        const float opacity = (takeLittleEndian<std::uint8_t>(cursor) + 0.5f) / 256.0f;
         *params.at(kOpacityLogits, i) = std::log(opacity / (1.0f - opacity));
     }
     for (std::size_t i = 0; i < count; ++i) {
         for (int c = 0; c < channels; ++c) {
-            params.at(kColours, i)[c] = dequantise16(take<std::uint16_t>(cursor), colourMin[c], colourMax[c]);
+            params.at(kColours, i)[c] = dequantise16(takeLittleEndian<std::uint16_t>(cursor), colourMin[c], colourMax[c]);
         }
     }
     return params;

@@ -33,13 +33,6 @@ constexpr double kMaxWorldMm = 1e9;          // a thousand kilometres
 constexpr float kMaxMeanVoxels = 1 << 24;    // where float positions still step by a voxel
 constexpr float kLogScaleSlack = 0.5f;       // quantisation may step a little past the kernel's range
 
-template <typename T>
-T take(const unsigned char*& cursor) {
-    const T value = loadLittleEndian<T>(cursor);
-    cursor += sizeof value;
-    return value;
-}
-
 nlohmann::json sourceJson(const VolumeMetadata& m) {
     nlohmann::json j = {{"file", m.sourceFile},         {"modality", m.modality},
                         {"type", m.sourceType},         {"channels", m.channels},
@@ -354,12 +347,12 @@ GaussianAsset decodeAsset(std::string_view bytes, const std::string& path) {
         throw InputError(path, "not a gvr asset (no GVRASSET magic)");
     }
     const auto* cursor = reinterpret_cast<const unsigned char*>(bytes.data()) + sizeof kMagic;
-    const std::uint32_t version = take<std::uint32_t>(cursor);
+    const std::uint32_t version = takeLittleEndian<std::uint32_t>(cursor);
     if (version != 1 && version != kAssetVersion) {
         throw InputError(path, "unsupported asset version " + std::to_string(version) +
                                    " (this gvr reads versions 1 and " + std::to_string(kAssetVersion) + ")");
     }
-    const std::uint32_t headerBytes = take<std::uint32_t>(cursor);
+    const std::uint32_t headerBytes = takeLittleEndian<std::uint32_t>(cursor);
     if (headerBytes > size - kPreambleBytes - kChecksumBytes) throw InputError(path, "truncated asset header");
 
     GaussianAsset asset;

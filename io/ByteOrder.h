@@ -44,6 +44,15 @@ T loadWord(const void* bytes, bool storedBigEndian) {
 template <typename T>
 T loadLittleEndian(const void* bytes) { return loadWord<T>(bytes, false); }
 
+/// Reads a little-endian T at @a cursor and moves the cursor past it.
+template <typename T, typename Byte>
+T takeLittleEndian(const Byte*& cursor) {
+    static_assert(sizeof(Byte) == 1, "a cursor over bytes");
+    const T value = loadLittleEndian<T>(cursor);
+    cursor += sizeof(T);
+    return value;
+}
+
 /// Appends @a value to @a bytes little-endian, whatever the host's order.
 template <typename T>
 void appendLittleEndian(std::string& bytes, T value) {

@@ -1,6 +1,7 @@
 // NIfTI-1 and NIfTI-2 through nifticlib's nifti2 API, which reads both.
 
 #include "io/ByteOrder.h"
+#include "io/NiftiImage.h"
 #include "io/Readers.h"
 #include "io/SampleFile.h"
 #include "pipeline/Error.h"
@@ -16,11 +17,6 @@
 namespace gvr {
 
 namespace {
-
-struct NiftiImageDeleter {
-    void operator()(nifti_image* image) const { nifti_image_free(image); }
-};
-using NiftiImagePtr = std::unique_ptr<nifti_image, NiftiImageDeleter>;
 
 /// What nifticlib does not tell: the header's size, and vox_offset as written
 /// (nifticlib quietly moves an offset it cannot use to the end of the header).

@@ -1,6 +1,7 @@
 #include "io/NiftiWriter.h"
 
 #include "io/AtomicFile.h"
+#include "io/NiftiImage.h"
 #include "pipeline/Error.h"
 
 #include <nifti2_io.h>
@@ -14,10 +15,6 @@
 namespace gvr {
 
 namespace {
-
-struct NiftiImageDeleter {
-    void operator()(nifti_image* image) const { nifti_image_free(image); }
-};
 
 int niftiDatatype(SampleType type) {
     switch (type) {
@@ -136,7 +133,7 @@ std::uint64_t writeNifti(const std::string& path, const FloatVolume& volume, con
         throw InputError(path, "NIfTI output takes 1 or 3 channels, not " + std::to_string(volume.channels));
     }
     const std::int64_t dims[8] = {3, volume.dims.x(), volume.dims.y(), volume.dims.z(), 1, 1, 1, 1};
-    std::unique_ptr<nifti_image, NiftiImageDeleter> image(
+    NiftiImagePtr image(
         nifti_make_new_nim(dims, volume.channels == 1 ? niftiDatatype(storage.type) : NIFTI_TYPE_RGB24, 1));
     if (!image) throw InputError(path, "nifticlib could not allocate the image");
     image->nifti_type = NIFTI_FTYPE_NIFTI1_1;

@@ -34,11 +34,6 @@ struct ZfpDeleter {
 template <typename T>
 using ZfpPtr = std::unique_ptr<T, ZfpDeleter>;
 
-template <typename T>
-T take(const std::string& bytes, std::size_t offset) {
-    return loadLittleEndian<T>(bytes.data() + offset);
-}
-
 /// zfp's accuracy mode cuts at the power of two at or below the tolerance t.
 double accuracyCut(double tolerance) {
     int exponent = 0;
@@ -117,32 +112,32 @@ Header parseHeader(const std::string& bytes, const std::string& path) {
         throw InputError(path, "not a gvr zfp stream (no GVRZFP magic)");
     }
     if (bytes.size() < kFixedHeaderBytes) throw InputError(path, "truncated zfp stream header");
-    const auto version = take<std::uint32_t>(bytes, 8);
+    const auto version = loadLittleEndian<std::uint32_t>(bytes.data() + 8);
     if (version != kVersion) {
         throw InputError(path, "unsupported zfp stream version " + std::to_string(version) +
                                    " (this gvr reads version " + std::to_string(kVersion) + ")");
     }
     Header header;
-    const auto channels = take<std::uint32_t>(bytes, 12);
+    const auto channels = loadLittleEndian<std::uint32_t>(bytes.data() + 12);
     if (channels != 1 && channels != 3) {
         throw InputError(path, "corrupt zfp stream: " + std::to_string(channels) + " channels (expected 1 or 3)");
     }
     header.channels = int(channels);
     std::array<std::int64_t, 3> dims{};
-    for (int a = 0; a < 3; ++a) dims[a] = take<std::uint32_t>(bytes, 16 + 4 * a);
-    const auto mode = take<std::uint32_t>(bytes, 28);
+    for (int a = 0; a < 3; ++a) dims[a] = loadLittleEndian<std::uint32_t>(bytes.data() + 16 + 4 * a);
+    const auto mode = loadLittleEndian<std::uint32_t>(bytes.data() + 28);
     if (mode != zfp_mode_fixed_rate && mode != zfp_mode_fixed_accuracy) {
         throw InputError(path, "corrupt zfp stream: unknown mode " + std::to_string(mode));
     }
     header.settings.mode = mode == zfp_mode_fixed_rate ? ZfpMode::FixedRate : ZfpMode::FixedAccuracy;
-    header.settings.parameter = take<double>(bytes, 32);
+    header.settings.parameter = loadLittleEndian<double>(bytes.data() + 32);
     if (!(header.settings.parameter > 0.0) || !std::isfinite(header.settings.parameter)) {
         throw InputError(path, "corrupt zfp stream: mode parameter " + std::to_string(header.settings.parameter));
     }
     if (bytes.size() < headerBytes(header.channels)) throw InputError(path, "truncated zfp stream header");
     std::uint64_t payload = 0;
     for (int c = 0; c < header.channels; ++c) {
-        const auto count = take<std::uint64_t>(bytes, kCountsOffset + 8 * c);
+        const auto count = loadLittleEndian<std::uint64_t>(bytes.data() + kCountsOffset + 8 * c);
         // zfp spends at least one bit on every 4^3 block.
         if (count > bytes.size() || blockCount(dims) > 8.0L * count) {
             throw InputError(path, "corrupt zfp stream: channel " + std::to_string(c) + " claims " +

@@ -1,6 +1,7 @@
 #include "pipeline/BlockLoss.h"
 
 #include "pipeline/FastExp.h"
+#include "pipeline/LatticeSampler.h"
 
 #include <tbb/parallel_for.h>
 
@@ -30,13 +31,8 @@ struct Pair {
     double centreOffset[3];  ///< the block's centre - mean
 };
 
-/// One Gaussian's q over one block, as a quadratic in r, a voxel's offset from the
-/// block's origin: q = h + 2 gLin.r + r^T G r, with G the inverse covariance and
-/// gLin = G d for d = origin - mean.
-struct BlockQuadratic {
-    double G[3][3], gLin[3], h;
-};
-
+/// BlockQuadratic for r a voxel's offset from the block's origin: G is the inverse
+/// covariance and gLin = G d, for d = origin - mean.
 __attribute__((always_inline)) inline BlockQuadratic quadraticOver(const ActiveGaussian& g, const double d[3]) {
     const float* inverse = g.inverseCovariance;
     const double G[3][3] = {{inverse[0], inverse[3], inverse[4]},

@@ -184,12 +184,6 @@ std::vector<Coord> LatticeSampler::occupiedBlocks() const { return occupiedBlock
 
 namespace {
 
-/// One Gaussian's q over one block, as a quadratic in r, the lattice position
-/// relative to the block's origin: q = h + 2 gLin.r + r^T G r.
-struct BlockQuadratic {
-    double G[3][3], gLin[3], h;
-};
-
 /// Adds amplitude x exp(-q/2) over the rows (along z) of @a reached, where q is
 /// within the cutoff and the sample lies in the volume's cells, kBlockDim samples
 /// a row in lanes of Floats: Floats4, or Floats8 in code compiled for AVX2.

@@ -51,6 +51,13 @@ inline int blockOffset(const openvdb::Coord& ijk) {
     return ((ijk.x() & (kBlockDim - 1)) * kBlockDim + (ijk.y() & (kBlockDim - 1))) * kBlockDim + (ijk.z() & (kBlockDim - 1));
 }
 
+/// One Gaussian's q = (x - mean)^T Sigma^-1 (x - mean) over one block, as a quadratic
+/// in r, a position relative to the block's origin: q = h + 2 gLin.r + r^T G r. The
+/// lattice sampler and the fit's block loss each fill it for their own r.
+struct BlockQuadratic {
+    double G[3][3], gLin[3], h;
+};
+
 /// How sampleBlock() evaluates each Gaussian over a block.
 enum class BlockEvaluation {
     /// Point by point, as GaussianField::evaluate does: the very same floats.

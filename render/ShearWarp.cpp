@@ -21,10 +21,6 @@ using openvdb::Vec3d;
 
 namespace {
 
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
 /// Opacity and colour factor for a path 1/cos(angle) slices long, per 16-bit
 /// opacity level: the view may cross the slices obliquely when the stack is reused.
 class ObliquityTable {

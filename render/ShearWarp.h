@@ -10,6 +10,7 @@
 #include "render/Framebuffer.h"
 #include "render/SliceStack.h"
 
+#include <chrono>
 #include <memory>
 
 namespace gvr {
@@ -54,6 +55,11 @@ struct FrameStats {
     /// repeated, while the right stack builds in the background (ViewSession).
     bool stale = false;
 };
+
+/// The milliseconds of FrameStats: wall time since @a start.
+inline double millisecondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
 
 /// Composites @a stack for @a camera's view and warps it to the image, whatever
 /// the stack's direction (up to the grazing angles where the shear runs away);

@@ -14,10 +14,6 @@ constexpr double kMaxStaleAngleDeg = 50.0;
 /// one much finer (zoomed out) costs time for nothing.
 constexpr double kZoomInLimit = 1.5, kZoomOutLimit = 2.0;
 
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
 }  // namespace
 
 ViewSession::ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch)
