@@ -169,8 +169,7 @@ TEST(BadInput, NaNVoxelsAreCountedOrReplaced) {
     std::vector<float> values(8, 1.0f);
     values[3] = std::numeric_limits<float>::quiet_NaN();
     values[5] = -std::numeric_limits<float>::infinity();
-    std::string bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
-    test::writeBytes(dir.path("nan.raw"), bytes);
+    test::writeBytes(dir.path("nan.raw"), test::rawBytes(values));
     IngestOptions options;
     options.read.raw = RawLayout{{2, 2, 2}, SampleType::Float32, 1, false, 0};
     expectMentions(ingestError(dir.path("nan.raw"), options), "2 voxels are NaN or Inf");
