@@ -1,7 +1,7 @@
 #include "pipeline/AmplitudeSolver.h"
 
+#include "pipeline/BlockGrid.h"
 #include "pipeline/GaussianField.h"
-#include "pipeline/LatticeSampler.h"
 
 #include <tbb/parallel_for.h>
 
@@ -9,7 +9,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <map>
 
 namespace gvr {
 
@@ -27,30 +26,30 @@ static_assert(kChunks % kChunksAtOnce == 0);
 
 /// One Gaussian's kernel value at one voxel of a block.
 struct Entry {
-    std::uint16_t voxel;  // offset inside the block's box, x fastest
+    std::uint16_t voxel;  // blockOffset() of the voxel
     std::uint32_t gaussian;
     float e;
 };
+
+/// The trainable voxels of the target's box, held-out ones left out.
+BlockGrid trainingGrid(const VolumeTarget& target, std::vector<openvdb::Coord> excluded) {
+    excluded.erase(std::remove_if(excluded.begin(), excluded.end(),
+                                  [&](const openvdb::Coord& ijk) { return !target.box().isInside(ijk); }),
+                   excluded.end());
+    return BlockGrid(target.box(), excluded);
+}
 
 /// The products G v and G^T w over the target's box, one block at a time.
 class DesignMatrix {
 public:
     DesignMatrix(const GaussianField& field, const VolumeTarget& target, const std::vector<openvdb::Coord>& excluded)
-        : mField(field), mTarget(target), mBlocks(blockOrigins(target.box())) {
-        for (const openvdb::Coord& ijk : excluded) {
-            if (!target.box().isInside(ijk)) continue;
-            const openvdb::Coord origin(ijk.x() & ~(kBlockDim - 1), ijk.y() & ~(kBlockDim - 1), ijk.z() & ~(kBlockDim - 1));
-            std::vector<openvdb::Coord>& list = mExcluded[origin];
-            if (std::find(list.begin(), list.end(), ijk) == list.end()) list.push_back(ijk);
-        }
-        mIncludedVoxels = target.box().volume();
-        for (const auto& [origin, list] : mExcluded) mIncludedVoxels -= list.size();
-    }
+        : mField(field), mTarget(target), mGrid(trainingGrid(target, excluded)) {}
 
     /// Returns G^T w with w = t - G v (@a residual) or w = G v, and in @a squared the
     /// sum over voxels and channels of w^2.
     std::vector<double> apply(const std::vector<double>& v, bool residual, double& squared) const {
         const std::size_t width = mField.gaussians().size() * std::size_t(mField.channels());
+        const std::size_t blocks = mGrid.blockCount();
         std::vector<double> sum(width, 0.0);
         squared = 0.0;
         std::array<std::vector<double>, kChunksAtOnce> out;
@@ -61,8 +60,8 @@ public:
                 out[k].assign(width, 0.0);
                 std::vector<Entry> entries;
                 std::vector<std::uint32_t> hits;
-                for (std::size_t b = c * mBlocks.size() / kChunks; b < (c + 1) * mBlocks.size() / kChunks; ++b) {
-                    partial[k] += applyBlock(mBlocks[b], v, residual, entries, hits, out[k]);
+                for (std::size_t b = c * blocks / kChunks; b < (c + 1) * blocks / kChunks; ++b) {
+                    partial[k] += applyBlock(std::uint32_t(b), v, residual, entries, hits, out[k]);
                 }
             });
             for (std::size_t k = 0; k < kChunksAtOnce; ++k) {  // in chunk order, as if all ran at once
@@ -73,10 +72,10 @@ public:
         return sum;
     }
 
-    std::uint64_t valueCount() const { return mIncludedVoxels * std::uint64_t(mField.channels()); }
+    std::uint64_t valueCount() const { return mGrid.trainableVoxels() * std::uint64_t(mField.channels()); }
 
 private:
-    /// Kernel values of the Gaussians reaching the block, in a fixed order.
+    /// Kernel values of the Gaussians reaching the block's voxels @a box, in a fixed order.
     void blockEntries(const openvdb::CoordBBox& box, std::vector<Entry>& entries,
                       std::vector<std::uint32_t>& hits) const {
         const float lower[3] = {float(box.min().x()), float(box.min().y()), float(box.min().z())};
@@ -84,59 +83,63 @@ private:
         mField.bvh().overlapping(lower, upper, hits);
         std::sort(hits.begin(), hits.end());
         entries.clear();
-        const openvdb::Coord dim = box.dim();
         for (std::uint32_t g : hits) {
             const ActiveGaussian& gaussian = mField.gaussians()[g];
             // Only the voxels inside the Gaussian's truncated bounds can be reached.
             const Box& reach = mField.bvh().boxes()[g];
             int from[3], to[3];
             for (int a = 0; a < 3; ++a) {
-                from[a] = std::max(0, int(std::ceil(reach.lower[a] - lower[a])));
-                to[a] = std::min(dim[a] - 1, int(std::floor(reach.upper[a] - lower[a])));
+                from[a] = std::max(box.min()[a], int(std::ceil(reach.lower[a])));
+                to[a] = std::min(box.max()[a], int(std::floor(reach.upper[a])));
             }
             for (int z = from[2]; z <= to[2]; ++z) {
                 for (int y = from[1]; y <= to[1]; ++y) {
                     for (int x = from[0]; x <= to[0]; ++x) {
-                        const float point[3] = {lower[0] + x, lower[1] + y, lower[2] + z};
+                        const float point[3] = {float(x), float(y), float(z)};
                         float u[3];
                         const float q = mahalanobis2(gaussian, point, u);
                         if (q > mField.cutoff2()) continue;
-                        entries.push_back({std::uint16_t((z * dim.y() + y) * dim.x() + x), g, std::exp(-0.5f * q)});
+                        const int voxel = blockOffset(openvdb::Coord(x, y, z));
+                        entries.push_back({std::uint16_t(voxel), g, std::exp(-0.5f * q)});
                     }
                 }
             }
         }
     }
 
-    double applyBlock(const openvdb::Coord& origin, const std::vector<double>& v, bool residual,
-                      std::vector<Entry>& entries, std::vector<std::uint32_t>& hits, std::vector<double>& out) const {
+    double applyBlock(std::uint32_t block, const std::vector<double>& v, bool residual, std::vector<Entry>& entries,
+                      std::vector<std::uint32_t>& hits, std::vector<double>& out) const {
+        const openvdb::Coord origin = mGrid.origin(block);
         openvdb::CoordBBox box(origin, origin.offsetBy(kBlockDim - 1));
-        box.intersect(mTarget.box());
+        box.intersect(mGrid.box());
         blockEntries(box, entries, hits);
         const int channels = mField.channels();
         std::array<double, 3 * kBlockVoxels> w{};
         for (const Entry& entry : entries) {
             for (int c = 0; c < channels; ++c) w[entry.voxel * channels + c] += entry.e * v[entry.gaussian * channels + c];
         }
-        const openvdb::Coord dim = box.dim();
-        const int voxels = dim.x() * dim.y() * dim.z();
-        if (residual) {
-            float expected[3];
-            for (int k = 0; k < voxels; ++k) {
-                const openvdb::Coord ijk = box.min().offsetBy(k % dim.x(), (k / dim.x()) % dim.y(), k / (dim.x() * dim.y()));
-                mTarget.valueAt(ijk, expected);
-                for (int c = 0; c < channels; ++c) w[k * channels + c] = expected[c] - w[k * channels + c];
-            }
-        }
-        if (const auto found = mExcluded.find(origin); found != mExcluded.end()) {
-            for (const openvdb::Coord& ijk : found->second) {
-                const openvdb::Coord local = ijk - box.min();
-                const int k = (local.z() * dim.y() + local.y()) * dim.x() + local.x();
-                for (int c = 0; c < channels; ++c) w[k * channels + c] = 0.0;
-            }
-        }
+        std::int32_t trainable[kBlockVoxels];
+        mGrid.trainableMask(block, trainable);
+        float expected[3 * kBlockVoxels];
+        if (residual) mTarget.blockValues(origin, expected);
+        // x fastest: the order the sum of squares has always been taken in.
         double squared = 0.0;
-        for (int k = 0; k < voxels * channels; ++k) squared += w[k] * w[k];
+        for (int z = box.min().z(); z <= box.max().z(); ++z) {
+            for (int y = box.min().y(); y <= box.max().y(); ++y) {
+                for (int x = box.min().x(); x <= box.max().x(); ++x) {
+                    const int k = blockOffset(openvdb::Coord(x, y, z));
+                    for (int c = 0; c < channels; ++c) {
+                        double& value = w[k * channels + c];
+                        if (!trainable[k]) {
+                            value = 0.0;
+                        } else if (residual) {
+                            value = expected[k * channels + c] - value;
+                        }
+                        squared += value * value;
+                    }
+                }
+            }
+        }
         for (const Entry& entry : entries) {
             for (int c = 0; c < channels; ++c) out[entry.gaussian * channels + c] += entry.e * w[entry.voxel * channels + c];
         }
@@ -145,9 +148,7 @@ private:
 
     const GaussianField& mField;
     const VolumeTarget& mTarget;
-    std::vector<openvdb::Coord> mBlocks;
-    std::map<openvdb::Coord, std::vector<openvdb::Coord>> mExcluded;  // by block origin
-    std::uint64_t mIncludedVoxels = 0;
+    BlockGrid mGrid;
 };
 
 double dot(const std::vector<double>& a, const std::vector<double>& b) {
