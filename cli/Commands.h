@@ -1,5 +1,5 @@
 /// @file Commands.h
-/// @brief The gvr subcommands; each adds itself to the application.
+/// @brief The gvr subcommands; each adds itself to the application, from its own file.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -17,5 +17,8 @@ void addRenderCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);
 void addBaselineCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
+
+/// Every subcommand above, in the order `gvr --help` lists them.
+void addCommands(CLI::App& app);
 
 }  // namespace gvr

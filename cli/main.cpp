@@ -77,17 +77,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.set_version_flag("-V,--version", "gvr " GVR_VERSION);
     app.fallthrough();  // inherited by the subcommands, so that --verbose may follow them
-    gvr::addIngestCommand(app);
-    gvr::addInfoCommand(app);
-    gvr::addFitCommand(app);
-    gvr::addMergeCommand(app);
-    gvr::addExportCommand(app);
-    gvr::addEvalCommand(app);
-    gvr::addProbeCommand(app);
-    gvr::addRenderCommand(app);
-    gvr::addViewCommand(app);
-    gvr::addBaselineCommand(app);
-    gvr::addBenchCommand(app);
+    gvr::addCommands(app);
     addHelpCommand(app);
     gvr::refuseNegativeUnsignedValues(app);
     gvr::useOneLineUsageErrors(app);

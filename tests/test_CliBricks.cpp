@@ -1,5 +1,6 @@
 // gvr fit --bricks, --brick I --of N and gvr merge, as a user runs them.
 
+#include "tests/ScopedEnvironment.h"
 #include "tests/TestHelpers.h"
 
 #include <nlohmann/json.hpp>
@@ -72,10 +73,9 @@ TEST(CliBricks, AFailingBrickIsNamedAndNothingIsWritten) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
     // A test hook, not a flag of gvr's: the child process inherits it.
-    ::setenv("GVR_TEST_FAIL_BRICK", "1", 1);
+    const test::ScopedEnvironment failBrick("GVR_TEST_FAIL_BRICK", "1");
     const test::CommandResult run =
         test::runGvr("fit -q '" + grid + "' --gaussians 60 --iterations 5 --bricks 2 -o '" + dir.path("out.gvr") + "'", dir);
-    ::unsetenv("GVR_TEST_FAIL_BRICK");
     EXPECT_EQ(run.exitCode, 2);
     EXPECT_NE(run.err.find("brick 1 (rank 0)"), std::string::npos) << run.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("out.gvr")));

@@ -15,6 +15,11 @@ TEST(Error, InputErrorNamesTheCulpritFirstOnOneLine) {
     EXPECT_EQ(std::string(error.what()), "scan.png: PNG read error: bad CRC; PNG library error");
 }
 
+TEST(Error, AWindowsLineBreakIsOneBreak) {
+    const InputError error("scan.dcm", "first line\r\nsecond line\rthird line");
+    EXPECT_EQ(std::string(error.what()), "scan.dcm: first line; second line; third line");
+}
+
 TEST(Error, CancelledSaysWhatStopped) {
     const Cancelled stopped("fit ch2.vdb");
     EXPECT_EQ(std::string(stopped.what()), "fit ch2.vdb: cancelled");

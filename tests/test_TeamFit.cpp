@@ -1,6 +1,7 @@
 #include "io/AssetFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/GaussianField.h"
+#include "tests/ScopedEnvironment.h"
 #include "tests/TestHelpers.h"
 #include "workflow/TeamFit.h"
 
@@ -62,10 +63,9 @@ TEST(TeamFit, AloneItMergesWhatTheBrickPartsWouldGive) {
 TEST(TeamFit, AFailedBrickIsNamedWithItsRank) {
     const openvdb::GridBase::Ptr grid = blobGrid();
     const VolumeTarget target(grid, "blobs");
-    ::setenv("GVR_TEST_FAIL_BRICK", "1", 1);
+    const test::ScopedEnvironment failBrick("GVR_TEST_FAIL_BRICK", "1");
     const std::string message =
         test::errorMessageOf<InputError>([&] { fitAllBricks(SoloTeam(), grid, target, "blobs", iterationOptions(), {2, 4}); });
-    ::unsetenv("GVR_TEST_FAIL_BRICK");
     EXPECT_NE(message.find("brick 1 (rank 0)"), std::string::npos) << message;
     EXPECT_NE(message.find("failed on purpose"), std::string::npos) << message;
 }
