@@ -11,6 +11,7 @@
 #include "pipeline/LabelStyle.h"
 #include "render/TransferPresets.h"
 #include "render/ViewSession.h"
+#include "workflow/PhaseTimes.h"
 #include "workflow/RenderInput.h"
 
 #include <SDL.h>
@@ -70,7 +71,8 @@ public:
     /// Why the transfer function does not suit the data; empty when it does.
     const std::string& mismatch() const { return mMismatch; }
 
-    void run(SdlWindow& window) {
+    /// @param commandStart  when the command began, for the time to the first image
+    void run(SdlWindow& window, std::chrono::steady_clock::time_point commandStart) {
         const auto start = std::chrono::steady_clock::now();
         bool busy = true;
         while (!mQuit) {
@@ -81,6 +83,7 @@ public:
             const Framebuffer image = mSession->render(camera(mWidth, mHeight), &frame);
             recordFrame(frame);
             window.show(image, mState.hud ? hud(frame) : std::vector<std::string>{});
+            if (mFrames == 1) mFirstImageMs = millisecondsSince(commandStart);
             if (mFlags.frames > 0 && mFrames >= mFlags.frames) break;
             busy = frame.stale || mSession->building() || mFlags.frames > 0;
         }
@@ -89,6 +92,7 @@ public:
 
     nlohmann::json summary() const {
         return {{"frames", mFrames},
+                {"first_image_ms", mFirstImageMs},
                 {"seconds", mSeconds},
                 {"mean_fps", mSeconds > 0 ? mFrames / mSeconds : 0.0},
                 {"stacks_built", mSession->stacksBuilt()},
@@ -247,23 +251,31 @@ private:
     bool mQuit = false;
     int mWidth = 0, mHeight = 0;
     std::uint64_t mFrames = 0, mStaleFrames = 0;
-    double mSeconds = 0, mSmoothedMs = 0;
+    double mSeconds = 0, mSmoothedMs = 0, mFirstImageMs = 0;
     FrameStats mLastBuild;
     std::vector<std::string> mScreenshots;
 };
 
 void runView(const ViewFlags& flags) {
+    const auto start = std::chrono::steady_clock::now();
+    PhaseTimes setup;
     const std::string problem = flags.shearWarp.validate();
     if (!problem.empty()) throw InputError("gvr view", problem);
     const auto [width, height] = parseImageSize(flags.size);
     if (flags.input.empty() || !std::filesystem::exists(flags.input)) throw InputError(flags.input, "no such file or folder");
     RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, flags.shearWarp.minimumFootprintVoxels(),
                                         toIngestOptions(flags.source));
+    setup.lap("read");
     Viewer viewer(flags, std::move(input));  // a bad --tf fails before a window opens
+    setup.lap("classify");
     if (!viewer.mismatch().empty()) diagnostics() << "gvr: warning: --tf " << viewer.mismatch() << "\n";
     SdlWindow window("gvr view - " + std::filesystem::path(flags.input).filename().string(), width, height);
-    viewer.run(window);
-    if (flags.json) std::cout << viewer.summary().dump(2) << "\n";
+    setup.lap("window");
+    viewer.run(window, start);
+    if (!flags.json) return;
+    nlohmann::json summary = viewer.summary();
+    summary["setup_seconds"] = setup.json();
+    std::cout << summary.dump(2) << "\n";
 }
 
 }  // namespace
@@ -287,7 +299,7 @@ void addViewCommand(CLI::App& app) {
     command->add_option("--screenshots", flags->screenshots, "Folder for the screenshots (key s)")->capture_default_str();
     command->add_option("--frames", flags->frames, "Close after this many frames (0: when the window closes)");
     addSourceFlags(*command, flags->source);
-    command->add_flag("--json", flags->json, "On closing, print frames, rates, rebuilds and screenshots as JSON");
+    command->add_flag("--json", flags->json, "On closing, print the set-up's and the first image's times, frames, rates, rebuilds and screenshots as JSON");
     command->callback([flags] { runView(*flags); });
 }
 

@@ -108,7 +108,7 @@ TEST(BrickedFit, RunRecordsReadBackInTheKeysPartsHaveAlwaysHad) {
 TEST(BrickedFit, MissingOrCorruptRecordsAreRefusedNamingThePart) {
     const GaussianAsset whole{};
     EXPECT_EQ(test::errorMessageOf<InputError>([&] { brickOfPart(whole, "whole.gvr"); }),
-              "whole.gvr: is not a brick part (written by gvr fit --brick I --of N)");
+              "whole.gvr: is not a brick part (the asset of one brick of a bricked fit)");
     EXPECT_EQ(test::errorMessageOf<InputError>([&] { brickRunOf(whole, "whole.gvr"); })
                   .rfind("whole.gvr: corrupt brick run record: ", 0),
               0u);

@@ -62,6 +62,11 @@ TEST(CliRender, OrbitReusesTheStackAndWritesStatistics) {
             EXPECT_TRUE(frame.contains(key)) << key;
         }
     }
+    for (const char* phase : {"read", "classify", "total"}) EXPECT_TRUE(stats["setup_seconds"].contains(phase)) << phase;
+    // The wait for the first frame counts its set-up and its own time.
+    const double firstFrameMs = stats["first_frame_ms"].get<double>();
+    EXPECT_GE(firstFrameMs, 1000.0 * stats["setup_seconds"]["total"].get<double>());
+    EXPECT_GE(firstFrameMs, stats["frames"][0]["total_ms"].get<double>());
 }
 
 TEST(CliRender, AssetsRenderWithBothRenderersAndAgree) {

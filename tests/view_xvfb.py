@@ -139,6 +139,10 @@ def main():
     passed &= check(summary["frames"] > 5 and summary["stacks_built"] >= 4 and len(summary["screenshots"]) == 5,
                     f"summary: {summary['frames']} frames, {summary['stacks_built']} stacks built, "
                     f"{summary['stale_frames']} stale, {len(summary['screenshots'])} screenshots")
+    setup = summary["setup_seconds"]
+    passed &= check(set(setup) == {"read", "classify", "window", "total"}
+                    and summary["first_image_ms"] >= 1000 * setup["total"],
+                    f"first image after {summary['first_image_ms']:.0f} ms, set-up {1000 * setup['total']:.0f} ms")
 
     passed &= check_structures()
     passed &= check_bad_input(asset)

@@ -168,7 +168,7 @@ BrickRun brickRunOf(const GaussianAsset& part, const std::string& name) {
 
 std::pair<std::size_t, std::size_t> brickOfPart(const GaussianAsset& part, const std::string& name) {
     if (!part.fitSettings.contains("brick")) {
-        throw InputError(name, "is not a brick part (written by gvr fit --brick I --of N)");
+        throw InputError(name, "is not a brick part (the asset of one brick of a bricked fit)");
     }
     try {
         const nlohmann::json& brick = part.fitSettings.at("brick");
