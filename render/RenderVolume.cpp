@@ -6,6 +6,9 @@
 #include "pipeline/VolumeBorder.h"
 #include "pipeline/VolumeMetadata.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -17,7 +20,7 @@ using openvdb::math::Mat4d;
 
 namespace {
 
-/// Enough values for stable percentiles, few enough to gather in milliseconds.
+/// Enough values for stable percentiles.
 constexpr std::size_t kStatisticsSamples = 50000;
 
 float keyOf(const float* value, int channels) { return channels == 1 ? value[0] : float(luminance(value)); }
@@ -130,6 +133,11 @@ GaussianParameters withMinimumFootprint(GaussianParameters params, float minScal
 
 }  // namespace
 
+const VolumeStatistics& RenderVolume::statistics() const {
+    std::call_once(mStatisticsGathered, [this] { mStatistics = gatherStatistics(); });
+    return mStatistics;
+}
+
 double RenderVolume::voxelMm() const {
     const openvdb::Vec3d spacing = axisSpacing(mWorldFromIndex);
     return std::min({spacing[0], spacing[1], spacing[2]});
@@ -165,24 +173,32 @@ std::unique_ptr<BlockSource> GaussianRenderVolume::blocksOn(const Lattice& latti
                                             /*everyBlock=*/headroom < 0.0);
 }
 
-VolumeStatistics GaussianRenderVolume::statistics() const {
+VolumeStatistics GaussianRenderVolume::gatherStatistics() const {
     VolumeStatistics stats;
     const int channels = mField.channels();
-    std::vector<std::uint32_t> hits;
-    const auto keyAt = [&](const Coord& ijk) {
+    const auto keyAt = [&](const Coord& ijk, std::vector<std::uint32_t>& hits) {
         const float x[3] = {float(ijk.x()), float(ijk.y()), float(ijk.z())};
         float value[3];
         mField.evaluate(x, value, hits);
         for (int c = 0; c < channels; ++c) value[c] = mMapping.toPhysicalFloat(value[c], c);
         return double(keyOf(value, channels));
     };
-    stats.background = borderMedian(mBox, keyAt);
-    // Voxel centres spread evenly over the box, kept where the field is content.
+    std::vector<std::uint32_t> hits;
+    stats.background = borderMedian(mBox, [&](const Coord& ijk) { return keyAt(ijk, hits); });
+    // Voxel centres spread evenly over the box, kept where the field is content. Each
+    // is a search of the field: on all cores, then kept in order.
     const std::uint64_t voxels = mBox.volume();
     const std::uint64_t stride = std::max<std::uint64_t>(1, voxels / (4 * kStatisticsSamples));
     const Coord dims = mBox.dim();
-    for (std::uint64_t n = 0; n < voxels; n += stride) {
-        const double key = keyAt(Coord(int(n % dims.x()), int(n / dims.x() % dims.y()), int(n / dims.x() / dims.y())));
+    std::vector<double> keys((voxels + stride - 1) / stride);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size()), [&](const tbb::blocked_range<std::size_t>& range) {
+        std::vector<std::uint32_t> rangeHits;
+        for (std::size_t s = range.begin(); s != range.end(); ++s) {
+            const std::uint64_t n = s * stride;
+            keys[s] = keyAt(Coord(int(n % dims.x()), int(n / dims.x() % dims.y()), int(n / dims.x() / dims.y())), rangeHits);
+        }
+    });
+    for (double key : keys) {
         if (key > mForegroundAbove) stats.values.push_back(float(key));
     }
     const bool anyBelow = std::any_of(stats.values.begin(), stats.values.end(), [](float v) { return v < -500.0f; });
@@ -216,7 +232,7 @@ double GridRenderVolume::backgroundKey() const {
     return mFloat ? double(mFloat->background()) : luminance(mColour->background());
 }
 
-VolumeStatistics GridRenderVolume::statistics() const {
+VolumeStatistics GridRenderVolume::gatherStatistics() const {
     VolumeStatistics stats;
     const auto gather = [&](const auto& grid) {
         const std::size_t stride = std::max<std::uint64_t>(1, grid.activeVoxelCount() / kStatisticsSamples);

@@ -13,6 +13,7 @@
 
 #include <array>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace gvr {
@@ -40,7 +41,9 @@ public:
     ///                       a source may leave blocks that stay below it empty
     virtual std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const = 0;
     /// A sample of the content's values (luminance for RGB), for percentile windows.
-    virtual VolumeStatistics statistics() const = 0;
+    /// Gathered on first use and kept: a Gaussian volume evaluates its field for it,
+    /// and a viewer asks again at each change of preset. Thread-safe.
+    const VolumeStatistics& statistics() const;
     /// What empty space holds (its luminance for RGB), in physical units.
     virtual double backgroundKey() const = 0;
 
@@ -52,9 +55,16 @@ public:
     double valueMax() const { return mValueMax; }
 
 protected:
+    /// What statistics() keeps.
+    virtual VolumeStatistics gatherStatistics() const = 0;
+
     openvdb::math::Mat4d mWorldFromIndex = openvdb::math::Mat4d::identity();
     openvdb::CoordBBox mBox;
     double mValueMax = 1.0;
+
+private:
+    mutable std::once_flag mStatisticsGathered;
+    mutable VolumeStatistics mStatistics;
 };
 
 /// A fitted Gaussian field. Gaussians thinner than @a minScaleVoxels along an
@@ -73,8 +83,10 @@ public:
 
     int channels() const override { return mField.channels(); }
     std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override;
-    VolumeStatistics statistics() const override;
     double backgroundKey() const override;
+
+protected:
+    VolumeStatistics gatherStatistics() const override;
 
 private:
     GaussianField mField;
@@ -90,7 +102,6 @@ public:
 
     int channels() const override { return mColour ? 3 : 1; }
     std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override;
-    VolumeStatistics statistics() const override;
     /// What inactive voxels hold.
     double backgroundKey() const override;
     const openvdb::FloatGrid* floatGrid() const { return mFloat.get(); }
@@ -98,6 +109,9 @@ public:
     /// Trilinear value at index-space point @a x into out[0..channels).
     template <typename Accessor>
     static void trilinear(const Accessor& accessor, const openvdb::Vec3d& x, float* out);
+
+protected:
+    VolumeStatistics gatherStatistics() const override;
 
 private:
     openvdb::GridBase::ConstPtr mGrid;

@@ -7,6 +7,7 @@
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <string>
@@ -56,6 +57,24 @@ TEST(GaussianRenderVolume, SamplesTheMappedFieldAndTheBackgroundBeyondTheCutoff)
     // (15, 15, 15) lies at q = 3 * 49 / 4, beyond the cutoff of 3 sigmas: the background, exactly.
     EXPECT_EQ(block[blockOffset(Coord(15, 15, 15))], 100.0f);
     EXPECT_EQ(volume.backgroundKey(), 100.0);
+}
+
+TEST(GaussianRenderVolume, StatisticsGatheredOnAllCoresAreThoseOfOneAndAreKept) {
+    GaussianParameters params(24, 1);
+    for (std::size_t i = 0; i < params.count(); ++i) {
+        for (int a = 0; a < 3; ++a) params.at(kMeans, i)[a] = float((i * (3 + 2 * a)) % kSide);
+        params.at(kRotations, i)[0] = 1.0f;
+        for (int a = 0; a < 3; ++a) params.at(kLogScales, i)[a] = std::log(1.0f + 0.1f * float(i % 5));
+        params.at(kColours, i)[0] = 0.1f + 0.03f * float(i);
+    }
+    const GaussianRenderVolume shared = volumeOf(params, ValueMapping{}, 0.0f), alone = volumeOf(params, ValueMapping{}, 0.0f);
+    VolumeStatistics oneCore;
+    tbb::task_arena(1).execute([&] { oneCore = alone.statistics(); });
+    const VolumeStatistics& allCores = shared.statistics();
+    ASSERT_GT(allCores.values.size(), 100u);
+    EXPECT_EQ(allCores.values, oneCore.values);
+    EXPECT_EQ(allCores.background, oneCore.background);
+    EXPECT_EQ(&shared.statistics(), &allCores);  // gathered once
 }
 
 TEST(GaussianRenderVolume, WidensThinGaussiansAndKeepsTheirMass) {
