@@ -2,6 +2,7 @@
 
 #include "pipeline/Error.h"
 #include "tests/ScopedEnvironment.h"
+#include "tests/TestHelpers.h"
 
 #include <SDL.h>
 #include <gtest/gtest.h>
@@ -28,25 +29,22 @@ std::array<unsigned char, 4> shownPixel(int x, int y) {
     return rgba;
 }
 
+/// What opening a window throws; "" when one opens.
+std::string openingError() {
+    return test::errorMessageOf<InputError>([] { SdlWindow window("gvr test", 64, 48); });
+}
+
 TEST(SdlWindow, WithoutADisplayItIsAnErrorNamingTheDisplay) {
     const test::ScopedEnvironment noX("DISPLAY", std::nullopt), noWayland("WAYLAND_DISPLAY", std::nullopt),
         noDriver("SDL_VIDEODRIVER", std::nullopt);
-    try {
-        SdlWindow window("gvr test", 64, 48);
-        ADD_FAILURE() << "a window opened with no display";
-    } catch (const InputError& error) {
-        EXPECT_EQ(std::string(error.what()).rfind("display: ", 0), 0u) << error.what();
-    }
+    const std::string error = openingError();
+    EXPECT_EQ(error.rfind("display: ", 0), 0u) << "'" << error << "'";
 }
 
 TEST(SdlWindow, AnUnknownDriverIsAnErrorNamingTheDisplay) {
     const test::ScopedEnvironment driver("SDL_VIDEODRIVER", "no-such-driver");
-    try {
-        SdlWindow window("gvr test", 64, 48);
-        ADD_FAILURE() << "a window opened on a driver that does not exist";
-    } catch (const InputError& error) {
-        EXPECT_EQ(std::string(error.what()).rfind("display: ", 0), 0u) << error.what();
-    }
+    const std::string error = openingError();
+    EXPECT_EQ(error.rfind("display: ", 0), 0u) << "'" << error << "'";
 }
 
 TEST(SdlWindow, ShowsThePremultipliedImageOverBlackClampedToBytes) {
