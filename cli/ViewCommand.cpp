@@ -65,7 +65,7 @@ public:
         mState.tf = flags.tf.empty() ? defaultPreset(mInput.volume->channels(), mInput.volume->statistics()) : flags.tf;
         mInitial = mState;
         classify();
-        mSession = std::make_unique<ViewSession>(scene(), flags.shearWarp, Prefetch::nextAxis);
+        mSession = std::make_unique<ViewSession>(scene(), flags.shearWarp, Prefetch::nextAxis, FirstImage::coarseFirst);
     }
 
     /// Why the transfer function does not suit the data; empty when it does.
@@ -84,6 +84,7 @@ public:
             recordFrame(frame);
             window.show(image, mState.hud ? hud(frame) : std::vector<std::string>{});
             if (mFrames == 1) mFirstImageMs = millisecondsSince(commandStart);
+            if (!frame.stale && mRefinedImageMs == 0) mRefinedImageMs = millisecondsSince(commandStart);
             if (mFlags.frames > 0 && mFrames >= mFlags.frames) break;
             busy = frame.stale || mSession->building() || mFlags.frames > 0;
         }
@@ -93,6 +94,7 @@ public:
     nlohmann::json summary() const {
         return {{"frames", mFrames},
                 {"first_image_ms", mFirstImageMs},
+                {"refined_image_ms", mRefinedImageMs},
                 {"seconds", mSeconds},
                 {"mean_fps", mSeconds > 0 ? mFrames / mSeconds : 0.0},
                 {"stacks_built", mSession->stacksBuilt()},
@@ -251,7 +253,7 @@ private:
     bool mQuit = false;
     int mWidth = 0, mHeight = 0;
     std::uint64_t mFrames = 0, mStaleFrames = 0;
-    double mSeconds = 0, mSmoothedMs = 0, mFirstImageMs = 0;
+    double mSeconds = 0, mSmoothedMs = 0, mFirstImageMs = 0, mRefinedImageMs = 0;
     FrameStats mLastBuild;
     std::vector<std::string> mScreenshots;
 };

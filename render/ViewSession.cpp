@@ -14,10 +14,13 @@ constexpr double kMaxStaleAngleDeg = 50.0;
 /// one much finer (zoomed out) costs time for nothing.
 constexpr double kZoomInLimit = 1.5, kZoomOutLimit = 2.0;
 
+/// A coarse stack's samples lie this many times further apart, across and along the view.
+constexpr double kCoarseness = 2.0;
+
 }  // namespace
 
-ViewSession::ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch)
-    : mScene(std::move(scene)), mSettings(settings), mPrefetch(prefetch) {}
+ViewSession::ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch, FirstImage firstImage)
+    : mScene(std::move(scene)), mSettings(settings), mPrefetch(prefetch), mFirstImage(firstImage) {}
 
 ViewSession::~ViewSession() {
     if (mBuild.valid()) mBuild.wait();
@@ -54,16 +57,32 @@ void ViewSession::keep(BuiltStack built) {
     if (built.scene == mScene) mKept.push_back(std::move(built));
 }
 
+ViewSession::BuiltStack ViewSession::buildStack(const Scene& scene, const openvdb::Vec3d& normal, double spacingVoxels,
+                                                double pixelMm) {
+    const auto start = std::chrono::steady_clock::now();
+    BuiltStack built;
+    built.scene = scene;
+    built.stack = std::make_unique<SliceStack>(scene->layers, normal, spacingVoxels, pixelMm);
+    built.buildMs = millisecondsSince(start);
+    return built;
+}
+
 void ViewSession::startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal) {
     mBuild = std::async(std::launch::async, [scene = mScene, normal, pixelMm = camera.pixelMm,
                                              spacing = mSettings.sliceSpacingVoxels] {
-        const auto start = std::chrono::steady_clock::now();
-        BuiltStack built;
-        built.scene = scene;
-        built.stack = std::make_unique<SliceStack>(scene->layers, normal, spacing, pixelMm);
-        built.buildMs = millisecondsSince(start);
-        return built;
+        return buildStack(scene, normal, spacing, pixelMm);
     });
+}
+
+void ViewSession::buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& normal, FrameStats& frame) {
+    // Coarser than the view, but never finer than the voxels the full stack would stop at.
+    const double fullMm = std::max(camera.pixelMm, mScene->layers.front().volume->voxelMm());
+    if (mSettings.stacks == StackOrientation::axes && mCurrent.stack) keep(std::move(mCurrent));
+    mCurrent = buildStack(mScene, normal, kCoarseness * mSettings.sliceSpacingVoxels, kCoarseness * fullMm);
+    ++mStacksBuilt;
+    frame.reused = false;
+    frame.buildMs = mCurrent.buildMs;
+    frame.gaussiansTouched = mCurrent.stack->gaussiansTouched();
 }
 
 void ViewSession::prefetchNextAxis(const OrthoCamera& camera) {
@@ -108,8 +127,12 @@ Framebuffer ViewSession::render(const OrthoCamera& camera, FrameStats* stats) {
     adoptFinishedBuild(camera, frame);
     if (!fits(mCurrent, camera)) recallKept(camera);
     const openvdb::Vec3d normal = mSettings.stackNormalFor(camera.direction);
-    if (!fits(mCurrent, camera) && !mBuild.valid()) startBuild(camera, normal);
     const bool sameSize = mLastFrame.width == camera.width && mLastFrame.height == camera.height;
+    // Before the full build starts, so that the two do not share the cores.
+    if (mFirstImage == FirstImage::coarseFirst && !sameSize && !shearableFor(camera) && !mBuild.valid()) {
+        buildCoarse(camera, normal, frame);
+    }
+    if (!fits(mCurrent, camera) && !mBuild.valid()) startBuild(camera, normal);
     // Nothing to show meanwhile (the first frame, or a new size far off): wait.
     while (!sameSize && !shearableFor(camera)) {
         if (!mBuild.valid()) startBuild(camera, normal);

@@ -25,9 +25,21 @@ enum class Prefetch {
     nextAxis,
 };
 
+/// What a session draws when it has no stack to shear for the view (the first
+/// frame, or a new size far from every stack kept).
+enum class FirstImage {
+    /// Waits for the stack built for the view.
+    settled,
+    /// Builds a coarse stack at once, every second slice on a lattice twice as
+    /// coarse (an eighth of the samples), and draws from it (stats.stale) while the
+    /// full stack builds in the background.
+    coarseFirst,
+};
+
 class ViewSession {
 public:
-    ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch = Prefetch::none);
+    ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch = Prefetch::none,
+                FirstImage firstImage = FirstImage::settled);
     ~ViewSession();  ///< waits for a build in progress
 
     /// Draw @a scene from the next frame on (its stack is built in the background).
@@ -53,6 +65,8 @@ private:
         double buildMs = 0;
     };
 
+    /// The scene's stack across @a normal, built now on this thread.
+    static BuiltStack buildStack(const Scene& scene, const openvdb::Vec3d& normal, double spacingVoxels, double pixelMm);
     bool fits(const BuiltStack& built, const OrthoCamera& camera) const;
     bool shearableFor(const OrthoCamera& camera) const;
     /// Makes a kept stack that fits @a camera the current one, if there is one.
@@ -62,6 +76,8 @@ private:
     /// Keeps @a built among the stacks of other axes, in place of any across the same axis.
     void keep(BuiltStack built);
     void startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal);
+    /// Makes a coarse stack for @a camera the current one (FirstImage::coarseFirst).
+    void buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& normal, FrameStats& frame);
     void prefetchNextAxis(const OrthoCamera& camera);
     /// Takes a finished build: as the current stack when it serves @a camera or the
     /// current one does not, else (a prefetched stack) among the kept ones.
@@ -70,6 +86,7 @@ private:
     Scene mScene;
     ShearWarpSettings mSettings;
     Prefetch mPrefetch;
+    FirstImage mFirstImage;
     BuiltStack mCurrent;
     std::vector<BuiltStack> mKept;  ///< other axes' stacks, never empty ones
     std::future<BuiltStack> mBuild;

@@ -56,6 +56,32 @@ ShearWarpSettings viewStacks() {
     return settings;
 }
 
+TEST(ViewSession, CoarseFirstDrawsACoarseStackAtOnceThenTheRenderersFrame) {
+    const auto volume = blob();
+    const Scene scene = sceneOf(*volume, 0.1f);
+    ViewSession session(scene, ShearWarpSettings{}, Prefetch::none, FirstImage::coarseFirst);
+    const OrthoCamera camera = cameraFor(*volume, 30.0);
+    FrameStats first;
+    const Framebuffer coarse = session.render(camera, &first);
+    EXPECT_TRUE(first.stale);
+    EXPECT_FALSE(first.reused);
+    EXPECT_EQ(coarse.width, camera.width);
+    EXPECT_EQ(session.stacksBuilt(), 1);
+    FrameStats settled;
+    const Framebuffer refined = session.renderSettled(camera, &settled);
+    EXPECT_FALSE(settled.stale);
+    EXPECT_EQ(session.stacksBuilt(), 2);
+    EXPECT_EQ(refined.rgba, freshFrame(scene, camera).rgba);
+    EXPECT_NE(coarse.rgba, refined.rgba);
+    // The coarse stack samples an eighth as much: the same blob, a little blurred.
+    double covered[2] = {0, 0};
+    for (std::size_t p = 3; p < coarse.rgba.size(); p += 4) {
+        covered[0] += coarse.rgba[p];
+        covered[1] += refined.rgba[p];
+    }
+    EXPECT_NEAR(covered[0], covered[1], 0.1 * covered[1]);
+}
+
 TEST(ViewSession, ATurnBeyondTheConeIsDrawnFromTheOldStackWhileTheNewOneBuilds) {
     const auto volume = blob();
     const Scene scene = sceneOf(*volume, 0.1f);

@@ -143,6 +143,8 @@ def main():
     passed &= check(set(setup) == {"read", "classify", "window", "total"}
                     and summary["first_image_ms"] >= 1000 * setup["total"],
                     f"first image after {summary['first_image_ms']:.0f} ms, set-up {1000 * setup['total']:.0f} ms")
+    passed &= check(summary["refined_image_ms"] > summary["first_image_ms"],
+                    f"the coarse image first, the refined one after {summary['refined_image_ms']:.0f} ms")
 
     passed &= check_structures()
     passed &= check_bad_input(asset)
