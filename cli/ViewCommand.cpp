@@ -301,7 +301,9 @@ void addViewCommand(CLI::App& app) {
     command->add_option("--screenshots", flags->screenshots, "Folder for the screenshots (key s)")->capture_default_str();
     command->add_option("--frames", flags->frames, "Close after this many frames (0: when the window closes)");
     addSourceFlags(*command, flags->source);
-    command->add_flag("--json", flags->json, "On closing, print the set-up's and the first image's times, frames, rates, rebuilds and screenshots as JSON");
+    command->add_flag("--json", flags->json,
+                      "On closing, print the set-up's, the first image's and the refined image's times, frames, rates, "
+                      "rebuilds and screenshots as JSON");
     command->callback([flags] { runView(*flags); });
 }
 

@@ -45,7 +45,8 @@ public:
     /// Draw @a scene from the next frame on (its stack is built in the background).
     void setScene(Scene scene);
 
-    /// A frame of @a camera's view. Waits only for the very first stack; later,
+    /// A frame of @a camera's view. Waits only for the very first stack (or, with
+    /// FirstImage::coarseFirst, for a coarse one, built at once); later,
     /// frames that need another stack come from the current one (stats.stale) until
     /// the new one is ready, or repeat the last frame where the current one cannot
     /// be sheared that far.
