@@ -30,9 +30,10 @@ enum class Prefetch {
 enum class FirstImage {
     /// Waits for the stack built for the view.
     settled,
-    /// Builds a coarse stack at once, every second slice on a lattice twice as
-    /// coarse (an eighth of the samples), and draws from it (stats.stale) while the
-    /// full stack builds in the background.
+    /// Builds a coarse stack at once, its samples at least twice as far apart as the
+    /// full stack's across and along the view (further on large volumes, so that the
+    /// build stays short), and draws from it (stats.stale) while the full stack
+    /// builds in the background.
     coarseFirst,
 };
 

@@ -11,7 +11,7 @@ namespace gvr::test {
 
 class ScopedEnvironment {
 public:
-    /// Sets @a name to @a value, or unsets it when @a value is empty.
+    /// Sets @a name to @a value, or unsets it when @a value is std::nullopt.
     ScopedEnvironment(std::string name, const std::optional<std::string>& value) : mName(std::move(name)) {
         if (const char* before = std::getenv(mName.c_str())) mBefore = before;
         assign(value);
