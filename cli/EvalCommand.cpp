@@ -75,6 +75,11 @@ void addEvalCommand(CLI::App& app) {
     command->add_option("--structures", flags->options.structures,
                         "With --labels: the structures to report, IDs or names (default: a labelled asset's own, else all)");
     addSourceFlags(*command, flags->source, /*withThreshold=*/false);
+    command->add_option("--difference", flags->options.differenceImage,
+                        "For two renderings (RGBA images): write where they differ to this .png or .exr, each pixel's "
+                        "error as seen (over black and white, as the PSNR \"as seen\") times --difference-gain");
+    command->add_option("--difference-gain", flags->options.differenceGain, "Scale of the --difference image")
+        ->capture_default_str();
     command->add_flag("--json", flags->json, "Print the result as JSON");
     command->callback([flags] {
         flags->options.ingest = toIngestOptions(flags->source);

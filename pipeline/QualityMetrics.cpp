@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 
 namespace gvr {
@@ -210,19 +211,36 @@ double meanSquaredError(const FloatVolume& a, const FloatVolume& b, const std::v
     return count > 0 ? sum / (double(count) * a.channels) : 0.0;
 }
 
-RenderingError renderingError(const FloatVolume& reference, const FloatVolume& test) {
+namespace {
+
+/// Pixel @a n of two renderings, channel @a c, composited over black and over white:
+/// the two differences, or nothing when neither image covers the pixel.
+std::optional<std::pair<double, double>> seenDifferences(const FloatVolume& reference, const FloatVolume& test,
+                                                         std::size_t n, int c) {
+    const float* a = reference.values.data() + 4 * n;
+    const float* b = test.values.data() + 4 * n;
+    if (!(a[3] > 0.0f || b[3] > 0.0f)) return std::nullopt;
+    const double overBlack = double(a[c]) - b[c];  // premultiplied colour over black is itself
+    const double overWhite = overBlack - (double(a[3]) - b[3]);  // plus (1 - alpha) of white
+    return std::make_pair(overBlack, overWhite);
+}
+
+void requireRenderings(const FloatVolume& reference, const FloatVolume& test, const char* caller) {
     requireSameShape(reference, test);
-    if (reference.channels != 4) throw std::invalid_argument("renderingError: images must be RGBA");
+    if (reference.channels != 4) throw std::invalid_argument(std::string(caller) + ": images must be RGBA");
+}
+
+}  // namespace
+
+RenderingError renderingError(const FloatVolume& reference, const FloatVolume& test) {
+    requireRenderings(reference, test, "renderingError");
     RenderingError error;
     double black = 0.0, white = 0.0;
     for (std::size_t n = 0; n < reference.voxelCount(); ++n) {
-        const float* a = reference.values.data() + 4 * n;
-        const float* b = test.values.data() + 4 * n;
-        if (!(a[3] > 0.0f || b[3] > 0.0f)) continue;
+        if (!seenDifferences(reference, test, n, 0)) continue;
         ++error.coveredPixels;
         for (int c = 0; c < 3; ++c) {
-            const double overBlack = double(a[c]) - b[c];  // premultiplied colour over black is itself
-            const double overWhite = overBlack - (double(a[3]) - b[3]);  // plus (1 - alpha) of white
+            const auto [overBlack, overWhite] = *seenDifferences(reference, test, n, c);
             black += overBlack * overBlack;
             white += overWhite * overWhite;
         }
@@ -232,6 +250,21 @@ RenderingError renderingError(const FloatVolume& reference, const FloatVolume& t
         error.overWhite = white / (3.0 * error.coveredPixels);
     }
     return error;
+}
+
+FloatVolume renderingDifference(const FloatVolume& reference, const FloatVolume& test, float gain) {
+    requireRenderings(reference, test, "renderingDifference");
+    FloatVolume difference(reference.dims, 4);
+    for (std::size_t n = 0; n < reference.voxelCount(); ++n) {
+        float* out = difference.values.data() + 4 * n;
+        for (int c = 0; c < 3; ++c) {
+            if (const auto d = seenDifferences(reference, test, n, c)) {
+                out[c] = gain * float(std::sqrt(0.5 * (d->first * d->first + d->second * d->second)));
+            }
+        }
+        out[3] = 1.0f;
+    }
+    return difference;
 }
 
 double ssim(const FloatVolume& a, const FloatVolume& b, const SsimSettings& settings) {

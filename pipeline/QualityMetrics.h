@@ -48,6 +48,13 @@ struct RenderingError {
 /// @throw std::invalid_argument unless both have 4 channels and the same shape.
 RenderingError renderingError(const FloatVolume& reference, const FloatVolume& test);
 
+/// Where two renderings differ as they are seen: per pixel and RGB channel, the
+/// root mean square of the differences over black and over white (what
+/// renderingError averages), times @a gain, opaque. Pixels that neither image
+/// covers are black.
+/// @throw std::invalid_argument as renderingError.
+FloatVolume renderingDifference(const FloatVolume& reference, const FloatVolume& test, float gain);
+
 struct MsSsim {
     double value = 0.0;
     int scales = 0;  ///< M, 5 unless the fallback applied

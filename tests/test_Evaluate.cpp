@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <string>
 
 namespace gvr {
@@ -105,6 +107,36 @@ TEST(Evaluate, ResamplesOntoTheReferenceWhenAsked) {
     const EvalResult e = evaluate(reference, coarse, options, "ref", "test");
     EXPECT_EQ(e.peak, 100.0);
     EXPECT_TRUE(std::isfinite(e.psnr));  // compared voxel for voxel, not refused
+}
+
+TEST(Evaluate, ADifferenceImageIsWrittenOnlyForTwoRenderingsAndWithAPositiveGain) {
+    const std::string path = testing::TempDir() + "gvr_eval_difference.exr";
+    std::remove(path.c_str());
+    EvalOptions options;
+    options.differenceImage = path;
+    const std::string volumes = refusal([&] { evaluate(ramp(0.0f), ramp(1.0f), options, "ref", "test"); });
+    EXPECT_EQ(volumes.rfind("`difference`: needs two RGBA images", 0), 0u) << volumes;
+    EXPECT_FALSE(std::ifstream(path).good()) << "no output after a refusal";
+
+    ComparisonInput image;
+    image.isImage = true;
+    image.volume = FloatVolume(openvdb::Coord(5, 3, 1), 4);
+    image.dataRange = 1.0;
+    ComparisonInput brighter = image;
+    brighter.volume.values[4 * 7] = brighter.volume.values[4 * 7 + 3] = 0.5f;  // pixel (2, 1) red, half opaque
+    options.differenceGain = 0.0f;
+    EXPECT_EQ(refusal([&] { evaluate(image, brighter, options, "ref", "test"); }).rfind("`difference_gain`", 0), 0u);
+    EXPECT_FALSE(std::ifstream(path).good());
+
+    options.differenceGain = 2.0f;
+    evaluate(image, brighter, options, "ref", "test");
+    const ComparisonInput written = loadComparisonInput(path, IngestOptions());
+    ASSERT_EQ(written.volume.dims, openvdb::Coord(5, 3, 1));
+    // Red: 0.5 over black and 0 over white; green: 0 and 0.5. Each RMS 0.5 / sqrt 2.
+    EXPECT_NEAR(written.volume.values[4 * 7], 2.0f * 0.5f / std::sqrt(2.0f), 1e-5);
+    EXPECT_NEAR(written.volume.values[4 * 7 + 1], 2.0f * 0.5f / std::sqrt(2.0f), 1e-5);
+    EXPECT_EQ(written.volume.values[4 * 6], 0.0f) << "a pixel neither covers";
+    std::remove(path.c_str());
 }
 
 TEST(Evaluate, RenderingQualityWantsTwoRgbaImagesOfOneShape) {

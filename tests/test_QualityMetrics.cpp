@@ -147,5 +147,26 @@ TEST(RenderingError, CountsOnlyCoveredPixelsAsSeenOverBlackAndWhite) {
                  std::invalid_argument);
 }
 
+TEST(RenderingDifference, ShowsPerPixelTheErrorThatRenderingErrorAverages) {
+    const FloatVolume reference = rgbaImage({{0, 0, 0, 0}, {0.4f, 0.4f, 0.4f, 0.8f}, {0.2f, 0.1f, 0.0f, 0.5f}});
+    const FloatVolume test = rgbaImage({{0, 0, 0, 0}, {0.2f, 0.2f, 0.2f, 0.4f}, {0, 0, 0, 0}});
+    const float gain = 4.0f;
+    const FloatVolume difference = renderingDifference(reference, test, gain);
+    ASSERT_EQ(difference.dims, reference.dims);
+    // Pixel 0: covered by neither, black. Pixel 1, red: 0.2 over black, 0.2 - 0.4 over white.
+    EXPECT_EQ(difference.values[0], 0.0f);
+    EXPECT_NEAR(difference.values[4], gain * std::sqrt(0.5 * (0.04 + 0.04)), 1e-6);
+    for (std::size_t p = 0; p < 3; ++p) EXPECT_EQ(difference.values[4 * p + 3], 1.0f) << "opaque";
+    // Over the covered pixels, the mean square is the two errors' mean.
+    const RenderingError error = renderingError(reference, test);
+    double sum = 0.0;
+    for (std::size_t p = 1; p < 3; ++p) {
+        for (int c = 0; c < 3; ++c) sum += std::pow(difference.values[4 * p + c] / gain, 2.0);
+    }
+    EXPECT_NEAR(sum / (3.0 * error.coveredPixels), 0.5 * (error.overBlack + error.overWhite), 1e-6);
+    EXPECT_THROW(renderingDifference(FloatVolume(openvdb::Coord(2, 1, 1), 3), FloatVolume(openvdb::Coord(2, 1, 1), 3), gain),
+                 std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace gvr

@@ -3,6 +3,7 @@
 #include "io/AssetFile.h"
 #include "io/Figures.h"
 #include "io/GridFile.h"
+#include "io/ImageFile.h"
 #include "io/LabelGrid.h"
 #include "pipeline/Error.h"
 #include "pipeline/Fitter.h"
@@ -129,6 +130,13 @@ EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const
                    const openvdb::Int32Grid* labels, const std::string& referenceName, const std::string& testName) {
     const auto start = std::chrono::steady_clock::now();
     matchGeometry(testName, options.resample, reference, test);
+    const bool renderings = reference.isImage && reference.volume.channels == 4;
+    if (!options.differenceImage.empty() && !renderings) {
+        throw InputError("`difference`", "needs two RGBA images (renderings); " + referenceName + " is not one");
+    }
+    if (!(options.differenceGain > 0.0f && std::isfinite(options.differenceGain))) {
+        throw InputError("`difference_gain`", "must be a positive number");
+    }
     EvalResult e;
     e.peak = options.peak.value_or(reference.dataRange);
     if (!(e.peak > 0.0) || !std::isfinite(e.peak)) {
@@ -146,7 +154,11 @@ EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const
     e.ssim = ssim(reference.volume, test.volume, ssimSettings);
     e.msSsim = msSsim(reference.volume, test.volume, ssimSettings);
     if (labels) evaluateStructures(options, *labels, reference.volume, test.volume, e);
-    if (reference.isImage && reference.volume.channels == 4) e.rendering = renderingQuality(reference.volume, test.volume);
+    if (renderings) e.rendering = renderingQuality(reference.volume, test.volume);
+    if (!options.differenceImage.empty()) {
+        const FloatVolume difference = renderingDifference(reference.volume, test.volume, options.differenceGain);
+        writeImage(options.differenceImage, difference.dims.x(), difference.dims.y(), difference.values.data());
+    }
     e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return e;
 }

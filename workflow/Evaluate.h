@@ -29,6 +29,10 @@ struct EvalOptions {
     /// labelled test asset, else all.
     std::string structures;
     IngestOptions ingest;              ///< how inputs that are not .vdb files are read
+    /// For two RGBA renderings: write where they differ (renderingDifference) to this
+    /// image, its errors times differenceGain.
+    std::string differenceImage;
+    float differenceGain = 4.0f;
 };
 
 /// Two RGBA renderings as they are seen (see renderingError): PSNR with a peak of
