@@ -11,7 +11,7 @@
 
 namespace gvr {
 
-/// --stacks and --reuse-angle.
+/// --stacks, --reuse-angle and --supersample.
 void addStackFlags(CLI::App& command, ShearWarpSettings& settings);
 
 /// "512x384" as --size gives it: width and height in pixels, each 1 to kMaxImageSide.

@@ -297,6 +297,9 @@ void addViewCommand(CLI::App& app) {
     command->add_option("--size", flags->size, "Window size WIDTHxHEIGHT in pixels")->capture_default_str();
     command->add_option("--azimuth", flags->azimuth, "Starting azimuth in degrees, as gvr render's")->capture_default_str();
     command->add_option("--elevation", flags->elevation, "Starting elevation in degrees")->capture_default_str();
+    // The frame rate first: a window redraws as the mouse moves, and a still from
+    // gvr render is where fidelity pays.
+    flags->shearWarp.supersampling = 1.0;
     addStackFlags(*command, flags->shearWarp);
     command->add_option("--screenshots", flags->screenshots, "Folder for the screenshots (key s)")->capture_default_str();
     command->add_option("--frames", flags->frames, "Close after this many frames (0: when the window closes)");

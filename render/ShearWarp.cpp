@@ -302,6 +302,7 @@ std::string ShearWarpSettings::validate() const {
     if (!(sliceSpacingVoxels >= 0.05) || sliceSpacingVoxels > 64.0) return "`slice_spacing` must be in [0.05, 64] voxels";
     if (!(reuseAngleDeg >= 0.0 && reuseAngleDeg <= 60.0)) return "`reuse_angle` must be between 0 and 60 degrees";
     if (!(terminationOpacity > 0.0f && terminationOpacity <= 1.0f)) return "`termination` must be in (0, 1]";
+    if (!(supersampling >= 1.0 && supersampling <= 4.0)) return "`supersample` must be in [1, 4]";
     return {};
 }
 
@@ -360,8 +361,8 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     const StackGeometry& g = stack.geometry();
     const double dn = direction.dot(g.normal);
     // Moving one slice back shifts the ray this far across the slices, in samples.
-    const double shiftX = direction.dot(g.e1) / dn * g.sliceMm / g.pixelMm;
-    const double shiftY = direction.dot(g.e2) / dn * g.sliceMm / g.pixelMm;
+    const double shiftX = direction.dot(g.e1) / dn * g.sliceMm / g.sampleMm;
+    const double shiftY = direction.dot(g.e2) / dn * g.sliceMm / g.sampleMm;
     const double lastX = shiftX * (g.slices - 1), lastY = shiftY * (g.slices - 1);
     Intermediate out;
     // The margins keep every pixel a sample reaches inside the image, whatever the shear.
@@ -399,7 +400,7 @@ IntermediateMap intermediateMap(const StackGeometry& g, const OrthoCamera& camer
         // Follow the pixel's ray to the front slice; its position there, in samples.
         const Vec3d p = camera.pixelPoint(x, y);
         const Vec3d q = p + camera.direction * (g.normal.dot(g.origin - p) / dn) - g.origin;
-        return openvdb::Vec2d(q.dot(g.e1) / g.pixelMm - intermediate.originX, q.dot(g.e2) / g.pixelMm - intermediate.originY);
+        return openvdb::Vec2d(q.dot(g.e1) / g.sampleMm - intermediate.originX, q.dot(g.e2) / g.sampleMm - intermediate.originY);
     };
     const openvdb::Vec2d origin = onFront(0, 0), alongX = onFront(1, 0) - origin, alongY = onFront(0, 1) - origin;
     return {origin[0], alongX[0], alongY[0], origin[1], alongX[1], alongY[1]};
@@ -410,6 +411,69 @@ Floats4 load4(const float* values) {
     std::memcpy(&out, values, sizeof out);
     return out;
 }
+
+/// The intermediate image, bilinearly, at (u, v), which must lie inside its samples.
+Floats4 bilinearInside(const Intermediate& image, float u, float v) {
+    const int i = int(u), j = int(v);
+    const float fu = u - float(i), fv = v - float(j);
+    const float* a = image.rgba.data() + (std::size_t(j) * image.width + i) * 4;
+    const float* b = a + std::size_t(image.width) * 4;
+    const Floats4 top = (1 - fu) * load4(a) + fu * load4(a + 4);
+    const Floats4 bottom = (1 - fu) * load4(b) + fu * load4(b + 4);
+    return (1 - fv) * top + fv * bottom;
+}
+
+/// The same anywhere: transparent beyond the samples.
+Floats4 bilinear(const Intermediate& image, double u, double v) {
+    // The comparisons are false for NaN, and u < width - 1 keeps i + 1 inside.
+    if (!(u >= 0.0 && v >= 0.0 && u < image.width - 1 && v < image.height - 1)) return Floats4{};
+    return bilinearInside(image, float(u), float(v));
+}
+
+/// How an image pixel averages its footprint on the intermediate image: taps x taps
+/// bilinear taps spread evenly over it, as the anti-aliased ray marcher spreads its
+/// rays over the pixel. At least two a side, and enough that neighbouring taps lie
+/// about one intermediate pixel apart.
+class FootprintFilter {
+public:
+    explicit FootprintFilter(const IntermediateMap& map) {
+        const double footprint = std::max(std::abs(map.dux) + std::abs(map.duy), std::abs(map.dvx) + std::abs(map.dvy));
+        const int taps = std::clamp(int(std::ceil(footprint)), 2, 4);
+        for (int ty = 0; ty < taps; ++ty) {
+            for (int tx = 0; tx < taps; ++tx) {
+                const double x = (tx + 0.5) / taps - 0.5, y = (ty + 0.5) / taps - 0.5;
+                const float du = float(x * map.dux + y * map.duy), dv = float(x * map.dvx + y * map.dvy);
+                mOffsets.push_back({du, dv});
+                mReachU = std::max(mReachU, std::abs(du));
+                mReachV = std::max(mReachV, std::abs(dv));
+            }
+        }
+        mWeight = 1.0f / float(mOffsets.size());
+    }
+
+    /// The pixel whose centre falls at (u, v) on @a image.
+    Floats4 operator()(const Intermediate& image, double u, double v) const {
+        Floats4 sum{};
+        // Taps in floats, a sixth faster than in doubles: the margin covers their
+        // rounding (an ulp at 65536 is 0.004), so that i + 1 stays inside.
+        const double margin = 1e-3 + 1e-6 * std::max(image.width, image.height);
+        const bool inside = u - mReachU >= 0.0 && v - mReachV >= 0.0 && u + mReachU < image.width - 1 - margin &&
+                            v + mReachV < image.height - 1 - margin;
+        if (inside) {
+            for (const Offset& o : mOffsets) sum += bilinearInside(image, float(u) + o.du, float(v) + o.dv);
+        } else {
+            for (const Offset& o : mOffsets) sum += bilinear(image, u + o.du, v + o.dv);
+        }
+        return sum * mWeight;
+    }
+
+private:
+    struct Offset {
+        float du, dv;
+    };
+    std::vector<Offset> mOffsets;
+    float mReachU = 0.0f, mReachV = 0.0f, mWeight = 1.0f;
+};
 
 }  // namespace
 
@@ -431,9 +495,9 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
     if (!frame.reused) {
         // A view stack serves only its cone: the next one replaces it.
         if (mSettings.stacks == StackOrientation::view) mStacks.clear();
-        // Samples finer than the image's pixels would only be averaged away by the warp.
+        const double sampleMm = mSettings.sampleMmFor(camera.pixelMm, mLayers.front().volume->voxelMm());
         mStacks.push_back(std::make_unique<SliceStack>(mLayers, mSettings.stackNormalFor(camera.direction),
-                                                       mSettings.sliceSpacingVoxels, camera.pixelMm));
+                                                       mSettings.sliceSpacingVoxels, sampleMm));
         serving = std::prev(mStacks.end());
         frame.buildMs = millisecondsSince(start);
         frame.gaussiansTouched = (*serving)->gaussiansTouched();
@@ -453,18 +517,10 @@ Framebuffer shearWarpFrame(const SliceStack& stack, const OrthoCamera& camera, f
     const auto warped = std::chrono::steady_clock::now();
     const IntermediateMap map = intermediateMap(stack.geometry(), camera, intermediate);
     Framebuffer image(camera.width, camera.height);
+    const FootprintFilter footprint(map);
     tbb::parallel_for(0, camera.height, [&](int y) {
         for (int x = 0; x < camera.width; ++x) {
-            const double u = map.u0 + x * map.dux + y * map.duy, v = map.v0 + x * map.dvx + y * map.dvy;
-            if (!(u >= 0.0 && v >= 0.0)) continue;  // so that truncation floors
-            const int i = int(u), j = int(v);
-            if (i + 1 >= intermediate.width || j + 1 >= intermediate.height) continue;
-            const float fu = float(u - i), fv = float(v - j);
-            const float* a = intermediate.rgba.data() + (std::size_t(j) * intermediate.width + i) * 4;
-            const float* b = a + std::size_t(intermediate.width) * 4;
-            const Floats4 top = (1 - fu) * load4(a) + fu * load4(a + 4);
-            const Floats4 bottom = (1 - fu) * load4(b) + fu * load4(b + 4);
-            const Floats4 pixel = (1 - fv) * top + fv * bottom;
+            const Floats4 pixel = footprint(intermediate, map.u0 + x * map.dux + y * map.duy, map.v0 + x * map.dvx + y * map.dvy);
             std::memcpy(image.pixel(x, y), &pixel, sizeof pixel);
         }
     });

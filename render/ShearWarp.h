@@ -10,6 +10,7 @@
 #include "render/Framebuffer.h"
 #include "render/SliceStack.h"
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 
@@ -29,11 +30,20 @@ struct ShearWarpSettings {
     double sliceSpacingVoxels = 1.0;   ///< slice spacing in voxels (the smallest voxel edge); > 0
     double reuseAngleDeg = 15.0;       ///< view stacks: keep one while the view is within this; [0, 60]
     float terminationOpacity = 0.98f;  ///< a pixel stops accumulating at this opacity; (0, 1]
+    /// Stack samples along each side of an image pixel (of a voxel, when pixels are
+    /// smaller); [1, 4]. The warp averages over each pixel, so that finer samples
+    /// anti-alias the image: at 1 the resampling blurs and aliases by turns across
+    /// the image (docs/benchmarks.md, "Where the render error lies").
+    double supersampling = 1.5;
     /// @return an empty string, or what is wrong, naming the flag.
     std::string validate() const;
     /// How thin a Gaussian may be before GaussianRenderVolume widens it: half a slice,
     /// so that none falls between two slices.
     float minimumFootprintVoxels() const { return float(0.5 * sliceSpacingVoxels); }
+    /// The spacing of a stack's samples across the slices, for image pixels of
+    /// @a pixelMm over voxels of @a voxelMm: samples much finer than the voxels would
+    /// only resample the same trilinear field, however far the view zooms in.
+    double sampleMmFor(double pixelMm, double voxelMm) const { return std::max(pixelMm, voxelMm) / supersampling; }
 
     /// The normal of the stack to build for a view along @a direction.
     openvdb::Vec3d stackNormalFor(const openvdb::Vec3d& direction) const;

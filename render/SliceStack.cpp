@@ -109,14 +109,14 @@ std::pair<int, double> centredSamples(double lo, double hi, double step) {
 
 /// The lattice of slices perpendicular to @a direction that covers the volume,
 /// @a sliceSpacingVoxels apart (a voxel is the volume's smallest voxel edge) and
-/// @a pixelMm across, but never finer than one voxel.
+/// @a sampleMm across.
 StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& direction, double sliceSpacingVoxels,
-                               double pixelMm) {
+                               double sampleMm) {
     StackGeometry g;
     g.normal = direction.unit();
     g.e1 = helperAxis(g.normal).cross(g.normal).unit();
     g.e2 = g.normal.cross(g.e1).unit();
-    g.pixelMm = std::max(volume.voxelMm(), pixelMm);
+    g.sampleMm = sampleMm;
     g.sliceMm = volume.voxelMm() * sliceSpacingVoxels;
     Vec3d lo(1e300), hi(-1e300);
     for (const Vec3d& corner : worldCorners(volume.worldFromIndex(), volume.box())) {
@@ -124,8 +124,8 @@ StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& directio
         lo = openvdb::math::minComponent(lo, p);
         hi = openvdb::math::maxComponent(hi, p);
     }
-    const auto [width, first1] = centredSamples(lo[0], hi[0], g.pixelMm);
-    const auto [height, first2] = centredSamples(lo[1], hi[1], g.pixelMm);
+    const auto [width, first1] = centredSamples(lo[0], hi[0], g.sampleMm);
+    const auto [height, first2] = centredSamples(lo[1], hi[1], g.sampleMm);
     const auto [slices, firstN] = centredSamples(lo[2], hi[2], g.sliceMm);
     g.width = width;
     g.height = height;
@@ -138,7 +138,7 @@ StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& directio
 
 Lattice StackGeometry::lattice() const {
     openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
-    const Vec3d rows[4] = {e1 * pixelMm, e2 * pixelMm, normal * sliceMm, origin};
+    const Vec3d rows[4] = {e1 * sampleMm, e2 * sampleMm, normal * sliceMm, origin};
     for (int r = 0; r < 4; ++r) {
         for (int c = 0; c < 3; ++c) m(r, c) = rows[r][c];
     }
@@ -257,12 +257,12 @@ void buildSlices(const StackGeometry& g, const std::map<int, std::vector<Coord>>
 }  // namespace
 
 SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier, const Vec3d& direction,
-                       double sliceSpacingVoxels, double pixelMm, const ProgressFn& progress)
-    : SliceStack(std::vector<StackLayer>{{&volume, classifier}}, direction, sliceSpacingVoxels, pixelMm, progress) {}
+                       double sliceSpacingVoxels, double sampleMm, const ProgressFn& progress)
+    : SliceStack(std::vector<StackLayer>{{&volume, classifier}}, direction, sliceSpacingVoxels, sampleMm, progress) {}
 
 SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direction, double sliceSpacingVoxels,
-                       double pixelMm, const ProgressFn& progress)
-    : mGeometry(stackGeometryFor(*layers.front().volume, direction, sliceSpacingVoxels, pixelMm)),
+                       double sampleMm, const ProgressFn& progress)
+    : mGeometry(stackGeometryFor(*layers.front().volume, direction, sliceSpacingVoxels, sampleMm)),
       mSlices(mGeometry.slices) {
     const RenderVolume& volume = *layers.front().volume;
     const TransferFunction& tf = layers.front().classifier.transferFunction();

@@ -2,7 +2,7 @@
 /// @brief One stack of classified slices through a volume, perpendicular to a
 /// stack direction: what shear-warp builds once and composites for many views.
 ///
-/// Slices are sampled on a lattice in world space (pixelMm across, sliceMm apart),
+/// Slices are sampled on a lattice in world space (sampleMm across, sliceMm apart),
 /// so any stack direction works, not only the volume's axes. A stack of one grey
 /// volume keeps each sample's value, and compositing classifies the value it
 /// resamples from them (post-classification, as the ray marcher does: an opaque
@@ -28,7 +28,7 @@ namespace gvr {
 struct StackGeometry {
     openvdb::Vec3d normal, e1, e2;  ///< unit, world; slices are perpendicular to normal
     openvdb::Vec3d origin;          ///< world position of sample (0, 0) of slice 0, the front
-    double pixelMm = 1.0, sliceMm = 1.0;
+    double sampleMm = 1.0, sliceMm = 1.0;  ///< across the slices, and between them
     int width = 0, height = 0, slices = 0;
 
     /// The sample lattice: index (i, j, k) is sample (i, j) of slice k.
@@ -129,12 +129,12 @@ public:
     /// values when the volume is grey and its background transparent, and are
     /// classified otherwise.
     SliceStack(const RenderVolume& volume, const Classifier& classifier, const openvdb::Vec3d& direction,
-               double sliceSpacingVoxels, double pixelMm, const ProgressFn& progress = {});
+               double sliceSpacingVoxels, double sampleMm, const ProgressFn& progress = {});
 
     /// The same for several layers: where layers meet, their opacities combine as
     /// 1 - prod(1 - alpha) and their colours in proportion to their opacities.
     SliceStack(const std::vector<StackLayer>& layers, const openvdb::Vec3d& direction, double sliceSpacingVoxels,
-               double pixelMm, const ProgressFn& progress = {});
+               double sampleMm, const ProgressFn& progress = {});
 
     const StackGeometry& geometry() const { return mGeometry; }
     const std::vector<Slice>& slices() const { return mSlices; }

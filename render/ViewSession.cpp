@@ -23,7 +23,7 @@ constexpr double kZoomInLimit = 1.5, kZoomOutLimit = 2.0;
 constexpr double kMinCoarseness = 2.0, kCoarseSamples = 2.0e6;
 
 /// How many times further apart a coarse stack's samples lie than those of a full
-/// stack with pixels of @a fullMm and slices @a spacingVoxels apart.
+/// stack with samples @a fullMm apart across its slices and @a spacingVoxels between them.
 double coarsenessFor(const RenderVolume& volume, double fullMm, double spacingVoxels) {
     const openvdb::Vec3d spacing = axisSpacing(volume.worldFromIndex());
     const openvdb::Coord dims = volume.box().dim();
@@ -46,9 +46,8 @@ void ViewSession::setScene(Scene scene) { mScene = std::move(scene); }
 bool ViewSession::fits(const BuiltStack& built, const OrthoCamera& camera) const {
     if (!built.stack || built.scene != mScene) return false;
     const StackGeometry& g = built.stack->geometry();
-    // Stacks are never finer than a voxel (SliceStack), however far the view zooms in.
-    const double wanted = std::max(camera.pixelMm, built.scene->layers.front().volume->voxelMm());
-    const double samplesPerPixel = wanted / g.pixelMm;
+    const double wanted = mSettings.sampleMmFor(camera.pixelMm, built.scene->layers.front().volume->voxelMm());
+    const double samplesPerPixel = wanted / g.sampleMm;
     return mSettings.serves(g.normal, camera.direction) && samplesPerPixel * kZoomInLimit >= 1.0 &&
            samplesPerPixel <= kZoomOutLimit;
 }
@@ -73,26 +72,25 @@ void ViewSession::keep(BuiltStack built) {
 }
 
 ViewSession::BuiltStack ViewSession::buildStack(const Scene& scene, const openvdb::Vec3d& normal, double spacingVoxels,
-                                                double pixelMm) {
+                                                double sampleMm) {
     const auto start = std::chrono::steady_clock::now();
     BuiltStack built;
     built.scene = scene;
-    built.stack = std::make_unique<SliceStack>(scene->layers, normal, spacingVoxels, pixelMm);
+    built.stack = std::make_unique<SliceStack>(scene->layers, normal, spacingVoxels, sampleMm);
     built.buildMs = millisecondsSince(start);
     return built;
 }
 
 void ViewSession::startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal) {
-    mBuild = std::async(std::launch::async, [scene = mScene, normal, pixelMm = camera.pixelMm,
-                                             spacing = mSettings.sliceSpacingVoxels] {
-        return buildStack(scene, normal, spacing, pixelMm);
+    const double sampleMm = mSettings.sampleMmFor(camera.pixelMm, mScene->layers.front().volume->voxelMm());
+    mBuild = std::async(std::launch::async, [scene = mScene, normal, sampleMm, spacing = mSettings.sliceSpacingVoxels] {
+        return buildStack(scene, normal, spacing, sampleMm);
     });
 }
 
 void ViewSession::buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& normal, FrameStats& frame) {
-    // Coarser than the view, but never finer than the voxels the full stack would stop at.
     const RenderVolume& volume = *mScene->layers.front().volume;
-    const double fullMm = std::max(camera.pixelMm, volume.voxelMm());
+    const double fullMm = mSettings.sampleMmFor(camera.pixelMm, volume.voxelMm());
     const double coarseness = coarsenessFor(volume, fullMm, mSettings.sliceSpacingVoxels);
     if (mSettings.stacks == StackOrientation::axes && mCurrent.stack) keep(std::move(mCurrent));
     mCurrent = buildStack(mScene, normal, coarseness * mSettings.sliceSpacingVoxels, coarseness * fullMm);

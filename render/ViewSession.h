@@ -68,7 +68,7 @@ private:
     };
 
     /// The scene's stack across @a normal, built now on this thread.
-    static BuiltStack buildStack(const Scene& scene, const openvdb::Vec3d& normal, double spacingVoxels, double pixelMm);
+    static BuiltStack buildStack(const Scene& scene, const openvdb::Vec3d& normal, double spacingVoxels, double sampleMm);
     bool fits(const BuiltStack& built, const OrthoCamera& camera) const;
     bool shearableFor(const OrthoCamera& camera) const;
     /// Makes a kept stack that fits @a camera the current one, if there is one.
