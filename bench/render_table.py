@@ -1,0 +1,118 @@
+#!/usr/bin/env python3
+"""The README's render table: for each input and transfer function, what a person
+waits for and what they see, measured with `gvr render` and `gvr eval`.
+
+Usage: python3 bench/render_table.py [--gvr GVR] [--baseline OLD_GVR] [--orbit N]
+                                     [--size WxH] [--work DIR] NAME=INPUT:TF ...
+
+Each NAME=INPUT:TF is a row: INPUT any file `gvr render` takes, TF a preset or a
+transfer function file. For each row and each binary (the baseline first, when
+given, then GVR, one after the other so that both meet the same machine):
+- an orbit of N frames (`--orbit N --json`, default 120): the first frame (set-up
+  included, `first_frame_ms`), the mean stack build, the mean reused frame, and the
+  orbit's frames per second with its builds;
+- a still at azimuth 30, elevation 15, scored by `gvr eval` ("as seen" PSNR)
+  against the anti-aliased ray marcher (`--samples 4`) on the same input, beside
+  the one-ray ray marcher's own score, the figure to reach.
+Prints a Markdown table, and the same figures as JSON to WORK/render_table.json.
+Nothing is asserted: run it with nothing else on the machine.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+AZIMUTH, ELEVATION = "30", "15"
+
+
+def run_json(command):
+    done = subprocess.run(command, capture_output=True, text=True)
+    if done.returncode != 0:
+        sys.exit(f"render_table: {' '.join(command)} failed: {done.stderr.strip()}")
+    return json.loads(done.stdout)
+
+
+def render(gvr, source, tf, output, size, *extra):
+    return run_json([gvr, "render", source, "-o", output, "--tf", tf, "--size", size, "--json", "-q", *extra])
+
+
+def seen_psnr(gvr, reference, test):
+    return run_json([gvr, "eval", reference, test, "--json"])["rendering"]["psnr"]
+
+
+def orbit_figures(gvr, source, tf, size, frames, folder):
+    report = render(gvr, source, tf, os.path.join(folder, "orbit.png"), size, "--orbit", str(frames))
+    stats = report["frames"]
+    builds = [f["build_ms"] for f in stats if not f["reused"]]
+    reused = [f["total_ms"] for f in stats if f["reused"]]
+    return {
+        "first_frame_ms": report["first_frame_ms"],
+        "builds": len(builds),
+        "build_ms": sum(builds) / len(builds) if builds else None,
+        "reused_ms": sum(reused) / len(reused) if reused else None,
+        "orbit_fps": len(stats) * 1000.0 / sum(f["total_ms"] for f in stats),
+    }
+
+
+def measure_row(args, name, source, tf):
+    folder = os.path.join(args.work, name)
+    os.makedirs(folder, exist_ok=True)
+    view = ["--azimuth", AZIMUTH, "--elevation", ELEVATION]
+    reference = os.path.join(folder, "antialiased.exr")
+    one_ray = os.path.join(folder, "one-ray.exr")
+    render(args.gvr, source, tf, reference, args.size, *view, "--renderer", "raymarch", "--samples", "4")
+    render(args.gvr, source, tf, one_ray, args.size, *view, "--renderer", "raymarch")
+    row = {"name": name, "input": source, "tf": tf, "one_ray_psnr": seen_psnr(args.gvr, reference, one_ray)}
+    binaries = ([("baseline", args.baseline)] if args.baseline else []) + [("gvr", args.gvr)]
+    for label, gvr in binaries:
+        figures = orbit_figures(gvr, source, tf, args.size, args.orbit, folder)
+        still = os.path.join(folder, f"{label}.exr")
+        render(gvr, source, tf, still, args.size, *view)
+        figures["psnr"] = seen_psnr(args.gvr, reference, still)
+        row[label] = figures
+    return row
+
+
+def cell(value, digits):
+    return "—" if value is None else f"{value:,.{digits}f}"
+
+
+def print_table(rows, baseline):
+    labels = (["baseline"] if baseline else []) + ["gvr"]
+    print("| input | transfer function | binary | first frame ms | stack build ms | reused frame ms "
+          "| orbit FPS, builds included | PSNR dB against 4x4 rays | one ray's PSNR dB |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for row in rows:
+        for label in labels:
+            f = row[label]
+            print(f"| {row['name']} | {row['tf']} | {label} | {cell(f['first_frame_ms'], 0)} | "
+                  f"{cell(f['build_ms'], 0)} ({f['builds']}) | {cell(f['reused_ms'], 1)} | {cell(f['orbit_fps'], 1)} | "
+                  f"{cell(f['psnr'], 2)} | {cell(row['one_ray_psnr'], 2)} |")
+
+
+def parse_row(text):
+    name, _, rest = text.partition("=")
+    source, _, tf = rest.rpartition(":")
+    if not name or not source or not tf:
+        sys.exit(f"render_table: '{text}' is not NAME=INPUT:TF")
+    return name, source, tf
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("rows", nargs="+", help="NAME=INPUT:TF")
+    parser.add_argument("--gvr", default="build/cli/gvr")
+    parser.add_argument("--baseline", help="an older gvr to measure side by side")
+    parser.add_argument("--orbit", type=int, default=120)
+    parser.add_argument("--size", default="512x512")
+    parser.add_argument("--work", default="out/render-table")
+    args = parser.parse_args()
+    rows = [measure_row(args, *parse_row(text)) for text in args.rows]
+    with open(os.path.join(args.work, "render_table.json"), "w") as out:
+        json.dump(rows, out, indent=2)
+    print_table(rows, args.baseline)
+
+
+if __name__ == "__main__":
+    main()
