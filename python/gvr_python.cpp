@@ -408,15 +408,17 @@ std::unique_ptr<RenderVolume> renderVolumeOf(const Renderable& what, float minSc
 }
 
 py::array render(const Renderable& what, double azimuth, double elevation, std::pair<int, int> size,
-                 const TransferSpec& tf) {
+                 const TransferSpec& tf, double supersample) {
     const auto [width, height] = size;
     if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide) {
         throw InputError("size", "must be (width, height) in 1 to " + std::to_string(kMaxImageSide) + " pixels");
     }
+    ShearWarpSettings settings;
+    settings.supersampling = supersample;
+    if (const std::string problem = settings.validate(); !problem.empty()) throw InputError("render", problem);
     Framebuffer image;
     {
         py::gil_scoped_release release;
-        const ShearWarpSettings settings;
         const std::unique_ptr<RenderVolume> volume = renderVolumeOf(what, settings.minimumFootprintVoxels());
         const OrthoCamera camera =
             makeCamera({azimuth, elevation}, worldCorners(volume->worldFromIndex(), volume->box()), width, height);
@@ -550,10 +552,11 @@ PYBIND11_MODULE(gvr, m) {
           "that many bricks of whole 8^3 leaves (each seeing `halo` voxels around it) and merge them, as `gvr fit "
           "--bricks`; the progress dict then says which brick.");
     m.def("render", &render, "what"_a, "azimuth"_a = 30.0, "elevation"_a = 15.0,
-          "size"_a = std::pair<int, int>(512, 512), "tf"_a = "",
+          "size"_a = std::pair<int, int>(512, 512), "tf"_a = "", "supersample"_a = ShearWarpSettings{}.supersampling,
           "A shear-warp view of an Asset, a Volume or a file of either as premultiplied RGBA float32, shape (height, width, 4), "
           "as `gvr render` draws it. tf: a preset (ct, ct-bone, mri, rgb; default: by the data), a JSON file "
-          "as `gvr render --tf` and `--save-tf` use, or its points [[value, r, g, b, a], ...] in physical units");
+          "as `gvr render --tf` and `--save-tf` use, or its points [[value, r, g, b, a], ...] in physical units. "
+          "supersample: stack samples along each side of a pixel, 1 to 4, as `gvr render --supersample`");
     m.def("evaluate",
           [](const Comparable& reference, const Comparable& test, bool resample, std::optional<double> peak,
              const std::string& mask, std::optional<double> threshold, const std::string& labels,

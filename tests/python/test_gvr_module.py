@@ -117,10 +117,13 @@ def test_a_bricked_fit_from_python_is_gvr_fit_bricks_byte_for_byte(work, ch2_vdb
         gvr.fit(ch2_vdb, iterations=1, bricks=100000)
 
 
-def test_a_render_is_gvr_render(work, cli_asset):
+@pytest.mark.parametrize("supersample", [None, 1.0])
+def test_a_render_is_gvr_render(work, cli_asset, supersample):
     png = str(work / "cli.png")
-    run("render", cli_asset, "-o", png, "--size", "160x120", "--azimuth", "40", "--elevation", "10", "--tf", "mri")
-    rgba = gvr.render(gvr.Asset.load(cli_asset), azimuth=40, elevation=10, size=(160, 120), tf="mri")
+    flags = [] if supersample is None else ["--supersample", str(supersample)]
+    run("render", cli_asset, "-o", png, "--size", "160x120", "--azimuth", "40", "--elevation", "10", "--tf", "mri", *flags)
+    keywords = {} if supersample is None else {"supersample": supersample}
+    rgba = gvr.render(gvr.Asset.load(cli_asset), azimuth=40, elevation=10, size=(160, 120), tf="mri", **keywords)
     assert rgba.shape == (120, 160, 4)
     alpha = rgba[..., 3:]
     straight = np.where(alpha > 0, rgba[..., :3] / np.maximum(alpha, 1e-30), 0.0)
@@ -129,6 +132,11 @@ def test_a_render_is_gvr_render(work, cli_asset):
     assert np.abs(ours - theirs).max() <= 1
     assert np.abs(ours - theirs).mean() < 0.01
     assert alpha.max() > 0.5  # the head is there
+
+
+def test_render_refuses_a_supersampling_outside_1_to_4(cli_asset):
+    with pytest.raises(gvr.Error, match="supersample"):
+        gvr.render(cli_asset, supersample=0.5)
 
 
 def test_evaluate_has_the_keys_and_figures_of_gvr_eval(ch2_vdb, cli_asset):
