@@ -37,6 +37,7 @@ struct RenderFlags {
     int orbit = 0, samples = 1;
     bool json = false, quiet = false;
     ShearWarpSettings shearWarp;
+    bool stacksAuto = true;  ///< --stacks auto (automaticStacks)
     SourceFlags source;
 };
 
@@ -93,6 +94,7 @@ void runRender(RenderFlags& flags) {
     if (flags.orbit < 0 || flags.orbit > 3600) throw InputError("--orbit", "must be between 1 and 3600 frames");
     if (flags.samples != 1 && flags.renderer != "raymarch") throw InputError("--samples", "applies to --renderer raymarch only");
     const int frames = std::max(1, flags.orbit);
+    if (flags.stacksAuto) flags.shearWarp.stacks = automaticStacks(frames);
     checkRenderOutputs(flags, frames);
     const auto [width, height] = parseImageSize(flags.size);
     const RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, minScale(flags),
@@ -173,7 +175,7 @@ void addRenderCommand(CLI::App& app) {
                         "for rendering other volumes with exactly the same one through --tf");
     command->add_option("--renderer", flags->renderer, "shear-warp, or raymarch (the reference)")
         ->check(CLI::IsMember({"shear-warp", "raymarch"}))->capture_default_str();
-    addStackFlags(*command, flags->shearWarp);
+    addStackFlags(*command, flags->shearWarp, &flags->stacksAuto);
     command->add_option("--slice-spacing", flags->shearWarp.sliceSpacingVoxels, "Slice spacing in voxels")->capture_default_str();
     command->add_option("--termination", flags->shearWarp.terminationOpacity,
                         "Early ray termination at this opacity")->capture_default_str();

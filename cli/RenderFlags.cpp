@@ -7,18 +7,22 @@
 
 namespace gvr {
 
-void addStackFlags(CLI::App& command, ShearWarpSettings& settings) {
+void addStackFlags(CLI::App& command, ShearWarpSettings& settings, bool* automatic) {
+    if (automatic) *automatic = true;
+    const std::string axesAndView =
+        "axes: slice stacks across the world axis nearest the view, each built once and kept "
+        "(an orbit builds two or three); view: a stack across the view, rebuilt beyond --reuse-angle";
     // By name only: an enum option would also take its numbers, "--stacks 1" for view.
     command.add_option_function<std::string>(
                "--stacks",
-               [&settings](const std::string& name) {
+               [&settings, automatic](const std::string& name) {
+                   if (automatic) *automatic = name == "auto";
                    settings.stacks = name == "view" ? StackOrientation::view : StackOrientation::axes;
                },
-               "axes: slice stacks across the world axis nearest the view, each built once and kept "
-               "(an orbit builds two or three); view: a stack across the view, rebuilt beyond --reuse-angle")
-        ->check(CLI::IsMember({"axes", "view"}))
-        ->type_name("axes|view")
-        ->default_str("axes");
+               automatic ? "auto: view for a single image, axes for an orbit; " + axesAndView : axesAndView)
+        ->check(automatic ? CLI::IsMember({"auto", "axes", "view"}) : CLI::IsMember({"axes", "view"}))
+        ->type_name(automatic ? "auto|axes|view" : "axes|view")
+        ->default_str(automatic ? "auto" : "axes");
     command.add_option("--reuse-angle", settings.reuseAngleDeg,
                        "With --stacks view: reuse the stack while the view is within this many degrees")
         ->capture_default_str();

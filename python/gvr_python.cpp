@@ -414,6 +414,7 @@ py::array render(const Renderable& what, double azimuth, double elevation, std::
         throw InputError("size", "must be (width, height) in 1 to " + std::to_string(kMaxImageSide) + " pixels");
     }
     ShearWarpSettings settings;
+    settings.stacks = automaticStacks(1);  // as gvr render draws a still
     settings.supersampling = supersample;
     if (const std::string problem = settings.validate(); !problem.empty()) throw InputError("render", problem);
     Framebuffer image;

@@ -51,6 +51,13 @@ struct ShearWarpSettings {
     bool serves(const openvdb::Vec3d& normal, const openvdb::Vec3d& direction) const;
 };
 
+/// The stacks that serve @a frames images best: a still gets a stack across its own
+/// view, which needs no shear there and is the most faithful (docs/benchmarks.md,
+/// "Supersampled stacks"); an orbit gets axis stacks, built once and kept.
+inline StackOrientation automaticStacks(int frames) {
+    return frames == 1 ? StackOrientation::view : StackOrientation::axes;
+}
+
 /// Degrees between a view along @a direction and the slices' normal @a normal,
 /// whichever side the view comes from: a stack is composited either way.
 double angleToStackDeg(const openvdb::Vec3d& direction, const openvdb::Vec3d& normal);

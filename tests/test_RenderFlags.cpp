@@ -44,6 +44,30 @@ TEST(RenderFlags, WithoutFlagsTheSettingsKeepTheirDefaultsAndHelpShowsThem) {
     EXPECT_NE(app.help().find("axes|view"), std::string::npos) << app.help();
 }
 
+TEST(RenderFlags, RenderOffersAutoStacksByDefaultAndViewDoesNot) {
+    ShearWarpSettings settings;
+    bool automatic = false;
+    CLI::App app;
+    addStackFlags(app, settings, &automatic);
+    test::parseFlags(app, {});
+    EXPECT_TRUE(automatic);
+    EXPECT_EQ(app.get_option("--stacks")->get_default_str(), "auto");
+    EXPECT_NE(app.help().find("auto|axes|view"), std::string::npos) << app.help();
+
+    CLI::App chosen;
+    addStackFlags(chosen, settings, &automatic);
+    test::parseFlags(chosen, {"--stacks", "view"});
+    EXPECT_FALSE(automatic);
+    EXPECT_EQ(settings.stacks, StackOrientation::view);
+
+    CLI::App withoutAuto;
+    addStackFlags(withoutAuto, settings);
+    EXPECT_THROW(test::parseFlags(withoutAuto, {"--stacks", "auto"}), CLI::ParseError);
+
+    EXPECT_EQ(automaticStacks(1), StackOrientation::view);   // a still: no shear at its own view
+    EXPECT_EQ(automaticStacks(120), StackOrientation::axes);  // an orbit: stacks built once
+}
+
 TEST(RenderFlags, StacksTakesNamesOnlyNotTheEnumsNumbers) {
     for (const char* bad : {"1", "0", "diagonal"}) {
         ShearWarpSettings settings;

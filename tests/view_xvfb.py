@@ -93,9 +93,9 @@ class Window:
 
 
 def render(source, name, *args):
-    """gvr render at the window's settings: one stack sample a pixel, as gvr view's default."""
+    """gvr render at the window's settings: gvr view's defaults, axis stacks and one stack sample a pixel."""
     path = os.path.join(WORK, name)
-    gvr("render", source, "-o", path, "--size", SIZE, "--supersample", "1", "-q", *args)
+    gvr("render", source, "-o", path, "--size", SIZE, "--stacks", "axes", "--supersample", "1", "-q", *args)
     return path
 
 
