@@ -28,8 +28,8 @@ void addStackFlags(CLI::App& command, ShearWarpSettings& settings, bool* automat
         ->capture_default_str();
     command.add_option("--supersample", settings.supersampling,
                        "Stack samples along each side of an image pixel (of a voxel, zoomed in), 1 to 4, averaged "
-                       "over each pixel by the warp: 1.5 anti-aliases past the one-ray ray marcher; 1 is about twice "
-                       "as fast")
+                       "over each pixel by the warp: 1.5 anti-aliases (on grids, past the one-ray ray marcher); 1 is "
+                       "about twice as fast")
         ->capture_default_str();
 }
 

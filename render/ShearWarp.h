@@ -33,7 +33,7 @@ struct ShearWarpSettings {
     /// Stack samples along each side of an image pixel (of a voxel, when pixels are
     /// smaller); [1, 4]. The warp averages over each pixel, so that finer samples
     /// anti-alias the image: at 1 the resampling blurs and aliases by turns across
-    /// the image (docs/benchmarks.md, "Where the render error lies").
+    /// the image (docs/benchmarks.md, "Supersampled stacks and a footprint warp").
     double supersampling = 1.5;
     /// @return an empty string, or what is wrong, naming the flag.
     std::string validate() const;
