@@ -68,7 +68,8 @@ def measure_row(args, name, source, tf):
     for label, gvr in binaries:
         figures = orbit_figures(gvr, source, tf, args.size, args.orbit, folder)
         still = os.path.join(folder, f"{label}.exr")
-        render(gvr, source, tf, still, args.size, *view)
+        # What drew the still (gvr render reports it since 2026-11-28; older binaries do not).
+        figures["still_settings"] = render(gvr, source, tf, still, args.size, *view).get("settings")
         figures["psnr"] = seen_psnr(args.gvr, reference, still)
         row[label] = figures
     return row

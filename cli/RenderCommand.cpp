@@ -61,6 +61,19 @@ nlohmann::json toJson(const FrameStats& s) {
             {"warp_ms", s.warpMs}, {"total_ms", s.totalMs}, {"gaussians_touched", s.gaussiansTouched}};
 }
 
+/// What drew the frames, so that a figure can be reproduced from its statistics alone.
+nlohmann::json settingsJson(const RenderFlags& flags) {
+    const float termination = flags.shearWarp.terminationOpacity;
+    if (flags.renderer == "raymarch") {
+        return {{"renderer", "raymarch"}, {"samples", flags.samples}, {"step_voxels", flags.stepVoxels},
+                {"termination", termination}};
+    }
+    const ShearWarpSettings& s = flags.shearWarp;
+    return {{"renderer", "shear-warp"}, {"stacks", s.stacks == StackOrientation::view ? "view" : "axes"},
+            {"supersample", s.supersampling}, {"slice_spacing_voxels", s.sliceSpacingVoxels},
+            {"reuse_angle_deg", s.reuseAngleDeg}, {"termination", termination}};
+}
+
 void writeStats(const std::string& path, const nlohmann::json& report) {
     writeAtomically(path, [&](const std::string& temporary) {
         std::ofstream out(temporary);
@@ -136,7 +149,8 @@ void runRender(RenderFlags& flags) {
         stats.back()["file"] = path;
         bar.update(double(f + 1) / frames, "frame " + std::to_string(f + 1) + "/" + std::to_string(frames));
     }
-    const nlohmann::json report = {{"setup_seconds", setup.json()}, {"first_frame_ms", firstFrameMs}, {"frames", stats}};
+    const nlohmann::json report = {{"settings", settingsJson(flags)}, {"setup_seconds", setup.json()},
+                                   {"first_frame_ms", firstFrameMs}, {"frames", stats}};
     if (!flags.statsPath.empty()) writeStats(flags.statsPath, report);
     if (flags.json) {
         std::cout << report.dump(2) << "\n";

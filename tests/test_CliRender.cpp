@@ -39,9 +39,13 @@ TEST(CliRender, AnOrbitBuildsOneStackAnAxis) {
     const test::CommandResult run = runGvr("render -q '" + grid + "' -o '" + dir.path("turn.png") +
                                                "' --size 48x48 --orbit 8 --json", dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
-    const nlohmann::json frames = nlohmann::json::parse(run.out)["frames"];
+    const nlohmann::json report = nlohmann::json::parse(run.out);
+    const nlohmann::json& frames = report["frames"];
     ASSERT_EQ(frames.size(), 8u);
     for (int f = 0; f < 8; ++f) EXPECT_EQ(frames[f]["reused"], f != 0 && f != 1) << f;
+    // --stacks auto gives an orbit axis stacks, and the report says so.
+    EXPECT_EQ(report["settings"]["stacks"], "axes");
+    EXPECT_EQ(report["settings"]["supersample"], 1.5);
 }
 
 TEST(CliRender, OrbitReusesTheStackAndWritesStatistics) {
@@ -76,7 +80,9 @@ TEST(CliRender, AssetsRenderWithBothRenderersAndAgree) {
     const std::string common = "render -q '" + asset + "' --size 64x64 --tf mri ";
     const test::CommandResult shearWarp = runGvr(common + "-o '" + dir.path("sw.png") + "' --json", dir);
     ASSERT_EQ(shearWarp.exitCode, 0) << shearWarp.err;
-    EXPECT_GT(nlohmann::json::parse(shearWarp.out)["frames"][0]["gaussians_touched"].get<int>(), 100);
+    const nlohmann::json report = nlohmann::json::parse(shearWarp.out);
+    EXPECT_GT(report["frames"][0]["gaussians_touched"].get<int>(), 100);
+    EXPECT_EQ(report["settings"]["stacks"], "view") << "--stacks auto: a still gets a stack across its view";
     ASSERT_EQ(runGvr(common + "-o '" + dir.path("rm.exr") + "' --renderer raymarch", dir).exitCode, 0);
     ASSERT_EQ(runGvr(common + "-o '" + dir.path("rm.png") + "' --renderer raymarch", dir).exitCode, 0);
     EXPECT_GE(pngPsnr(dir.path("sw.png"), dir.path("rm.png")), 30.0);
