@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -63,7 +64,8 @@ nlohmann::json toJson(const FrameStats& s) {
 
 /// What drew the frames, so that a figure can be reproduced from its statistics alone.
 nlohmann::json settingsJson(const RenderFlags& flags) {
-    const float termination = flags.shearWarp.terminationOpacity;
+    // As given: a float's 0.98 would print as 0.9800000190734863.
+    const double termination = std::round(double(flags.shearWarp.terminationOpacity) * 1e6) / 1e6;
     if (flags.renderer == "raymarch") {
         return {{"renderer", "raymarch"}, {"samples", flags.samples}, {"step_voxels", flags.stepVoxels},
                 {"termination", termination}};
