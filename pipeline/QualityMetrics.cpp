@@ -6,7 +6,6 @@
 #include <array>
 #include <cmath>
 #include <numeric>
-#include <optional>
 #include <stdexcept>
 
 namespace gvr {
@@ -213,16 +212,19 @@ double meanSquaredError(const FloatVolume& a, const FloatVolume& b, const std::v
 
 namespace {
 
+/// Whether either rendering covers pixel @a n (alpha > 0).
+bool covered(const FloatVolume& reference, const FloatVolume& test, std::size_t n) {
+    return reference.values[4 * n + 3] > 0.0f || test.values[4 * n + 3] > 0.0f;
+}
+
 /// Pixel @a n of two renderings, channel @a c, composited over black and over white:
-/// the two differences, or nothing when neither image covers the pixel.
-std::optional<std::pair<double, double>> seenDifferences(const FloatVolume& reference, const FloatVolume& test,
-                                                         std::size_t n, int c) {
+/// the two differences.
+std::pair<double, double> seenDifferences(const FloatVolume& reference, const FloatVolume& test, std::size_t n, int c) {
     const float* a = reference.values.data() + 4 * n;
     const float* b = test.values.data() + 4 * n;
-    if (!(a[3] > 0.0f || b[3] > 0.0f)) return std::nullopt;
     const double overBlack = double(a[c]) - b[c];  // premultiplied colour over black is itself
     const double overWhite = overBlack - (double(a[3]) - b[3]);  // plus (1 - alpha) of white
-    return std::make_pair(overBlack, overWhite);
+    return {overBlack, overWhite};
 }
 
 void requireRenderings(const FloatVolume& reference, const FloatVolume& test, const char* caller) {
@@ -237,10 +239,10 @@ RenderingError renderingError(const FloatVolume& reference, const FloatVolume& t
     RenderingError error;
     double black = 0.0, white = 0.0;
     for (std::size_t n = 0; n < reference.voxelCount(); ++n) {
-        if (!seenDifferences(reference, test, n, 0)) continue;
+        if (!covered(reference, test, n)) continue;
         ++error.coveredPixels;
         for (int c = 0; c < 3; ++c) {
-            const auto [overBlack, overWhite] = *seenDifferences(reference, test, n, c);
+            const auto [overBlack, overWhite] = seenDifferences(reference, test, n, c);
             black += overBlack * overBlack;
             white += overWhite * overWhite;
         }
@@ -257,12 +259,12 @@ FloatVolume renderingDifference(const FloatVolume& reference, const FloatVolume&
     FloatVolume difference(reference.dims, 4);
     for (std::size_t n = 0; n < reference.voxelCount(); ++n) {
         float* out = difference.values.data() + 4 * n;
-        for (int c = 0; c < 3; ++c) {
-            if (const auto d = seenDifferences(reference, test, n, c)) {
-                out[c] = gain * float(std::sqrt(0.5 * (d->first * d->first + d->second * d->second)));
-            }
-        }
         out[3] = 1.0f;
+        if (!covered(reference, test, n)) continue;
+        for (int c = 0; c < 3; ++c) {
+            const auto [overBlack, overWhite] = seenDifferences(reference, test, n, c);
+            out[c] = gain * float(std::sqrt(0.5 * (overBlack * overBlack + overWhite * overWhite)));
+        }
     }
     return difference;
 }

@@ -436,33 +436,34 @@ Floats4 bilinear(const Intermediate& image, double u, double v) {
 /// about one intermediate pixel apart.
 class FootprintFilter {
 public:
-    explicit FootprintFilter(const IntermediateMap& map) {
+    FootprintFilter(const IntermediateMap& map, const Intermediate& image) : mImage(image) {
         const double footprint = std::max(std::abs(map.dux) + std::abs(map.duy), std::abs(map.dvx) + std::abs(map.dvy));
         const int taps = std::clamp(int(std::ceil(footprint)), 2, 4);
+        double reachU = 0.0, reachV = 0.0;
         for (int ty = 0; ty < taps; ++ty) {
             for (int tx = 0; tx < taps; ++tx) {
                 const double x = (tx + 0.5) / taps - 0.5, y = (ty + 0.5) / taps - 0.5;
                 const float du = float(x * map.dux + y * map.duy), dv = float(x * map.dvx + y * map.dvy);
                 mOffsets.push_back({du, dv});
-                mReachU = std::max(mReachU, std::abs(du));
-                mReachV = std::max(mReachV, std::abs(dv));
+                reachU = std::max(reachU, double(std::abs(du)));
+                reachV = std::max(reachV, double(std::abs(dv)));
             }
         }
         mWeight = 1.0f / float(mOffsets.size());
-    }
-
-    /// The pixel whose centre falls at (u, v) on @a image.
-    Floats4 operator()(const Intermediate& image, double u, double v) const {
-        Floats4 sum{};
-        // Taps in floats, a sixth faster than in doubles: the margin covers their
+        // Taps in floats are a sixth faster than in doubles: the margin covers their
         // rounding (an ulp at 65536 is 0.004), so that i + 1 stays inside.
         const double margin = 1e-3 + 1e-6 * std::max(image.width, image.height);
-        const bool inside = u - mReachU >= 0.0 && v - mReachV >= 0.0 && u + mReachU < image.width - 1 - margin &&
-                            v + mReachV < image.height - 1 - margin;
-        if (inside) {
-            for (const Offset& o : mOffsets) sum += bilinearInside(image, float(u) + o.du, float(v) + o.dv);
+        mInsideLo = {reachU, reachV};
+        mInsideHi = {image.width - 1 - margin - reachU, image.height - 1 - margin - reachV};
+    }
+
+    /// The pixel whose centre falls at (u, v) on the intermediate image.
+    Floats4 operator()(double u, double v) const {
+        Floats4 sum{};
+        if (u >= mInsideLo[0] && v >= mInsideLo[1] && u < mInsideHi[0] && v < mInsideHi[1]) {
+            for (const Offset& o : mOffsets) sum += bilinearInside(mImage, float(u) + o.du, float(v) + o.dv);
         } else {
-            for (const Offset& o : mOffsets) sum += bilinear(image, u + o.du, v + o.dv);
+            for (const Offset& o : mOffsets) sum += bilinear(mImage, u + o.du, v + o.dv);
         }
         return sum * mWeight;
     }
@@ -471,8 +472,10 @@ private:
     struct Offset {
         float du, dv;
     };
+    const Intermediate& mImage;
     std::vector<Offset> mOffsets;
-    float mReachU = 0.0f, mReachV = 0.0f, mWeight = 1.0f;
+    float mWeight = 1.0f;
+    openvdb::Vec2d mInsideLo, mInsideHi;  ///< where every tap of a pixel's centre falls inside the samples
 };
 
 }  // namespace
@@ -495,9 +498,9 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
     if (!frame.reused) {
         // A view stack serves only its cone: the next one replaces it.
         if (mSettings.stacks == StackOrientation::view) mStacks.clear();
-        const double sampleMm = mSettings.sampleMmFor(camera.pixelMm, mLayers.front().volume->voxelMm());
         mStacks.push_back(std::make_unique<SliceStack>(mLayers, mSettings.stackNormalFor(camera.direction),
-                                                       mSettings.sliceSpacingVoxels, sampleMm));
+                                                       mSettings.sliceSpacingVoxels,
+                                                       mSettings.sampleMmFor(camera, *mLayers.front().volume)));
         serving = std::prev(mStacks.end());
         frame.buildMs = millisecondsSince(start);
         frame.gaussiansTouched = (*serving)->gaussiansTouched();
@@ -517,10 +520,10 @@ Framebuffer shearWarpFrame(const SliceStack& stack, const OrthoCamera& camera, f
     const auto warped = std::chrono::steady_clock::now();
     const IntermediateMap map = intermediateMap(stack.geometry(), camera, intermediate);
     Framebuffer image(camera.width, camera.height);
-    const FootprintFilter footprint(map);
+    const FootprintFilter footprint(map, intermediate);
     tbb::parallel_for(0, camera.height, [&](int y) {
         for (int x = 0; x < camera.width; ++x) {
-            const Floats4 pixel = footprint(intermediate, map.u0 + x * map.dux + y * map.duy, map.v0 + x * map.dvx + y * map.dvy);
+            const Floats4 pixel = footprint(map.u0 + x * map.dux + y * map.duy, map.v0 + x * map.dvx + y * map.dvy);
             std::memcpy(image.pixel(x, y), &pixel, sizeof pixel);
         }
     });

@@ -40,10 +40,12 @@ struct ShearWarpSettings {
     /// How thin a Gaussian may be before GaussianRenderVolume widens it: half a slice,
     /// so that none falls between two slices.
     float minimumFootprintVoxels() const { return float(0.5 * sliceSpacingVoxels); }
-    /// The spacing of a stack's samples across the slices, for image pixels of
-    /// @a pixelMm over voxels of @a voxelMm: samples much finer than the voxels would
-    /// only resample the same trilinear field, however far the view zooms in.
-    double sampleMmFor(double pixelMm, double voxelMm) const { return std::max(pixelMm, voxelMm) / supersampling; }
+    /// The spacing of a stack's samples across the slices, for @a camera's pixels over
+    /// @a volume's voxels: samples much finer than the voxels would only resample the
+    /// same trilinear field, however far the view zooms in.
+    double sampleMmFor(const OrthoCamera& camera, const RenderVolume& volume) const {
+        return std::max(camera.pixelMm, volume.voxelMm()) / supersampling;
+    }
 
     /// The normal of the stack to build for a view along @a direction.
     openvdb::Vec3d stackNormalFor(const openvdb::Vec3d& direction) const;

@@ -46,7 +46,7 @@ void ViewSession::setScene(Scene scene) { mScene = std::move(scene); }
 bool ViewSession::fits(const BuiltStack& built, const OrthoCamera& camera) const {
     if (!built.stack || built.scene != mScene) return false;
     const StackGeometry& g = built.stack->geometry();
-    const double wanted = mSettings.sampleMmFor(camera.pixelMm, built.scene->layers.front().volume->voxelMm());
+    const double wanted = mSettings.sampleMmFor(camera, *built.scene->layers.front().volume);
     const double samplesPerPixel = wanted / g.sampleMm;
     return mSettings.serves(g.normal, camera.direction) && samplesPerPixel * kZoomInLimit >= 1.0 &&
            samplesPerPixel <= kZoomOutLimit;
@@ -82,7 +82,7 @@ ViewSession::BuiltStack ViewSession::buildStack(const Scene& scene, const openvd
 }
 
 void ViewSession::startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal) {
-    const double sampleMm = mSettings.sampleMmFor(camera.pixelMm, mScene->layers.front().volume->voxelMm());
+    const double sampleMm = mSettings.sampleMmFor(camera, *mScene->layers.front().volume);
     mBuild = std::async(std::launch::async, [scene = mScene, normal, sampleMm, spacing = mSettings.sliceSpacingVoxels] {
         return buildStack(scene, normal, spacing, sampleMm);
     });
@@ -90,7 +90,7 @@ void ViewSession::startBuild(const OrthoCamera& camera, const openvdb::Vec3d& no
 
 void ViewSession::buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& normal, FrameStats& frame) {
     const RenderVolume& volume = *mScene->layers.front().volume;
-    const double fullMm = mSettings.sampleMmFor(camera.pixelMm, volume.voxelMm());
+    const double fullMm = mSettings.sampleMmFor(camera, volume);
     const double coarseness = coarsenessFor(volume, fullMm, mSettings.sliceSpacingVoxels);
     if (mSettings.stacks == StackOrientation::axes && mCurrent.stack) keep(std::move(mCurrent));
     mCurrent = buildStack(mScene, normal, coarseness * mSettings.sliceSpacingVoxels, coarseness * fullMm);

@@ -125,18 +125,24 @@ std::string assetStructures(const std::string& path) {
     return spec;
 }
 
-/// The comparison itself; @a labels (may be null) only with options.labels.
-EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
-                   const openvdb::Int32Grid* labels, const std::string& referenceName, const std::string& testName) {
-    const auto start = std::chrono::steady_clock::now();
-    matchGeometry(testName, options.resample, reference, test);
-    const bool renderings = reference.isImage && reference.volume.channels == 4;
-    if (!options.differenceImage.empty() && !renderings) {
+bool isRendering(const ComparisonInput& input) { return input.isImage && input.volume.channels == 4; }
+
+/// Refuses a difference image that cannot be made, as soon as the reference is known.
+void checkDifferenceRequest(const EvalOptions& options, const ComparisonInput& reference, const std::string& referenceName) {
+    if (!options.differenceImage.empty() && !isRendering(reference)) {
         throw InputError("`difference`", "needs two RGBA images (renderings); " + referenceName + " is not one");
     }
     if (!(options.differenceGain > 0.0f && std::isfinite(options.differenceGain))) {
         throw InputError("`difference_gain`", "must be a positive number");
     }
+}
+
+/// The comparison itself; @a labels (may be null) only with options.labels.
+EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
+                   const openvdb::Int32Grid* labels, const std::string& referenceName, const std::string& testName) {
+    const auto start = std::chrono::steady_clock::now();
+    matchGeometry(testName, options.resample, reference, test);
+    const bool renderings = isRendering(reference);
     EvalResult e;
     e.peak = options.peak.value_or(reference.dataRange);
     if (!(e.peak > 0.0) || !std::isfinite(e.peak)) {
@@ -177,6 +183,7 @@ RenderingQuality renderingQuality(const FloatVolume& reference, const FloatVolum
 
 EvalResult evaluate(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
                     const std::string& referenceName, const std::string& testName) {
+    checkDifferenceRequest(options, reference, referenceName);
     openvdb::Int32Grid::Ptr labels;
     if (!options.labels.empty()) labels = loadLabelGrid(options, reference);
     return compare(reference, std::move(test), options, labels.get(), referenceName, testName);
@@ -189,6 +196,7 @@ EvalResult evaluate(const std::string& referencePath, const std::string& testPat
     // The grids go as soon as they are sampled (the reference's once the labels are
     // on it): held with the samples, they would double eval's memory.
     ComparisonInput reference = loadComparisonInput(referencePath, options.ingest);
+    checkDifferenceRequest(options, reference, referencePath);  // before the test is read
     openvdb::Int32Grid::Ptr labels;
     if (!options.labels.empty()) labels = loadLabelGrid(options, reference);
     reference.grid.reset();
