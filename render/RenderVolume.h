@@ -5,7 +5,6 @@
 #include "pipeline/GaussianAsset.h"
 #include "pipeline/GaussianField.h"
 #include "pipeline/LatticeSampler.h"
-#include "pipeline/Trilinear.h"
 #include "pipeline/ValueMapping.h"
 #include "render/TransferPresets.h"
 
@@ -14,6 +13,7 @@
 #include <array>
 #include <memory>
 #include <mutex>
+#include <type_traits>
 #include <vector>
 
 namespace gvr {
@@ -94,6 +94,10 @@ private:
     double mForegroundAbove;
 };
 
+/// Channel @a c of a grid value, grey or RGB.
+inline double channelOf(float value, int) { return value; }
+inline double channelOf(const openvdb::Vec3s& value, int c) { return value[c]; }
+
 /// A float (grey) or Vec3s (RGB) grid, sampled trilinearly between voxel centres.
 class GridRenderVolume : public RenderVolume {
 public:
@@ -122,17 +126,38 @@ private:
 template <typename Accessor>
 void GridRenderVolume::trilinear(const Accessor& accessor, const openvdb::Vec3d& x, float* out) {
     using ValueT = typename Accessor::ValueType;
+    using LeafT = typename std::remove_const_t<typename Accessor::TreeType>::LeafNodeType;
     constexpr int channels = std::is_same_v<ValueT, openvdb::Vec3s> ? 3 : 1;
-    double sum[3] = {0, 0, 0};
-    forEachTrilinearCorner(x, [&](const openvdb::Coord& corner, double weight) {
-        const ValueT v = accessor.getValue(corner);
-        if constexpr (channels == 3) {
-            for (int c = 0; c < 3; ++c) sum[c] += weight * v[c];
-        } else {
-            sum[0] += weight * v;
+    const openvdb::Coord base(int(std::floor(x[0])), int(std::floor(x[1])), int(std::floor(x[2])));
+    // Corner n lies at base + (n >> 2, n >> 1 & 1, n & 1): z fastest, as a leaf's voxels.
+    ValueT corners[8];
+    constexpr int last = int(LeafT::DIM) - 1;
+    if ((base.x() & last) != last && (base.y() & last) != last && (base.z() & last) != last) {
+        // The eight corners share a leaf (seven times in eight along each axis): one
+        // probe and the leaf's own array, not eight trips through the tree.
+        const LeafT* leaf = accessor.probeConstLeaf(base);
+        if (!leaf) {  // a tile: one value all around
+            const ValueT tile = accessor.getValue(base);
+            for (int c = 0; c < channels; ++c) out[c] = float(channelOf(tile, c));
+            return;
         }
-    });
-    for (int c = 0; c < channels; ++c) out[c] = float(sum[c]);
+        const ValueT* values = leaf->buffer().data() + LeafT::coordToOffset(base);
+        for (int n = 0; n < 8; ++n) corners[n] = values[(n >> 2) * LeafT::DIM * LeafT::DIM + (n >> 1 & 1) * LeafT::DIM + (n & 1)];
+    } else {
+        for (int n = 0; n < 8; ++n) corners[n] = accessor.getValue(base.offsetBy(n >> 2, n >> 1 & 1, n & 1));
+    }
+    // In doubles, so that values near the float range's ends cannot overflow.
+    const double t[3] = {x[0] - base.x(), x[1] - base.y(), x[2] - base.z()};
+    const auto lerp = [](double a, double b, double s) { return (1.0 - s) * a + s * b; };
+    for (int c = 0; c < channels; ++c) {
+        double alongY[2];
+        for (int i = 0; i < 2; ++i) {
+            const ValueT* pair = corners + 4 * i;
+            alongY[i] = lerp(lerp(channelOf(pair[0], c), channelOf(pair[1], c), t[2]),
+                             lerp(channelOf(pair[2], c), channelOf(pair[3], c), t[2]), t[1]);
+        }
+        out[c] = float(lerp(alongY[0], alongY[1], t[0]));
+    }
 }
 
 }  // namespace gvr

@@ -4,6 +4,7 @@
 #include "render/RenderVolume.h"
 
 #include "pipeline/Error.h"
+#include "pipeline/Trilinear.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -108,6 +109,42 @@ TEST(GridRenderVolume, SamplesTrilinearlyBetweenVoxelCentres) {
     EXPECT_FLOAT_EQ(rgb[0], 0.5f);
     EXPECT_FLOAT_EQ(rgb[1], 1.0f);
     EXPECT_FLOAT_EQ(rgb[2], 2.0f);
+}
+
+// The sampler reads a leaf's array when the eight corners share a leaf, the tree
+// otherwise, and a tile's one value: all three must interpolate alike.
+TEST(GridRenderVolume, SamplesAlikeInsideLeavesAcrossThemAndInTiles) {
+    openvdb::FloatGrid grid(-1000.0f);
+    auto accessor = grid.getAccessor();
+    for (int i = 0; i < 16; ++i) {
+        for (int j = 0; j < 16; ++j) {
+            for (int k = 0; k < 16; ++k) accessor.setValue(Coord(i, j, k), float((i * 31 + j * 17 + k * 7) % 23) - 11.0f);
+        }
+    }
+    grid.tree().fill(openvdb::CoordBBox(Coord(16, 0, 0), Coord(31, 15, 15)), 40.0f);  // whole leaves: tiles
+    ASSERT_GT(grid.tree().activeTileCount(), 0u);
+    const auto reader = grid.getConstAccessor();
+    int inLeaf = 0, across = 0, inTile = 0;
+    for (double x = -0.75; x < 31.0; x += 0.625) {
+        for (double y = 0.3; y < 15.0; y += 1.7) {
+            for (double z = 0.1; z < 15.0; z += 2.3) {
+                const openvdb::Vec3d p(x, y, z);
+                double expected = 0.0;
+                forEachTrilinearCorner(p, [&](const Coord& c, double w) { expected += w * reader.getValue(c); });
+                float out[1];
+                GridRenderVolume::trilinear(reader, p, out);
+                EXPECT_NEAR(out[0], expected, 1e-4) << p;
+                const Coord base(int(std::floor(x)), int(std::floor(y)), int(std::floor(z)));
+                const bool oneLeaf = (base.x() & 7) != 7 && (base.y() & 7) != 7 && (base.z() & 7) != 7;
+                if (!oneLeaf) ++across;
+                else if (base.x() >= 16) ++inTile;
+                else ++inLeaf;
+            }
+        }
+    }
+    EXPECT_GT(inLeaf, 100);
+    EXPECT_GT(across, 100);
+    EXPECT_GT(inTile, 10);
 }
 
 TEST(GridRenderVolume, RefusesOtherValueTypesNamingTheGrid) {
