@@ -98,6 +98,7 @@ public:
                 {"seconds", mSeconds},
                 {"mean_fps", mSeconds > 0 ? mFrames / mSeconds : 0.0},
                 {"stacks_built", mSession->stacksBuilt()},
+                {"builds_cancelled", mSession->buildsCancelled()},
                 {"stale_frames", mStaleFrames},
                 {"screenshots", mScreenshots},
                 {"view", {{"azimuth", mState.view.azimuthDeg}, {"elevation", mState.view.elevationDeg},

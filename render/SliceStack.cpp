@@ -1,5 +1,6 @@
 #include "render/SliceStack.h"
 
+#include "pipeline/Error.h"
 #include "render/Camera.h"
 
 #include <tbb/parallel_for.h>
@@ -235,12 +236,14 @@ void storeClassified(const std::vector<StackLayer>& layers, const std::vector<st
 
 /// Fills the slices slab by slab: @a storeBlock writes one block's samples into a
 /// slab of eight slices (in parallel over blocks), then each slice keeps the
-/// samples @a keep marks in it.
+/// samples @a keep marks in it. Throws Cancelled before a slab once @a cancel is set.
 template <typename Sample, typename StoreBlock, typename Keep>
 void buildSlices(const StackGeometry& g, const std::map<int, std::vector<Coord>>& slabs, Sample outside,
-                 ProgressCounter& counter, std::vector<Slice>& slices, StoreBlock storeBlock, Keep keep) {
+                 ProgressCounter& counter, const std::atomic<bool>* cancel, std::vector<Slice>& slices,
+                 StoreBlock storeBlock, Keep keep) {
     Slab<Sample> slab(g.width, g.height);
     for (const auto& slabEntry : slabs) {
+        if (cancel && cancel->load()) throw Cancelled("slice stack build");
         // Named copies, since lambdas may not capture structured bindings in C++17.
         const int firstSlice = slabEntry.first;
         const std::vector<Coord>& origins = slabEntry.second;
@@ -257,11 +260,13 @@ void buildSlices(const StackGeometry& g, const std::map<int, std::vector<Coord>>
 }  // namespace
 
 SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier, const Vec3d& direction,
-                       double sliceSpacingVoxels, double sampleMm, const ProgressFn& progress)
-    : SliceStack(std::vector<StackLayer>{{&volume, classifier}}, direction, sliceSpacingVoxels, sampleMm, progress) {}
+                       double sliceSpacingVoxels, double sampleMm, const ProgressFn& progress,
+                       const std::atomic<bool>* cancel)
+    : SliceStack(std::vector<StackLayer>{{&volume, classifier}}, direction, sliceSpacingVoxels, sampleMm, progress,
+                 cancel) {}
 
 SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direction, double sliceSpacingVoxels,
-                       double sampleMm, const ProgressFn& progress)
+                       double sampleMm, const ProgressFn& progress, const std::atomic<bool>* cancel)
     : mGeometry(stackGeometryFor(*layers.front().volume, direction, sliceSpacingVoxels, sampleMm)),
       mSlices(mGeometry.slices) {
     const RenderVolume& volume = *layers.front().volume;
@@ -284,14 +289,14 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     ProgressCounter counter(progress, slabs.size());
     if (mLevels) {
         buildSlices(
-            mGeometry, slabs, float(volume.backgroundKey()), counter, mSlices,
+            mGeometry, slabs, float(volume.backgroundKey()), counter, cancel, mSlices,
             [&](const Coord& origin, int firstSlice, Slab<float>& slab) {
                 storeValues(*sources.front(), cells, origin, firstSlice, slab);
             },
             [&](const float* plane) { return cornersOfVisibleCells(plane, mGeometry.width, mGeometry.height, *mLevels); });
     } else {
         buildSlices(
-            mGeometry, slabs, StackSample{}, counter, mSlices,
+            mGeometry, slabs, StackSample{}, counter, cancel, mSlices,
             [&](const Coord& origin, int firstSlice, Slab<StackSample>& slab) {
                 storeClassified(layers, sources, sliceSpacingVoxels, cells, origin, firstSlice, slab);
             },

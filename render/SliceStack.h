@@ -19,6 +19,7 @@
 #include "render/RenderVolume.h"
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -128,13 +129,16 @@ public:
     /// slice spacing: 1 - (1 - alpha)^(sliceMm / voxelMm). The samples keep their
     /// values when the volume is grey and its background transparent, and are
     /// classified otherwise.
+    /// @param cancel  when set (from any thread), the build stops within one slab of
+    ///                eight slices and throws Cancelled
     SliceStack(const RenderVolume& volume, const Classifier& classifier, const openvdb::Vec3d& direction,
-               double sliceSpacingVoxels, double sampleMm, const ProgressFn& progress = {});
+               double sliceSpacingVoxels, double sampleMm, const ProgressFn& progress = {},
+               const std::atomic<bool>* cancel = nullptr);
 
     /// The same for several layers: where layers meet, their opacities combine as
     /// 1 - prod(1 - alpha) and their colours in proportion to their opacities.
     SliceStack(const std::vector<StackLayer>& layers, const openvdb::Vec3d& direction, double sliceSpacingVoxels,
-               double sampleMm, const ProgressFn& progress = {});
+               double sampleMm, const ProgressFn& progress = {}, const std::atomic<bool>* cancel = nullptr);
 
     const StackGeometry& geometry() const { return mGeometry; }
     const std::vector<Slice>& slices() const { return mSlices; }

@@ -38,18 +38,24 @@ ViewSession::ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetc
     : mScene(std::move(scene)), mSettings(settings), mPrefetch(prefetch), mFirstImage(firstImage) {}
 
 ViewSession::~ViewSession() {
-    if (mBuild.valid()) mBuild.wait();
+    if (mBuild.valid()) cancelBuild();
+    for (std::future<BuiltStack>& build : mCancelled) build.wait();
 }
 
 void ViewSession::setScene(Scene scene) { mScene = std::move(scene); }
 
-bool ViewSession::fits(const BuiltStack& built, const OrthoCamera& camera) const {
-    if (!built.stack || built.scene != mScene) return false;
-    const StackGeometry& g = built.stack->geometry();
-    const double wanted = mSettings.sampleMmFor(camera, *built.scene->layers.front().volume);
-    const double samplesPerPixel = wanted / g.sampleMm;
-    return mSettings.serves(g.normal, camera.direction) && samplesPerPixel * kZoomInLimit >= 1.0 &&
+bool ViewSession::fits(const StackTarget& target, const OrthoCamera& camera) const {
+    if (target.scene != mScene) return false;
+    const double wanted = mSettings.sampleMmFor(camera, *target.scene->layers.front().volume);
+    const double samplesPerPixel = wanted / target.sampleMm;
+    return mSettings.serves(target.normal, camera.direction) && samplesPerPixel * kZoomInLimit >= 1.0 &&
            samplesPerPixel <= kZoomOutLimit;
+}
+
+bool ViewSession::fits(const BuiltStack& built, const OrthoCamera& camera) const {
+    if (!built.stack) return false;
+    const StackGeometry& g = built.stack->geometry();
+    return fits(StackTarget{built.scene, g.normal, g.sampleMm}, camera);
 }
 
 bool ViewSession::shearableFor(const OrthoCamera& camera) const {
@@ -71,21 +77,32 @@ void ViewSession::keep(BuiltStack built) {
     if (built.scene == mScene) mKept.push_back(std::move(built));
 }
 
-ViewSession::BuiltStack ViewSession::buildStack(const Scene& scene, const openvdb::Vec3d& normal, double spacingVoxels,
-                                                double sampleMm) {
+ViewSession::BuiltStack ViewSession::buildStack(const StackTarget& target, double spacingVoxels,
+                                                const std::atomic<bool>* cancel) {
     const auto start = std::chrono::steady_clock::now();
     BuiltStack built;
-    built.scene = scene;
-    built.stack = std::make_unique<SliceStack>(scene->layers, normal, spacingVoxels, sampleMm);
+    built.scene = target.scene;
+    built.stack = std::make_unique<SliceStack>(target.scene->layers, target.normal, spacingVoxels, target.sampleMm,
+                                               ProgressFn{}, cancel);
     built.buildMs = millisecondsSince(start);
     return built;
 }
 
 void ViewSession::startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal) {
-    const double sampleMm = mSettings.sampleMmFor(camera, *mScene->layers.front().volume);
-    mBuild = std::async(std::launch::async, [scene = mScene, normal, sampleMm, spacing = mSettings.sliceSpacingVoxels] {
-        return buildStack(scene, normal, spacing, sampleMm);
-    });
+    mBuildTarget = {mScene, normal, mSettings.sampleMmFor(camera, *mScene->layers.front().volume)};
+    mBuildCancel = std::make_shared<std::atomic<bool>>(false);
+    mBuild = std::async(std::launch::async,
+                        [target = mBuildTarget, cancel = mBuildCancel, spacing = mSettings.sliceSpacingVoxels] {
+                            return buildStack(target, spacing, cancel.get());
+                        });
+}
+
+void ViewSession::cancelBuild() {
+    mBuildCancel->store(true);
+    // A future of std::async waits for its thread when destroyed: kept until ready,
+    // so that dropping it never holds up a frame.
+    mCancelled.push_back(std::move(mBuild));
+    ++mBuildsCancelled;
 }
 
 void ViewSession::buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& normal, FrameStats& frame) {
@@ -93,7 +110,7 @@ void ViewSession::buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& n
     const double fullMm = mSettings.sampleMmFor(camera, volume);
     const double coarseness = coarsenessFor(volume, fullMm, mSettings.sliceSpacingVoxels);
     if (mSettings.stacks == StackOrientation::axes && mCurrent.stack) keep(std::move(mCurrent));
-    mCurrent = buildStack(mScene, normal, coarseness * mSettings.sliceSpacingVoxels, coarseness * fullMm);
+    mCurrent = buildStack({mScene, normal, coarseness * fullMm}, coarseness * mSettings.sliceSpacingVoxels);
     ++mStacksBuilt;
     frame.reused = false;
     frame.buildMs = mCurrent.buildMs;
@@ -139,8 +156,14 @@ Framebuffer ViewSession::render(const OrthoCamera& camera, FrameStats* stats) {
     FrameStats frame;
     frame.index = mFrames++;
     frame.reused = true;
+    const auto stopped = [](std::future<BuiltStack>& build) {
+        return build.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+    };
+    mCancelled.erase(std::remove_if(mCancelled.begin(), mCancelled.end(), stopped), mCancelled.end());
     adoptFinishedBuild(camera, frame);
     if (!fits(mCurrent, camera)) recallKept(camera);
+    // The view has moved on from what is being built (a prefetch included): build what it needs now.
+    if (!fits(mCurrent, camera) && mBuild.valid() && !fits(mBuildTarget, camera)) cancelBuild();
     const openvdb::Vec3d normal = mSettings.stackNormalFor(camera.direction);
     const bool sameSize = mLastFrame.width == camera.width && mLastFrame.height == camera.height;
     // Before the full build starts, so that the two do not share the cores.

@@ -2,12 +2,14 @@
 /// @brief Shear-warp frames for an interactive window: when the view needs a stack
 /// it does not have (or the scene changes), the new stack is built in the background
 /// while frames keep coming from the old one, so the window never waits for a build.
+/// A build that the view has moved away from is cancelled for the one it needs now.
 /// Stacks across the axes are kept, so that an orbit builds each at most once.
 #pragma once
 
 #include "render/ShearWarp.h"
 #include "render/StyledLayers.h"
 
+#include <atomic>
 #include <future>
 #include <memory>
 #include <vector>
@@ -41,7 +43,7 @@ class ViewSession {
 public:
     ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch = Prefetch::none,
                 FirstImage firstImage = FirstImage::settled);
-    ~ViewSession();  ///< waits for a build in progress
+    ~ViewSession();  ///< cancels a build in progress, and waits for it to stop
 
     /// Draw @a scene from the next frame on (its stack is built in the background).
     void setScene(Scene scene);
@@ -59,6 +61,8 @@ public:
 
     bool building() const { return mBuild.valid(); }
     int stacksBuilt() const { return mStacksBuilt; }
+    /// Builds abandoned because the view or the scene moved on before they finished.
+    int buildsCancelled() const { return mBuildsCancelled; }
 
 private:
     struct BuiltStack {
@@ -67,8 +71,17 @@ private:
         double buildMs = 0;
     };
 
+    /// What a stack is built for: enough to tell whether it will serve a view.
+    struct StackTarget {
+        Scene scene;
+        openvdb::Vec3d normal;
+        double sampleMm = 0;
+    };
+
     /// The scene's stack across @a normal, built now on this thread.
-    static BuiltStack buildStack(const Scene& scene, const openvdb::Vec3d& normal, double spacingVoxels, double sampleMm);
+    static BuiltStack buildStack(const StackTarget& target, double spacingVoxels,
+                                 const std::atomic<bool>* cancel = nullptr);
+    bool fits(const StackTarget& target, const OrthoCamera& camera) const;
     bool fits(const BuiltStack& built, const OrthoCamera& camera) const;
     bool shearableFor(const OrthoCamera& camera) const;
     /// Makes a kept stack that fits @a camera the current one, if there is one.
@@ -78,6 +91,9 @@ private:
     /// Keeps @a built among the stacks of other axes, in place of any across the same axis.
     void keep(BuiltStack built);
     void startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal);
+    /// Stops the build in progress without waiting for it: it finishes its slab
+    /// alone, and is forgotten once it has.
+    void cancelBuild();
     /// Makes a coarse stack for @a camera the current one (FirstImage::coarseFirst).
     void buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& normal, FrameStats& frame);
     void prefetchNextAxis(const OrthoCamera& camera);
@@ -92,8 +108,11 @@ private:
     BuiltStack mCurrent;
     std::vector<BuiltStack> mKept;  ///< other axes' stacks, never empty ones
     std::future<BuiltStack> mBuild;
+    StackTarget mBuildTarget;                       ///< what mBuild builds
+    std::shared_ptr<std::atomic<bool>> mBuildCancel;  ///< mBuild's flag, shared with its thread
+    std::vector<std::future<BuiltStack>> mCancelled;  ///< cancelled builds still stopping
     Framebuffer mLastFrame;
-    int mFrames = 0, mStacksBuilt = 0;
+    int mFrames = 0, mStacksBuilt = 0, mBuildsCancelled = 0;
 };
 
 }  // namespace gvr

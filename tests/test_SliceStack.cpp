@@ -3,6 +3,8 @@
 // for values.
 
 #include "render/SliceStack.h"
+
+#include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -35,6 +37,27 @@ TEST(SliceStack, GreyVolumesKeepValuesAndOtherStacksClassifiedSamples) {
     EXPECT_EQ(layered.valueLevels(), nullptr);
     const Classifier fog(TransferFunction({{0.0, {1, 1, 1, 0.01f}}, {1000.0, {1, 1, 1, 0.5f}}}, "test"), 1);
     EXPECT_EQ(SliceStack(ball, fog, openvdb::Vec3d(0, 0, 1), 1.0, 1.0).valueLevels(), nullptr);
+}
+
+// A viewer cancels a build the view has moved away from: the build stops at the
+// next slab of eight slices, however far it got, and says so.
+TEST(SliceStack, ABuildStopsAtTheNextSlabOnceCancelled) {
+    const GridRenderVolume ball = hollowBall();
+    std::atomic<bool> cancel{true};
+    EXPECT_THROW(SliceStack(ball, shellClassifier(), openvdb::Vec3d(0, 0, 1), 1.0, 1.0, {}, &cancel), Cancelled);
+    // Set after the first slab (of five): no more are built.
+    cancel = false;
+    int slabs = 0;
+    const ProgressFn cancelAfterOne = [&](double) {
+        ++slabs;
+        cancel = true;
+    };
+    EXPECT_THROW(SliceStack(ball, shellClassifier(), openvdb::Vec3d(0, 0, 1), 1.0, 1.0, cancelAfterOne, &cancel),
+                 Cancelled);
+    EXPECT_EQ(slabs, 1);
+    // Never set, the build finishes.
+    cancel = false;
+    EXPECT_EQ(SliceStack(ball, shellClassifier(), openvdb::Vec3d(0, 0, 1), 1.0, 1.0, {}, &cancel).slices().size(), 40u);
 }
 
 /// Checks that every cell of @a stack (across z over hollowBall(), one voxel a

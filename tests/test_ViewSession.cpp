@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <thread>
@@ -163,6 +164,71 @@ TEST(ViewSession, ANewSceneOrAZoomRebuildsTheStack) {
     FrameStats further;
     session.render(cameraFor(*volume, 10.0, 16.0, 16), &further);
     EXPECT_FALSE(further.stale);
+}
+
+/// A grid whose blocks wait while its gate is shut: a test holds a stack build in
+/// progress for as long as it needs, whatever the machine's speed.
+class GatedVolume : public RenderVolume {
+public:
+    explicit GatedVolume(std::shared_ptr<GridRenderVolume> grid) : mGrid(std::move(grid)) {
+        mWorldFromIndex = mGrid->worldFromIndex();
+        mBox = mGrid->box();
+        mValueMax = mGrid->valueMax();
+    }
+
+    int channels() const override { return mGrid->channels(); }
+    std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override {
+        return std::make_unique<Blocks>(mGrid->blocksOn(lattice, invisibleUpTo), open);
+    }
+    double backgroundKey() const override { return mGrid->backgroundKey(); }
+
+    std::atomic<bool> open{true};
+
+protected:
+    VolumeStatistics gatherStatistics() const override { return mGrid->statistics(); }
+
+private:
+    class Blocks : public BlockSource {
+    public:
+        Blocks(std::unique_ptr<BlockSource> blocks, const std::atomic<bool>& open) : mBlocks(std::move(blocks)), mOpen(open) {}
+        std::vector<openvdb::Coord> occupiedBlocks() const override { return mBlocks->occupiedBlocks(); }
+        openvdb::CoordBBox sampleBlock(const openvdb::Coord& origin, float* values) const override {
+            while (!mOpen) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            return mBlocks->sampleBlock(origin, values);
+        }
+
+    private:
+        std::unique_ptr<BlockSource> mBlocks;
+        const std::atomic<bool>& mOpen;
+    };
+
+    std::shared_ptr<GridRenderVolume> mGrid;
+};
+
+TEST(ViewSession, ABuildTheViewHasLeftIsCancelledForTheOneItNeedsNow) {
+    GatedVolume volume(blob());
+    const Scene scene = sceneOf(volume, 0.1f);
+    const auto view = [&](double azimuth, double elevation) {
+        return makeCamera({azimuth, elevation}, worldCorners(volume.worldFromIndex(), volume.box()), 64, 64);
+    };
+    ViewSession session(scene, ShearWarpSettings{});
+    session.renderSettled(view(0.0, 20.0));  // along y
+    volume.open = false;
+    FrameStats frame;
+    session.render(view(90.0, 20.0), &frame);  // along x: its build waits at the gate
+    EXPECT_TRUE(frame.stale);
+    EXPECT_TRUE(session.building());
+    session.render(view(0.0, 85.0), &frame);  // along z, before x is done
+    EXPECT_TRUE(frame.stale);
+    EXPECT_EQ(session.buildsCancelled(), 1);
+    EXPECT_TRUE(session.building());  // z's
+    volume.open = true;
+    FrameStats settled;
+    const Framebuffer image = session.renderSettled(view(0.0, 85.0), &settled);
+    EXPECT_FALSE(settled.stale);
+    EXPECT_EQ(session.stacksBuilt(), 2);  // y and z: x never finished
+    EXPECT_EQ(session.buildsCancelled(), 1);
+    EXPECT_EQ(image.rgba, freshFrame(scene, view(0.0, 85.0)).rgba);
 }
 
 TEST(ViewSession, AViewFarFromEveryStackWaitsRatherThanShearingAtGrazingAngles) {
