@@ -113,7 +113,7 @@ void runRender(RenderFlags& flags) {
     checkRenderOutputs(flags, frames);
     const auto [width, height] = parseImageSize(flags.size);
     const RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, minScale(flags),
-                                              toIngestOptions(flags.source), flags.renderer == "raymarch");
+                                              toIngestOptions(flags.source));
     setup.lap("read");
     const std::optional<GaussianAsset>& asset = input.asset;
     const std::unique_ptr<RenderVolume>& volume = input.volume;
@@ -137,7 +137,7 @@ void runRender(RenderFlags& flags) {
         if (flags.renderer == "raymarch") {
             const auto start = std::chrono::steady_clock::now();
             const RayMarchSettings settings{flags.stepVoxels, flags.shearWarp.terminationOpacity, flags.samples};
-            image = rayMarch(static_cast<const GridRenderVolume&>(*volume), classifier, camera, settings);
+            image = rayMarch(*volume, classifier, camera, settings);
             frame.index = f;
             frame.totalMs = frame.compositeMs =
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -202,7 +202,7 @@ void addRenderCommand(CLI::App& app) {
         ->check(CLI::Range(1, kMaxRaysPerSide))->capture_default_str();
     command->add_option("--min-scale", flags->minScale,
                         "Widen Gaussians thinner than this many voxels, keeping their mass, so that they "
-                        "cannot fall between slices (default: half the slice spacing; 0: off)");
+                        "cannot fall between the voxels an asset is drawn from (default: half the slice spacing; 0: off)");
     command->add_option("--stats", flags->statsPath,
                         "Write the timings as JSON: the set-up (reading, transfer function), the first frame, each frame");
     command->add_option("--show", flags->show,

@@ -16,7 +16,6 @@
 // Figures are printed, never asserted.
 
 #include "examples/VolPackReference.h"
-#include "io/AssetExport.h"
 #include "io/AssetFile.h"
 #include "io/GridFile.h"
 #include "pipeline/Fitter.h"
@@ -28,7 +27,6 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
-#include <limits>
 
 namespace gvr {
 namespace {
@@ -46,7 +44,7 @@ OrthoCamera cameraAt(const RenderVolume& volume, double azimuth) {
 }
 
 /// The anti-aliased reference: the ray marcher with kReferenceRaysPerSide^2 rays a pixel.
-Framebuffer rayMarchAntialiased(const GridRenderVolume& volume, const Classifier& classifier, double azimuth) {
+Framebuffer rayMarchAntialiased(const RenderVolume& volume, const Classifier& classifier, double azimuth) {
     RayMarchSettings settings;
     settings.raysPerSide = kReferenceRaysPerSide;
     return rayMarch(volume, classifier, cameraAt(volume, azimuth), settings);
@@ -115,13 +113,14 @@ std::vector<float> opacityByValue(const Classifier& classifier) {
 }
 
 /// Ray-marched references at the five views that reused frames keep, with one ray
-/// a pixel and anti-aliased, on the original grid and on the Gaussians' export.
+/// a pixel and anti-aliased, on the original grid and on the Gaussians (their
+/// voxels, as their export holds them).
 struct References {
     std::vector<Framebuffer> original, gaussians, antialiased, gaussiansAntialiased;
     double marchMs = 0.0;
 };
 
-References referencesFor(const GridRenderVolume& original, const GridRenderVolume& gaussians,
+References referencesFor(const GridRenderVolume& original, const GaussianRenderVolume& gaussians,
                          const Classifier& classifier) {
     References references;
     for (int v = 0; v < 5; ++v) {
@@ -165,10 +164,10 @@ std::vector<ShearWarpSettings> settingsCompared() {
 /// One classification: Gaussian and dense-grid shear-warp with each of
 /// settingsCompared(), the ray marchers (the references), and VolPack with the same
 /// opacities per voxel, all in this run.
-void compare(const char* label, const GaussianRenderVolume& gaussians, const GridRenderVolume& gaussianGrid,
-             const GridRenderVolume& original, const VolPackVolume& bytes, const Classifier& classifier) {
+void compare(const char* label, const GaussianRenderVolume& gaussians, const GridRenderVolume& original,
+             const VolPackVolume& bytes, const Classifier& classifier) {
     std::printf("%s classification\n", label);
-    const References references = referencesFor(original, gaussianGrid, classifier);
+    const References references = referencesFor(original, gaussians, classifier);
     std::printf("   ray marcher, one ray a pixel (step 0.5 voxel, early termination, VDB skipping): %.0f ms a frame; "
                 "against the anti-aliased one (%d x %d rays a pixel): %.1f dB on the original grid, %.1f dB on the "
                 "Gaussians' export (the targets of shear-warp's two figures against it below)\n",
@@ -206,9 +205,6 @@ int run(const std::string& assetPath, const std::string& gridPath) {
     const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(chooseVolumeGrid(*readGridFile(gridPath), gridPath));
     if (!grid) throw std::runtime_error(gridPath + ": the benchmark takes a grey (float) grid");
     const GaussianRenderVolume gaussians(asset);
-    ExportSettings everything;  // every voxel, as gvr render --renderer raymarch samples an asset
-    everything.threshold = -std::numeric_limits<double>::infinity();
-    const GridRenderVolume gaussianGrid(exportAsset(asset, everything).grids.front());
     const GridRenderVolume original(grid);
     const VolPackVolume bytes = denseBytes(*grid, original.box());
     std::printf("gvr render benchmark at %dx%d: %zu Gaussians from %s; grid %s; 2 threads; render PSNR as seen\n\n",
@@ -217,10 +213,9 @@ int run(const std::string& assetPath, const std::string& gridPath) {
     const Classifier surface(TransferFunction({{20.0, {0.90f, 0.80f, 0.70f, 0.0f}},
                                                {60.0, {0.95f, 0.90f, 0.85f, 0.9f}},
                                                {255.0, {1.0f, 1.0f, 1.0f, 1.0f}}}, "bench"), 1);
-    compare("surface (opacity 0 at 20, 0.9 at 60, 1 at 255 of 255, per voxel)", gaussians, gaussianGrid, original, bytes,
-            surface);
+    compare("surface (opacity 0 at 20, 0.9 at 60, 1 at 255 of 255, per voxel)", gaussians, original, bytes, surface);
     const Classifier translucent(TransferFunction({{40.0, {0, 0, 0, 0}}, {250.0, {1, 1, 1, 0.12f}}}, "bench"), 1);
-    compare("translucent (opacity 0 at 40 to 0.12 at 250)", gaussians, gaussianGrid, original, bytes, translucent);
+    compare("translucent (opacity 0 at 40 to 0.12 at 250)", gaussians, original, bytes, translucent);
     return 0;
 }
 

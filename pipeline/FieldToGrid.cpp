@@ -23,7 +23,7 @@ public:
 
     std::unique_ptr<LeafT> operator()(const openvdb::Coord& origin) const {
         float sums[kBlockVoxels * 3] = {};
-        const openvdb::CoordBBox voxels = mSampler.sampleBlock(origin, sums);
+        const openvdb::CoordBBox voxels = mSampler.sampleBlock(origin, sums, -1.0f, mSettings.evaluation);
         if (voxels.empty()) return nullptr;
         auto leaf = std::make_unique<LeafT>(origin, background(), false);
         for (auto ijk = voxels.begin(); ijk; ++ijk) {

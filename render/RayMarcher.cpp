@@ -16,7 +16,7 @@ using openvdb::Vec3d;
 namespace {
 
 template <typename GridT>
-void marchGrid(const GridT& grid, const GridRenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
+void marchGrid(const GridT& grid, const RenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
                const RayMarchSettings& settings, Framebuffer& image) {
     using Ray = openvdb::math::Ray<double>;
     if (grid.activeVoxelCount() == 0) return;
@@ -90,14 +90,17 @@ void marchGrid(const GridT& grid, const GridRenderVolume& volume, const Classifi
 
 }  // namespace
 
-Framebuffer rayMarch(const GridRenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
+Framebuffer rayMarch(const RenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
                      const RayMarchSettings& settings) {
     if (settings.raysPerSide < 1 || settings.raysPerSide > kMaxRaysPerSide) {
         throw InputError("`samples`", "must be 1 to " + std::to_string(kMaxRaysPerSide) + " rays along each side of a pixel");
     }
     Framebuffer image(camera.width, camera.height);
-    if (volume.floatGrid()) marchGrid(*volume.floatGrid(), volume, classifier, camera, settings, image);
-    else marchGrid(*volume.colourGrid(), volume, classifier, camera, settings, image);
+    if (const auto* grey = dynamic_cast<const openvdb::FloatGrid*>(&volume.voxels())) {
+        marchGrid(*grey, volume, classifier, camera, settings, image);
+    } else {
+        marchGrid(dynamic_cast<const openvdb::Vec3SGrid&>(volume.voxels()), volume, classifier, camera, settings, image);
+    }
     return image;
 }
 

@@ -28,7 +28,9 @@ constexpr int kReferenceRaysPerSide = 4;
 constexpr int kMaxRaysPerSide = 16;
 
 /// @throw InputError when settings.raysPerSide is outside 1..kMaxRaysPerSide.
-Framebuffer rayMarch(const GridRenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
+/// Marches through volume.voxels(): for a Gaussian volume, the field at its voxels,
+/// as its export holds it.
+Framebuffer rayMarch(const RenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
                      const RayMarchSettings& settings);
 
 }  // namespace gvr

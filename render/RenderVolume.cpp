@@ -1,6 +1,7 @@
 #include "render/RenderVolume.h"
 
 #include "pipeline/Error.h"
+#include "pipeline/FieldToGrid.h"
 #include "pipeline/FloatVolume.h"
 #include "pipeline/Luminance.h"
 #include "pipeline/VolumeBorder.h"
@@ -25,44 +26,14 @@ constexpr std::size_t kStatisticsSamples = 50000;
 
 float keyOf(const float* value, int channels) { return channels == 1 ? value[0] : float(luminance(value)); }
 
-class GaussianBlocks : public BlockSource {
-public:
-    /// @param skipUpTo  blocks whose field cannot exceed this (normalised) stay empty
-    /// @param everyBlock  the background is visible: unreached blocks count too
-    GaussianBlocks(const GaussianField& field, const Mat4d& worldFromIndex, const Lattice& lattice,
-                   const CoordBBox& fieldBox, const ValueMapping& mapping, float skipUpTo, bool everyBlock)
-        : mSampler(field, worldFromIndex, lattice, fieldBox), mMapping(mapping), mSkipUpTo(skipUpTo),
-          mEveryBlock(everyBlock) {}
-
-    std::vector<Coord> occupiedBlocks() const override {
-        return mEveryBlock ? blockOrigins(mSampler.lattice().box) : mSampler.occupiedBlocks();
-    }
-    std::size_t gaussiansReaching() const override { return mSampler.reachingGaussians(); }
-
-    CoordBBox sampleBlock(const Coord& origin, float* values) const override {
-        const int channels = mSampler.channels();
-        std::fill(values, values + kBlockVoxels * channels, 0.0f);
-        // A frame needs 16-bit opacity, not the export's bit-for-bit sums.
-        const CoordBBox voxels = mSampler.sampleBlock(origin, values, mSkipUpTo, BlockEvaluation::rows);
-        for (int n = 0; n < kBlockVoxels * channels; ++n) {
-            values[n] = mMapping.toPhysicalFloat(values[n], n % channels);
-        }
-        return voxels;
-    }
-
-private:
-    LatticeSampler mSampler;
-    ValueMapping mMapping;
-    float mSkipUpTo;
-    bool mEveryBlock;
-};
-
 template <typename GridT>
 class GridBlocks : public BlockSource {
 public:
     /// @param everyBlock  the background is visible: blocks away from active voxels count too
-    GridBlocks(const GridT& grid, const Lattice& lattice, bool everyBlock)
-        : mGrid(grid), mLattice(lattice), mEveryBlock(everyBlock),
+    /// @param gaussiansEvaluated  what gaussiansReaching() reports: the Gaussians
+    ///                            evaluated to make the grid for this build, if any
+    GridBlocks(const GridT& grid, const Lattice& lattice, bool everyBlock, std::size_t gaussiansEvaluated)
+        : mGrid(grid), mLattice(lattice), mEveryBlock(everyBlock), mGaussiansEvaluated(gaussiansEvaluated),
           mGridFromLattice(lattice.worldFromIndex * grid.transform().baseMap()->getAffineMap()->getMat4().inverse()) {
         mActive = grid.evalActiveVoxelBoundingBox();
         mActive.expand(1);  // trilinear samples reach one voxel out
@@ -75,6 +46,8 @@ public:
                       origins.end());
         return origins;
     }
+
+    std::size_t gaussiansReaching() const override { return mGaussiansEvaluated; }
 
     CoordBBox sampleBlock(const Coord& origin, float* values) const override {
         CoordBBox voxels(origin, origin + Coord(kBlockDim - 1));
@@ -107,9 +80,20 @@ private:
     const GridT& mGrid;
     Lattice mLattice;
     bool mEveryBlock;
+    std::size_t mGaussiansEvaluated;
     Mat4d mGridFromLattice;
     CoordBBox mActive;
 };
+
+/// Trilinear samples of a float or Vec3s @a grid on @a lattice.
+std::unique_ptr<BlockSource> gridBlocksOn(const openvdb::GridBase& grid, const Lattice& lattice, bool everyBlock,
+                                          std::size_t gaussiansEvaluated = 0) {
+    if (const auto* grey = dynamic_cast<const openvdb::FloatGrid*>(&grid)) {
+        return std::make_unique<GridBlocks<openvdb::FloatGrid>>(*grey, lattice, everyBlock, gaussiansEvaluated);
+    }
+    return std::make_unique<GridBlocks<openvdb::Vec3SGrid>>(dynamic_cast<const openvdb::Vec3SGrid&>(grid), lattice,
+                                                            everyBlock, gaussiansEvaluated);
+}
 
 /// Raises every log-scale to log(minScale), scaling the colour by the volume ratio
 /// so that amplitude times the product of the scales, the integral, is unchanged.
@@ -136,6 +120,10 @@ GaussianParameters withMinimumFootprint(GaussianParameters params, float minScal
 const VolumeStatistics& RenderVolume::statistics() const {
     std::call_once(mStatisticsGathered, [this] { mStatistics = gatherStatistics(); });
     return mStatistics;
+}
+
+std::unique_ptr<BlockSource> RenderVolume::blocksOn(const Lattice& lattice, double invisibleUpTo) const {
+    return gridBlocksOn(voxels(), lattice, /*everyBlock=*/backgroundKey() > invisibleUpTo);
 }
 
 double RenderVolume::voxelMm() const {
@@ -165,12 +153,27 @@ double GaussianRenderVolume::backgroundKey() const {
     return keyOf(background, channels());
 }
 
+std::size_t GaussianRenderVolume::evaluateVoxelsOnce() const {
+    std::size_t evaluated = 0;
+    std::call_once(mVoxelsEvaluated, [&] {
+        FieldToGridSettings settings;
+        settings.mapping = mMapping;
+        settings.fieldBox = mBox;
+        settings.evaluation = BlockEvaluation::rows;  // a frame needs 16-bit opacity, not bit-for-bit sums
+        mVoxels = fieldToGrid(mField, mWorldFromIndex, Lattice{mWorldFromIndex, mBox}, settings);
+        evaluated = mField.gaussians().size();
+    });
+    return evaluated;
+}
+
+const openvdb::GridBase& GaussianRenderVolume::voxels() const {
+    evaluateVoxelsOnce();
+    return *mVoxels;
+}
+
 std::unique_ptr<BlockSource> GaussianRenderVolume::blocksOn(const Lattice& lattice, double invisibleUpTo) const {
-    // Luminance and value alike lie within scale * (sum of peaks) of the background's.
-    const double headroom = (invisibleUpTo - backgroundKey()) / mMapping.scale;
-    const float skipUpTo = std::isfinite(headroom) && headroom > 0.0 ? float(headroom) : -1.0f;
-    return std::make_unique<GaussianBlocks>(mField, mWorldFromIndex, lattice, mBox, mMapping, skipUpTo,
-                                            /*everyBlock=*/headroom < 0.0);
+    const std::size_t evaluated = evaluateVoxelsOnce();
+    return gridBlocksOn(*mVoxels, lattice, /*everyBlock=*/backgroundKey() > invisibleUpTo, evaluated);
 }
 
 VolumeStatistics GaussianRenderVolume::gatherStatistics() const {
@@ -220,12 +223,6 @@ GridRenderVolume::GridRenderVolume(openvdb::GridBase::ConstPtr grid) : mGrid(std
         for (auto v = mColour->cbeginValueOn(); v; ++v) brightest = std::max<double>({brightest, (*v)[0], (*v)[1], (*v)[2]});
         if (brightest > 0.0) mValueMax = brightest;
     }
-}
-
-std::unique_ptr<BlockSource> GridRenderVolume::blocksOn(const Lattice& lattice, double invisibleUpTo) const {
-    const bool backgroundVisible = backgroundKey() > invisibleUpTo;
-    if (mFloat) return std::make_unique<GridBlocks<openvdb::FloatGrid>>(*mFloat, lattice, backgroundVisible);
-    return std::make_unique<GridBlocks<openvdb::Vec3SGrid>>(*mColour, lattice, backgroundVisible);
 }
 
 double GridRenderVolume::backgroundKey() const {

@@ -28,7 +28,8 @@ public:
     /// voxels of the block at @a origin. Thread-safe.
     /// @return the voxels written: the block's part of the lattice.
     virtual openvdb::CoordBBox sampleBlock(const openvdb::Coord& origin, float* values) const = 0;
-    /// Gaussians that reach the lattice (0 for grids).
+    /// Gaussians evaluated to sample the lattice: 0 for grids, and for a Gaussian
+    /// volume whose voxels an earlier build evaluated.
     virtual std::size_t gaussiansReaching() const { return 0; }
 };
 
@@ -37,9 +38,13 @@ public:
     virtual ~RenderVolume() = default;
 
     virtual int channels() const = 0;
+    /// The values at the volume's voxels, in physical units: a float (grey) or Vec3s
+    /// (RGB) grid, which both renderers sample trilinearly between voxel centres.
+    virtual const openvdb::GridBase& voxels() const = 0;
+    /// Trilinear samples of voxels() on @a lattice.
     /// @param invisibleUpTo  values (luminance for RGB) up to this are transparent:
     ///                       a source may leave blocks that stay below it empty
-    virtual std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const = 0;
+    virtual std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const;
     /// A sample of the content's values (luminance for RGB), for percentile windows.
     /// Gathered on first use and kept: a Gaussian volume evaluates its field for it,
     /// and a viewer asks again at each change of preset. Thread-safe.
@@ -67,10 +72,14 @@ private:
     mutable VolumeStatistics mStatistics;
 };
 
-/// A fitted Gaussian field. Gaussians thinner than @a minScaleVoxels along an
-/// axis are widened to it with their amplitude lowered so that their integral
-/// (their rendered mass) stays: needles and sheets thinner than the slice spacing
-/// then neither vanish between slices nor flicker as the view turns.
+/// A fitted Gaussian field, drawn as its export is: the field at the source's voxels,
+/// evaluated on first use and kept, and between them trilinear like a grid's. The
+/// Gaussians were fitted to the voxels' values; between voxels they depart from the
+/// interpolation of those values, and a stack sampling them there departed from the
+/// export by up to 14 dB (docs/benchmarks.md, "Assets drawn from their voxels").
+/// Gaussians thinner than @a minScaleVoxels along an axis are widened to it with
+/// their amplitude lowered so that their integral (their mass) stays: sheets and
+/// needles thinner than a voxel then neither vanish between voxels nor flicker.
 class GaussianRenderVolume : public RenderVolume {
 public:
     /// @param foregroundAbove  values (luminance for RGB) above this are content, as
@@ -82,6 +91,10 @@ public:
     explicit GaussianRenderVolume(const GaussianAsset& asset, float minScaleVoxels = 0.5f);
 
     int channels() const override { return mField.channels(); }
+    /// Every voxel some Gaussian reaches is active; the first call evaluates them on
+    /// all cores. Thread-safe.
+    const openvdb::GridBase& voxels() const override;
+    /// Reports the Gaussians evaluated (gaussiansReaching()) on the call that evaluated voxels().
     std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override;
     double backgroundKey() const override;
 
@@ -89,9 +102,14 @@ protected:
     VolumeStatistics gatherStatistics() const override;
 
 private:
+    /// Evaluates voxels() unless done. @return the Gaussians evaluated: 0 when done before.
+    std::size_t evaluateVoxelsOnce() const;
+
     GaussianField mField;
     ValueMapping mMapping;
     double mForegroundAbove;
+    mutable std::once_flag mVoxelsEvaluated;
+    mutable openvdb::GridBase::Ptr mVoxels;
 };
 
 /// Channel @a c of a grid value, grey or RGB.
@@ -105,11 +123,9 @@ public:
     explicit GridRenderVolume(openvdb::GridBase::ConstPtr grid);
 
     int channels() const override { return mColour ? 3 : 1; }
-    std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override;
+    const openvdb::GridBase& voxels() const override { return *mGrid; }
     /// What inactive voxels hold.
     double backgroundKey() const override;
-    const openvdb::FloatGrid* floatGrid() const { return mFloat.get(); }
-    const openvdb::Vec3SGrid* colourGrid() const { return mColour.get(); }
     /// Trilinear value at index-space point @a x into out[0..channels).
     template <typename Accessor>
     static void trilinear(const Accessor& accessor, const openvdb::Vec3d& x, float* out);

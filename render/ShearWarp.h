@@ -37,8 +37,8 @@ struct ShearWarpSettings {
     double supersampling = 1.5;
     /// @return an empty string, or what is wrong, naming the flag.
     std::string validate() const;
-    /// How thin a Gaussian may be before GaussianRenderVolume widens it: half a slice,
-    /// so that none falls between two slices.
+    /// How thin a Gaussian may be before GaussianRenderVolume widens it, unless
+    /// `--min-scale` says otherwise: half a slice spacing.
     float minimumFootprintVoxels() const { return float(0.5 * sliceSpacingVoxels); }
     /// The spacing of a stack's samples across the slices, for @a camera's pixels over
     /// @a volume's voxels: samples much finer than the voxels would only resample the

@@ -9,7 +9,11 @@
 #include "workflow/FitToBudget.h"
 #include "workflow/RenderInput.h"
 
+#include "io/AssetExport.h"
+
 #include <gtest/gtest.h>
+
+#include <limits>
 
 #include <cmath>
 
@@ -48,10 +52,21 @@ TEST(RenderInput, AnAssetIsItsGaussiansAndAGridItsVoxels) {
     EXPECT_FALSE(grid.asset.has_value());
     EXPECT_NE(dynamic_cast<const GridRenderVolume*>(grid.volume.get()), nullptr);
 
-    // For the ray marcher, an asset becomes its field on its source's voxels.
-    const RenderInput exported = loadRenderInput(files.asset, "", "", 0.0f, {}, /*assetAsGrid=*/true);
-    ASSERT_NE(dynamic_cast<const GridRenderVolume*>(exported.volume.get()), nullptr);
-    EXPECT_EQ(exported.volume->box().dim(), openvdb::Coord(16));
+    // Both renderers draw an asset's voxels: what its export holds, every reached voxel active.
+    ExportSettings everything;
+    everything.threshold = -std::numeric_limits<double>::infinity();
+    const auto exported = openvdb::GridBase::grid<openvdb::FloatGrid>(exportAsset(*asset.asset, everything).grids.front());
+    const auto& voxels = dynamic_cast<const openvdb::FloatGrid&>(asset.volume->voxels());
+    EXPECT_EQ(voxels.transform(), exported->transform());
+    EXPECT_NEAR(double(voxels.activeVoxelCount()), double(exported->activeVoxelCount()), 8.0);
+    ASSERT_GT(exported->activeVoxelCount(), 100u);
+    const auto drawn = voxels.getConstAccessor();
+    const auto reference = exported->getConstAccessor();
+    float range = 0.0f;
+    for (auto v = exported->cbeginValueOn(); v; ++v) range = std::max(range, std::abs(*v - exported->background()));
+    for (auto ijk = openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(15)).begin(); ijk; ++ijk) {
+        EXPECT_NEAR(drawn.getValue(*ijk), reference.getValue(*ijk), 1e-5f * range) << *ijk;
+    }
 }
 
 TEST(RenderInput, StructuresOfAGridAreRefusedNamingTheSetting) {

@@ -60,6 +60,24 @@ TEST(GaussianRenderVolume, SamplesTheMappedFieldAndTheBackgroundBeyondTheCutoff)
     EXPECT_EQ(volume.backgroundKey(), 100.0);
 }
 
+// An asset is drawn as its export holds it: between voxels, the interpolation of
+// the field's values at them, not the Gaussians themselves.
+TEST(GaussianRenderVolume, BetweenVoxelsItIsTheInterpolationOfItsVoxels) {
+    const GaussianRenderVolume volume = volumeOf(oneGaussian(0.6f, 1.0f), ValueMapping{}, 0.0f);
+    const float peak = 0.5f, oneVoxelOff = peak * std::exp(-0.5f / (0.6f * 0.6f));
+    // The source's lattice moved half a voxel along x: its samples lie midway between voxels.
+    Lattice midway = sourceLattice(volume.worldFromIndex(), openvdb::Vec3i(kSide, kSide, kSide));
+    midway.worldFromIndex.setTranslation(openvdb::Vec3d(0.5, 0.0, 0.0));
+    const auto first = volume.blocksOn(midway, -1e30);
+    EXPECT_EQ(first->gaussiansReaching(), 1u);  // this build evaluated the voxels
+    std::vector<float> values(kBlockVoxels);
+    first->sampleBlock(Coord(8, 8, 8), values.data());
+    EXPECT_NEAR(values[blockOffset(Coord(8, 8, 8))], 0.5f * (peak + oneVoxelOff), 1e-5f);
+    // The Gaussian itself, half a voxel from its mean, is a good deal brighter.
+    EXPECT_GT(peak * std::exp(-0.5f * 0.25f / (0.6f * 0.6f)), 0.5f * (peak + oneVoxelOff) + 0.03f);
+    EXPECT_EQ(volume.blocksOn(midway, -1e30)->gaussiansReaching(), 0u);  // kept, not evaluated again
+}
+
 TEST(GaussianRenderVolume, StatisticsGatheredOnAllCoresAreThoseOfOneAndAreKept) {
     GaussianParameters params(24, 1);
     for (std::size_t i = 0; i < params.count(); ++i) {

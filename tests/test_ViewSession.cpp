@@ -177,6 +177,7 @@ public:
     }
 
     int channels() const override { return mGrid->channels(); }
+    const openvdb::GridBase& voxels() const override { return mGrid->voxels(); }
     std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override {
         return std::make_unique<Blocks>(mGrid->blocksOn(lattice, invisibleUpTo), open);
     }

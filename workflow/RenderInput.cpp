@@ -1,18 +1,16 @@
 #include "workflow/RenderInput.h"
 
-#include "io/AssetExport.h"
 #include "io/AssetFile.h"
 #include "io/TransferFunctionFile.h"
 #include "pipeline/Error.h"
 #include "render/VolumeClassifier.h"
 
 #include <filesystem>
-#include <limits>
 
 namespace gvr {
 
 RenderInput loadRenderInput(const std::string& path, const std::string& show, const std::string& hide, float minScale,
-                            const IngestOptions& ingest, bool assetAsGrid) {
+                            const IngestOptions& ingest) {
     RenderInput input;
     if (!isAssetFile(path)) {
         if (!show.empty() || !hide.empty()) {
@@ -22,13 +20,7 @@ RenderInput loadRenderInput(const std::string& path, const std::string& show, co
         return input;
     }
     input.asset = selectStructures(readAsset(path), show, hide, path);
-    if (assetAsGrid) {
-        ExportSettings everything;
-        everything.threshold = -std::numeric_limits<double>::infinity();
-        input.volume = std::make_unique<GridRenderVolume>(exportAsset(*input.asset, everything).grids.front());
-    } else {
-        input.volume = std::make_unique<GaussianRenderVolume>(*input.asset, minScale);
-    }
+    input.volume = std::make_unique<GaussianRenderVolume>(*input.asset, minScale);
     return input;
 }
 

@@ -21,12 +21,11 @@ struct RenderInput {
 };
 
 /// Reads @a path: an asset (with only the structures that @a show names, less
-/// @a hide) or anything loadOrIngest reads. With @a assetAsGrid, an asset becomes
-/// its field exported onto its source grid, unthresholded (for the ray marcher).
+/// @a hide) or anything loadOrIngest reads.
 /// @param minScale  as for GaussianRenderVolume
 /// @throw InputError naming the file, also when @a show or @a hide is given for a grid.
 RenderInput loadRenderInput(const std::string& path, const std::string& show, const std::string& hide, float minScale,
-                            const IngestOptions& ingest, bool assetAsGrid = false);
+                            const IngestOptions& ingest);
 
 /// The transfer function @a tf names: a JSON file, else a preset fitted to @a volume
 /// (empty: the preset for data like these). @a mismatch: as for presetFor.
