@@ -26,6 +26,38 @@ constexpr std::size_t kStatisticsSamples = 50000;
 
 float keyOf(const float* value, int channels) { return channels == 1 ? value[0] : float(luminance(value)); }
 
+/// The Gaussians themselves at a lattice's points, for previews.
+class GaussianBlocks : public BlockSource {
+public:
+    /// @param skipUpTo  blocks whose field cannot exceed this (normalised) stay empty
+    /// @param everyBlock  the background is visible: unreached blocks count too
+    GaussianBlocks(const GaussianField& field, const Mat4d& worldFromIndex, const Lattice& lattice,
+                   const CoordBBox& fieldBox, const ValueMapping& mapping, float skipUpTo, bool everyBlock)
+        : mSampler(field, worldFromIndex, lattice, fieldBox), mMapping(mapping), mSkipUpTo(skipUpTo),
+          mEveryBlock(everyBlock) {}
+
+    std::vector<Coord> occupiedBlocks() const override {
+        return mEveryBlock ? blockOrigins(mSampler.lattice().box) : mSampler.occupiedBlocks();
+    }
+    std::size_t gaussiansReaching() const override { return mSampler.reachingGaussians(); }
+
+    CoordBBox sampleBlock(const Coord& origin, float* values) const override {
+        const int channels = mSampler.channels();
+        std::fill(values, values + kBlockVoxels * channels, 0.0f);
+        const CoordBBox voxels = mSampler.sampleBlock(origin, values, mSkipUpTo, BlockEvaluation::rows);
+        for (int n = 0; n < kBlockVoxels * channels; ++n) {
+            values[n] = mMapping.toPhysicalFloat(values[n], n % channels);
+        }
+        return voxels;
+    }
+
+private:
+    LatticeSampler mSampler;
+    ValueMapping mMapping;
+    float mSkipUpTo;
+    bool mEveryBlock;
+};
+
 template <typename GridT>
 class GridBlocks : public BlockSource {
 public:
@@ -174,6 +206,14 @@ const openvdb::GridBase& GaussianRenderVolume::voxels() const {
 std::unique_ptr<BlockSource> GaussianRenderVolume::blocksOn(const Lattice& lattice, double invisibleUpTo) const {
     const std::size_t evaluated = evaluateVoxelsOnce();
     return gridBlocksOn(*mVoxels, lattice, /*everyBlock=*/backgroundKey() > invisibleUpTo, evaluated);
+}
+
+std::unique_ptr<BlockSource> GaussianRenderVolume::previewBlocksOn(const Lattice& lattice, double invisibleUpTo) const {
+    // Luminance and value alike lie within scale * (sum of peaks) of the background's.
+    const double headroom = (invisibleUpTo - backgroundKey()) / mMapping.scale;
+    const float skipUpTo = std::isfinite(headroom) && headroom > 0.0 ? float(headroom) : -1.0f;
+    return std::make_unique<GaussianBlocks>(mField, mWorldFromIndex, lattice, mBox, mMapping, skipUpTo,
+                                            /*everyBlock=*/headroom < 0.0);
 }
 
 VolumeStatistics GaussianRenderVolume::gatherStatistics() const {

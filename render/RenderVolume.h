@@ -45,6 +45,11 @@ public:
     /// @param invisibleUpTo  values (luminance for RGB) up to this are transparent:
     ///                       a source may leave blocks that stay below it empty
     virtual std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const;
+    /// The same for a coarse preview, which must not wait for voxels() to be
+    /// evaluated: a Gaussian volume samples its Gaussians at the lattice's points.
+    virtual std::unique_ptr<BlockSource> previewBlocksOn(const Lattice& lattice, double invisibleUpTo) const {
+        return blocksOn(lattice, invisibleUpTo);
+    }
     /// A sample of the content's values (luminance for RGB), for percentile windows.
     /// Gathered on first use and kept: a Gaussian volume evaluates its field for it,
     /// and a viewer asks again at each change of preset. Thread-safe.
@@ -96,6 +101,8 @@ public:
     const openvdb::GridBase& voxels() const override;
     /// Reports the Gaussians evaluated (gaussiansReaching()) on the call that evaluated voxels().
     std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override;
+    /// Samples the Gaussians at the lattice's points (those that could be seen).
+    std::unique_ptr<BlockSource> previewBlocksOn(const Lattice& lattice, double invisibleUpTo) const override;
     double backgroundKey() const override;
 
 protected:

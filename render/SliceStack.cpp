@@ -261,12 +261,13 @@ void buildSlices(const StackGeometry& g, const std::map<int, std::vector<Coord>>
 
 SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier, const Vec3d& direction,
                        double sliceSpacingVoxels, double sampleMm, const ProgressFn& progress,
-                       const std::atomic<bool>* cancel)
+                       const std::atomic<bool>* cancel, StackSampling sampling)
     : SliceStack(std::vector<StackLayer>{{&volume, classifier}}, direction, sliceSpacingVoxels, sampleMm, progress,
-                 cancel) {}
+                 cancel, sampling) {}
 
 SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direction, double sliceSpacingVoxels,
-                       double sampleMm, const ProgressFn& progress, const std::atomic<bool>* cancel)
+                       double sampleMm, const ProgressFn& progress, const std::atomic<bool>* cancel,
+                       StackSampling sampling)
     : mGeometry(stackGeometryFor(*layers.front().volume, direction, sliceSpacingVoxels, sampleMm)),
       mSlices(mGeometry.slices) {
     const RenderVolume& volume = *layers.front().volume;
@@ -280,7 +281,9 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     std::vector<std::unique_ptr<BlockSource>> sources;
     std::set<Coord> occupied;
     for (const StackLayer& layer : layers) {
-        sources.push_back(layer.volume->blocksOn(mGeometry.lattice(), layer.classifier.transferFunction().transparentUpTo()));
+        const double invisibleUpTo = layer.classifier.transferFunction().transparentUpTo();
+        sources.push_back(sampling == StackSampling::preview ? layer.volume->previewBlocksOn(mGeometry.lattice(), invisibleUpTo)
+                                                             : layer.volume->blocksOn(mGeometry.lattice(), invisibleUpTo));
         for (const Coord& origin : sources.back()->occupiedBlocks()) occupied.insert(origin);
     }
     std::map<int, std::vector<Coord>> slabs;  // block origins by their first slice

@@ -122,6 +122,10 @@ struct StackLayer {
     Classifier classifier;
 };
 
+/// What a stack samples: each volume's voxels (RenderVolume::blocksOn), or a quick
+/// look that need not wait for them (previewBlocksOn), for a coarse first image.
+enum class StackSampling { voxels, preview };
+
 class SliceStack {
 public:
     /// Samples @a volume on the stack's lattice (in parallel over 8^3 blocks, only
@@ -133,12 +137,13 @@ public:
     ///                eight slices and throws Cancelled
     SliceStack(const RenderVolume& volume, const Classifier& classifier, const openvdb::Vec3d& direction,
                double sliceSpacingVoxels, double sampleMm, const ProgressFn& progress = {},
-               const std::atomic<bool>* cancel = nullptr);
+               const std::atomic<bool>* cancel = nullptr, StackSampling sampling = StackSampling::voxels);
 
     /// The same for several layers: where layers meet, their opacities combine as
     /// 1 - prod(1 - alpha) and their colours in proportion to their opacities.
     SliceStack(const std::vector<StackLayer>& layers, const openvdb::Vec3d& direction, double sliceSpacingVoxels,
-               double sampleMm, const ProgressFn& progress = {}, const std::atomic<bool>* cancel = nullptr);
+               double sampleMm, const ProgressFn& progress = {}, const std::atomic<bool>* cancel = nullptr,
+               StackSampling sampling = StackSampling::voxels);
 
     const StackGeometry& geometry() const { return mGeometry; }
     const std::vector<Slice>& slices() const { return mSlices; }

@@ -78,12 +78,12 @@ void ViewSession::keep(BuiltStack built) {
 }
 
 ViewSession::BuiltStack ViewSession::buildStack(const StackTarget& target, double spacingVoxels,
-                                                const std::atomic<bool>* cancel) {
+                                                const std::atomic<bool>* cancel, StackSampling sampling) {
     const auto start = std::chrono::steady_clock::now();
     BuiltStack built;
     built.scene = target.scene;
     built.stack = std::make_unique<SliceStack>(target.scene->layers, target.normal, spacingVoxels, target.sampleMm,
-                                               ProgressFn{}, cancel);
+                                               ProgressFn{}, cancel, sampling);
     built.buildMs = millisecondsSince(start);
     return built;
 }
@@ -110,7 +110,10 @@ void ViewSession::buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& n
     const double fullMm = mSettings.sampleMmFor(camera, volume);
     const double coarseness = coarsenessFor(volume, fullMm, mSettings.sliceSpacingVoxels);
     if (mSettings.stacks == StackOrientation::axes && mCurrent.stack) keep(std::move(mCurrent));
-    mCurrent = buildStack({mScene, normal, coarseness * fullMm}, coarseness * mSettings.sliceSpacingVoxels);
+    // A preview: an asset's Gaussians sampled directly, without waiting for its
+    // voxels, which the full build evaluates in the background.
+    mCurrent = buildStack({mScene, normal, coarseness * fullMm}, coarseness * mSettings.sliceSpacingVoxels, nullptr,
+                          StackSampling::preview);
     ++mStacksBuilt;
     frame.reused = false;
     frame.buildMs = mCurrent.buildMs;

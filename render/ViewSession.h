@@ -35,7 +35,9 @@ enum class FirstImage {
     /// Builds a coarse stack at once, its samples at least twice as far apart as the
     /// full stack's across and along the view (further on large volumes, so that the
     /// build stays short), and draws from it (stats.stale) while the full stack
-    /// builds in the background.
+    /// builds in the background. The coarse stack is a preview (StackSampling): an
+    /// asset's comes from its Gaussians at once, not from its voxels, which the
+    /// full build evaluates.
     coarseFirst,
 };
 
@@ -80,7 +82,8 @@ private:
 
     /// The scene's stack across @a normal, built now on this thread.
     static BuiltStack buildStack(const StackTarget& target, double spacingVoxels,
-                                 const std::atomic<bool>* cancel = nullptr);
+                                 const std::atomic<bool>* cancel = nullptr,
+                                 StackSampling sampling = StackSampling::voxels);
     bool fits(const StackTarget& target, const OrthoCamera& camera) const;
     bool fits(const BuiltStack& built, const OrthoCamera& camera) const;
     bool shearableFor(const OrthoCamera& camera) const;

@@ -78,6 +78,18 @@ TEST(GaussianRenderVolume, BetweenVoxelsItIsTheInterpolationOfItsVoxels) {
     EXPECT_EQ(volume.blocksOn(midway, -1e30)->gaussiansReaching(), 0u);  // kept, not evaluated again
 }
 
+// A coarse first image must not wait for every voxel: a preview samples the
+// Gaussians themselves, and leaves the voxels to the build that needs them.
+TEST(GaussianRenderVolume, APreviewSamplesTheGaussiansWithoutEvaluatingTheVoxels) {
+    const GaussianRenderVolume volume = volumeOf(oneGaussian(0.6f, 1.0f), ValueMapping{}, 0.0f);
+    Lattice midway = sourceLattice(volume.worldFromIndex(), openvdb::Vec3i(kSide, kSide, kSide));
+    midway.worldFromIndex.setTranslation(openvdb::Vec3d(0.5, 0.0, 0.0));
+    std::vector<float> values(kBlockVoxels);
+    volume.previewBlocksOn(midway, -1e30)->sampleBlock(Coord(8, 8, 8), values.data());
+    EXPECT_NEAR(values[blockOffset(Coord(8, 8, 8))], 0.5f * std::exp(-0.5f * 0.25f / (0.6f * 0.6f)), 1e-5f);
+    EXPECT_EQ(volume.blocksOn(midway, -1e30)->gaussiansReaching(), 1u);  // the voxels were still to evaluate
+}
+
 TEST(GaussianRenderVolume, StatisticsGatheredOnAllCoresAreThoseOfOneAndAreKept) {
     GaussianParameters params(24, 1);
     for (std::size_t i = 0; i < params.count(); ++i) {
