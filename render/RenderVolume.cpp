@@ -58,23 +58,83 @@ private:
     bool mEveryBlock;
 };
 
+/// The key of a grid value: the value, or its luminance.
+float keyOf(float value) { return value; }
+float keyOf(const openvdb::Vec3s& value) { return float(luminance(value)); }
+
+/// Floor division by a leaf's edge, negative voxels included.
+int cellOf(int voxel) { return voxel >= 0 ? voxel / kBlockDim : -((kBlockDim - 1 - voxel) / kBlockDim); }
+
+/// The highest key (value, or luminance) in each leaf-sized cell of a grid's box,
+/// inactive voxels and tiles included: the most a trilinear sample there can reach,
+/// so that a stack need not sample where nothing could be seen.
+template <typename GridT>
+class CellCeilings {
+public:
+    CellCeilings(const GridT& grid, const CoordBBox& box) {
+        if (box.empty()) return;
+        mFirst = Coord(cellOf(box.min().x()), cellOf(box.min().y()), cellOf(box.min().z()));
+        mCount = Coord(cellOf(box.max().x()), cellOf(box.max().y()), cellOf(box.max().z())) - mFirst + Coord(1);
+        mCeilings.resize(std::size_t(mCount.x()) * mCount.y() * mCount.z());
+        tbb::parallel_for(0, mCount.x(), [&](int i) {
+            const auto accessor = grid.getConstAccessor();
+            for (int j = 0; j < mCount.y(); ++j) {
+                for (int k = 0; k < mCount.z(); ++k) {
+                    const Coord cell = mFirst + Coord(i, j, k);
+                    const Coord origin(cell.x() * kBlockDim, cell.y() * kBlockDim, cell.z() * kBlockDim);
+                    float ceiling = -INFINITY;
+                    if (const auto* leaf = accessor.probeConstLeaf(origin)) {
+                        for (auto v = leaf->cbeginValueAll(); v; ++v) ceiling = std::max(ceiling, keyOf(*v));
+                    } else {
+                        ceiling = keyOf(accessor.getValue(origin));  // a tile, or the background
+                    }
+                    mCeilings[index(Coord(i, j, k))] = ceiling;
+                }
+            }
+        });
+    }
+
+    /// Whether some voxel of @a voxels inside the box holds a key above @a level.
+    bool anyAbove(const CoordBBox& voxels, float level) const {
+        const Coord lo = Coord::maxComponent(Coord(cellOf(voxels.min().x()), cellOf(voxels.min().y()), cellOf(voxels.min().z())) - mFirst, Coord(0));
+        const Coord hi = Coord::minComponent(Coord(cellOf(voxels.max().x()), cellOf(voxels.max().y()), cellOf(voxels.max().z())) - mFirst, mCount - Coord(1));
+        for (int i = lo.x(); i <= hi.x(); ++i) {
+            for (int j = lo.y(); j <= hi.y(); ++j) {
+                for (int k = lo.z(); k <= hi.z(); ++k) {
+                    if (mCeilings[index(Coord(i, j, k))] > level) return true;
+                }
+            }
+        }
+        return false;
+    }
+
+private:
+    std::size_t index(const Coord& cell) const { return (std::size_t(cell.x()) * mCount.y() + cell.y()) * mCount.z() + cell.z(); }
+
+    Coord mFirst, mCount;
+    std::vector<float> mCeilings;
+};
+
 template <typename GridT>
 class GridBlocks : public BlockSource {
 public:
-    /// @param everyBlock  the background is visible: blocks away from active voxels count too
+    /// @param invisibleUpTo  keys up to this are transparent: blocks whose samples
+    ///                       cannot exceed it are not sampled, unless the background
+    ///                       is visible (then every block counts)
     /// @param gaussiansEvaluated  what gaussiansReaching() reports: the Gaussians
     ///                            evaluated to make the grid for this build, if any
-    GridBlocks(const GridT& grid, const Lattice& lattice, bool everyBlock, std::size_t gaussiansEvaluated)
-        : mGrid(grid), mLattice(lattice), mEveryBlock(everyBlock), mGaussiansEvaluated(gaussiansEvaluated),
-          mGridFromLattice(lattice.worldFromIndex * grid.transform().baseMap()->getAffineMap()->getMat4().inverse()) {
-        mActive = grid.evalActiveVoxelBoundingBox();
-        mActive.expand(1);  // trilinear samples reach one voxel out
-    }
+    GridBlocks(const GridT& grid, const Lattice& lattice, double invisibleUpTo, bool backgroundVisible,
+               std::size_t gaussiansEvaluated)
+        : mGrid(grid), mLattice(lattice), mInvisibleUpTo(invisibleUpTo), mEveryBlock(backgroundVisible),
+          mGaussiansEvaluated(gaussiansEvaluated),
+          mGridFromLattice(lattice.worldFromIndex * grid.transform().baseMap()->getAffineMap()->getMat4().inverse()),
+          mActive(grid.evalActiveVoxelBoundingBox().expandBy(1)),  // trilinear samples reach one voxel out
+          mCeilings(grid, mEveryBlock ? CoordBBox() : mActive) {}
 
     std::vector<Coord> occupiedBlocks() const override {
         std::vector<Coord> origins = blockOrigins(mLattice.box);
         if (mEveryBlock) return origins;
-        origins.erase(std::remove_if(origins.begin(), origins.end(), [&](const Coord& o) { return !reachesActive(o); }),
+        origins.erase(std::remove_if(origins.begin(), origins.end(), [&](const Coord& o) { return !mayBeSeen(o); }),
                       origins.end());
         return origins;
     }
@@ -94,10 +154,13 @@ public:
     }
 
 private:
-    bool reachesActive(const Coord& origin) const {
+    /// Whether the block's samples, or their neighbours on the lattice, reach a voxel
+    /// that is active and could be seen: compositing resamples between neighbours,
+    /// and a block left out holds the background instead of its values.
+    bool mayBeSeen(const Coord& origin) const {
         openvdb::Vec3d lo(1e300), hi(-1e300);
         for (int c = 0; c < 8; ++c) {
-            const Coord corner = origin + Coord(c & 1 ? kBlockDim - 1 : 0, c & 2 ? kBlockDim - 1 : 0, c & 4 ? kBlockDim - 1 : 0);
+            const Coord corner = origin + Coord(c & 1 ? kBlockDim : -1, c & 2 ? kBlockDim : -1, c & 4 ? kBlockDim : -1);
             const openvdb::Vec3d p = mGridFromLattice.transform(corner.asVec3d());
             lo = openvdb::math::minComponent(lo, p);
             hi = openvdb::math::maxComponent(hi, p);
@@ -106,25 +169,30 @@ private:
         for (int a = 0; a < 3; ++a) {
             if (hi[a] < mActive.min()[a] || lo[a] > mActive.max()[a]) return false;
         }
-        return true;
+        // The voxels the samples' trilinear corners read.
+        const CoordBBox corners(Coord::floor(lo), Coord::floor(hi) + Coord(1));
+        return mCeilings.anyAbove(corners, float(mInvisibleUpTo));
     }
 
     const GridT& mGrid;
     Lattice mLattice;
+    double mInvisibleUpTo;
     bool mEveryBlock;
     std::size_t mGaussiansEvaluated;
     Mat4d mGridFromLattice;
     CoordBBox mActive;
+    CellCeilings<GridT> mCeilings;
 };
 
-/// Trilinear samples of a float or Vec3s @a grid on @a lattice.
-std::unique_ptr<BlockSource> gridBlocksOn(const openvdb::GridBase& grid, const Lattice& lattice, bool everyBlock,
-                                          std::size_t gaussiansEvaluated = 0) {
+/// Trilinear samples of a float or Vec3s @a grid on @a lattice (see GridBlocks).
+std::unique_ptr<BlockSource> gridBlocksOn(const openvdb::GridBase& grid, const Lattice& lattice, double invisibleUpTo,
+                                          bool backgroundVisible, std::size_t gaussiansEvaluated = 0) {
     if (const auto* grey = dynamic_cast<const openvdb::FloatGrid*>(&grid)) {
-        return std::make_unique<GridBlocks<openvdb::FloatGrid>>(*grey, lattice, everyBlock, gaussiansEvaluated);
+        return std::make_unique<GridBlocks<openvdb::FloatGrid>>(*grey, lattice, invisibleUpTo, backgroundVisible,
+                                                                gaussiansEvaluated);
     }
     return std::make_unique<GridBlocks<openvdb::Vec3SGrid>>(dynamic_cast<const openvdb::Vec3SGrid&>(grid), lattice,
-                                                            everyBlock, gaussiansEvaluated);
+                                                            invisibleUpTo, backgroundVisible, gaussiansEvaluated);
 }
 
 /// Raises every log-scale to log(minScale), scaling the colour by the volume ratio
@@ -155,7 +223,7 @@ const VolumeStatistics& RenderVolume::statistics() const {
 }
 
 std::unique_ptr<BlockSource> RenderVolume::blocksOn(const Lattice& lattice, double invisibleUpTo) const {
-    return gridBlocksOn(voxels(), lattice, /*everyBlock=*/backgroundKey() > invisibleUpTo);
+    return gridBlocksOn(voxels(), lattice, invisibleUpTo, /*backgroundVisible=*/backgroundKey() > invisibleUpTo);
 }
 
 double RenderVolume::voxelMm() const {
@@ -205,7 +273,8 @@ const openvdb::GridBase& GaussianRenderVolume::voxels() const {
 
 std::unique_ptr<BlockSource> GaussianRenderVolume::blocksOn(const Lattice& lattice, double invisibleUpTo) const {
     const std::size_t evaluated = evaluateVoxelsOnce();
-    return gridBlocksOn(*mVoxels, lattice, /*everyBlock=*/backgroundKey() > invisibleUpTo, evaluated);
+    return gridBlocksOn(*mVoxels, lattice, invisibleUpTo, /*backgroundVisible=*/backgroundKey() > invisibleUpTo,
+                        evaluated);
 }
 
 std::unique_ptr<BlockSource> GaussianRenderVolume::previewBlocksOn(const Lattice& lattice, double invisibleUpTo) const {

@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include <cmath>
+#include <set>
 #include <string>
 
 namespace gvr {
@@ -175,6 +176,48 @@ TEST(GridRenderVolume, SamplesAlikeInsideLeavesAcrossThemAndInTiles) {
     EXPECT_GT(inLeaf, 100);
     EXPECT_GT(across, 100);
     EXPECT_GT(inTile, 10);
+}
+
+// A stack samples only the blocks where something could be seen, or whose lattice
+// neighbours could be: resampling reads neighbours, so those must hold true values.
+TEST(GridRenderVolume, BlocksThatCannotBeSeenAreLeftOutWithTheirNeighboursKept) {
+    const auto value = [](int i, int j, int k) {
+        // Its last voxels along z, 39, lie just before the lattice's slice 24 (at z = 40.8),
+        // the first of a block: that block holds no visible sample, only neighbours of them.
+        const bool bright = i >= 28 && i < 40 && j >= 18 && j < 30 && k >= 20 && k < 40;
+        return bright ? 900.0f : 100.0f + float((i + j + k) % 7);
+    };
+    const GridRenderVolume volume(test::makeGrid({64, 48, 56}, value));
+    // A lattice turned and coarser than the voxels, as a view stack's of a small
+    // image is: a neighbour's trilinear corners need not reach what it is next to.
+    Lattice lattice;
+    openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
+    m.preRotate(openvdb::math::Z_AXIS, 0.4);
+    m.preScale(openvdb::Vec3d(1.7));
+    m.setTranslation(openvdb::Vec3d(20.0, -15.0, 0.0));
+    lattice.worldFromIndex = m;
+    lattice.box = openvdb::CoordBBox(Coord(0), Coord(47, 47, 47));
+    const auto all = volume.blocksOn(lattice, 50.0)->occupiedBlocks();
+    const auto blocks = volume.blocksOn(lattice, 500.0);
+    const std::vector<Coord> kept = blocks->occupiedBlocks();
+    EXPECT_LT(kept.size() * 10, all.size());
+    EXPECT_GT(kept.size(), 0u);
+    const std::set<Coord> keptSet(kept.begin(), kept.end());
+    const auto accessor = dynamic_cast<const openvdb::FloatGrid&>(volume.voxels()).getConstAccessor();
+    int visible = 0;
+    for (auto ijk = lattice.box.begin(); ijk; ++ijk) {
+        float sample[1];
+        const openvdb::Vec3d x = lattice.worldFromIndex.transform((*ijk).asVec3d());
+        GridRenderVolume::trilinear(accessor, x, sample);
+        if (sample[0] <= 500.0f) continue;
+        ++visible;
+        for (auto n = openvdb::CoordBBox(*ijk - Coord(1), *ijk + Coord(1)).begin(); n; ++n) {
+            if (!lattice.box.isInside(*n)) continue;
+            const Coord origin((*n).x() & ~7, (*n).y() & ~7, (*n).z() & ~7);
+            EXPECT_EQ(keptSet.count(origin), 1u) << "the block of " << *n << ", next to a visible sample";
+        }
+    }
+    EXPECT_GT(visible, 20);
 }
 
 TEST(GridRenderVolume, RefusesOtherValueTypesNamingTheGrid) {
