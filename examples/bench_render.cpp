@@ -13,6 +13,8 @@
 // marcher is measured too (the figure to reach); Gaussian shear-warp against the
 // one-ray ray marcher on the original grid; and frames per second against VolPack
 // (Lacroute's shear-warp) with the same opacities per voxel, in the same run.
+// The asset's voxels are evaluated once, by its first reference; the Gaussian
+// builds timed here read them, as every build after an asset's first does.
 // Figures are printed, never asserted.
 
 #include "examples/VolPackReference.h"
