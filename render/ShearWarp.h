@@ -69,7 +69,9 @@ struct FrameStats {
     int index = 0;
     bool reused = false;  ///< the stack was kept from an earlier frame
     double buildMs = 0, compositeMs = 0, warpMs = 0, totalMs = 0;
-    std::size_t gaussiansTouched = 0;  ///< Gaussians evaluated to build the stack (0 when reused)
+    /// Gaussians evaluated to build the stack: for an asset, all of them on the build
+    /// that evaluated its voxels, 0 on every other (and for grids).
+    std::size_t gaussiansTouched = 0;
     /// Drawn from a stack built for another view or scene, or the last frame
     /// repeated, while the right stack builds in the background (ViewSession).
     bool stale = false;

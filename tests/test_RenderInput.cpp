@@ -10,6 +10,7 @@
 #include "workflow/RenderInput.h"
 
 #include "io/AssetExport.h"
+#include "io/MemoryBudget.h"
 
 #include <gtest/gtest.h>
 
@@ -67,6 +68,23 @@ TEST(RenderInput, AnAssetIsItsGaussiansAndAGridItsVoxels) {
     for (auto ijk = openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(15)).begin(); ijk; ++ijk) {
         EXPECT_NEAR(drawn.getValue(*ijk), reference.getValue(*ijk), 1e-5f * range) << *ijk;
     }
+}
+
+// An asset is drawn from its voxels: one whose source would not fit in memory is
+// refused before anything is allocated, naming the file.
+TEST(RenderInput, AnAssetWhoseVoxelsWouldNotFitIsRefused) {
+    const Files files;
+    struct Ceiling {  // lifted again even when an assertion fails
+        Ceiling() { setMemoryCeiling(4096); }  // the 16^3 float voxels need 16 KiB
+        ~Ceiling() { setMemoryCeiling(0); }
+    };
+    std::string message;
+    {
+        const Ceiling ceiling;
+        message = test::errorMessageOf<InputError>([&] { loadRenderInput(files.asset, "", "", 0.0f, {}); });
+    }
+    EXPECT_NE(message.find(files.asset + ": a volume of 16x16x16 voxels needs"), std::string::npos) << message;
+    EXPECT_NE(message.find("to render"), std::string::npos) << message;
 }
 
 TEST(RenderInput, StructuresOfAGridAreRefusedNamingTheSetting) {

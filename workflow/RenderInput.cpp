@@ -1,6 +1,7 @@
 #include "workflow/RenderInput.h"
 
 #include "io/AssetFile.h"
+#include "io/MemoryBudget.h"
 #include "io/TransferFunctionFile.h"
 #include "pipeline/Error.h"
 #include "render/VolumeClassifier.h"
@@ -20,6 +21,9 @@ RenderInput loadRenderInput(const std::string& path, const std::string& show, co
         return input;
     }
     input.asset = selectStructures(readAsset(path), show, hide, path);
+    // An asset is drawn from its voxels: at worst a float grid of its source's size.
+    const openvdb::Vec3i& dims = input.asset->source.dims;
+    checkVolumeFitsInMemory(path, {dims.x(), dims.y(), dims.z()}, input.asset->params.channels, 0, "render");
     input.volume = std::make_unique<GaussianRenderVolume>(*input.asset, minScale);
     return input;
 }
