@@ -62,8 +62,11 @@ private:
 float keyOf(float value) { return value; }
 float keyOf(const openvdb::Vec3s& value) { return float(luminance(value)); }
 
-/// Floor division by a leaf's edge, negative voxels included.
-int cellOf(int voxel) { return voxel >= 0 ? voxel / kBlockDim : -((kBlockDim - 1 - voxel) / kBlockDim); }
+/// The leaf-sized cell that holds @a voxel: floor division, negative voxels included.
+Coord cellOf(const Coord& voxel) {
+    const auto floorDiv = [](int v) { return v >= 0 ? v / kBlockDim : -((kBlockDim - 1 - v) / kBlockDim); };
+    return Coord(floorDiv(voxel.x()), floorDiv(voxel.y()), floorDiv(voxel.z()));
+}
 
 /// The highest key (value, or luminance) in each leaf-sized cell of a grid's box,
 /// inactive voxels and tiles included: the most a trilinear sample there can reach,
@@ -73,8 +76,8 @@ class CellCeilings {
 public:
     CellCeilings(const GridT& grid, const CoordBBox& box) {
         if (box.empty()) return;
-        mFirst = Coord(cellOf(box.min().x()), cellOf(box.min().y()), cellOf(box.min().z()));
-        mCount = Coord(cellOf(box.max().x()), cellOf(box.max().y()), cellOf(box.max().z())) - mFirst + Coord(1);
+        mFirst = cellOf(box.min());
+        mCount = cellOf(box.max()) - mFirst + Coord(1);
         mCeilings.resize(std::size_t(mCount.x()) * mCount.y() * mCount.z());
         tbb::parallel_for(0, mCount.x(), [&](int i) {
             const auto accessor = grid.getConstAccessor();
@@ -96,8 +99,8 @@ public:
 
     /// Whether some voxel of @a voxels inside the box holds a key above @a level.
     bool anyAbove(const CoordBBox& voxels, float level) const {
-        const Coord lo = Coord::maxComponent(Coord(cellOf(voxels.min().x()), cellOf(voxels.min().y()), cellOf(voxels.min().z())) - mFirst, Coord(0));
-        const Coord hi = Coord::minComponent(Coord(cellOf(voxels.max().x()), cellOf(voxels.max().y()), cellOf(voxels.max().z())) - mFirst, mCount - Coord(1));
+        const Coord lo = Coord::maxComponent(cellOf(voxels.min()) - mFirst, Coord(0));
+        const Coord hi = Coord::minComponent(cellOf(voxels.max()) - mFirst, mCount - Coord(1));
         for (int i = lo.x(); i <= hi.x(); ++i) {
             for (int j = lo.y(); j <= hi.y(); ++j) {
                 for (int k = lo.z(); k <= hi.z(); ++k) {
@@ -109,7 +112,9 @@ public:
     }
 
 private:
-    std::size_t index(const Coord& cell) const { return (std::size_t(cell.x()) * mCount.y() + cell.y()) * mCount.z() + cell.z(); }
+    std::size_t index(const Coord& cell) const {
+        return (std::size_t(cell.x()) * mCount.y() + cell.y()) * mCount.z() + cell.z();
+    }
 
     Coord mFirst, mCount;
     std::vector<float> mCeilings;

@@ -165,7 +165,8 @@ void GridRenderVolume::trilinear(const Accessor& accessor, const openvdb::Vec3d&
             return;
         }
         const ValueT* values = leaf->buffer().data() + LeafT::coordToOffset(base);
-        for (int n = 0; n < 8; ++n) corners[n] = values[(n >> 2) * LeafT::DIM * LeafT::DIM + (n >> 1 & 1) * LeafT::DIM + (n & 1)];
+        constexpr int dim = int(LeafT::DIM);
+        for (int n = 0; n < 8; ++n) corners[n] = values[(n >> 2) * dim * dim + (n >> 1 & 1) * dim + (n & 1)];
     } else {
         for (int n = 0; n < 8; ++n) corners[n] = accessor.getValue(base.offsetBy(n >> 2, n >> 1 & 1, n & 1));
     }

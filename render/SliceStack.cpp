@@ -282,8 +282,9 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     std::set<Coord> occupied;
     for (const StackLayer& layer : layers) {
         const double invisibleUpTo = layer.classifier.transferFunction().transparentUpTo();
-        sources.push_back(sampling == StackSampling::preview ? layer.volume->previewBlocksOn(mGeometry.lattice(), invisibleUpTo)
-                                                             : layer.volume->blocksOn(mGeometry.lattice(), invisibleUpTo));
+        const Lattice lattice = mGeometry.lattice();
+        sources.push_back(sampling == StackSampling::preview ? layer.volume->previewBlocksOn(lattice, invisibleUpTo)
+                                                             : layer.volume->blocksOn(lattice, invisibleUpTo));
         for (const Coord& origin : sources.back()->occupiedBlocks()) occupied.insert(origin);
     }
     std::map<int, std::vector<Coord>> slabs;  // block origins by their first slice

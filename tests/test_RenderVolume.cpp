@@ -149,7 +149,9 @@ TEST(GridRenderVolume, SamplesAlikeInsideLeavesAcrossThemAndInTiles) {
     auto accessor = grid.getAccessor();
     for (int i = 0; i < 16; ++i) {
         for (int j = 0; j < 16; ++j) {
-            for (int k = 0; k < 16; ++k) accessor.setValue(Coord(i, j, k), float((i * 31 + j * 17 + k * 7) % 23) - 11.0f);
+            for (int k = 0; k < 16; ++k) {
+                accessor.setValue(Coord(i, j, k), float((i * 31 + j * 17 + k * 7) % 23) - 11.0f);
+            }
         }
     }
     grid.tree().fill(openvdb::CoordBBox(Coord(16, 0, 0), Coord(31, 15, 15)), 40.0f);  // whole leaves: tiles

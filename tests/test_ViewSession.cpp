@@ -191,7 +191,8 @@ protected:
 private:
     class Blocks : public BlockSource {
     public:
-        Blocks(std::unique_ptr<BlockSource> blocks, const std::atomic<bool>& open) : mBlocks(std::move(blocks)), mOpen(open) {}
+        Blocks(std::unique_ptr<BlockSource> blocks, const std::atomic<bool>& open)
+            : mBlocks(std::move(blocks)), mOpen(open) {}
         std::vector<openvdb::Coord> occupiedBlocks() const override { return mBlocks->occupiedBlocks(); }
         openvdb::CoordBBox sampleBlock(const openvdb::Coord& origin, float* values) const override {
             while (!mOpen) std::this_thread::sleep_for(std::chrono::milliseconds(1));
