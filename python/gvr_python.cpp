@@ -402,7 +402,7 @@ Classifier classifierOf(const RenderVolume& volume, const TransferSpec& tf) {
 }
 
 std::unique_ptr<RenderVolume> renderVolumeOf(const Renderable& what, float minScale) {
-    if (const auto* asset = std::get_if<GaussianAsset>(&what)) return std::make_unique<GaussianRenderVolume>(*asset, minScale);
+    if (const auto* asset = std::get_if<GaussianAsset>(&what)) return assetRenderVolume(*asset, minScale, "asset");
     if (const auto* volume = std::get_if<Volume>(&what)) return std::make_unique<GridRenderVolume>(volume->grid);
     return loadRenderInput(std::get<std::string>(what), "", "", minScale, IngestOptions{}).volume;
 }

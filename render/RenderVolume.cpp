@@ -59,8 +59,8 @@ private:
 };
 
 /// The key of a grid value: the value, or its luminance.
-float keyOf(float value) { return value; }
-float keyOf(const openvdb::Vec3s& value) { return float(luminance(value)); }
+double keyOf(float value) { return value; }
+double keyOf(const openvdb::Vec3s& value) { return luminance(value); }
 
 /// The leaf-sized cell that holds @a voxel: floor division, negative voxels included.
 Coord cellOf(const Coord& voxel) {
@@ -87,9 +87,9 @@ public:
                     const Coord origin(cell.x() * kBlockDim, cell.y() * kBlockDim, cell.z() * kBlockDim);
                     float ceiling = -INFINITY;
                     if (const auto* leaf = accessor.probeConstLeaf(origin)) {
-                        for (auto v = leaf->cbeginValueAll(); v; ++v) ceiling = std::max(ceiling, keyOf(*v));
+                        for (auto v = leaf->cbeginValueAll(); v; ++v) ceiling = std::max(ceiling, float(keyOf(*v)));
                     } else {
-                        ceiling = keyOf(accessor.getValue(origin));  // a tile, or the background
+                        ceiling = float(keyOf(accessor.getValue(origin)));  // a tile, or the background
                     }
                     mCeilings[index(Coord(i, j, k))] = ceiling;
                 }
@@ -340,7 +340,7 @@ GridRenderVolume::GridRenderVolume(openvdb::GridBase::ConstPtr grid) : mGrid(std
 }
 
 double GridRenderVolume::backgroundKey() const {
-    return mFloat ? double(mFloat->background()) : luminance(mColour->background());
+    return mFloat ? keyOf(mFloat->background()) : keyOf(mColour->background());
 }
 
 VolumeStatistics GridRenderVolume::gatherStatistics() const {
@@ -349,22 +349,15 @@ VolumeStatistics GridRenderVolume::gatherStatistics() const {
         const std::size_t stride = std::max<std::uint64_t>(1, grid.activeVoxelCount() / kStatisticsSamples);
         std::size_t n = 0;
         for (auto v = grid.cbeginValueOn(); v; ++v, ++n) {
-            if (n % stride != 0) continue;
-            if constexpr (std::is_same_v<typename std::decay_t<decltype(grid)>::ValueType, openvdb::Vec3s>) {
-                stats.values.push_back(float(luminance(*v)));
-            } else {
-                stats.values.push_back(*v);
-            }
+            if (n % stride == 0) stats.values.push_back(float(keyOf(*v)));
         }
+        const auto accessor = grid.getConstAccessor();
+        stats.background = borderMedian(mBox, [&](const Coord& ijk) { return keyOf(accessor.getValue(ijk)); });
     };
     if (mFloat) {
         gather(*mFloat);
-        const auto accessor = mFloat->getConstAccessor();
-        stats.background = borderMedian(mBox, [&](const Coord& ijk) { return double(accessor.getValue(ijk)); });
     } else {
         gather(*mColour);
-        const auto accessor = mColour->getConstAccessor();
-        stats.background = borderMedian(mBox, [&](const Coord& ijk) { return luminance(accessor.getValue(ijk)); });
     }
     const bool anyBelow = std::any_of(stats.values.begin(), stats.values.end(), [](float v) { return v < -500.0f; });
     stats.hounsfield = anyBelow || stats.background < -500.0;

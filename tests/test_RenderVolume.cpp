@@ -222,6 +222,34 @@ TEST(GridRenderVolume, BlocksThatCannotBeSeenAreLeftOutWithTheirNeighboursKept) 
     EXPECT_GT(visible, 20);
 }
 
+// Values at the ends of the float range and below its normal numbers: samples stay
+// finite and between their corners, and skipping still finds the one that can be seen.
+TEST(GridRenderVolume, ExtremeValuesInterpolateAndAreFoundBySkipping) {
+    openvdb::FloatGrid grid(0.0f);
+    auto accessor = grid.getAccessor();
+    for (int i = 0; i < 24; ++i) accessor.setValue(Coord(i, 4, 4), 1e-45f);  // denormal
+    accessor.setValue(Coord(18, 4, 4), 3e38f);
+    accessor.setValue(Coord(19, 4, 4), -3e38f);
+    const GridRenderVolume volume(grid.deepCopy());
+    const auto reader = dynamic_cast<const openvdb::FloatGrid&>(volume.voxels()).getConstAccessor();
+    float out[1];
+    for (double x : {18.0, 18.25, 18.5, 18.75, 19.0}) {
+        GridRenderVolume::trilinear(reader, openvdb::Vec3d(x, 4.0, 4.0), out);
+        EXPECT_TRUE(std::isfinite(out[0])) << x;
+        EXPECT_LE(std::abs(out[0]), 3e38f) << x;
+    }
+    GridRenderVolume::trilinear(reader, openvdb::Vec3d(18.5, 4.0, 4.0), out);
+    EXPECT_NEAR(out[0], 0.0f, 1e32f);
+    GridRenderVolume::trilinear(reader, openvdb::Vec3d(3.5, 4.0, 4.0), out);
+    EXPECT_GE(out[0], 0.0f);
+    EXPECT_LE(out[0], 1e-44f);
+    const Lattice lattice = sourceLattice(volume.worldFromIndex(), openvdb::Vec3i(24, 8, 8));
+    const std::vector<Coord> kept = volume.blocksOn(lattice, 1e38)->occupiedBlocks();
+    const std::set<Coord> keptSet(kept.begin(), kept.end());
+    EXPECT_EQ(keptSet.count(Coord(16, 0, 0)), 1u);  // holds 3e38
+    EXPECT_EQ(keptSet.count(Coord(0, 0, 0)), 0u);   // denormals and zeros only, far from it
+}
+
 TEST(GridRenderVolume, RefusesOtherValueTypesNamingTheGrid) {
     openvdb::Int32Grid::Ptr labels = openvdb::Int32Grid::create(0);
     labels->setName("labels");

@@ -10,6 +10,14 @@
 
 namespace gvr {
 
+std::unique_ptr<GaussianRenderVolume> assetRenderVolume(const GaussianAsset& asset, float minScale,
+                                                        const std::string& name) {
+    // An asset is drawn from its voxels: at worst a float grid of its source's size.
+    const openvdb::Vec3i& dims = asset.source.dims;
+    checkVolumeFitsInMemory(name, {dims.x(), dims.y(), dims.z()}, asset.params.channels, 0, "render");
+    return std::make_unique<GaussianRenderVolume>(asset, minScale);
+}
+
 RenderInput loadRenderInput(const std::string& path, const std::string& show, const std::string& hide, float minScale,
                             const IngestOptions& ingest) {
     RenderInput input;
@@ -21,10 +29,7 @@ RenderInput loadRenderInput(const std::string& path, const std::string& show, co
         return input;
     }
     input.asset = selectStructures(readAsset(path), show, hide, path);
-    // An asset is drawn from its voxels: at worst a float grid of its source's size.
-    const openvdb::Vec3i& dims = input.asset->source.dims;
-    checkVolumeFitsInMemory(path, {dims.x(), dims.y(), dims.z()}, input.asset->params.channels, 0, "render");
-    input.volume = std::make_unique<GaussianRenderVolume>(*input.asset, minScale);
+    input.volume = assetRenderVolume(*input.asset, minScale, path);
     return input;
 }
 

@@ -20,6 +20,13 @@ struct RenderInput {
     std::unique_ptr<RenderVolume> volume;  ///< the asset's field, or the grid
 };
 
+/// The render volume of @a asset (named @a name in errors).
+/// @param minScale  as for GaussianRenderVolume
+/// @throw InputError when the voxels it is drawn from (at worst a float grid of its
+///        source's size) would not fit in memory.
+std::unique_ptr<GaussianRenderVolume> assetRenderVolume(const GaussianAsset& asset, float minScale,
+                                                        const std::string& name);
+
 /// Reads @a path: an asset (with only the structures that @a show names, less
 /// @a hide) or anything loadOrIngest reads.
 /// @param minScale  as for GaussianRenderVolume
