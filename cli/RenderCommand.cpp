@@ -73,7 +73,8 @@ nlohmann::json settingsJson(const RenderFlags& flags) {
     const ShearWarpSettings& s = flags.shearWarp;
     return {{"renderer", "shear-warp"}, {"stacks", s.stacks == StackOrientation::view ? "view" : "axes"},
             {"supersample", s.supersampling}, {"slice_spacing_voxels", s.sliceSpacingVoxels},
-            {"reuse_angle_deg", s.reuseAngleDeg}, {"termination", termination}};
+            {"reuse_angle_deg", s.reuseAngleDeg}, {"termination", termination},
+            {"classify", s.classification == Classification::points ? "points" : "segments"}};
 }
 
 void writeStats(const std::string& path, const nlohmann::json& report) {

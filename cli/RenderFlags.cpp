@@ -31,6 +31,18 @@ void addStackFlags(CLI::App& command, ShearWarpSettings& settings, bool* automat
                        "over each pixel by the warp: 1.5 anti-aliases (on grids, past the one-ray ray marcher); 1 is "
                        "about twice as fast")
         ->capture_default_str();
+    command
+        .add_option_function<std::string>(
+            "--classify",
+            [&settings](const std::string& name) {
+                settings.classification = name == "points" ? Classification::points : Classification::segments;
+            },
+            "How a grey volume's values take the transfer function: segments pre-integrates each stretch of a ray "
+            "between two slices, so that bands of it thinner than a slice are seen; points classifies each sample "
+            "alone, as the ray marcher does, and may miss them")
+        ->check(CLI::IsMember({"segments", "points"}))
+        ->type_name("segments|points")
+        ->default_str("segments");
 }
 
 std::pair<int, int> parseImageSize(const std::string& text) {

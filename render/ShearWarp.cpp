@@ -55,12 +55,28 @@ private:
     std::vector<Level> mLevels;
 };
 
+/// Where each pixel of an intermediate row last resampled a stack of values: the
+/// value and the slice, so that the stretch of its ray from there to the next slice
+/// can be pre-integrated.
+struct RayEnd {
+    float value = 0.0f;
+    /// The slice, counted front to back from 2, so that the 0 of a fresh row never
+    /// passes for the slice before the first.
+    std::uint32_t stamp = 0;
+};
+
+/// One row's RayEnds, and the stamp of the slice being composited.
+struct RayEnds {
+    RayEnd* last;
+    std::uint32_t stamp;
+};
+
 /// What a classified sample, or a sum of them, adds over the oblique path.
 struct ClassifiedLight {
     const ObliquityTable& oblique;
-    static bool dark(Floats4 stored) { return stored[3] <= 0.0f; }
+    static bool dark(int, Floats4 stored) { return stored[3] <= 0.0f; }
     Floats4 operator()(Floats4 stored) const { return oblique(stored); }
-    ClassifiedLight lookup() const { return *this; }
+    ClassifiedLight lookup(RayEnds) const { return *this; }
 };
 
 /// What a value resampled from a stack of values adds over the oblique path: the
@@ -83,13 +99,100 @@ public:
         ValueLevels::Scale scale;
         float darkBelow;
         /// Values below every visible level add nothing: a comparison spares the table.
-        bool dark(float value) const { return value < darkBelow; }
+        bool dark(int, float value) const { return value < darkBelow; }
         Floats4 operator()(float value) const { return light[scale.levelOf(value)]; }
     };
-    Lookup lookup() const { return {mLight.data(), mScale, mDarkBelow}; }
+    Lookup lookup(RayEnds) const { return {mLight.data(), mScale, mDarkBelow}; }
+    const Floats4* table() const { return mLight.data(); }
 
 private:
     std::vector<Floats4> mLight;
+    ValueLevels::Scale mScale;
+    float mDarkBelow;
+};
+
+/// Four doubles: sums over many levels, whose differences must keep the few.
+using Doubles4 = double __attribute__((vector_size(32)));
+
+/// What the stretch of a ray from one slice to the next adds, pre-integrated:
+/// opacity from the extinction averaged over the values between the stretch's two
+/// ends, colour weighted by extinction (Engel, Kraus and Ertl's approximation,
+/// which leaves out the attenuation within one stretch). The integrals of
+/// extinction and colour over the values make any stretch two reads. A stretch
+/// within one level is that level's ValueLight.
+class SegmentLight {
+public:
+    SegmentLight(const ValueLevels& levels, double lengthRatio)
+        : mPoints(levels, lengthRatio), mBelow(ValueLevels::kCount + 1), mScale(levels.scale()),
+          mDarkBelow(levels.firstVisibleValue()) {
+        mBelow[0] = Doubles4{};
+        for (int level = 0; level < ValueLevels::kCount; ++level) {
+            const std::array<float, 4>& rgba = levels.rgba(level);
+            // An opaque level's extinction is infinite: large enough here that a
+            // stretch crossing it is opaque, finite so that sums stay numbers.
+            const double extinction =
+                rgba[3] >= 1.0f ? kOpaqueExtinction : -lengthRatio * std::log1p(-double(rgba[3]));
+            mBelow[level + 1] = mBelow[level] + Doubles4{rgba[0] * extinction, rgba[1] * extinction,
+                                                         rgba[2] * extinction, extinction};
+        }
+    }
+
+    struct Lookup {
+        const Floats4* points;
+        const Doubles4* below;
+        ValueLevels::Scale scale;
+        float darkBelow;
+        RayEnds ends;
+        float from = 0.0f, to = 0.0f;  ///< the ends of the stretch that dark() last looked at
+
+        /// Notes @a value as pixel @a p's, and whether the stretch that ends there
+        /// adds nothing. A pixel that skipped the slice before (its cells, and so
+        /// the stretch, could not be seen) starts afresh, as a point.
+        bool dark(int p, float value) {
+            RayEnd& end = ends.last[p];
+            from = end.stamp == ends.stamp - 1 ? end.value : value;
+            to = value;
+            end = {value, ends.stamp};
+            return std::max(from, to) < darkBelow;
+        }
+
+        Floats4 operator()(float) const {
+            const int a = scale.levelOf(from), b = scale.levelOf(to);
+            if (a == b) return points[b];
+            const double xa = levelsAt(from), xb = levelsAt(to);
+            // Out parameters: a 32-byte vector returned by value changes the ABI without AVX.
+            Doubles4 atB, atA;
+            integralTo(xb, b, atB);
+            integralTo(xa, a, atA);
+            const Doubles4 integral = atB - atA;
+            if (!(integral[3] != 0.0)) return Floats4{};
+            const float mean = float(integral[3] / (xb - xa));
+            const float opacity = 1.0f - expNonPositive(Floats4{} - mean)[0];
+            const Doubles4 colour = integral * (opacity / integral[3]);
+            return Floats4{float(colour[0]), float(colour[1]), float(colour[2]), opacity};
+        }
+
+    private:
+        /// @a value in levels from level 0, finite however far beyond them it lies.
+        double levelsAt(float value) const {
+            return std::clamp((double(value) - scale.first) * scale.perValue, -1e300, 1e300);
+        }
+        /// The integrals from level 0's lower edge to @a x, which lies in @a level:
+        /// a level holds the values within half a level of it (levelOf rounds), and
+        /// beyond the end levels the transfer function is theirs.
+        void integralTo(double x, int level, Doubles4& integral) const {
+            const Doubles4 lo = below[level], hi = below[level + 1];
+            integral = lo + (x - level + 0.5) * (hi - lo);
+        }
+    };
+    Lookup lookup(RayEnds ends) const {
+        return {mPoints.table(), mBelow.data(), mScale, mDarkBelow, ends};
+    }
+
+private:
+    static constexpr double kOpaqueExtinction = 1e4;
+    ValueLight mPoints;
+    std::vector<Doubles4> mBelow;  ///< integrals of colour x extinction, and of extinction, below each level
     ValueLevels::Scale mScale;
     float mDarkBelow;
 };
@@ -211,12 +314,12 @@ struct Compositing {
     /// Composites the open pixels of [first, last] of an intermediate row, each
     /// taking the sum of @a taps at its column, pixel + shift.
     template <typename... Taps>
-    void pixels(OpenPixels& open, float* rgba, int first, int last, int shift, Taps... taps) const {
+    void pixels(OpenPixels& open, RayEnds ends, float* rgba, int first, int last, int shift, Taps... taps) const {
         const float termination = terminationOpacity;  // a local: pixel stores cannot change it
-        const auto lookup = light.lookup();
+        auto lookup = light.lookup(ends);
         for (int p = open.next(first); p <= last; p = open.next(p + 1)) {
             const auto sum = (taps(p + shift) + ...);
-            if (lookup.dark(sum)) continue;  // what is not dark may still add nothing, harmlessly
+            if (lookup.dark(p, sum)) continue;  // what is not dark may still add nothing, harmlessly
             // A typed store, unlike memcpy's, tells the compiler that only floats change.
             PixelFloats& pixel = *reinterpret_cast<PixelFloats*>(rgba + std::size_t(p) * 4);
             Floats4 value = pixel;
@@ -236,13 +339,16 @@ public:
     void reset(int width) {
         mWidth = width;
         mOpen.reset(width);
+        mLast.assign(width, RayEnd{});
     }
     bool finished() { return mOpen.next(0) >= mWidth; }
 
     /// Composites @a slice's classified samples over @a pixels: slice rows @a row
-    /// (upper) and row + 1 (lower), sheared by @a shear. A row without a run adds nothing.
-    void add(const Slice& slice, int row, int sliceHeight, const SliceShear& shear,
+    /// (upper) and row + 1 (lower), sheared by @a shear. A row without a run adds
+    /// nothing. @a n counts the slices composited before this one.
+    void add(const Slice& slice, int n, int row, int sliceHeight, const SliceShear& shear,
              const Compositing<ClassifiedLight>& compositing, float* pixels) {
+        const RayEnds ends = endsAt(n);
         ShearedRuns<StackSample> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight);
         ShearedRuns<StackSample> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight);
         // Walk both rows' runs left to right, in segments that one row, or both, reach.
@@ -255,44 +361,55 @@ public:
             const bool inUpper = !upper.empty() && upper.first() <= p, inLower = !lower.empty() && lower.first() <= p;
             const int last = std::min(upper.segmentEnd(inUpper), lower.segmentEnd(inLower));
             if (inUpper && inLower) {
-                compositing.pixels(mOpen, pixels, p, last, shear.shift, upper.tap(), lower.tap());
+                compositing.pixels(mOpen, ends, pixels, p, last, shear.shift, upper.tap(), lower.tap());
             } else if (inUpper) {
-                compositing.pixels(mOpen, pixels, p, last, shear.shift, upper.tap());
+                compositing.pixels(mOpen, ends, pixels, p, last, shear.shift, upper.tap());
             } else {
-                compositing.pixels(mOpen, pixels, p, last, shear.shift, lower.tap());
+                compositing.pixels(mOpen, ends, pixels, p, last, shear.shift, lower.tap());
             }
             p = last + 1;
         }
     }
 
-    /// The same for a slice of values. A value needs both rows, unless one weighs
-    /// nothing: where either has no run, every value lies in cells that cannot be
-    /// seen (see SliceStack).
-    void add(const Slice& slice, int row, int sliceHeight, const SliceShear& shear,
-             const Compositing<ValueLight>& compositing, float* pixels) {
+    /// The same for a slice of values (ValueLight or SegmentLight). A value needs
+    /// both rows, unless one weighs nothing: where either has no run, every value
+    /// lies in cells that cannot be seen, nor can the stretches of rays through
+    /// them (see SliceStack).
+    template <typename Light>
+    void add(const Slice& slice, int n, int row, int sliceHeight, const SliceShear& shear,
+             const Compositing<Light>& compositing, float* pixels) {
+        const RayEnds ends = endsAt(n);
         ShearedRuns<float> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight);
         ShearedRuns<float> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight);
-        if (shear.lowerLeft + shear.lowerRight == 0.0f) return addAlone(upper, compositing, pixels);
-        if (shear.upperLeft + shear.upperRight == 0.0f) return addAlone(lower, compositing, pixels);
+        if (shear.lowerLeft + shear.lowerRight == 0.0f) return addAlone(upper, ends, compositing, pixels);
+        if (shear.upperLeft + shear.upperRight == 0.0f) return addAlone(lower, ends, compositing, pixels);
         // Walk the stretches that both rows' runs reach, left to right.
         for (int p = INT32_MIN;;) {
             upper.skipTo(p);
             lower.skipTo(p);
             if (upper.empty() || lower.empty()) break;
             const int first = std::max(upper.first(), lower.first()), last = std::min(upper.last(), lower.last());
-            if (first <= last) compositing.pixels(mOpen, pixels, first, last, shear.shift, upper.tap(), lower.tap());
+            if (first <= last) {
+                compositing.pixels(mOpen, ends, pixels, first, last, shear.shift, upper.tap(), lower.tap());
+            }
             p = last + 1;
         }
     }
 
 private:
     /// One slice row's values, where the other row weighs nothing.
-    void addAlone(ShearedRuns<float> only, const Compositing<ValueLight>& compositing, float* pixels) {
-        for (; !only.empty(); ++only.runs) compositing.pixels(mOpen, pixels, only.first(), only.last(), only.shift, only.tap());
+    template <typename Light>
+    void addAlone(ShearedRuns<float> only, RayEnds ends, const Compositing<Light>& compositing, float* pixels) {
+        for (; !only.empty(); ++only.runs) {
+            compositing.pixels(mOpen, ends, pixels, only.first(), only.last(), only.shift, only.tap());
+        }
     }
+
+    RayEnds endsAt(int n) { return {mLast.data(), std::uint32_t(n) + 2}; }
 
     int mWidth = 0;
     OpenPixels mOpen;
+    std::vector<RayEnd> mLast;  ///< each pixel's
 };
 
 }  // namespace
@@ -314,6 +431,11 @@ Vec3d ShearWarpSettings::stackNormalFor(const Vec3d& direction) const {
         if (std::abs(direction[a]) > std::abs(direction[axis])) axis = a;
     }
     return Vec3d(axis == 0, axis == 1, axis == 2);
+}
+
+SegmentViews ShearWarpSettings::segmentViews() const {
+    const double axisToDiagonalDeg = std::acos(1.0 / std::sqrt(3.0)) * 180.0 / M_PI;
+    return {classification, stacks == StackOrientation::view ? reuseAngleDeg : axisToDiagonalDeg};
 }
 
 bool ShearWarpSettings::serves(const Vec3d& normal, const Vec3d& direction) const {
@@ -349,7 +471,7 @@ void compositeBands(const SliceStack& stack, const std::vector<SliceShear>& shea
                 const int row = firstRow + r;
                 if (rows[r].finished()) continue;
                 open = true;
-                rows[r].add(slice, row + shears[k].rowOffset, g.height, shears[k], compositing,
+                rows[r].add(slice, n, row + shears[k].rowOffset, g.height, shears[k], compositing,
                             out.rgba.data() + std::size_t(row) * out.width * 4);
             }
             if (!open) break;
@@ -377,7 +499,11 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     const bool backwards = dn < 0.0;
     // The path through one slice is 1 / cos(angle) slice spacings long.
     const double obliquity = 1.0 / std::abs(dn);
-    if (const ValueLevels* levels = stack.valueLevels()) {
+    const ValueLevels* levels = stack.valueLevels();
+    if (levels && stack.classification() == Classification::segments) {
+        const SegmentLight light(*levels, obliquity);
+        compositeBands(stack, shears, backwards, Compositing<SegmentLight>{light, terminationOpacity}, out);
+    } else if (levels) {
         const ValueLight light(*levels, obliquity);
         compositeBands(stack, shears, backwards, Compositing<ValueLight>{light, terminationOpacity}, out);
     } else {
@@ -498,9 +624,10 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
     if (!frame.reused) {
         // A view stack serves only its cone: the next one replaces it.
         if (mSettings.stacks == StackOrientation::view) mStacks.clear();
-        mStacks.push_back(std::make_unique<SliceStack>(mLayers, mSettings.stackNormalFor(camera.direction),
-                                                       mSettings.sliceSpacingVoxels,
-                                                       mSettings.sampleMmFor(camera, *mLayers.front().volume)));
+        mStacks.push_back(std::make_unique<SliceStack>(
+            mLayers, mSettings.stackNormalFor(camera.direction), mSettings.sliceSpacingVoxels,
+            mSettings.sampleMmFor(camera, *mLayers.front().volume), ProgressFn{}, nullptr, StackSampling::voxels,
+            mSettings.segmentViews()));
         serving = std::prev(mStacks.end());
         frame.buildMs = millisecondsSince(start);
         frame.gaussiansTouched = (*serving)->gaussiansTouched();

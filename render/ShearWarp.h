@@ -35,6 +35,9 @@ struct ShearWarpSettings {
     /// anti-alias the image: at 1 the resampling blurs and aliases by turns across
     /// the image (docs/benchmarks.md, "Supersampled stacks and a footprint warp").
     double supersampling = 1.5;
+    /// How a grey volume's values are composited: segments see bands of the
+    /// transfer function thinner than a slice spacing (SliceStack, Classification).
+    Classification classification = Classification::points;
     /// @return an empty string, or what is wrong, naming the flag.
     std::string validate() const;
     /// How thin a Gaussian may be before GaussianRenderVolume widens it, unless
@@ -46,6 +49,10 @@ struct ShearWarpSettings {
     double sampleMmFor(const OrthoCamera& camera, const RenderVolume& volume) const {
         return std::max(camera.pixelMm, volume.voxelMm()) / supersampling;
     }
+
+    /// The views a stack of these settings serves: up to the reuse angle for view
+    /// stacks, and the 54.7 degrees between an axis and a cube's diagonal for axis stacks.
+    SegmentViews segmentViews() const;
 
     /// The normal of the stack to build for a view along @a direction.
     openvdb::Vec3d stackNormalFor(const openvdb::Vec3d& direction) const;

@@ -9,6 +9,7 @@
 #include <cfloat>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 
 namespace gvr {
@@ -78,25 +79,6 @@ Slice compress(const Sample* plane, int width, int height, const std::vector<std
 std::vector<std::uint8_t> visibleSamples(const StackSample* plane, int width, int height) {
     std::vector<std::uint8_t> keep(std::size_t(width) * height);
     for (std::size_t n = 0; n < keep.size(); ++n) keep[n] = plane[n].a != 0;
-    return keep;
-}
-
-/// The values a slice keeps: the corners of every cell (two samples of two
-/// neighbouring rows) some of whose values could be seen, since resampling may
-/// give any value between a cell's corners.
-std::vector<std::uint8_t> cornersOfVisibleCells(const float* plane, int width, int height, const ValueLevels& levels) {
-    std::vector<std::uint8_t> keep(std::size_t(width) * height, 0);
-    for (int j = 0; j + 1 < height; ++j) {
-        const float* upper = plane + std::size_t(j) * width;
-        const float* lower = upper + width;
-        for (int x = 0; x + 1 < width; ++x) {
-            const float lo = std::min({upper[x], upper[x + 1], lower[x], lower[x + 1]});
-            const float hi = std::max({upper[x], upper[x + 1], lower[x], lower[x + 1]});
-            if (!levels.anyVisible(lo, hi)) continue;
-            std::uint8_t* corners = keep.data() + std::size_t(j) * width + x;
-            corners[0] = corners[1] = corners[width] = corners[width + 1] = 1;
-        }
-    }
     return keep;
 }
 
@@ -235,12 +217,12 @@ void storeClassified(const std::vector<StackLayer>& layers, const std::vector<st
 }
 
 /// Fills the slices slab by slab: @a storeBlock writes one block's samples into a
-/// slab of eight slices (in parallel over blocks), then each slice keeps the
-/// samples @a keep marks in it. Throws Cancelled before a slab once @a cancel is set.
-template <typename Sample, typename StoreBlock, typename Keep>
+/// slab of eight slices (in parallel over blocks), then @a compressSlab makes
+/// slices of it. Throws Cancelled before a slab once @a cancel is set.
+template <typename Sample, typename StoreBlock, typename CompressSlab>
 void buildSlices(const StackGeometry& g, const std::map<int, std::vector<Coord>>& slabs, Sample outside,
-                 ProgressCounter& counter, const std::atomic<bool>* cancel, std::vector<Slice>& slices,
-                 StoreBlock storeBlock, Keep keep) {
+                 ProgressCounter& counter, const std::atomic<bool>* cancel, StoreBlock storeBlock,
+                 CompressSlab compressSlab) {
     Slab<Sample> slab(g.width, g.height);
     for (const auto& slabEntry : slabs) {
         if (cancel && cancel->load()) throw Cancelled("slice stack build");
@@ -249,25 +231,170 @@ void buildSlices(const StackGeometry& g, const std::map<int, std::vector<Coord>>
         const std::vector<Coord>& origins = slabEntry.second;
         std::fill(slab.samples.begin(), slab.samples.end(), outside);
         tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) { storeBlock(origins[n], firstSlice, slab); });
-        const int count = std::min(kBlockDim, g.slices - firstSlice);
-        tbb::parallel_for(0, count, [&](int k) {
-            slices[firstSlice + k] = compress(slab.plane(k), g.width, g.height, keep(slab.plane(k)), outside);
-        });
+        compressSlab(firstSlice, std::min(kBlockDim, g.slices - firstSlice), slab);
         counter.advance();
     }
+}
+
+/// The levels each cell of a slice of values spans (a cell: two samples of two
+/// neighbouring rows, since resampling may give any value between its corners),
+/// kept at the cell's first corner. Beyond the last row and column, cells are
+/// empty: lo > hi.
+struct CellLevels {
+    std::vector<std::uint16_t> lo, hi;
+};
+
+CellLevels cellLevels(const float* plane, int width, int height, const ValueLevels& levels) {
+    const std::size_t size = std::size_t(width) * height;
+    std::vector<std::uint16_t> sampleLevels(size);
+    for (std::size_t n = 0; n < size; ++n) sampleLevels[n] = std::uint16_t(levels.levelOf(plane[n]));
+    CellLevels cells{std::vector<std::uint16_t>(size, ValueLevels::kCount - 1), std::vector<std::uint16_t>(size, 0)};
+    for (int j = 0; j + 1 < height; ++j) {
+        const std::uint16_t* upper = sampleLevels.data() + std::size_t(j) * width;
+        const std::uint16_t* lower = upper + width;
+        for (int x = 0; x + 1 < width; ++x) {
+            const std::size_t n = std::size_t(j) * width + x;
+            cells.lo[n] = std::min({upper[x], upper[x + 1], lower[x], lower[x + 1]});
+            cells.hi[n] = std::max({upper[x], upper[x + 1], lower[x], lower[x + 1]});
+        }
+    }
+    return cells;
+}
+
+/// Widens cells [to, to + count) of @a into by the levels of cells [from, from + count) of @a cells.
+void takeLevels(CellLevels& into, std::size_t to, const CellLevels& cells, std::size_t from, std::size_t count) {
+    for (std::size_t n = 0; n < count; ++n) {
+        into.lo[to + n] = std::min(into.lo[to + n], cells.lo[from + n]);
+        into.hi[to + n] = std::max(into.hi[to + n], cells.hi[from + n]);
+    }
+}
+
+/// Each cell takes the levels of every cell within @a reach of it, across and down:
+/// what a ray through it may meet in a neighbouring slice, sheared by up to @a reach.
+/// Shift by shift, so that each pass runs along memory.
+CellLevels widened(const CellLevels& cells, int width, int height, int reach) {
+    CellLevels across = cells;
+    for (int d = 1; d <= std::min(reach, width - 1); ++d) {
+        for (int j = 0; j < height; ++j) {
+            const std::size_t row = std::size_t(j) * width;
+            takeLevels(across, row, cells, row + d, width - d);
+            takeLevels(across, row + d, cells, row, width - d);
+        }
+    }
+    CellLevels both = across;
+    for (int d = 1; d <= std::min(reach, height - 1); ++d) {
+        const std::size_t rows = std::size_t(height - d) * width, shift = std::size_t(d) * width;
+        takeLevels(both, 0, across, shift, rows);
+        takeLevels(both, shift, across, 0, rows);
+    }
+    return both;
+}
+
+/// Compresses slices of values as their slabs are sampled, keeping the corners of
+/// every cell some of whose values could be seen. For segments, a cell is judged
+/// with what a ray through it meets in the neighbouring slices, so each slab's last
+/// slice waits for the next slab.
+class ValueSliceKeeper {
+public:
+    ValueSliceKeeper(const StackGeometry& g, const ValueLevels& levels, std::optional<int> segmentReach,
+                     float outside, std::vector<Slice>& slices)
+        : mGeometry(g), mLevels(levels), mReach(segmentReach), mOutside(outside), mSlices(slices) {}
+
+    void addSlab(int firstSlice, int count, const Slab<float>& slab) {
+        std::vector<Plane> planes(count);
+        tbb::parallel_for(0, count, [&](int k) { planes[k] = plane(firstSlice + k, slab.plane(k)); });
+        if (!mReach) {
+            tbb::parallel_for(0, count, [&](int k) { compressSlice(planes[k], nullptr, nullptr); });
+            return;
+        }
+        std::vector<const Plane*> order;  // consecutive planes, perhaps with gaps between
+        if (mBefore) order.push_back(&*mBefore);
+        if (mWaiting) order.push_back(&*mWaiting);
+        for (const Plane& p : planes) order.push_back(&p);
+        const std::size_t from = mBefore ? 1 : 0, last = order.size() - 1;
+        tbb::parallel_for(from, last, [&](std::size_t n) {
+            compressSlice(*order[n], n > 0 ? order[n - 1] : nullptr, order[n + 1]);
+        });
+        std::optional<Plane> before;
+        if (last > 0) {
+            // Compressed already, but its cells still judge the slice after it.
+            before = Plane{order[last - 1]->slice, nullptr, {}, {}, order[last - 1]->reachable};
+        }
+        Plane waiting = *order[last];
+        waiting.copy.assign(waiting.values, waiting.values + std::size_t(mGeometry.width) * mGeometry.height);
+        waiting.values = waiting.copy.data();
+        mBefore = std::move(before);
+        mWaiting = std::move(waiting);
+    }
+
+    /// Compresses the slice still waiting for its neighbour.
+    void finish() {
+        if (mWaiting) compressSlice(*mWaiting, mBefore ? &*mBefore : nullptr, nullptr);
+    }
+
+private:
+    struct Plane {
+        int slice = 0;
+        const float* values = nullptr;
+        std::vector<float> copy;  ///< the values, where the slab they came from is refilled
+        CellLevels cells, reachable;  ///< reachable: widened by the reach, for the neighbouring slices
+    };
+
+    Plane plane(int slice, const float* values) const {
+        Plane p{slice, values, {}, cellLevels(values, mGeometry.width, mGeometry.height, mLevels), {}};
+        if (mReach) p.reachable = widened(p.cells, mGeometry.width, mGeometry.height, *mReach);
+        return p;
+    }
+
+    /// Compresses @a p, judging its cells with @a before's and @a after's reachable
+    /// levels where those are the slices next to it.
+    void compressSlice(const Plane& p, const Plane* before, const Plane* after) const {
+        const int width = mGeometry.width, height = mGeometry.height;
+        if (before && before->slice != p.slice - 1) before = nullptr;
+        if (after && after->slice != p.slice + 1) after = nullptr;
+        std::vector<std::uint8_t> keep(std::size_t(width) * height, 0);
+        for (int j = 0; j + 1 < height; ++j) {
+            for (int x = 0; x + 1 < width; ++x) {
+                const std::size_t n = std::size_t(j) * width + x;
+                int lo = p.cells.lo[n], hi = p.cells.hi[n];
+                for (const Plane* neighbour : {before, after}) {
+                    if (!neighbour) continue;
+                    lo = std::min<int>(lo, neighbour->reachable.lo[n]);
+                    hi = std::max<int>(hi, neighbour->reachable.hi[n]);
+                }
+                if (!mLevels.anyVisibleLevel(lo, hi)) continue;
+                keep[n] = keep[n + 1] = keep[n + width] = keep[n + width + 1] = 1;
+            }
+        }
+        mSlices[p.slice] = compress(p.values, width, height, keep, mOutside);
+    }
+
+    const StackGeometry& mGeometry;
+    const ValueLevels& mLevels;
+    std::optional<int> mReach;
+    float mOutside;
+    std::vector<Slice>& mSlices;
+    std::optional<Plane> mBefore, mWaiting;  ///< the last two planes of the slabs so far
+};
+
+/// How far, in samples across and down, a view within @a maxAngleDeg of a stack's
+/// normal shears from one slice to the next.
+int segmentReach(const StackGeometry& g, double maxAngleDeg) {
+    const double shift = std::tan(maxAngleDeg * M_PI / 180.0) * g.sliceMm / g.sampleMm;
+    return int(std::ceil(shift - 1e-9));
 }
 
 }  // namespace
 
 SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier, const Vec3d& direction,
                        double sliceSpacingVoxels, double sampleMm, const ProgressFn& progress,
-                       const std::atomic<bool>* cancel, StackSampling sampling)
+                       const std::atomic<bool>* cancel, StackSampling sampling, SegmentViews segments)
     : SliceStack(std::vector<StackLayer>{{&volume, classifier}}, direction, sliceSpacingVoxels, sampleMm, progress,
-                 cancel, sampling) {}
+                 cancel, sampling, segments) {}
 
 SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direction, double sliceSpacingVoxels,
                        double sampleMm, const ProgressFn& progress, const std::atomic<bool>* cancel,
-                       StackSampling sampling)
+                       StackSampling sampling, SegmentViews segments)
     : mGeometry(stackGeometryFor(*layers.front().volume, direction, sliceSpacingVoxels, sampleMm)),
       mSlices(mGeometry.slices) {
     const RenderVolume& volume = *layers.front().volume;
@@ -276,6 +403,7 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     // visible background keeps the samples classified, so that they stay nothing.
     if (layers.size() == 1 && volume.channels() == 1 && tf(volume.backgroundKey())[3] == 0.0f) {
         mLevels = std::make_unique<ValueLevels>(tf, sliceSpacingVoxels);
+        mClassification = segments.classification;
     }
     for (Slice& slice : mSlices) slice.rowRuns.assign(mGeometry.height + 1, 0);
     std::vector<std::unique_ptr<BlockSource>> sources;
@@ -292,19 +420,30 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     const VolumeCells cells(mGeometry, volume);
     ProgressCounter counter(progress, slabs.size());
     if (mLevels) {
+        std::optional<int> reach;
+        if (mClassification == Classification::segments) reach = segmentReach(mGeometry, segments.maxAngleDeg);
+        const float outside = float(volume.backgroundKey());
+        ValueSliceKeeper keeper(mGeometry, *mLevels, reach, outside, mSlices);
         buildSlices(
-            mGeometry, slabs, float(volume.backgroundKey()), counter, cancel, mSlices,
+            mGeometry, slabs, outside, counter, cancel,
             [&](const Coord& origin, int firstSlice, Slab<float>& slab) {
                 storeValues(*sources.front(), cells, origin, firstSlice, slab);
             },
-            [&](const float* plane) { return cornersOfVisibleCells(plane, mGeometry.width, mGeometry.height, *mLevels); });
+            [&](int firstSlice, int count, const Slab<float>& slab) { keeper.addSlab(firstSlice, count, slab); });
+        keeper.finish();
     } else {
         buildSlices(
-            mGeometry, slabs, StackSample{}, counter, cancel, mSlices,
+            mGeometry, slabs, StackSample{}, counter, cancel,
             [&](const Coord& origin, int firstSlice, Slab<StackSample>& slab) {
                 storeClassified(layers, sources, sliceSpacingVoxels, cells, origin, firstSlice, slab);
             },
-            [&](const StackSample* plane) { return visibleSamples(plane, mGeometry.width, mGeometry.height); });
+            [&](int firstSlice, int count, const Slab<StackSample>& slab) {
+                tbb::parallel_for(0, count, [&](int k) {
+                    mSlices[firstSlice + k] = compress(slab.plane(k), mGeometry.width, mGeometry.height,
+                                                       visibleSamples(slab.plane(k), mGeometry.width, mGeometry.height),
+                                                       StackSample{});
+                });
+            });
     }
     for (const auto& source : sources) mGaussiansTouched += source->gaussiansReaching();
 }

@@ -105,7 +105,9 @@ public:
     /// The least value whose level is not transparent (infinity when none is).
     float firstVisibleValue() const { return mFirstVisibleValue; }
     /// Whether some value in [lo, hi] has a level that is not transparent.
-    bool anyVisible(float lo, float hi) const { return mVisibleBelow[levelOf(hi) + 1] > mVisibleBelow[levelOf(lo)]; }
+    bool anyVisible(float lo, float hi) const { return anyVisibleLevel(levelOf(lo), levelOf(hi)); }
+    /// Whether some level in [lo, hi] is not transparent (none when lo > hi).
+    bool anyVisibleLevel(int lo, int hi) const { return hi >= lo && mVisibleBelow[hi + 1] > mVisibleBelow[lo]; }
 
 private:
     Scale mScale;
@@ -120,6 +122,29 @@ private:
 struct StackLayer {
     const RenderVolume* volume = nullptr;
     Classifier classifier;
+};
+
+/// How a stack of values is composited (ValueLevels).
+enum class Classification {
+    /// Each sample classified alone: a band of values thinner than a slice spacing
+    /// may fall between two slices and be missed.
+    points,
+    /// Pre-integrated (Engel, Kraus and Ertl): each stretch of a ray from one slice to
+    /// the next takes the transfer function averaged over the values between its
+    /// two ends, which sees such bands. The build keeps every sample whose stretch
+    /// to a neighbouring slice could be seen, for any view within
+    /// SegmentViews::maxAngleDeg of the stack's normal. Outside the volume the
+    /// values are the background's, as for points: a ray entering through a face
+    /// crosses every value between the background's and the face's.
+    segments,
+};
+
+/// The views a stack of segments serves exactly: a view further off the normal
+/// crosses more samples from one slice to the next than the build looked at, and
+/// where one end of a stretch was left out it is classified as a point.
+struct SegmentViews {
+    Classification classification = Classification::points;
+    double maxAngleDeg = 0.0;  ///< [0, 80]
 };
 
 /// What a stack samples: each volume's voxels (RenderVolume::blocksOn), or a quick
@@ -137,13 +162,14 @@ public:
     ///                eight slices and throws Cancelled
     SliceStack(const RenderVolume& volume, const Classifier& classifier, const openvdb::Vec3d& direction,
                double sliceSpacingVoxels, double sampleMm, const ProgressFn& progress = {},
-               const std::atomic<bool>* cancel = nullptr, StackSampling sampling = StackSampling::voxels);
+               const std::atomic<bool>* cancel = nullptr, StackSampling sampling = StackSampling::voxels,
+               SegmentViews segments = {});
 
     /// The same for several layers: where layers meet, their opacities combine as
     /// 1 - prod(1 - alpha) and their colours in proportion to their opacities.
     SliceStack(const std::vector<StackLayer>& layers, const openvdb::Vec3d& direction, double sliceSpacingVoxels,
                double sampleMm, const ProgressFn& progress = {}, const std::atomic<bool>* cancel = nullptr,
-               StackSampling sampling = StackSampling::voxels);
+               StackSampling sampling = StackSampling::voxels, SegmentViews segments = {});
 
     const StackGeometry& geometry() const { return mGeometry; }
     const std::vector<Slice>& slices() const { return mSlices; }
@@ -151,10 +177,14 @@ public:
     std::size_t gaussiansTouched() const { return mGaussiansTouched; }
     /// How to classify the slices' values; null when the slices hold classified samples.
     const ValueLevels* valueLevels() const { return mLevels.get(); }
+    /// How the slices' values are composited: segments only for a stack of values
+    /// built for them.
+    Classification classification() const { return mClassification; }
 
 private:
     StackGeometry mGeometry;
     std::unique_ptr<ValueLevels> mLevels;
+    Classification mClassification = Classification::points;
     std::vector<Slice> mSlices;
     std::size_t mGaussiansTouched = 0;
 };

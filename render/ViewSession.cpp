@@ -78,12 +78,13 @@ void ViewSession::keep(BuiltStack built) {
 }
 
 ViewSession::BuiltStack ViewSession::buildStack(const StackTarget& target, double spacingVoxels,
-                                                const std::atomic<bool>* cancel, StackSampling sampling) {
+                                                SegmentViews segments, const std::atomic<bool>* cancel,
+                                                StackSampling sampling) {
     const auto start = std::chrono::steady_clock::now();
     BuiltStack built;
     built.scene = target.scene;
     built.stack = std::make_unique<SliceStack>(target.scene->layers, target.normal, spacingVoxels, target.sampleMm,
-                                               ProgressFn{}, cancel, sampling);
+                                               ProgressFn{}, cancel, sampling, segments);
     built.buildMs = millisecondsSince(start);
     return built;
 }
@@ -92,8 +93,8 @@ void ViewSession::startBuild(const OrthoCamera& camera, const openvdb::Vec3d& no
     mBuildTarget = {mScene, normal, mSettings.sampleMmFor(camera, *mScene->layers.front().volume)};
     mBuildCancel = std::make_shared<std::atomic<bool>>(false);
     mBuild = std::async(std::launch::async,
-                        [target = mBuildTarget, cancel = mBuildCancel, spacing = mSettings.sliceSpacingVoxels] {
-                            return buildStack(target, spacing, cancel.get());
+                        [target = mBuildTarget, cancel = mBuildCancel, spacing = mSettings.sliceSpacingVoxels,
+                         segments = mSettings.segmentViews()] { return buildStack(target, spacing, segments, cancel.get());
                         });
 }
 
@@ -112,8 +113,8 @@ void ViewSession::buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& n
     if (mSettings.stacks == StackOrientation::axes && mCurrent.stack) keep(std::move(mCurrent));
     // A preview: an asset's Gaussians sampled directly, without waiting for its
     // voxels, which the full build evaluates in the background.
-    mCurrent = buildStack({mScene, normal, coarseness * fullMm}, coarseness * mSettings.sliceSpacingVoxels, nullptr,
-                          StackSampling::preview);
+    mCurrent = buildStack({mScene, normal, coarseness * fullMm}, coarseness * mSettings.sliceSpacingVoxels,
+                          mSettings.segmentViews(), nullptr, StackSampling::preview);
     ++mStacksBuilt;
     frame.reused = false;
     frame.buildMs = mCurrent.buildMs;

@@ -81,7 +81,7 @@ private:
     };
 
     /// The scene's stack across @a normal, built now on this thread.
-    static BuiltStack buildStack(const StackTarget& target, double spacingVoxels,
+    static BuiltStack buildStack(const StackTarget& target, double spacingVoxels, SegmentViews segments,
                                  const std::atomic<bool>* cancel = nullptr,
                                  StackSampling sampling = StackSampling::voxels);
     bool fits(const StackTarget& target, const OrthoCamera& camera) const;

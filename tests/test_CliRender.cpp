@@ -89,6 +89,23 @@ TEST(CliRender, AssetsRenderWithBothRenderersAndAgree) {
     EXPECT_GT(std::filesystem::file_size(dir.path("rm.exr")), 0u);
 }
 
+TEST(CliRender, ClassifyTakesPointsOrSegmentsAndTheReportSaysWhich) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    const std::string common = "render -q '" + grid + "' --size 32x32 --tf mri --json ";
+    const test::CommandResult points = runGvr(common + "-o '" + dir.path("points.png") + "'", dir);
+    ASSERT_EQ(points.exitCode, 0) << points.err;
+    EXPECT_EQ(nlohmann::json::parse(points.out)["settings"]["classify"], "points");
+    const test::CommandResult segments = runGvr(common + "--classify segments -o '" + dir.path("segments.png") + "'", dir);
+    ASSERT_EQ(segments.exitCode, 0) << segments.err;
+    EXPECT_EQ(nlohmann::json::parse(segments.out)["settings"]["classify"], "segments");
+    EXPECT_GE(pngPsnr(dir.path("segments.png"), dir.path("points.png")), 30.0);
+    const test::CommandResult wrong = runGvr(common + "--classify lines -o '" + dir.path("wrong.png") + "'", dir);
+    EXPECT_NE(wrong.exitCode, 0);
+    EXPECT_NE(wrong.err.find("--classify"), std::string::npos) << wrong.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("wrong.png")));
+}
+
 TEST(CliRender, PresetNamesIgnoreCase) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);

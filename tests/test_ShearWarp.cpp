@@ -361,5 +361,103 @@ TEST(ShearWarp, BadSettingsAndCamerasAreRefused) {
     EXPECT_THROW(presetTransferFunction("bone", VolumeStatistics{}), InputError);
 }
 
+ShearWarpSettings segmentsAcross(StackOrientation orientation) {
+    ShearWarpSettings settings = stacksAcross(orientation);
+    settings.classification = Classification::segments;
+    return settings;
+}
+
+/// The exact image, near enough: one ray a pixel, a hundredth of a voxel a step.
+Framebuffer finelyMarched(const RenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera) {
+    RayMarchSettings fine;
+    fine.stepVoxels = 0.01;
+    return rayMarch(volume, classifier, camera, fine);
+}
+
+/// The middle half of @a image, each way: away from the volume's outline, where a
+/// stack's samples meet the nothing beyond it and a ray marcher's do not.
+Framebuffer middleOf(const Framebuffer& image) {
+    Framebuffer middle(image.width / 2, image.height / 2);
+    for (int y = 0; y < middle.height; ++y) {
+        for (int x = 0; x < middle.width; ++x) {
+            std::copy_n(image.pixel(x + image.width / 4, y + image.height / 4), 4, middle.pixel(x, y));
+        }
+    }
+    return middle;
+}
+
+/// A band of the transfer function between @a lo and @a hi, with steep edges.
+Classifier bandClassifier(double lo, double hi, float opacity) {
+    const std::array<float, 4> clear{1.0f, 0.8f, 0.6f, 0.0f}, seen{1.0f, 0.8f, 0.6f, opacity};
+    return Classifier(TransferFunction({{lo - 1.0, clear}, {lo, seen}, {hi, seen}, {hi + 1.0, clear}}, "test"), 1);
+}
+
+TEST(ShearWarp, BandsThinnerThanASliceAreSeenAsTheRayMarcherSeesThem) {
+    // Values rise 100 a voxel along z, so a band 30 values wide is a sheet 0.3 voxels
+    // thick, between the slices at z = 4 and 5 (and again between 11 and 12, where
+    // they fall). Wide, so that the middle of the image sees the bands far from the
+    // volume's sides, where the values fall through them to the background beyond;
+    // 0 at the top face, so that the rays entering there meet the bands only inside.
+    const GridRenderVolume ramp(
+        test::makeGrid({64, 64, 17}, [](int, int, int k) { return 100.0f * (8 - std::abs(k - 8)); }));
+    const Classifier band = bandClassifier(460.0, 490.0, 0.6f);
+    for (const View view : {View{0, 90}, View{30, 60}, View{-20, -70}}) {
+        const OrthoCamera camera = cameraFor(ramp, view.azimuthDeg, view.elevationDeg, 64);
+        const Framebuffer exact = middleOf(finelyMarched(ramp, band, camera));
+        EXPECT_GT(alphaSum(exact), 100.0) << "the bands must be seen";
+        for (const StackOrientation orientation : {StackOrientation::axes, StackOrientation::view}) {
+            const Framebuffer segments = middleOf(ShearWarpRenderer(ramp, band, segmentsAcross(orientation)).render(camera));
+            EXPECT_NEAR(alphaSum(segments) / alphaSum(exact), 1.0, 0.01) << view.azimuthDeg;
+            EXPECT_GE(imagePsnr(segments, exact), 35.0) << view.azimuthDeg;
+        }
+    }
+    // From above, every sample classified alone falls on one side of a band or the
+    // other: the test can fail.
+    const OrthoCamera above = cameraFor(ramp, 0, 90, 64);
+    const Framebuffer points = middleOf(ShearWarpRenderer(ramp, band, {}).render(above));
+    EXPECT_LT(alphaSum(points), 0.01 * alphaSum(middleOf(finelyMarched(ramp, band, above))));
+}
+
+TEST(ShearWarp, ASteepRampShowsNoSliceRings) {
+    // A shell 1.5 slices thick with steep edges, tilted across the slices: one or two
+    // samples of each ray fall in it, by turns across the image, unless the
+    // stretches between samples are integrated.
+    const GridRenderVolume tilted(test::makeGrid({32, 32, 32}, [](int i, int, int k) { return 40.0f * (k + 0.3f * i); }));
+    const Classifier shell = bandClassifier(800.0, 860.0, 0.3f);
+    const OrthoCamera camera = cameraFor(tilted, 0, 90, 64);
+    // The spread of opacity over the middle of the image, away from the volume's edges.
+    const auto ringDepth = [](const Framebuffer& image) {
+        float lo = 1.0f, hi = 0.0f;
+        for (std::size_t p = 3; p < image.rgba.size(); p += 4) {
+            lo = std::min(lo, image.rgba[p]);
+            hi = std::max(hi, image.rgba[p]);
+        }
+        return hi - lo;
+    };
+    const Framebuffer exact = middleOf(finelyMarched(tilted, shell, camera));
+    const Framebuffer segments =
+        middleOf(ShearWarpRenderer(tilted, shell, segmentsAcross(StackOrientation::view)).render(camera));
+    EXPECT_LT(ringDepth(segments), 0.01f);
+    EXPECT_GE(imagePsnr(segments, exact), 40.0);
+    const Framebuffer points = middleOf(ShearWarpRenderer(tilted, shell, stacksAcross(StackOrientation::view)).render(camera));
+    EXPECT_GT(ringDepth(points), 0.1f) << "the test must see rings where they are";
+    EXPECT_LT(imagePsnr(points, exact), 30.0);
+}
+
+TEST(ShearWarp, SegmentsMatchTheRayMarcherOnSmoothVolumesAsPointsDo) {
+    // Where the transfer function is smooth, points are the better rule: the
+    // stretches assume values linear between slices (docs/benchmarks.md, "Pre-integrated
+    // segments"). Both stay close to the ray marcher.
+    const auto volume = phantom();
+    for (const View view : {View{0, 0}, View{30, 20}, View{0, 90}}) {
+        const OrthoCamera camera = cameraFor(*volume, view.azimuthDeg, view.elevationDeg);
+        const Framebuffer exact = finelyMarched(*volume, rampClassifier(), camera);
+        const Framebuffer segments =
+            ShearWarpRenderer(*volume, rampClassifier(), segmentsAcross(StackOrientation::axes)).render(camera);
+        EXPECT_GE(imagePsnr(segments, exact), 50.0) << view.azimuthDeg;
+        EXPECT_NEAR(alphaSum(segments) / alphaSum(exact), 1.0, 0.01) << view.azimuthDeg;
+    }
+}
+
 }  // namespace
 }  // namespace gvr

@@ -108,6 +108,48 @@ TEST(SliceStack, RowsOfValuesKeepEveryCellThatCanBeSeenWithItsNeighbours) {
     EXPECT_GT(checkVisibleCellsAreKept(SliceStack(ball, band, openvdb::Vec3d(0, 0, 1), 1.0, 1.0)), 1000u);
 }
 
+/// The slices of @a stack that keep any sample.
+std::vector<int> slicesWithRuns(const SliceStack& stack) {
+    std::vector<int> kept;
+    for (int k = 0; k < stack.geometry().slices; ++k) {
+        if (!stack.slices()[k].runs.empty()) kept.push_back(k);
+    }
+    return kept;
+}
+
+TEST(SliceStack, SegmentsKeepTheSlicesOnEitherSideOfABandThatFallsBetweenThem) {
+    // Values rise 100 a voxel along z; two bands fall between slices: 3 and 4, inside
+    // a slab of eight, and 7 and 8, across two slabs (the first slab's last slice
+    // waits for the second's first).
+    const GridRenderVolume ramp(test::makeGrid({12, 12, 24}, [](int, int, int k) { return 100.0f * k; },
+                                               openvdb::Vec3d(1.0), -1.0));
+    const std::array<float, 4> clear{1, 1, 1, 0}, seen{1, 1, 1, 0.5f};
+    const Classifier bands(TransferFunction({{329.0, clear}, {330.0, seen}, {360.0, seen}, {361.0, clear},
+                                             {729.0, clear}, {730.0, seen}, {760.0, seen}, {761.0, clear}}, "test"), 1);
+    const openvdb::Vec3d up(0, 0, 1);
+    SegmentViews segments{Classification::segments, 0.0};
+    const SliceStack stack(ramp, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::voxels, segments);
+    ASSERT_EQ(stack.geometry().slices, 24);
+    EXPECT_EQ(stack.classification(), Classification::segments);
+    EXPECT_EQ(slicesWithRuns(stack), (std::vector<int>{3, 4, 7, 8}));
+    // Each sample alone is invisible, and so are the cells of each slice.
+    EXPECT_TRUE(slicesWithRuns(SliceStack(ramp, bands, up, 1.0, 1.0)).empty());
+    // A view off the normal reaches further across from one slice to the next: the
+    // slices keep a margin around the samples they would keep for a view along it.
+    const GridRenderVolume step(test::makeGrid({24, 24, 24}, [](int i, int, int k) { return i < 12 ? 0.0f : 100.0f * k; },
+                                               openvdb::Vec3d(1.0), -1.0));
+    const auto keptInRow = [](const SliceStack& s, int k, int j) {
+        const Slice& slice = s.slices()[k];
+        std::uint32_t count = 0;
+        for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r) count += slice.runs[r].end - slice.runs[r].begin;
+        return count;
+    };
+    segments.maxAngleDeg = 45.0;  // one sample across a slice spacing
+    const SliceStack along(step, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::voxels, {Classification::segments, 0.0});
+    const SliceStack oblique(step, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::voxels, segments);
+    EXPECT_EQ(keptInRow(oblique, 7, 12), keptInRow(along, 7, 12) + 1);
+}
+
 TEST(SliceStack, ValueLevelsSpanTheTransferFunctionAndKnowWhereItCanBeSeen) {
     const ValueLevels levels(TransferFunction({{-1000.0, {0, 0, 0, 0}}, {0.0, {0, 0, 0, 0}}, {3095.0, {1, 1, 1, 1}}},
                                               "test"), 2.0);
