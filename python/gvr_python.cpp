@@ -408,7 +408,7 @@ std::unique_ptr<RenderVolume> renderVolumeOf(const Renderable& what, float minSc
 }
 
 py::array render(const Renderable& what, double azimuth, double elevation, std::pair<int, int> size,
-                 const TransferSpec& tf, double supersample) {
+                 const TransferSpec& tf, double supersample, const std::string& classify) {
     const auto [width, height] = size;
     if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide) {
         throw InputError("size", "must be (width, height) in 1 to " + std::to_string(kMaxImageSide) + " pixels");
@@ -416,6 +416,10 @@ py::array render(const Renderable& what, double azimuth, double elevation, std::
     ShearWarpSettings settings;
     settings.stacks = automaticStacks(1);  // as gvr render draws a still
     settings.supersampling = supersample;
+    if (classify != "points" && classify != "segments") {
+        throw InputError("classify", "'" + classify + "' is neither points nor segments");
+    }
+    settings.classification = classify == "segments" ? Classification::segments : Classification::points;
     if (const std::string problem = settings.validate(); !problem.empty()) throw InputError("render", problem);
     Framebuffer image;
     {
@@ -554,10 +558,12 @@ PYBIND11_MODULE(gvr, m) {
           "--bricks`; the progress dict then says which brick.");
     m.def("render", &render, "what"_a, "azimuth"_a = 30.0, "elevation"_a = 15.0,
           "size"_a = std::pair<int, int>(512, 512), "tf"_a = "", "supersample"_a = ShearWarpSettings{}.supersampling,
+          "classify"_a = "points",
           "A shear-warp view of an Asset, a Volume or a file of either as premultiplied RGBA float32, shape (height, width, 4), "
           "as `gvr render` draws it. tf: a preset (ct, ct-bone, mri, rgb; default: by the data), a JSON file "
           "as `gvr render --tf` and `--save-tf` use, or its points [[value, r, g, b, a], ...] in physical units. "
-          "supersample: stack samples along each side of a pixel, 1 to 4, as `gvr render --supersample`");
+          "supersample: stack samples along each side of a pixel, 1 to 4, as `gvr render --supersample`. "
+          "classify: points or segments (pre-integrated), as `gvr render --classify`");
     m.def("evaluate",
           [](const Comparable& reference, const Comparable& test, bool resample, std::optional<double> peak,
              const std::string& mask, std::optional<double> threshold, const std::string& labels,

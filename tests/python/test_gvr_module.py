@@ -117,12 +117,12 @@ def test_a_bricked_fit_from_python_is_gvr_fit_bricks_byte_for_byte(work, ch2_vdb
         gvr.fit(ch2_vdb, iterations=1, bricks=100000)
 
 
-@pytest.mark.parametrize("supersample", [None, 1.0])
-def test_a_render_is_gvr_render(work, cli_asset, supersample):
+@pytest.mark.parametrize("option", [None, ("supersample", 1.0), ("classify", "segments")])
+def test_a_render_is_gvr_render(work, cli_asset, option):
     png = str(work / "cli.png")
-    flags = [] if supersample is None else ["--supersample", str(supersample)]
+    flags = [] if option is None else ["--" + option[0], str(option[1])]
     run("render", cli_asset, "-o", png, "--size", "160x120", "--azimuth", "40", "--elevation", "10", "--tf", "mri", *flags)
-    keywords = {} if supersample is None else {"supersample": supersample}
+    keywords = {} if option is None else {option[0]: option[1]}
     rgba = gvr.render(gvr.Asset.load(cli_asset), azimuth=40, elevation=10, size=(160, 120), tf="mri", **keywords)
     assert rgba.shape == (120, 160, 4)
     alpha = rgba[..., 3:]
@@ -134,9 +134,11 @@ def test_a_render_is_gvr_render(work, cli_asset, supersample):
     assert alpha.max() > 0.5  # the head is there
 
 
-def test_render_refuses_a_supersampling_outside_1_to_4(cli_asset):
+def test_render_refuses_a_supersampling_outside_1_to_4_and_an_unknown_classification(cli_asset):
     with pytest.raises(gvr.Error, match="supersample"):
         gvr.render(cli_asset, supersample=0.5)
+    with pytest.raises(gvr.Error, match="classify: 'lines' is neither points nor segments"):
+        gvr.render(cli_asset, classify="lines")
 
 
 def test_evaluate_has_the_keys_and_figures_of_gvr_eval(ch2_vdb, cli_asset):
