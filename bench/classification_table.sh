@@ -32,7 +32,7 @@ PY
 # A still of each classification, scored against REFERENCE.
 row() {  # NAME INPUT TF REFERENCE
     for classify in points segments; do
-        "$gvr" render "$2" --tf "$3" --classify $classify -o "$1-$classify.exr" -q --stats "$1-$classify.json" 2>/dev/null
+        "$gvr" render "$2" --tf "$3" --classify $classify -o "$1-$classify.exr" -q --stats "$1-$classify.json" >/dev/null
         echo "$1 $classify still: as seen $(seen "$4" "$1-$classify.exr") dB; $(times "$1-$classify.json")"
     done
 }
@@ -40,13 +40,13 @@ row() {  # NAME INPUT TF REFERENCE
 # for bands, 2 x 2 rays a twentieth of a voxel a step, beside the former's own score.
 for preset in "head $head mri" "bone $chest ct-bone" "ct $chest ct"; do
     set -- $preset
-    "$gvr" render "$2" --tf "$3" --renderer raymarch --samples 4 -o "$1-ref.exr" -q 2>/dev/null
+    "$gvr" render "$2" --tf "$3" --renderer raymarch --samples 4 -o "$1-ref.exr" -q >/dev/null
     row "$1" "$2" "$3" "$1-ref.exr"
 done
 for band in "hband $head band-head.json" "cband $chest band-chest.json"; do
     set -- $band
-    "$gvr" render "$2" --tf "$3" --renderer raymarch --samples 2 --step 0.05 -o "$1-ref.exr" -q 2>/dev/null
-    "$gvr" render "$2" --tf "$3" --renderer raymarch --samples 4 -o "$1-rm.exr" -q 2>/dev/null
+    "$gvr" render "$2" --tf "$3" --renderer raymarch --samples 2 --step 0.05 -o "$1-ref.exr" -q >/dev/null
+    "$gvr" render "$2" --tf "$3" --renderer raymarch --samples 4 -o "$1-rm.exr" -q >/dev/null
     echo "$1 ray marcher, 4 x 4 rays at half a voxel: as seen $(seen "$1-ref.exr" "$1-rm.exr") dB"
     row "$1" "$2" "$3" "$1-ref.exr"
 done
@@ -55,7 +55,7 @@ for orbit in "head $head mri" "ct $chest ct"; do
     set -- $orbit
     for classify in points segments; do
         "$gvr" render "$2" --tf "$3" --classify $classify --orbit 24 --stacks axes -o "orbit-$1-$classify.png" -q \
-            --stats "orbit-$1-$classify.json" 2>/dev/null
+            --stats "orbit-$1-$classify.json" >/dev/null
         echo "orbit $1 $classify: $(times "orbit-$1-$classify.json")"
     done
 done

@@ -378,9 +378,9 @@ private:
 };
 
 /// How far, in samples across and down, a view within @a maxAngleDeg of a stack's
-/// normal shears from one slice to the next.
+/// normal (up to 80 degrees) shears from one slice to the next.
 int segmentReach(const StackGeometry& g, double maxAngleDeg) {
-    const double shift = std::tan(maxAngleDeg * M_PI / 180.0) * g.sliceMm / g.sampleMm;
+    const double shift = std::tan(std::clamp(maxAngleDeg, 0.0, 80.0) * M_PI / 180.0) * g.sliceMm / g.sampleMm;
     return int(std::ceil(shift - 1e-9));
 }
 

@@ -144,7 +144,7 @@ enum class Classification {
 /// where one end of a stretch was left out it is classified as a point.
 struct SegmentViews {
     Classification classification = Classification::points;
-    double maxAngleDeg = 0.0;  ///< [0, 80]
+    double maxAngleDeg = 0.0;  ///< degrees; taken as 0 to 80
 };
 
 /// What a stack samples: each volume's voxels (RenderVolume::blocksOn), or a quick
