@@ -52,6 +52,12 @@ ShearWarpSettings stacksAcross(StackOrientation orientation) {
     return settings;
 }
 
+ShearWarpSettings segmentsAcross(StackOrientation orientation) {
+    ShearWarpSettings settings = stacksAcross(orientation);
+    settings.classification = Classification::segments;
+    return settings;
+}
+
 TEST(ShearWarp, MatchesRayMarchingFromAxesObliqueAnd45Degrees) {
     const auto volume = phantom();
     const Classifier classifier = rampClassifier();
@@ -304,19 +310,22 @@ TEST(ShearWarp, DataAndTransferFunctionsOfAnyFiniteScaleRenderAlike) {
     const auto unit = phantom();
     const OrthoCamera camera = cameraFor(*unit, 30, 20, 48);
     const Classifier ramp = rampClassifier();
-    const Framebuffer expected = ShearWarpRenderer(*unit, ramp, {}).render(camera);
-    for (const float factor : {1e-36f, 1e-30f, 1e-3f, 1e30f, 3e35f}) {
-        const auto scaled = phantom(factor);
-        std::vector<TransferPoint> points = ramp.transferFunction().points();
-        for (TransferPoint& p : points) p.value *= factor;
-        const Classifier classifier(TransferFunction(points, "scaled"), 1);
-        const Framebuffer image = ShearWarpRenderer(*scaled, classifier, {}).render(camera);
-        expectAValidImage(image, "factor " + std::to_string(factor));
-        EXPECT_GE(imagePsnr(image, expected), 40.0) << "factor " << factor;
-        // And the presets drawn from these data's own statistics.
-        for (const std::string preset : {"mri", "ct"}) {
-            const Classifier fromData(presetTransferFunction(preset, scaled->statistics()), 1);
-            expectAValidImage(ShearWarpRenderer(*scaled, fromData, {}).render(camera), preset);
+    // Points and pre-integrated segments alike.
+    for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::axes), segmentsAcross(StackOrientation::axes)}) {
+        const Framebuffer expected = ShearWarpRenderer(*unit, ramp, settings).render(camera);
+        for (const float factor : {1e-36f, 1e-30f, 1e-3f, 1e30f, 3e35f}) {
+            const auto scaled = phantom(factor);
+            std::vector<TransferPoint> points = ramp.transferFunction().points();
+            for (TransferPoint& p : points) p.value *= factor;
+            const Classifier classifier(TransferFunction(points, "scaled"), 1);
+            const Framebuffer image = ShearWarpRenderer(*scaled, classifier, settings).render(camera);
+            expectAValidImage(image, "factor " + std::to_string(factor));
+            EXPECT_GE(imagePsnr(image, expected), 40.0) << "factor " << factor;
+            // And the presets drawn from these data's own statistics.
+            for (const std::string preset : {"mri", "ct"}) {
+                const Classifier fromData(presetTransferFunction(preset, scaled->statistics()), 1);
+                expectAValidImage(ShearWarpRenderer(*scaled, fromData, settings).render(camera), preset);
+            }
         }
     }
 }
@@ -330,8 +339,10 @@ TEST(ShearWarp, TransferFunctionsAtTheEndsOfTheDoubleRangeAreSafe) {
                                  Points{{0.0, clear}, {5e-324, white}}, Points{{-1e-300, clear}, {1e-300, white}},
                                  Points{{1e300, clear}, {1e308, white}}, Points{{-1e308, white}, {-1e300, clear}}}) {
         const Classifier classifier(TransferFunction(points, "extreme"), 1);
-        const Framebuffer image = ShearWarpRenderer(*volume, classifier, {}).render(camera);
-        expectAValidImage(image, std::to_string(points.front().value));
+        for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::axes), segmentsAcross(StackOrientation::axes)}) {
+            const Framebuffer image = ShearWarpRenderer(*volume, classifier, settings).render(camera);
+            expectAValidImage(image, std::to_string(points.front().value));
+        }
         expectAValidImage(rayMarch(*volume, classifier, camera, RayMarchSettings{}), "ray marcher");
     }
     // Half the span of +-1e308 still interpolates: midway is half the opacity.
@@ -359,12 +370,6 @@ TEST(ShearWarp, BadSettingsAndCamerasAreRefused) {
     EXPECT_THROW(makeCamera({0, 0}, corners, 0, 64), InputError);
     EXPECT_THROW(makeCamera({NAN, 0}, corners, 64, 64), InputError);
     EXPECT_THROW(presetTransferFunction("bone", VolumeStatistics{}), InputError);
-}
-
-ShearWarpSettings segmentsAcross(StackOrientation orientation) {
-    ShearWarpSettings settings = stacksAcross(orientation);
-    settings.classification = Classification::segments;
-    return settings;
 }
 
 /// The exact image, near enough: one ray a pixel, a hundredth of a voxel a step.
