@@ -74,7 +74,7 @@ nlohmann::json settingsJson(const RenderFlags& flags) {
     return {{"renderer", "shear-warp"}, {"stacks", s.stacks == StackOrientation::view ? "view" : "axes"},
             {"supersample", s.supersampling}, {"slice_spacing_voxels", s.sliceSpacingVoxels},
             {"reuse_angle_deg", s.reuseAngleDeg}, {"termination", termination},
-            {"classify", s.classification == Classification::points ? "points" : "segments"}};
+            {"classify", classificationName(s.classification)}};
 }
 
 void writeStats(const std::string& path, const nlohmann::json& report) {

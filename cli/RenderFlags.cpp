@@ -34,9 +34,7 @@ void addStackFlags(CLI::App& command, ShearWarpSettings& settings, bool* automat
     command
         .add_option_function<std::string>(
             "--classify",
-            [&settings](const std::string& name) {
-                settings.classification = name == "points" ? Classification::points : Classification::segments;
-            },
+            [&settings](const std::string& name) { settings.classification = *classificationNamed(name); },
             "How a grey volume's values take the transfer function: segments pre-integrates each stretch of a ray "
             "between two slices, so that bands of it thinner than a slice are seen; points classifies each sample "
             "alone, as the ray marcher does, and may miss them")

@@ -416,10 +416,9 @@ py::array render(const Renderable& what, double azimuth, double elevation, std::
     ShearWarpSettings settings;
     settings.stacks = automaticStacks(1);  // as gvr render draws a still
     settings.supersampling = supersample;
-    if (classify != "points" && classify != "segments") {
-        throw InputError("classify", "'" + classify + "' is neither points nor segments");
-    }
-    settings.classification = classify == "segments" ? Classification::segments : Classification::points;
+    const std::optional<Classification> classification = classificationNamed(classify);
+    if (!classification) throw InputError("classify", "'" + classify + "' is neither points nor segments");
+    settings.classification = *classification;
     if (const std::string problem = settings.validate(); !problem.empty()) throw InputError("render", problem);
     Framebuffer image;
     {

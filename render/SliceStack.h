@@ -22,6 +22,8 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace gvr {
@@ -138,6 +140,19 @@ enum class Classification {
     /// crosses every value between the background's and the face's.
     segments,
 };
+
+/// "points" or "segments": how the command line and reports name a classification.
+inline const char* classificationName(Classification classification) {
+    return classification == Classification::segments ? "segments" : "points";
+}
+
+/// The classification called @a name, or none when no classification is.
+inline std::optional<Classification> classificationNamed(const std::string& name) {
+    for (const Classification c : {Classification::points, Classification::segments}) {
+        if (name == classificationName(c)) return c;
+    }
+    return std::nullopt;
+}
 
 /// The views a stack of segments serves exactly: a view further off the normal
 /// crosses more samples from one slice to the next than the build looked at, and
