@@ -38,9 +38,9 @@ void addStackFlags(CLI::App& command, ShearWarpSettings& settings, bool* automat
             "How a grey volume's values take the transfer function: segments pre-integrates each stretch of a ray "
             "between two slices, so that bands of it thinner than a slice are seen; points classifies each sample "
             "alone, as the ray marcher does, and may miss them")
-        ->check(CLI::IsMember({"segments", "points"}))
-        ->type_name("segments|points")
-        ->default_str("segments");
+        ->check(CLI::IsMember({"points", "segments"}))
+        ->type_name("points|segments")
+        ->default_str(classificationName(ShearWarpSettings{}.classification));
 }
 
 std::pair<int, int> parseImageSize(const std::string& text) {
