@@ -472,6 +472,8 @@ void compositeBands(const SliceStack& stack, const std::vector<SliceShear>& shea
         thread_local RowCompositor rows[kBandRows];
         const int firstRow = band * kBandRows, rowCount = std::min(kBandRows, out.height - firstRow);
         for (int r = 0; r < rowCount; ++r) rows[r].reset(out.width);
+        float* const bandPixels = out.rgba.data() + std::size_t(firstRow) * out.width * 4;
+        std::fill(bandPixels, bandPixels + std::size_t(rowCount) * out.width * 4, 0.0f);
         for (int n = 0; n < g.slices; ++n) {
             const int k = backwards ? g.slices - 1 - n : n;
             const Slice& slice = stack.slices()[k];
@@ -488,7 +490,9 @@ void compositeBands(const SliceStack& stack, const std::vector<SliceShear>& shea
     });
 }
 
-Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, float terminationOpacity) {
+/// @a memory: storage for the intermediate image, of any size and content.
+Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, float terminationOpacity,
+                             std::vector<float> memory) {
     const StackGeometry& g = stack.geometry();
     const double dn = direction.dot(g.normal);
     // Moving one slice back shifts the ray this far across the slices, in samples.
@@ -501,7 +505,9 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     out.originY = int(std::floor(std::min(0.0, -lastY))) - 1;
     out.width = int(std::ceil(std::max(0.0, -lastX))) + g.width + 1 - out.originX;
     out.height = int(std::ceil(std::max(0.0, -lastY))) + g.height + 1 - out.originY;
-    out.rgba.assign(std::size_t(out.width) * out.height * 4, 0.0f);
+    // Each band clears its own rows, while they are in its core's cache.
+    out.rgba = std::move(memory);
+    out.rgba.resize(std::size_t(out.width) * out.height * 4);
     std::vector<SliceShear> shears(g.slices);
     for (int k = 0; k < g.slices; ++k) shears[k] = shearOf(k, shiftX, shiftY, out.originX, out.originY);
     // A view from behind the stack meets its slices last to first.
@@ -641,16 +647,16 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
         frame.buildMs = millisecondsSince(start);
         frame.gaussiansTouched = (*serving)->gaussiansTouched();
     }
-    Framebuffer image = shearWarpFrame(**serving, camera, mSettings.terminationOpacity, frame);
+    Framebuffer image = mFramer.frame(**serving, camera, mSettings.terminationOpacity, frame);
     frame.totalMs = millisecondsSince(start);
     if (stats) *stats = frame;
     return image;
 }
 
-Framebuffer shearWarpFrame(const SliceStack& stack, const OrthoCamera& camera, float terminationOpacity,
-                           FrameStats& stats) {
+Framebuffer ShearWarpFramer::frame(const SliceStack& stack, const OrthoCamera& camera, float terminationOpacity,
+                                   FrameStats& stats) {
     const auto composited = std::chrono::steady_clock::now();
-    const Intermediate intermediate = compositeSlices(stack, camera.direction, terminationOpacity);
+    Intermediate intermediate = compositeSlices(stack, camera.direction, terminationOpacity, std::move(mIntermediate));
     stats.compositeMs = millisecondsSince(composited);
 
     const auto warped = std::chrono::steady_clock::now();
@@ -664,6 +670,7 @@ Framebuffer shearWarpFrame(const SliceStack& stack, const OrthoCamera& camera, f
         }
     });
     stats.warpMs = millisecondsSince(warped);
+    mIntermediate = std::move(intermediate.rgba);
     return image;
 }
 

@@ -89,11 +89,19 @@ inline double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// Composites @a stack for @a camera's view and warps it to the image, whatever
-/// the stack's direction (up to the grazing angles where the shear runs away);
-/// fills in stats.compositeMs and warpMs.
-Framebuffer shearWarpFrame(const SliceStack& stack, const OrthoCamera& camera, float terminationOpacity,
-                           FrameStats& stats);
+/// Composites stacks and warps them to images, keeping its intermediate image's
+/// memory from one frame to the next: a fresh one a frame costs its page faults,
+/// and on some machines as much time again as the warp.
+class ShearWarpFramer {
+public:
+    /// Composites @a stack for @a camera's view and warps it to the image, whatever
+    /// the stack's direction (up to the grazing angles where the shear runs away);
+    /// fills in stats.compositeMs and warpMs.
+    Framebuffer frame(const SliceStack& stack, const OrthoCamera& camera, float terminationOpacity, FrameStats& stats);
+
+private:
+    std::vector<float> mIntermediate;
+};
 
 class ShearWarpRenderer {
 public:
@@ -111,6 +119,7 @@ private:
     std::vector<StackLayer> mLayers;
     ShearWarpSettings mSettings;
     std::vector<std::unique_ptr<SliceStack>> mStacks;
+    ShearWarpFramer mFramer;
     int mFrames = 0;
 };
 

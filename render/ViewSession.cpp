@@ -184,7 +184,7 @@ Framebuffer ViewSession::render(const OrthoCamera& camera, FrameStats* stats) {
     }
     frame.stale = !fits(mCurrent, camera);
     if (!frame.stale || shearableFor(camera) || !sameSize) {
-        mLastFrame = shearWarpFrame(*mCurrent.stack, camera, mSettings.terminationOpacity, frame);
+        mLastFrame = mFramer.frame(*mCurrent.stack, camera, mSettings.terminationOpacity, frame);
     }
     prefetchNextAxis(camera);
     frame.totalMs = millisecondsSince(start);

@@ -115,6 +115,7 @@ private:
     std::shared_ptr<std::atomic<bool>> mBuildCancel;  ///< mBuild's flag, shared with its thread
     std::vector<std::future<BuiltStack>> mCancelled;  ///< cancelled builds still stopping
     Framebuffer mLastFrame;
+    ShearWarpFramer mFramer;
     int mFrames = 0, mStacksBuilt = 0, mBuildsCancelled = 0;
 };
 
