@@ -56,10 +56,10 @@ private:
 };
 
 /// Where each pixel of an intermediate row last resampled a stack of values: the
-/// value and the slice, so that the stretch of its ray from there to the next slice
-/// can be pre-integrated.
+/// (fractional) level and the slice, so that the stretch of its ray from there to
+/// the next slice can be pre-integrated.
 struct RayEnd {
-    float value = 0.0f;
+    float level = 0.0f;
     /// The slice, counted front to back from 2, so that the 0 of a fresh row never
     /// passes for the slice before the first.
     std::uint32_t stamp = 0;
@@ -76,15 +76,16 @@ struct ClassifiedLight {
     const ObliquityTable& oblique;
     static bool dark(int, Floats4 stored) { return stored[3] <= 0.0f; }
     Floats4 operator()(Floats4 stored) const { return oblique(stored); }
-    ClassifiedLight lookup(RayEnds) const { return *this; }
+    ClassifiedLight lookup(RayEnds, const ValueCoding&) const { return *this; }
 };
 
 /// What a value resampled from a stack of values adds over the oblique path: the
 /// transfer function's premultiplied colour and opacity at its level, per frame.
+/// The stack holds codes; each slice's coding turns a resampled code into a level.
 class ValueLight {
 public:
     ValueLight(const ValueLevels& levels, double lengthRatio)
-        : mLight(ValueLevels::kCount), mScale(levels.scale()), mDarkBelow(levels.firstVisibleValue()) {
+        : mLight(ValueLevels::kCount), mDarkBelow(levels.darkBelow()) {
         for (int level = 0; level < ValueLevels::kCount; ++level) {
             const std::array<float, 4>& rgba = levels.rgba(level);
             const float opacity = opacityOverLength(rgba[3], lengthRatio);
@@ -96,19 +97,18 @@ public:
     /// must reload what a pixel's store might change, and a copy's floats it need not.
     struct Lookup {
         const Floats4* light;
-        ValueLevels::Scale scale;
+        ValueCoding coding;
         float darkBelow;
-        /// Values below every visible level add nothing: a comparison spares the table.
-        bool dark(int, float value) const { return value < darkBelow; }
-        Floats4 operator()(float value) const { return light[scale.levelOf(value)]; }
+        /// Codes below every visible level add nothing: a comparison spares the table.
+        bool dark(int, float code) const { return coding.level(code) < darkBelow; }
+        Floats4 operator()(float code) const { return light[ValueLevels::nearest(coding.level(code))]; }
     };
-    Lookup lookup(RayEnds) const { return {mLight.data(), mScale, mDarkBelow}; }
+    Lookup lookup(RayEnds, const ValueCoding& coding) const { return {mLight.data(), coding, mDarkBelow}; }
     const Floats4* table() const { return mLight.data(); }
 
 private:
     std::vector<Floats4> mLight;
-    ValueLevels::Scale mScale;
-    float mDarkBelow;
+    float mDarkBelow;  ///< a level
 };
 
 /// Four doubles: sums over many levels, whose differences must keep the few.
@@ -123,8 +123,7 @@ using Doubles4 = double __attribute__((vector_size(32)));
 class SegmentLight {
 public:
     SegmentLight(const ValueLevels& levels, double lengthRatio)
-        : mPoints(levels, lengthRatio), mBelow(ValueLevels::kCount + 1), mScale(levels.scale()),
-          mDarkBelow(levels.firstVisibleValue()) {
+        : mPoints(levels, lengthRatio), mBelow(ValueLevels::kCount + 1), mDarkBelow(levels.darkBelow()) {
         mBelow[0] = Doubles4{};
         for (int level = 0; level < ValueLevels::kCount; ++level) {
             const std::array<float, 4>& rgba = levels.rgba(level);
@@ -140,26 +139,27 @@ public:
     struct Lookup {
         const Floats4* points;
         const Doubles4* below;
-        ValueLevels::Scale scale;
+        ValueCoding coding;
         float darkBelow;
         RayEnds ends;
-        float from = 0.0f, to = 0.0f;  ///< the ends of the stretch that dark() last looked at
+        float from = 0.0f, to = 0.0f;  ///< the levels at the ends of the stretch that dark() last looked at
 
-        /// Notes @a value as pixel @a p's, and whether the stretch that ends there
-        /// adds nothing. A pixel that skipped the slice before (its cells, and so
-        /// the stretch, could not be seen) starts afresh, as a point.
-        bool dark(int p, float value) {
+        /// Notes the level of @a code as pixel @a p's, and whether the stretch that
+        /// ends there adds nothing. A pixel that skipped the slice before (its cells,
+        /// and so the stretch, could not be seen) starts afresh, as a point.
+        bool dark(int p, float code) {
+            const float level = coding.level(code);
             RayEnd& end = ends.last[p];
-            from = end.stamp == ends.stamp - 1 ? end.value : value;
-            to = value;
-            end = {value, ends.stamp};
+            from = end.stamp == ends.stamp - 1 ? end.level : level;
+            to = level;
+            end = {level, ends.stamp};
             return std::max(from, to) < darkBelow;
         }
 
         Floats4 operator()(float) const {
-            const int a = scale.levelOf(from), b = scale.levelOf(to);
+            const int a = ValueLevels::nearest(from), b = ValueLevels::nearest(to);
             if (a == b) return points[b];
-            const double xa = levelsAt(from), xb = levelsAt(to);
+            const double xa = from, xb = to;
             // Out parameters: a 32-byte vector returned by value changes the ABI without AVX.
             Doubles4 atB, atA;
             integralTo(xb, b, atB);
@@ -169,23 +169,15 @@ public:
             const float mean = float(integral[3] / (xb - xa));
             const float opacity = 1.0f - expNonPositive(Floats4{} - mean)[0];
             // The difference keeps a few levels' worth out of thousands: floats from
-            // here, a third faster, unless a stretch to a value far beyond a narrow
-            // transfer function's points spans more than a float holds.
-            const Floats4 near = __builtin_convertvector(integral, Floats4);
-            if (std::isfinite(near[3])) {
-                Floats4 light = near * (opacity / near[3]);
-                light[3] = opacity;
-                return light;
-            }
-            const Doubles4 colour = integral * (opacity / integral[3]);
-            return Floats4{float(colour[0]), float(colour[1]), float(colour[2]), opacity};
+            // here, a third faster. Codes reach no further than ValueLevels::codingFor's
+            // spans beyond the levels, so the integrals stay far within a float's range.
+            Floats4 light = __builtin_convertvector(integral, Floats4);
+            light *= opacity / light[3];
+            light[3] = opacity;
+            return light;
         }
 
     private:
-        /// @a value in levels from level 0, finite however far beyond them it lies.
-        double levelsAt(float value) const {
-            return std::clamp((double(value) - scale.first) * scale.perValue, -1e300, 1e300);
-        }
         /// The integrals from level 0's lower edge to @a x, which lies in @a level:
         /// a level holds the values within half a level of it (levelOf rounds), and
         /// beyond the end levels the transfer function is theirs.
@@ -194,19 +186,18 @@ public:
             integral = lo + (x - level + 0.5) * (hi - lo);
         }
     };
-    Lookup lookup(RayEnds ends) const {
-        return {mPoints.table(), mBelow.data(), mScale, mDarkBelow, ends};
+    Lookup lookup(RayEnds ends, const ValueCoding& coding) const {
+        return {mPoints.table(), mBelow.data(), coding, mDarkBelow, ends};
     }
 
 private:
     static constexpr double kOpaqueExtinction = 1e4;
     ValueLight mPoints;
     std::vector<Doubles4> mBelow;  ///< integrals of colour x extinction, and of extinction, below each level
-    ValueLevels::Scale mScale;
-    float mDarkBelow;
+    float mDarkBelow;  ///< a level
 };
 
-float load(float value) { return value; }
+float load(std::uint16_t code) { return code; }
 
 Floats4 load(const StackSample& sample) {
 #if defined(__SSE2__)
@@ -254,7 +245,7 @@ struct Intermediate {
 /// are the weights.
 template <typename Sample>
 struct Tap {
-    using Weighed = decltype(load(Sample{}));  ///< Floats4 for classified samples, float for values
+    using Weighed = decltype(load(Sample{}));  ///< Floats4 for classified samples, float for codes
     const Sample* columns;                      ///< the row's samples, indexed by column
     Weighed right, left;
     Weighed operator()(int column) const { return right * load(columns[column]) + left * load(columns[column + 1]); }
@@ -323,9 +314,10 @@ struct Compositing {
     /// Composites the open pixels of [first, last] of an intermediate row, each
     /// taking the sum of @a taps at its column, pixel + shift.
     template <typename... Taps>
-    void pixels(OpenPixels& open, RayEnds ends, float* rgba, int first, int last, int shift, Taps... taps) const {
+    void pixels(OpenPixels& open, RayEnds ends, const ValueCoding& coding, float* rgba, int first, int last, int shift,
+                Taps... taps) const {
         const float termination = terminationOpacity;  // a local: pixel stores cannot change it
-        auto lookup = light.lookup(ends);
+        auto lookup = light.lookup(ends, coding);
         for (int p = open.next(first); p <= last; p = open.next(p + 1)) {
             const auto sum = (taps(p + shift) + ...);
             if (lookup.dark(p, sum)) continue;  // what is not dark may still add nothing, harmlessly
@@ -370,11 +362,11 @@ public:
             const bool inUpper = !upper.empty() && upper.first() <= p, inLower = !lower.empty() && lower.first() <= p;
             const int last = std::min(upper.segmentEnd(inUpper), lower.segmentEnd(inLower));
             if (inUpper && inLower) {
-                compositing.pixels(mOpen, ends, pixels, p, last, shear.shift, upper.tap(), lower.tap());
+                compositing.pixels(mOpen, ends, slice.coding, pixels, p, last, shear.shift, upper.tap(), lower.tap());
             } else if (inUpper) {
-                compositing.pixels(mOpen, ends, pixels, p, last, shear.shift, upper.tap());
+                compositing.pixels(mOpen, ends, slice.coding, pixels, p, last, shear.shift, upper.tap());
             } else {
-                compositing.pixels(mOpen, ends, pixels, p, last, shear.shift, lower.tap());
+                compositing.pixels(mOpen, ends, slice.coding, pixels, p, last, shear.shift, lower.tap());
             }
             p = last + 1;
         }
@@ -388,10 +380,10 @@ public:
     void add(const Slice& slice, int n, int row, int sliceHeight, const SliceShear& shear,
              const Compositing<Light>& compositing, float* pixels) {
         const RayEnds ends = endsAt(n);
-        ShearedRuns<float> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight);
-        ShearedRuns<float> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight);
-        if (shear.lowerLeft + shear.lowerRight == 0.0f) return addAlone(upper, ends, compositing, pixels);
-        if (shear.upperLeft + shear.upperRight == 0.0f) return addAlone(lower, ends, compositing, pixels);
+        ShearedRuns<std::uint16_t> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight);
+        ShearedRuns<std::uint16_t> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight);
+        if (shear.lowerLeft + shear.lowerRight == 0.0f) return addAlone(upper, ends, slice.coding, compositing, pixels);
+        if (shear.upperLeft + shear.upperRight == 0.0f) return addAlone(lower, ends, slice.coding, compositing, pixels);
         // Walk the stretches that both rows' runs reach, left to right.
         for (int p = INT32_MIN;;) {
             upper.skipTo(p);
@@ -399,18 +391,19 @@ public:
             if (upper.empty() || lower.empty()) break;
             const int first = std::max(upper.first(), lower.first()), last = std::min(upper.last(), lower.last());
             if (first <= last) {
-                compositing.pixels(mOpen, ends, pixels, first, last, shear.shift, upper.tap(), lower.tap());
+                compositing.pixels(mOpen, ends, slice.coding, pixels, first, last, shear.shift, upper.tap(), lower.tap());
             }
             p = last + 1;
         }
     }
 
 private:
-    /// One slice row's values, where the other row weighs nothing.
+    /// One slice row's codes, where the other row weighs nothing.
     template <typename Light>
-    void addAlone(ShearedRuns<float> only, RayEnds ends, const Compositing<Light>& compositing, float* pixels) {
+    void addAlone(ShearedRuns<std::uint16_t> only, RayEnds ends, const ValueCoding& coding,
+                  const Compositing<Light>& compositing, float* pixels) {
         for (; !only.empty(); ++only.runs) {
-            compositing.pixels(mOpen, ends, pixels, only.first(), only.last(), only.shift, only.tap());
+            compositing.pixels(mOpen, ends, coding, pixels, only.first(), only.last(), only.shift, only.tap());
         }
     }
 

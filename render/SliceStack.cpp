@@ -244,10 +244,10 @@ struct CellLevels {
     std::vector<std::uint16_t> lo, hi;
 };
 
-CellLevels cellLevels(const float* plane, int width, int height, const ValueLevels& levels) {
+CellLevels cellLevels(const std::vector<std::uint16_t>& codes, const ValueCoding& coding, int width, int height) {
     const std::size_t size = std::size_t(width) * height;
     std::vector<std::uint16_t> sampleLevels(size);
-    for (std::size_t n = 0; n < size; ++n) sampleLevels[n] = std::uint16_t(levels.levelOf(plane[n]));
+    for (std::size_t n = 0; n < size; ++n) sampleLevels[n] = std::uint16_t(ValueLevels::nearest(coding.level(codes[n])));
     CellLevels cells{std::vector<std::uint16_t>(size, ValueLevels::kCount - 1), std::vector<std::uint16_t>(size, 0)};
     for (int j = 0; j + 1 < height; ++j) {
         const std::uint16_t* upper = sampleLevels.data() + std::size_t(j) * width;
@@ -290,7 +290,7 @@ CellLevels widened(const CellLevels& cells, int width, int height, int reach) {
     return both;
 }
 
-/// Compresses slices of values as their slabs are sampled, keeping the corners of
+/// Compresses slices of values into codes as their slabs are sampled, keeping the corners of
 /// every cell some of whose values could be seen. For segments, a cell is judged
 /// with what a ray through it meets in the neighbouring slices, so each slab's last
 /// slice waits for the next slab.
@@ -318,13 +318,10 @@ public:
         std::optional<Plane> before;
         if (last > 0) {
             // Compressed already, but its cells still judge the slice after it.
-            before = Plane{order[last - 1]->slice, nullptr, {}, {}, order[last - 1]->reachable};
+            before = Plane{order[last - 1]->slice, {}, {}, {}, order[last - 1]->reachable};
         }
-        Plane waiting = *order[last];
-        waiting.copy.assign(waiting.values, waiting.values + std::size_t(mGeometry.width) * mGeometry.height);
-        waiting.values = waiting.copy.data();
         mBefore = std::move(before);
-        mWaiting = std::move(waiting);
+        mWaiting = *order[last];
     }
 
     /// Compresses the slice still waiting for its neighbour.
@@ -335,13 +332,20 @@ public:
 private:
     struct Plane {
         int slice = 0;
-        const float* values = nullptr;
-        std::vector<float> copy;  ///< the values, where the slab they came from is refilled
+        ValueCoding coding;
+        std::vector<std::uint16_t> codes;
         CellLevels cells, reachable;  ///< reachable: widened by the reach, for the neighbouring slices
     };
 
+    /// Slice @a slice's @a values in codes, and the levels of its cells. The codes
+    /// span the values, the outside's too, which pads the runs.
     Plane plane(int slice, const float* values) const {
-        Plane p{slice, values, {}, cellLevels(values, mGeometry.width, mGeometry.height, mLevels), {}};
+        const std::size_t size = std::size_t(mGeometry.width) * mGeometry.height;
+        const auto [lo, hi] = std::minmax_element(values, values + size);
+        Plane p{slice, mLevels.codingFor(std::min(*lo, mOutside), std::max(*hi, mOutside)), {}, {}, {}};
+        p.codes.resize(size);
+        for (std::size_t n = 0; n < size; ++n) p.codes[n] = p.coding.code(values[n]);
+        p.cells = cellLevels(p.codes, p.coding, mGeometry.width, mGeometry.height);
         if (mReach) p.reachable = widened(p.cells, mGeometry.width, mGeometry.height, *mReach);
         return p;
     }
@@ -366,7 +370,8 @@ private:
                 keep[n] = keep[n + 1] = keep[n + width] = keep[n + width + 1] = 1;
             }
         }
-        mSlices[p.slice] = compress(p.values, width, height, keep, mOutside);
+        mSlices[p.slice] = compress(p.codes.data(), width, height, keep, p.coding.code(mOutside));
+        mSlices[p.slice].coding = p.coding;
     }
 
     const StackGeometry& mGeometry;
@@ -448,19 +453,6 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     for (const auto& source : sources) mGaussiansTouched += source->gaussiansReaching();
 }
 
-namespace {
-
-/// The least float whose level is @a level or above: levelOf rounds to nearest, so
-/// values from about half a level below reach it; the float steps settle the edge.
-float leastFloatAtLevel(const ValueLevels::Scale& scale, int level) {
-    float value = float(scale.first + (level - 0.5) / scale.perValue);
-    while (scale.levelOf(value) < level) value = std::nextafter(value, INFINITY);
-    while (scale.levelOf(std::nextafter(value, -INFINITY)) >= level) value = std::nextafter(value, -INFINITY);
-    return value;
-}
-
-}  // namespace
-
 ValueLevels::ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels)
     : mRgba(kCount), mVisibleBelow(kCount + 1, 0) {
     // Stored values are floats: points beyond the float range change nothing they can
@@ -477,12 +469,29 @@ ValueLevels::ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels)
     const auto firstVisible = std::find(mVisibleBelow.begin(), mVisibleBelow.end(), 1);
     const int level = int(firstVisible - mVisibleBelow.begin()) - 1;  // the level whose count made 1
     if (firstVisible == mVisibleBelow.end()) {
-        mFirstVisibleValue = INFINITY;
+        mDarkBelow = INFINITY;
     } else if (level == 0) {
-        mFirstVisibleValue = -INFINITY;
+        mDarkBelow = -INFINITY;
     } else {
-        mFirstVisibleValue = leastFloatAtLevel(mScale, level);
+        mDarkBelow = float(level) - 0.5f;  // nearest rounds halves up
     }
+}
+
+ValueCoding ValueLevels::codingFor(float lo, float hi) const {
+    double from = lo, to = hi;
+    if (mScale.perValue > 0.0) {
+        const double span = (kCount - 1) / mScale.perValue;
+        from = std::max(from, mScale.first - kCodeReach * span);
+        to = std::min(to, mScale.first + (kCodeReach + 1.0) * span);
+    }
+    ValueCoding coding;
+    coding.lowest = from;
+    // Equal ends, or a span beyond the doubles: every value takes code 0.
+    const double codesPerValue = ValueCoding::kLastCode / (to - from);
+    if (to > from && std::isfinite(codesPerValue)) coding.codesPerValue = codesPerValue;
+    coding.firstLevel = float((from - mScale.first) * mScale.perValue);
+    coding.levelsPerCode = coding.codesPerValue > 0.0 ? float(mScale.perValue / coding.codesPerValue) : 0.0f;
+    return coding;
 }
 
 }  // namespace gvr

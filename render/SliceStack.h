@@ -4,10 +4,10 @@
 ///
 /// Slices are sampled on a lattice in world space (sampleMm across, sliceMm apart),
 /// so any stack direction works, not only the volume's axes. A stack of one grey
-/// volume keeps each sample's value, and compositing classifies the value it
-/// resamples from them (post-classification, as the ray marcher does: an opaque
-/// surface then lies where the values cross it, not where resampled opacities
-/// do). Other stacks (colour, or several layers) keep each sample classified:
+/// volume keeps each sample's value, as a 16-bit code, and compositing classifies
+/// the value it resamples from them (post-classification, as the ray marcher does:
+/// an opaque surface then lies where the values cross it, not where resampled
+/// opacities do). Other stacks (colour, or several layers) keep each sample classified:
 /// premultiplied colour and the opacity of one slice spacing, 16 bits each. Each
 /// slice row keeps only its runs of samples that can be seen (Lacroute's
 /// run-length encoding), which is how compositing skips empty space, inside the
@@ -54,15 +54,37 @@ struct RowRun {
     std::uint32_t offset = 0;          ///< where sample `begin` sits in Slice::samples
 };
 
+/// How a slice of values keeps them: as 16-bit codes spread evenly from its least
+/// value to its greatest (ValueLevels::codingFor), in half a float's bytes. A code,
+/// or a code interpolated between codes, stands for a level of the transfer
+/// function, which compositing reads.
+struct ValueCoding {
+    static constexpr int kLastCode = 65535;
+    double lowest = 0.0, codesPerValue = 0.0;      ///< the value of code 0, and codes per unit of value
+    float firstLevel = 0.0f, levelsPerCode = 0.0f;  ///< the (fractional) level of code 0, and levels per code
+
+    /// The nearest code to @a value; values beyond the codes take the end ones.
+    std::uint16_t code(float value) const {
+        const double c = (double(value) - lowest) * codesPerValue + 0.5;
+        if (!(c > 0.0)) return 0;
+        return c >= kLastCode ? std::uint16_t(kLastCode) : std::uint16_t(c);
+    }
+    /// The value @a code stands for.
+    double value(float code) const { return codesPerValue > 0.0 ? lowest + code / codesPerValue : lowest; }
+    /// The level, fractional, that @a code stands for: ValueLevels::nearest rounds it.
+    float level(float code) const { return firstLevel + code * levelsPerCode; }
+};
+
 struct Slice {
     /// Row j's runs are runs[rowRuns[j]] up to runs[rowRuns[j + 1]], left to right;
     /// every sample outside them is transparent.
     std::vector<std::uint32_t> rowRuns;
     std::vector<RowRun> runs;
     std::vector<StackSample> samples;  ///< classified stacks
-    std::vector<float> values;         ///< stacks of values (ValueLevels), laid out as samples are
+    std::vector<std::uint16_t> codes;  ///< stacks of values (ValueLevels), laid out as samples are
+    ValueCoding coding;                ///< what the codes stand for
 
-    /// samples or values, by the type of what is stored: for code written once for both.
+    /// samples or codes, by the type of what is stored: for code written once for both.
     template <typename Sample>
     std::vector<Sample>& stored();
     template <typename Sample>
@@ -76,8 +98,8 @@ inline std::vector<StackSample>& Slice::stored() {
     return samples;
 }
 template <>
-inline std::vector<float>& Slice::stored() {
-    return values;
+inline std::vector<std::uint16_t>& Slice::stored() {
+    return codes;
 }
 
 /// The classification of a stack of values, in levels: the transfer function at
@@ -87,9 +109,32 @@ class ValueLevels {
 public:
     static constexpr int kCount = 4096;
 
-    /// Values to levels: small, so that compositing may keep a copy at hand. In
-    /// double precision, so that any span of float values, from the gap between two
-    /// denormals to the whole float range, has finite levels per unit.
+    ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels);
+    int levelOf(float value) const { return mScale.levelOf(value); }
+    /// The level nearest to fractional level @a level (ValueCoding::level).
+    static int nearest(float level) {
+        const float rounded = level + 0.5f;
+        if (!(rounded > 0.0f)) return 0;
+        return rounded >= float(kCount - 1) ? kCount - 1 : int(rounded);
+    }
+    /// Straight colour and the opacity of one slice spacing.
+    const std::array<float, 4>& rgba(int level) const { return mRgba[level]; }
+    /// The fractional level below which every nearest level is transparent: minus
+    /// infinity when level 0 can be seen, and beyond the last level when none can.
+    float darkBelow() const { return mDarkBelow; }
+    /// The coding of values from @a lo to @a hi, and no further than kCodeReach spans
+    /// of the transfer function beyond its points: a value that far off classifies
+    /// as its end level all the same, and resamples with its neighbours little
+    /// differently, while the codes keep a 500th of the span or finer.
+    ValueCoding codingFor(float lo, float hi) const;
+    /// Whether some value in [lo, hi] has a level that is not transparent.
+    bool anyVisible(float lo, float hi) const { return anyVisibleLevel(levelOf(lo), levelOf(hi)); }
+    /// Whether some level in [lo, hi] is not transparent (none when lo > hi).
+    bool anyVisibleLevel(int lo, int hi) const { return hi >= lo && mVisibleBelow[hi + 1] > mVisibleBelow[lo]; }
+
+private:
+    /// Values to levels. In double precision, so that any span of float values, from
+    /// the gap between two denormals to the whole float range, has finite levels per unit.
     struct Scale {
         double first, perValue;  ///< the value of level 0, and levels per unit of value
         int levelOf(float value) const {
@@ -99,21 +144,9 @@ public:
         }
     };
 
-    ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels);
-    const Scale& scale() const { return mScale; }
-    int levelOf(float value) const { return mScale.levelOf(value); }
-    /// Straight colour and the opacity of one slice spacing.
-    const std::array<float, 4>& rgba(int level) const { return mRgba[level]; }
-    /// The least value whose level is not transparent (infinity when none is).
-    float firstVisibleValue() const { return mFirstVisibleValue; }
-    /// Whether some value in [lo, hi] has a level that is not transparent.
-    bool anyVisible(float lo, float hi) const { return anyVisibleLevel(levelOf(lo), levelOf(hi)); }
-    /// Whether some level in [lo, hi] is not transparent (none when lo > hi).
-    bool anyVisibleLevel(int lo, int hi) const { return hi >= lo && mVisibleBelow[hi + 1] > mVisibleBelow[lo]; }
-
-private:
+    static constexpr double kCodeReach = 64.0;
     Scale mScale;
-    float mFirstVisibleValue;
+    float mDarkBelow;
     std::vector<std::array<float, 4>> mRgba;
     std::vector<int> mVisibleBelow;  ///< visible levels below each level: a range's count in two reads
 };

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 
 namespace gvr {
@@ -61,8 +62,8 @@ TEST(SliceStack, ABuildStopsAtTheNextSlabOnceCancelled) {
 }
 
 /// Checks that every cell of @a stack (across z over hollowBall(), one voxel a
-/// sample) that @a levels can see keeps its four corners, with their true values.
-/// @return the cells that can be seen
+/// sample) that can be seen keeps its four corners, with their true values in
+/// codes: what compositing resamples. @return the cells that can be seen
 std::size_t checkVisibleCellsAreKept(const SliceStack& stack) {
     EXPECT_EQ(stack.geometry().width, 40);
     EXPECT_EQ(stack.geometry().slices, 40);
@@ -70,27 +71,29 @@ std::size_t checkVisibleCellsAreKept(const SliceStack& stack) {
     std::size_t visibleCells = 0;
     for (int k = 0; k < 40; ++k) {
         const Slice& slice = stack.slices()[k];
-        // Each row's stored values by column, NaN where the row keeps none.
-        std::vector<float> stored(40 * 40, NAN);
+        const auto codeAt = [&](int i, int j) { return slice.coding.code(hollowBallAt(i, j, k)); };
+        // Each row's stored codes by column, -1 where the row keeps none.
+        std::vector<int> stored(40 * 40, -1);
         for (int j = 0; j < 40; ++j) {
             for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r) {
                 const RowRun& run = slice.runs[r];
                 // The neighbours on either side are the row's own, or the background beyond it.
-                EXPECT_EQ(slice.values[run.offset - 1], run.begin > 0 ? hollowBallAt(run.begin - 1, j, k) : 0.0f);
-                EXPECT_EQ(slice.values[run.offset + run.end - run.begin], run.end < 40 ? hollowBallAt(run.end, j, k) : 0.0f);
-                for (std::uint32_t i = run.begin; i < run.end; ++i) stored[j * 40 + i] = slice.values[run.offset + i - run.begin];
+                EXPECT_EQ(slice.codes[run.offset - 1], run.begin > 0 ? codeAt(run.begin - 1, j) : slice.coding.code(0.0f));
+                EXPECT_EQ(slice.codes[run.offset + run.end - run.begin], run.end < 40 ? codeAt(run.end, j) : slice.coding.code(0.0f));
+                for (std::uint32_t i = run.begin; i < run.end; ++i) stored[j * 40 + i] = slice.codes[run.offset + i - run.begin];
             }
         }
         for (int j = 0; j + 1 < 40; ++j) {
             for (int i = 0; i + 1 < 40; ++i) {
-                const float corners[4] = {hollowBallAt(i, j, k), hollowBallAt(i + 1, j, k), hollowBallAt(i, j + 1, k),
-                                          hollowBallAt(i + 1, j + 1, k)};
-                if (!levels.anyVisible(*std::min_element(corners, corners + 4), *std::max_element(corners, corners + 4))) continue;
+                const int corners[4] = {codeAt(i, j), codeAt(i + 1, j), codeAt(i, j + 1), codeAt(i + 1, j + 1)};
+                const auto levelOf = [&](int code) { return ValueLevels::nearest(slice.coding.level(float(code))); };
+                const int lo = levelOf(*std::min_element(corners, corners + 4)), hi = levelOf(*std::max_element(corners, corners + 4));
+                if (!levels.anyVisibleLevel(lo, hi)) continue;
                 ++visibleCells;
-                EXPECT_FLOAT_EQ(stored[j * 40 + i], corners[0]) << i << " " << j << " " << k;
-                EXPECT_FLOAT_EQ(stored[j * 40 + i + 1], corners[1]) << i << " " << j << " " << k;
-                EXPECT_FLOAT_EQ(stored[(j + 1) * 40 + i], corners[2]) << i << " " << j << " " << k;
-                EXPECT_FLOAT_EQ(stored[(j + 1) * 40 + i + 1], corners[3]) << i << " " << j << " " << k;
+                EXPECT_EQ(stored[j * 40 + i], corners[0]) << i << " " << j << " " << k;
+                EXPECT_EQ(stored[j * 40 + i + 1], corners[1]) << i << " " << j << " " << k;
+                EXPECT_EQ(stored[(j + 1) * 40 + i], corners[2]) << i << " " << j << " " << k;
+                EXPECT_EQ(stored[(j + 1) * 40 + i + 1], corners[3]) << i << " " << j << " " << k;
             }
         }
     }
@@ -165,9 +168,65 @@ TEST(SliceStack, ValueLevelsSpanTheTransferFunctionAndKnowWhereItCanBeSeen) {
     EXPECT_FALSE(levels.anyVisible(-1e6f, 0.0f));
     EXPECT_TRUE(levels.anyVisible(-1e6f, 1.0f));
     EXPECT_TRUE(levels.anyVisible(3000.0f, 1e6f));
-    EXPECT_LE(levels.firstVisibleValue(), 0.5f);
-    EXPECT_GT(levels.firstVisibleValue(), 0.0f);
-    EXPECT_GT(levels.rgba(levels.levelOf(levels.firstVisibleValue()))[3], 0.0f);
+    // Level 1000 (the value 0) is the last transparent one: fractional levels from
+    // halfway to the next are seen.
+    EXPECT_EQ(levels.darkBelow(), 1000.5f);
+    EXPECT_EQ(levels.rgba(ValueLevels::nearest(std::nextafter(1000.5f, 0.0f)))[3], 0.0f);
+    EXPECT_GT(levels.rgba(ValueLevels::nearest(1000.5f))[3], 0.0f);
+    EXPECT_EQ(ValueLevels::nearest(-1e6f), 0);
+    EXPECT_EQ(ValueLevels::nearest(1e6f), ValueLevels::kCount - 1);
+}
+
+TEST(SliceStack, ValueLevelsAreDarkBelowNothingWhenLevelZeroIsSeenAndBelowEverythingWhenNoneIs) {
+    const ValueLevels seen(TransferFunction({{0.0, {1, 1, 1, 0.1f}}, {10.0, {1, 1, 1, 1}}}, "test"), 1.0);
+    EXPECT_EQ(seen.darkBelow(), -INFINITY);
+    const ValueLevels clear(TransferFunction({{0.0, {1, 1, 1, 0}}, {10.0, {1, 1, 1, 0}}}, "test"), 1.0);
+    EXPECT_EQ(clear.darkBelow(), INFINITY);
+}
+
+TEST(SliceStack, ValueCodesSpanTheirValuesEvenly) {
+    // Hounsfield units, and a window of 200 of them.
+    const ValueLevels levels(TransferFunction({{100.0, {1, 1, 1, 0}}, {300.0, {1, 1, 1, 1}}}, "test"), 1.0);
+    const ValueCoding coding = levels.codingFor(-1024.0f, 3071.0f);
+    EXPECT_EQ(coding.code(-1024.0f), 0);
+    EXPECT_EQ(coding.code(3071.0f), ValueCoding::kLastCode);
+    EXPECT_EQ(coding.code(-5000.0f), 0);
+    EXPECT_EQ(coding.code(5000.0f), ValueCoding::kLastCode);
+    const double halfCode = 0.5 * 4095.0 / ValueCoding::kLastCode;
+    for (float value : {-1024.0f, -1000.0f, -0.5f, 0.0f, 100.0f, 123.456f, 299.99f, 3071.0f}) {
+        EXPECT_NEAR(coding.value(coding.code(value)), value, halfCode * 1.0001) << value;
+        // A code's level is its value's, fractionally: 4095 levels over the window.
+        const double level = (value - 100.0) * 4095.0 / 200.0;
+        EXPECT_NEAR(coding.level(coding.code(value)), level, halfCode * 4095.0 / 200.0 * 1.0001 + 1e-3) << value;
+        // Less than a level off: the nearest level may differ by one.
+        EXPECT_LE(std::abs(ValueLevels::nearest(coding.level(coding.code(value))) - levels.levelOf(value)), 1) << value;
+    }
+}
+
+TEST(SliceStack, ValueCodesReachNoFurtherThanSixtyFourSpansBeyondTheTransferFunction) {
+    // A window one unit wide, and values from minus to plus the float range: codes
+    // spread over them all would leave the window none.
+    const ValueLevels levels(TransferFunction({{0.0, {1, 1, 1, 0}}, {1.0, {1, 1, 1, 1}}}, "test"), 1.0);
+    const ValueCoding coding = levels.codingFor(-FLT_MAX, FLT_MAX);
+    EXPECT_EQ(coding.code(-64.0f), 0);
+    EXPECT_EQ(coding.code(65.0f), ValueCoding::kLastCode);
+    EXPECT_GT(coding.code(0.25f) - coding.code(0.0f), 100);
+    // 129 spans of 4095 levels in 65535 codes: within half a code, 4.03 levels.
+    EXPECT_NEAR(coding.level(coding.code(0.5f)), 2047.5f, 0.5 * 129 * 4095 / 65535.0 + 0.02);
+    // Beyond the reach, values classify as the end levels all the same.
+    EXPECT_EQ(ValueLevels::nearest(coding.level(coding.code(-1e30f))), 0);
+    EXPECT_EQ(ValueLevels::nearest(coding.level(coding.code(1e30f))), ValueLevels::kCount - 1);
+}
+
+TEST(SliceStack, ValueCodesOfOneValueStandForIt) {
+    const ValueLevels levels(TransferFunction({{0.0, {1, 1, 1, 0}}, {4095.0, {1, 1, 1, 1}}}, "test"), 1.0);
+    const ValueCoding coding = levels.codingFor(7.0f, 7.0f);
+    EXPECT_EQ(coding.code(7.0f), 0);
+    EXPECT_EQ(coding.value(0.0f), 7.0);
+    EXPECT_FLOAT_EQ(coding.level(0.0f), 7.0f);
+    // A transfer function of one value has one level.
+    const ValueLevels point(TransferFunction({{5.0, {1, 1, 1, 1}}}, "test"), 1.0);
+    EXPECT_EQ(point.codingFor(-1.0f, 1e30f).level(30000.0f), 0.0f);
 }
 
 TEST(SliceStack, RowsKeepOnlyTheirRunsOfVisibleSamples) {
