@@ -14,6 +14,7 @@
 #include <cstring>
 #include <iterator>
 #include <numeric>
+#include <type_traits>
 
 namespace gvr {
 
@@ -95,15 +96,16 @@ public:
 
     /// The table's reader, held by value where pixels are composited: the compiler
     /// must reload what a pixel's store might change, and a copy's floats it need not.
+    /// It reads taps weighed in levels (codes times ValueCoding::levelsPerCode): a
+    /// resampled level is the taps' sum plus the slice's first level.
     struct Lookup {
         const Floats4* light;
-        ValueCoding coding;
-        float darkBelow;
-        /// Codes below every visible level add nothing: a comparison spares the table.
-        bool dark(int, float code) const { return coding.level(code) < darkBelow; }
-        Floats4 operator()(float code) const { return light[ValueLevels::nearest(coding.level(code))]; }
+        float firstLevel, darkBelow;
+        /// Levels below every visible one add nothing: a comparison spares the table.
+        bool dark(int, float taps) const { return taps + firstLevel < darkBelow; }
+        Floats4 operator()(float taps) const { return light[ValueLevels::nearest(taps + firstLevel)]; }
     };
-    Lookup lookup(RayEnds, const ValueCoding& coding) const { return {mLight.data(), coding, mDarkBelow}; }
+    Lookup lookup(RayEnds, const ValueCoding& coding) const { return {mLight.data(), coding.firstLevel, mDarkBelow}; }
     const Floats4* table() const { return mLight.data(); }
 
 private:
@@ -139,16 +141,16 @@ public:
     struct Lookup {
         const Floats4* points;
         const Doubles4* below;
-        ValueCoding coding;
-        float darkBelow;
+        float firstLevel, darkBelow;
         RayEnds ends;
         float from = 0.0f, to = 0.0f;  ///< the levels at the ends of the stretch that dark() last looked at
 
-        /// Notes the level of @a code as pixel @a p's, and whether the stretch that
-        /// ends there adds nothing. A pixel that skipped the slice before (its cells,
-        /// and so the stretch, could not be seen) starts afresh, as a point.
-        bool dark(int p, float code) {
-            const float level = coding.level(code);
+        /// Notes the level that @a taps resample (as ValueLight's) as pixel @a p's, and
+        /// whether the stretch that ends there adds nothing. A pixel that skipped the
+        /// slice before (its cells, and so the stretch, could not be seen) starts
+        /// afresh, as a point.
+        bool dark(int p, float taps) {
+            const float level = taps + firstLevel;
             RayEnd& end = ends.last[p];
             from = end.stamp == ends.stamp - 1 ? end.level : level;
             to = level;
@@ -187,7 +189,7 @@ public:
         }
     };
     Lookup lookup(RayEnds ends, const ValueCoding& coding) const {
-        return {mPoints.table(), mBelow.data(), coding, mDarkBelow, ends};
+        return {mPoints.table(), mBelow.data(), coding.firstLevel, mDarkBelow, ends};
     }
 
 private:
@@ -198,6 +200,18 @@ private:
 };
 
 float load(std::uint16_t code) { return code; }
+
+/// Two neighbouring codes as floats, in the two lowest lanes: one load and one
+/// conversion, where two scalar ones made reused frames a tenth slower than floats.
+Floats4 loadPair(const std::uint16_t* codes) {
+#if defined(__SSE2__)
+    std::int32_t bits;
+    std::memcpy(&bits, codes, sizeof bits);
+    return (Floats4)_mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_cvtsi32_si128(bits), _mm_setzero_si128()));
+#else
+    return Floats4{float(codes[0]), float(codes[1]), 0.0f, 0.0f};
+#endif
+}
 
 Floats4 load(const StackSample& sample) {
 #if defined(__SSE2__)
@@ -245,10 +259,17 @@ struct Intermediate {
 /// are the weights.
 template <typename Sample>
 struct Tap {
-    using Weighed = decltype(load(Sample{}));  ///< Floats4 for classified samples, float for codes
+    using Weighed = decltype(load(Sample{}));  ///< Floats4 for classified samples, float for codes (in levels)
     const Sample* columns;                      ///< the row's samples, indexed by column
     Weighed right, left;
-    Weighed operator()(int column) const { return right * load(columns[column]) + left * load(columns[column + 1]); }
+    Weighed operator()(int column) const {
+        if constexpr (std::is_same_v<Sample, std::uint16_t>) {
+            const Floats4 pair = loadPair(columns + column);
+            return right * pair[0] + left * pair[1];
+        } else {
+            return right * load(columns[column]) + left * load(columns[column + 1]);
+        }
+    }
 };
 
 /// Where slice k lands on the intermediate image: intermediate row y reads slice
@@ -279,9 +300,12 @@ struct ShearedRuns {
     int shift = 0;
     Weighed right{}, left{};
 
-    ShearedRuns(const Slice& slice, int row, int height, int shiftBy, float leftWeight, float rightWeight)
+    /// @a unit: what one stored step weighs, ValueCoding::levelsPerCode for codes.
+    ShearedRuns(const Slice& slice, int row, int height, int shiftBy, float leftWeight, float rightWeight,
+                float unit = 1.0f)
         // Weighed{} + w is w, or w in each of four lanes.
-        : samples(slice.stored<Sample>().data()), shift(shiftBy), right(Weighed{} + rightWeight), left(Weighed{} + leftWeight) {
+        : samples(slice.stored<Sample>().data()), shift(shiftBy), right(Weighed{} + rightWeight * unit),
+          left(Weighed{} + leftWeight * unit) {
         if (row < 0 || row >= height || leftWeight + rightWeight == 0.0f) return;
         runs = slice.runs.data() + slice.rowRuns[row];
         end = slice.runs.data() + slice.rowRuns[row + 1];
@@ -380,8 +404,9 @@ public:
     void add(const Slice& slice, int n, int row, int sliceHeight, const SliceShear& shear,
              const Compositing<Light>& compositing, float* pixels) {
         const RayEnds ends = endsAt(n);
-        ShearedRuns<std::uint16_t> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight);
-        ShearedRuns<std::uint16_t> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight);
+        const float unit = slice.coding.levelsPerCode;
+        ShearedRuns<std::uint16_t> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight, unit);
+        ShearedRuns<std::uint16_t> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight, unit);
         if (shear.lowerLeft + shear.lowerRight == 0.0f) return addAlone(upper, ends, slice.coding, compositing, pixels);
         if (shear.upperLeft + shear.upperRight == 0.0f) return addAlone(lower, ends, slice.coding, compositing, pixels);
         // Walk the stretches that both rows' runs reach, left to right.
