@@ -167,13 +167,14 @@ public:
             integralTo(xb, b, atB);
             integralTo(xa, a, atA);
             const Doubles4 integral = atB - atA;
-            if (!(integral[3] != 0.0)) return Floats4{};
             const float mean = float(integral[3] / (xb - xa));
             const float opacity = 1.0f - expNonPositive(Floats4{} - mean)[0];
             // The difference keeps a few levels' worth out of thousands: floats from
             // here, a third faster. Codes reach no further than ValueLevels::codingFor's
             // spans beyond the levels, so the integrals stay far within a float's range.
             Floats4 light = __builtin_convertvector(integral, Floats4);
+            // Negative for a stretch down the levels; zero for an extinction below a float's least.
+            if (!(light[3] != 0.0f)) return Floats4{};
             light *= opacity / light[3];
             light[3] = opacity;
             return light;

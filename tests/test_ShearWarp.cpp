@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 namespace gvr {
 namespace {
@@ -351,6 +352,21 @@ TEST(ShearWarp, TransferFunctionsAtTheEndsOfTheDoubleRangeAreSafe) {
     // Half the span of +-1e308 still interpolates: midway is half the opacity.
     const TransferFunction wide({{-1e308, clear}, {1e308, white}}, "wide");
     EXPECT_FLOAT_EQ(wide(0.0)[3], 0.25f);
+}
+
+TEST(ShearWarp, OpacitiesDownToAFloatsLeastAreSafe) {
+    // A stretch's extinction integral may be a double too small for a float: the
+    // stretch then adds nothing, rather than 0 / 0.
+    const auto volume = phantom();
+    const OrthoCamera camera = cameraFor(*volume, 30, 20, 32);
+    for (const float opacity : {std::numeric_limits<float>::denorm_min(), 1e-40f, std::numeric_limits<float>::min()}) {
+        const Classifier faint(TransferFunction({{0.0, {1, 1, 1, 0}}, {1000.0, {1, 1, 1, opacity}}}, "faint"), 1);
+        for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::axes), segmentsAcross(StackOrientation::axes)}) {
+            const Framebuffer image = ShearWarpRenderer(*volume, faint, settings).render(camera);
+            expectAValidImage(image, std::to_string(opacity));
+            EXPECT_LT(alphaSum(image), 1e-3) << opacity;
+        }
+    }
 }
 
 TEST(ShearWarp, BadSettingsAndCamerasAreRefused) {
