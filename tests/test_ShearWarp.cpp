@@ -339,8 +339,8 @@ TEST(ShearWarp, TransferFunctionsAtTheEndsOfTheDoubleRangeAreSafe) {
     for (const Points& points : {Points{{-1e308, clear}, {1e308, white}}, Points{{300.0, clear}, {std::nextafter(300.0, 1e9), white}},
                                  Points{{0.0, clear}, {5e-324, white}}, Points{{-1e-300, clear}, {1e-300, white}},
                                  Points{{1e300, clear}, {1e308, white}}, Points{{-1e308, white}, {-1e300, clear}},
-                                 // Every value of the data lies 1e302 levels beyond: a stretch from the
-                                 // transparent background spans more levels than a float holds.
+                                 // Every value of the data lies 1e302 levels beyond, where the codes of
+                                 // a slice stop (64 spans out): stretches still integrate in floats.
                                  Points{{1e-300, clear}, {2e-300, white}}}) {
         const Classifier classifier(TransferFunction(points, "extreme"), 1);
         for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::axes), segmentsAcross(StackOrientation::axes)}) {
