@@ -6,12 +6,15 @@
 #include "pipeline/Luminance.h"
 #include "pipeline/VolumeBorder.h"
 #include "pipeline/VolumeMetadata.h"
+#include "render/VoxelBrick.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
 
 namespace gvr {
 
@@ -134,7 +137,7 @@ public:
           mGaussiansEvaluated(gaussiansEvaluated),
           mGridFromLattice(lattice.worldFromIndex * grid.transform().baseMap()->getAffineMap()->getMat4().inverse()),
           mActive(grid.evalActiveVoxelBoundingBox().expandBy(1)),  // trilinear samples reach one voxel out
-          mCeilings(grid, mEveryBlock ? CoordBBox() : mActive) {}
+          mCeilings(grid, mEveryBlock ? CoordBBox() : mActive), mGridAxisOf(gridAxesOf(mGridFromLattice)) {}
 
     std::vector<Coord> occupiedBlocks() const override {
         std::vector<Coord> origins = blockOrigins(mLattice.box);
@@ -149,33 +152,120 @@ public:
     CoordBBox sampleBlock(const Coord& origin, float* values) const override {
         CoordBBox voxels(origin, origin + Coord(kBlockDim - 1));
         voxels.intersect(mLattice.box);
-        auto accessor = mGrid.getConstAccessor();
+        if (voxels.empty()) return voxels;
+        const openvdb::BBoxd reach = gridBoxOf(voxels);
+        // A voxel more on each side: a sample's position may round past the corners'.
+        const CoordBBox corners(Coord::floor(reach.min()) - Coord(1), Coord::floor(reach.max()) + Coord(2));
         constexpr int channels = std::is_same_v<typename GridT::ValueType, openvdb::Vec3s> ? 3 : 1;
+        const auto accessor = mGrid.getConstAccessor();
+        // A lattice much coarser than the voxels reads few of a brick's: the tree then.
+        if (corners.volume() > 8 * voxels.volume()) {
+            for (auto ijk = voxels.begin(); ijk; ++ijk) {
+                GridRenderVolume::trilinear(accessor, mGridFromLattice.transform((*ijk).asVec3d()),
+                                            values + blockOffset(*ijk) * channels);
+            }
+            return voxels;
+        }
+        thread_local VoxelBrick<GridT> brick;  // per thread, not per block: the build's hot path
+        brick.fill(accessor, corners);
+        if (mGridAxisOf) {
+            sampleAlongAxes(brick, voxels, values);
+            return voxels;
+        }
         for (auto ijk = voxels.begin(); ijk; ++ijk) {
-            GridRenderVolume::trilinear(accessor, mGridFromLattice.transform((*ijk).asVec3d()),
-                                        values + blockOffset(*ijk) * channels);
+            brick.trilinear(mGridFromLattice.transform((*ijk).asVec3d()), values + blockOffset(*ijk) * channels);
         }
         return voxels;
     }
 
 private:
-    /// Whether the block's samples, or their neighbours on the lattice, reach a voxel
-    /// that is active and could be seen: compositing resamples between neighbours,
-    /// and a block left out holds the background instead of its values.
-    bool mayBeSeen(const Coord& origin) const {
+    /// Where each lattice index along one lattice axis falls on its grid axis: a
+    /// voxel and the fraction beyond it.
+    struct AxisSteps {
+        std::array<int, kBlockDim> base;
+        std::array<double, kBlockDim> t;
+    };
+
+    /// The grid axis each lattice axis runs along, when each runs along one (axis
+    /// stacks, and the grids' own lattices): no other axis adds to its coordinate.
+    static std::optional<std::array<int, 3>> gridAxesOf(const Mat4d& gridFromLattice) {
+        std::array<int, 3> axisOf{};
+        int seen = 0;
+        for (int r = 0; r < 3; ++r) {
+            int nonZero = 0;
+            for (int c = 0; c < 3; ++c) {
+                if (gridFromLattice(r, c) != 0.0) {
+                    ++nonZero;
+                    axisOf[r] = c;
+                }
+            }
+            if (nonZero != 1) return std::nullopt;
+            seen |= 1 << axisOf[r];
+        }
+        if (seen != 7) return std::nullopt;
+        return axisOf;
+    }
+
+    /// As the general loop, to the bit (the terms a lattice axis leaves out are
+    /// exact zeros): each voxel's place along each axis found once for the block.
+    template <typename Brick>
+    void sampleAlongAxes(const Brick& brick, const CoordBBox& voxels, float* values) const {
+        constexpr int channels = std::is_same_v<typename GridT::ValueType, openvdb::Vec3s> ? 3 : 1;
+        const std::array<int, 3>& axisOf = *mGridAxisOf;
+        std::array<AxisSteps, 3> steps;
+        for (int r = 0; r < 3; ++r) {
+            const int c = axisOf[r];
+            for (int v = voxels.min()[r]; v <= voxels.max()[r]; ++v) {
+                const double x = double(v) * mGridFromLattice(r, c) + mGridFromLattice(3, c);
+                const int base = int(std::floor(x));
+                steps[r].base[v - voxels.min()[r]] = base;
+                steps[r].t[v - voxels.min()[r]] = x - double(base);
+            }
+        }
+        Coord base;
+        openvdb::Vec3d t;
+        for (int i = voxels.min().x(); i <= voxels.max().x(); ++i) {
+            const int si = i - voxels.min().x();
+            base[axisOf[0]] = steps[0].base[si];
+            t[axisOf[0]] = steps[0].t[si];
+            for (int j = voxels.min().y(); j <= voxels.max().y(); ++j) {
+                const int sj = j - voxels.min().y();
+                base[axisOf[1]] = steps[1].base[sj];
+                t[axisOf[1]] = steps[1].t[sj];
+                for (int k = voxels.min().z(); k <= voxels.max().z(); ++k) {
+                    const int sk = k - voxels.min().z();
+                    base[axisOf[2]] = steps[2].base[sk];
+                    t[axisOf[2]] = steps[2].t[sk];
+                    brick.trilinearAt(base, t, values + blockOffset(Coord(i, j, k)) * channels);
+                }
+            }
+        }
+    }
+
+    /// The box, in the grid's index space, that lattice voxels @a voxels span.
+    openvdb::BBoxd gridBoxOf(const CoordBBox& voxels) const {
         openvdb::Vec3d lo(1e300), hi(-1e300);
         for (int c = 0; c < 8; ++c) {
-            const Coord corner = origin + Coord(c & 1 ? kBlockDim : -1, c & 2 ? kBlockDim : -1, c & 4 ? kBlockDim : -1);
+            const Coord corner(c & 1 ? voxels.max().x() : voxels.min().x(), c & 2 ? voxels.max().y() : voxels.min().y(),
+                               c & 4 ? voxels.max().z() : voxels.min().z());
             const openvdb::Vec3d p = mGridFromLattice.transform(corner.asVec3d());
             lo = openvdb::math::minComponent(lo, p);
             hi = openvdb::math::maxComponent(hi, p);
         }
+        return {lo, hi};
+    }
+
+    /// Whether the block's samples, or their neighbours on the lattice, reach a voxel
+    /// that is active and could be seen: compositing resamples between neighbours,
+    /// and a block left out holds the background instead of its values.
+    bool mayBeSeen(const Coord& origin) const {
+        const openvdb::BBoxd reach = gridBoxOf(CoordBBox(origin - Coord(1), origin + Coord(kBlockDim)));
         if (mActive.empty()) return false;
         for (int a = 0; a < 3; ++a) {
-            if (hi[a] < mActive.min()[a] || lo[a] > mActive.max()[a]) return false;
+            if (reach.max()[a] < mActive.min()[a] || reach.min()[a] > mActive.max()[a]) return false;
         }
         // The voxels the samples' trilinear corners read.
-        const CoordBBox corners(Coord::floor(lo), Coord::floor(hi) + Coord(1));
+        const CoordBBox corners(Coord::floor(reach.min()), Coord::floor(reach.max()) + Coord(1));
         return mCeilings.anyAbove(corners, float(mInvisibleUpTo));
     }
 
@@ -187,6 +277,7 @@ private:
     Mat4d mGridFromLattice;
     CoordBBox mActive;
     CellCeilings<GridT> mCeilings;
+    std::optional<std::array<int, 3>> mGridAxisOf;  ///< by lattice axis, when each runs along one
 };
 
 /// Trilinear samples of a float or Vec3s @a grid on @a lattice (see GridBlocks).

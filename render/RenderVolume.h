@@ -146,13 +146,30 @@ private:
     openvdb::Vec3SGrid::ConstPtr mColour;
 };
 
+/// The trilinear blend of eight corners, corner n at (n >> 2, n >> 1 & 1, n & 1)
+/// (z fastest, as a leaf's voxels), at fractions @a t, into out[0..channels).
+template <typename ValueT>
+void blendTrilinearCorners(const ValueT (&corners)[8], const openvdb::Vec3d& t, float* out) {
+    constexpr int channels = std::is_same_v<ValueT, openvdb::Vec3s> ? 3 : 1;
+    // In doubles, so that values near the float range's ends cannot overflow.
+    const auto lerp = [](double a, double b, double s) { return (1.0 - s) * a + s * b; };
+    for (int c = 0; c < channels; ++c) {
+        double alongY[2];
+        for (int i = 0; i < 2; ++i) {
+            const ValueT* pair = corners + 4 * i;
+            alongY[i] = lerp(lerp(channelOf(pair[0], c), channelOf(pair[1], c), t[2]),
+                             lerp(channelOf(pair[2], c), channelOf(pair[3], c), t[2]), t[1]);
+        }
+        out[c] = float(lerp(alongY[0], alongY[1], t[0]));
+    }
+}
+
 template <typename Accessor>
 void GridRenderVolume::trilinear(const Accessor& accessor, const openvdb::Vec3d& x, float* out) {
     using ValueT = typename Accessor::ValueType;
     using LeafT = typename std::remove_const_t<typename Accessor::TreeType>::LeafNodeType;
     constexpr int channels = std::is_same_v<ValueT, openvdb::Vec3s> ? 3 : 1;
     const openvdb::Coord base(int(std::floor(x[0])), int(std::floor(x[1])), int(std::floor(x[2])));
-    // Corner n lies at base + (n >> 2, n >> 1 & 1, n & 1): z fastest, as a leaf's voxels.
     ValueT corners[8];
     constexpr int last = int(LeafT::DIM) - 1;
     if ((base.x() & last) != last && (base.y() & last) != last && (base.z() & last) != last) {
@@ -170,18 +187,7 @@ void GridRenderVolume::trilinear(const Accessor& accessor, const openvdb::Vec3d&
     } else {
         for (int n = 0; n < 8; ++n) corners[n] = accessor.getValue(base.offsetBy(n >> 2, n >> 1 & 1, n & 1));
     }
-    // In doubles, so that values near the float range's ends cannot overflow.
-    const double t[3] = {x[0] - base.x(), x[1] - base.y(), x[2] - base.z()};
-    const auto lerp = [](double a, double b, double s) { return (1.0 - s) * a + s * b; };
-    for (int c = 0; c < channels; ++c) {
-        double alongY[2];
-        for (int i = 0; i < 2; ++i) {
-            const ValueT* pair = corners + 4 * i;
-            alongY[i] = lerp(lerp(channelOf(pair[0], c), channelOf(pair[1], c), t[2]),
-                             lerp(channelOf(pair[2], c), channelOf(pair[3], c), t[2]), t[1]);
-        }
-        out[c] = float(lerp(alongY[0], alongY[1], t[0]));
-    }
+    blendTrilinearCorners(corners, x - base.asVec3d(), out);
 }
 
 }  // namespace gvr

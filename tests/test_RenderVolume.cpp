@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include <cmath>
+#include <cstring>
 #include <set>
 #include <string>
 
@@ -220,6 +221,47 @@ TEST(GridRenderVolume, BlocksThatCannotBeSeenAreLeftOutWithTheirNeighboursKept) 
         }
     }
     EXPECT_GT(visible, 20);
+}
+
+// Blocks are sampled from dense bricks, along the axes when the lattice's run along
+// the grid's, or from the tree when the lattice is far coarser than the voxels:
+// every way must give the tree's trilinear samples, bit for bit.
+TEST(GridRenderVolume, BlocksSampleAsTheTreeOnAxisTurnedAndCoarseLattices) {
+    const GridRenderVolume volume(test::makeGrid({40, 36, 30}, [](int i, int j, int k) {
+        return float((i * 13 + j * 7 + k * 3) % 17) - 4.5f;
+    }));
+    const auto accessor = dynamic_cast<const openvdb::FloatGrid&>(volume.voxels()).getConstAccessor();
+    openvdb::math::Mat4d alongAxes = openvdb::math::Mat4d::zero();  // lattice x, y, z along grid y, z, x
+    alongAxes(0, 1) = 0.8;
+    alongAxes(1, 2) = 0.7;
+    alongAxes(2, 0) = 1.0;
+    alongAxes(3, 0) = -2.0;
+    alongAxes(3, 1) = 1.3;
+    alongAxes(3, 2) = -0.6;
+    alongAxes(3, 3) = 1.0;
+    openvdb::math::Mat4d turned = openvdb::math::Mat4d::identity();
+    turned.preRotate(openvdb::math::Z_AXIS, 0.4);
+    turned.preScale(openvdb::Vec3d(0.9));
+    turned.setTranslation(openvdb::Vec3d(8.0, -5.0, 1.5));
+    openvdb::math::Mat4d coarse = turned;
+    coarse.preScale(openvdb::Vec3d(6.0));
+    for (const auto& m : {alongAxes, turned, coarse}) {
+        const Lattice lattice{m * volume.worldFromIndex(), openvdb::CoordBBox(Coord(0), Coord(44, 41, 37))};
+        const auto blocks = volume.blocksOn(lattice, -1e30);
+        int compared = 0;
+        for (const Coord& origin : blocks->occupiedBlocks()) {
+            float values[kBlockVoxels];
+            const openvdb::CoordBBox voxels = blocks->sampleBlock(origin, values);
+            for (auto ijk = voxels.begin(); ijk; ++ijk) {
+                float expected;
+                GridRenderVolume::trilinear(accessor, m.transform((*ijk).asVec3d()), &expected);
+                ASSERT_EQ(std::memcmp(&expected, &values[blockOffset(*ijk)], sizeof expected), 0)
+                    << *ijk << ": " << expected << " against " << values[blockOffset(*ijk)];
+                ++compared;
+            }
+        }
+        EXPECT_EQ(compared, 45 * 42 * 38);
+    }
 }
 
 // Values at the ends of the float range and below its normal numbers: samples stay
