@@ -130,7 +130,7 @@ public:
     /// Whether some value in [lo, hi] has a level that is not transparent.
     bool anyVisible(float lo, float hi) const { return anyVisibleLevel(levelOf(lo), levelOf(hi)); }
     /// Whether some level in [lo, hi] is not transparent (none when lo > hi).
-    bool anyVisibleLevel(int lo, int hi) const { return hi >= lo && mVisibleBelow[hi + 1] > mVisibleBelow[lo]; }
+    bool anyVisibleLevel(int lo, int hi) const { return hi >= lo && mVisibleFrom[lo] <= hi; }
 
 private:
     /// Values to levels. In double precision, so that any span of float values, from
@@ -148,7 +148,9 @@ private:
     Scale mScale;
     float mDarkBelow;
     std::vector<std::array<float, 4>> mRgba;
-    std::vector<int> mVisibleBelow;  ///< visible levels below each level: a range's count in two reads
+    /// The first visible level at or above each level (kCount for none): a range's
+    /// test in one read of a table small enough to stay in cache.
+    std::vector<std::uint16_t> mVisibleFrom;
 };
 
 /// One volume and how to classify it. A stack may hold several layers that share
