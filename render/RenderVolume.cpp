@@ -123,6 +123,9 @@ private:
     std::vector<float> mCeilings;
 };
 
+/// The most voxels a block's brick may hold per sample it serves.
+constexpr std::uint64_t kBrickVoxelsPerSample = 32;
+
 template <typename GridT>
 class GridBlocks : public BlockSource {
 public:
@@ -158,8 +161,10 @@ public:
         const CoordBBox corners(Coord::floor(reach.min()) - Coord(1), Coord::floor(reach.max()) + Coord(2));
         constexpr int channels = std::is_same_v<typename GridT::ValueType, openvdb::Vec3s> ? 3 : 1;
         const auto accessor = mGrid.getConstAccessor();
-        // A lattice much coarser than the voxels reads few of a brick's: the tree then.
-        if (corners.volume() > 8 * voxels.volume()) {
+        // Copying a voxel costs a small part of a sample through the tree, so a brick
+        // pays even for a lattice a few times coarser than the voxels (a preview's
+        // is twice as coarse); far coarser, a block reads few of its voxels.
+        if (corners.volume() > kBrickVoxelsPerSample * voxels.volume()) {
             for (auto ijk = voxels.begin(); ijk; ++ijk) {
                 GridRenderVolume::trilinear(accessor, mGridFromLattice.transform((*ijk).asVec3d()),
                                             values + blockOffset(*ijk) * channels);
