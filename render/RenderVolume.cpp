@@ -6,6 +6,7 @@
 #include "pipeline/Luminance.h"
 #include "pipeline/VolumeBorder.h"
 #include "pipeline/VolumeMetadata.h"
+#include "render/ValueRange.h"
 #include "render/VoxelBrick.h"
 
 #include <tbb/blocked_range.h>
@@ -71,6 +72,22 @@ Coord cellOf(const Coord& voxel) {
     return Coord(floorDiv(voxel.x()), floorDiv(voxel.y()), floorDiv(voxel.z()));
 }
 
+/// The highest value in a leaf, active or not: a pass along its array, where its
+/// value iterator made the ceilings of a chest CT most of a coarse build.
+float ceilingOf(const openvdb::FloatTree::LeafNodeType& leaf) {
+    return valueRange(leaf.buffer().data(), openvdb::FloatTree::LeafNodeType::SIZE).second;
+}
+
+/// The highest luminance in a leaf, active or not.
+float ceilingOf(const openvdb::Vec3STree::LeafNodeType& leaf) {
+    const openvdb::Vec3s* values = leaf.buffer().data();
+    float ceiling = -INFINITY;
+    for (openvdb::Index n = 0; n < openvdb::Vec3STree::LeafNodeType::SIZE; ++n) {
+        ceiling = std::max(ceiling, float(keyOf(values[n])));
+    }
+    return ceiling;
+}
+
 /// The highest key (value, or luminance) in each leaf-sized cell of a grid's box,
 /// inactive voxels and tiles included: the most a trilinear sample there can reach,
 /// so that a stack need not sample where nothing could be seen.
@@ -90,7 +107,7 @@ public:
                     const Coord origin(cell.x() * kBlockDim, cell.y() * kBlockDim, cell.z() * kBlockDim);
                     float ceiling = -INFINITY;
                     if (const auto* leaf = accessor.probeConstLeaf(origin)) {
-                        for (auto v = leaf->cbeginValueAll(); v; ++v) ceiling = std::max(ceiling, float(keyOf(*v)));
+                        ceiling = ceilingOf(*leaf);
                     } else {
                         ceiling = float(keyOf(accessor.getValue(origin)));  // a tile, or the background
                     }

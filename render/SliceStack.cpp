@@ -2,12 +2,9 @@
 
 #include "pipeline/Error.h"
 #include "render/Camera.h"
+#include "render/ValueRange.h"
 
 #include <tbb/parallel_for.h>
-
-#if defined(__SSE2__)
-#include <xmmintrin.h>
-#endif
 
 #include <algorithm>
 #include <cfloat>
@@ -292,31 +289,6 @@ CellLevels widened(const CellLevels& cells, int width, int height, int reach) {
         takeLevels(both, shift, across, 0, rows);
     }
     return both;
-}
-
-/// The least and greatest of @a size values, NaN left out (infinities for none): four at a
-/// time, where std::minmax_element's branches took two fifths of coding a plane.
-std::pair<float, float> valueRange(const float* values, std::size_t size) {
-    float lo = INFINITY, hi = -INFINITY;
-    std::size_t n = 0;
-#if defined(__SSE2__)
-    __m128 least = _mm_set1_ps(INFINITY), greatest = _mm_set1_ps(-INFINITY);
-    for (; n + 4 <= size; n += 4) {
-        const __m128 v = _mm_loadu_ps(values + n);
-        least = _mm_min_ps(v, least);  // the second operand where v is NaN
-        greatest = _mm_max_ps(v, greatest);
-    }
-    float lanes[8];
-    _mm_storeu_ps(lanes, least);
-    _mm_storeu_ps(lanes + 4, greatest);
-    lo = std::min({lo, lanes[0], lanes[1], lanes[2], lanes[3]});
-    hi = std::max({hi, lanes[4], lanes[5], lanes[6], lanes[7]});
-#endif
-    for (; n < size; ++n) {
-        lo = std::min(lo, values[n]);
-        hi = std::max(hi, values[n]);
-    }
-    return {lo, hi};
 }
 
 /// The samples at the corners of the marked cells (a cell is kept at its first corner,
