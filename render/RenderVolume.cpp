@@ -177,25 +177,25 @@ public:
         // A voxel more on each side: a sample's position may round past the corners'.
         const CoordBBox corners(Coord::floor(reach.min()) - Coord(1), Coord::floor(reach.max()) + Coord(2));
         constexpr int channels = std::is_same_v<typename GridT::ValueType, openvdb::Vec3s> ? 3 : 1;
+        const auto sampleEach = [&](const auto& trilinear) {
+            for (auto ijk = voxels.begin(); ijk; ++ijk) {
+                trilinear(mGridFromLattice.transform((*ijk).asVec3d()), values + blockOffset(*ijk) * channels);
+            }
+        };
         const auto accessor = mGrid.getConstAccessor();
         // Copying a voxel costs a small part of a sample through the tree, so a brick
         // pays even for a lattice a few times coarser than the voxels (a preview's
         // is twice as coarse); far coarser, a block reads few of its voxels.
         if (corners.volume() > kBrickVoxelsPerSample * voxels.volume()) {
-            for (auto ijk = voxels.begin(); ijk; ++ijk) {
-                GridRenderVolume::trilinear(accessor, mGridFromLattice.transform((*ijk).asVec3d()),
-                                            values + blockOffset(*ijk) * channels);
-            }
+            sampleEach([&](const openvdb::Vec3d& x, float* out) { GridRenderVolume::trilinear(accessor, x, out); });
             return voxels;
         }
         thread_local VoxelBrick<GridT> brick;  // per thread, not per block: the build's hot path
         brick.fill(accessor, corners);
         if (mGridAxisOf) {
             sampleAlongAxes(brick, voxels, values);
-            return voxels;
-        }
-        for (auto ijk = voxels.begin(); ijk; ++ijk) {
-            brick.trilinear(mGridFromLattice.transform((*ijk).asVec3d()), values + blockOffset(*ijk) * channels);
+        } else {
+            sampleEach([&](const openvdb::Vec3d& x, float* out) { brick.trilinear(x, out); });
         }
         return voxels;
     }

@@ -388,7 +388,8 @@ private:
                 seen[n] = mLevels.anyVisibleLevel(lo, hi);
             }
         }
-        mSlices[p.slice] = compress(p.codes.data(), width, height, cornersOf(seen, width, height), p.coding.code(mOutside));
+        mSlices[p.slice] =
+            compress(p.codes.data(), width, height, cornersOf(seen, width, height), p.coding.code(mOutside));
         mSlices[p.slice].coding = p.coding;
     }
 
