@@ -191,7 +191,7 @@ public:
             return voxels;
         }
         thread_local VoxelBrick<GridT> brick;  // per thread, not per block: the build's hot path
-        brick.fill(accessor, corners);
+        brick.fill(mGrid, corners);
         if (mGridAxisOf) {
             sampleAlongAxes(brick, voxels, values);
         } else {

@@ -9,8 +9,8 @@
 #include "render/RenderVolume.h"
 
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/Dense.h>
 
-#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -20,27 +20,15 @@ template <typename GridT>
 class VoxelBrick {
 public:
     using ValueT = typename GridT::ValueType;
-    using LeafT = typename GridT::TreeType::LeafNodeType;
 
-    /// Copies the values of @a box (active or not; tiles and the background as
-    /// they read) through @a accessor, leaf by leaf.
-    template <typename Accessor>
-    void fill(const Accessor& accessor, const openvdb::CoordBBox& box) {
+    /// Copies the values of @a box from @a grid (active or not; tiles and the
+    /// background as they read).
+    void fill(const GridT& grid, const openvdb::CoordBBox& box) {
         mMin = box.min();
         mDim = box.dim();
         mValues.resize(std::size_t(mDim.x()) * mDim.y() * mDim.z());
-        constexpr int dim = int(LeafT::DIM);
-        const auto leafStart = [](int v) { return v & ~(dim - 1); };  // floors negatives too
-        for (int lx = leafStart(box.min().x()); lx <= box.max().x(); lx += dim) {
-            for (int ly = leafStart(box.min().y()); ly <= box.max().y(); ly += dim) {
-                for (int lz = leafStart(box.min().z()); lz <= box.max().z(); lz += dim) {
-                    const openvdb::Coord origin(lx, ly, lz);
-                    openvdb::CoordBBox part(origin, origin + openvdb::Coord(dim - 1));
-                    part.intersect(box);
-                    copyPart(accessor, origin, part);
-                }
-            }
-        }
+        openvdb::tools::Dense<ValueT, openvdb::tools::LayoutZYX> dense(box, mValues.data());
+        grid.tree().root().copyToDense(box, dense);
     }
 
     /// The box filled.
@@ -68,29 +56,8 @@ private:
         return (std::size_t(d.x()) * mDim.y() + d.y()) * mDim.z() + d.z();
     }
 
-    /// Copies @a part, which lies in the leaf at @a origin: from its array, or one
-    /// value throughout where the tree holds a tile or nothing there.
-    template <typename Accessor>
-    void copyPart(const Accessor& accessor, const openvdb::Coord& origin, const openvdb::CoordBBox& part) {
-        const LeafT* leaf = accessor.probeConstLeaf(origin);
-        const ValueT tile = leaf ? ValueT{} : accessor.getValue(origin);
-        const int run = part.dim().z();
-        for (int i = part.min().x(); i <= part.max().x(); ++i) {
-            for (int j = part.min().y(); j <= part.max().y(); ++j) {
-                const openvdb::Coord start(i, j, part.min().z());
-                ValueT* to = mValues.data() + index(start);
-                if (leaf) {
-                    const ValueT* from = leaf->buffer().data() + LeafT::coordToOffset(start);
-                    std::copy(from, from + run, to);
-                } else {
-                    std::fill(to, to + run, tile);
-                }
-            }
-        }
-    }
-
     openvdb::Coord mMin, mDim;
-    std::vector<ValueT> mValues;  ///< z fastest, as a leaf's
+    std::vector<ValueT> mValues;  ///< z fastest, as a leaf's (LayoutZYX)
 };
 
 }  // namespace gvr

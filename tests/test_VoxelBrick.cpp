@@ -34,7 +34,7 @@ TEST(VoxelBrick, SamplesAsTheTreeToTheBitInLeavesAcrossThemInTilesAndBeyond) {
     const auto accessor = grid->getConstAccessor();
     VoxelBrick<openvdb::FloatGrid> brick;
     const CoordBBox box(Coord(-14, -13, -12), Coord(36, 13, 14));  // reaches the background
-    brick.fill(accessor, box);
+    brick.fill(*grid, box);
     EXPECT_EQ(brick.box(), box);
     int samples = 0;
     for (double x = -13.9; x < 35.0; x += 0.61) {
@@ -60,7 +60,7 @@ TEST(VoxelBrick, SamplesColoursAsTheTreeToTheBit) {
     }
     const auto accessor = grid.getConstAccessor();
     VoxelBrick<openvdb::Vec3SGrid> brick;
-    brick.fill(accessor, CoordBBox(Coord(-1, -1, -11), Coord(11, 11, 11)));
+    brick.fill(grid, CoordBBox(Coord(-1, -1, -11), Coord(11, 11, 11)));
     for (double x = -0.5; x < 10.0; x += 0.7) {
         for (double y = -0.5; y < 10.0; y += 0.9) {
             for (double z = -10.5; z < 10.0; z += 1.1) {
