@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cfloat>
 #include <cmath>
 #include <cstring>
 
@@ -68,6 +69,31 @@ TEST(VoxelBrick, SamplesColoursAsTheTreeToTheBit) {
                 GridRenderVolume::trilinear(accessor, openvdb::Vec3d(x, y, z), fromTree);
                 brick.trilinear(openvdb::Vec3d(x, y, z), fromBrick);
                 for (int c = 0; c < 3; ++c) ASSERT_TRUE(sameBits(fromTree[c], fromBrick[c])) << x << " " << y << " " << z;
+            }
+        }
+    }
+}
+
+// The float range's ends and its denormals: the blend is the tree's, in doubles, so
+// neither overflows nor flushes where the tree's does not.
+TEST(VoxelBrick, SamplesTheFloatRangesEndsAndDenormalsAsTheTree) {
+    openvdb::FloatGrid grid(0.0f);
+    auto writer = grid.getAccessor();
+    const float values[] = {3.0e38f, -3.0e38f, 1e-45f, -1e-45f, FLT_MAX, 1e-38f};
+    for (int i = 0; i < 12; ++i) {
+        for (int j = 0; j < 3; ++j) writer.setValue(Coord(i, j, i % 4), values[(i + j) % 6]);
+    }
+    const auto accessor = grid.getConstAccessor();
+    VoxelBrick<openvdb::FloatGrid> brick;
+    brick.fill(grid, CoordBBox(Coord(-1, -1, -1), Coord(13, 4, 5)));
+    for (double x = -0.5; x < 12.0; x += 0.25) {
+        for (double y = -0.5; y < 3.0; y += 0.5) {
+            for (double z = -0.5; z < 4.0; z += 0.5) {
+                float fromTree, fromBrick;
+                GridRenderVolume::trilinear(accessor, openvdb::Vec3d(x, y, z), &fromTree);
+                brick.trilinear(openvdb::Vec3d(x, y, z), &fromBrick);
+                ASSERT_TRUE(std::isfinite(fromBrick)) << x << " " << y << " " << z;
+                ASSERT_TRUE(sameBits(fromTree, fromBrick)) << x << " " << y << " " << z;
             }
         }
     }
