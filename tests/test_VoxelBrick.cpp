@@ -7,6 +7,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 namespace gvr {
 namespace {
@@ -28,6 +29,28 @@ openvdb::FloatGrid::Ptr patchwork() {
 }
 
 bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+/// Every sample from @a from to below @a to, @a step apart along each axis: the
+/// brick's is the tree's, bit for bit, and finite.
+template <typename GridT>
+void expectSamplesAsTheTree(const GridT& grid, const VoxelBrick<GridT>& brick, const openvdb::Vec3d& from,
+                            const openvdb::Vec3d& to, const openvdb::Vec3d& step) {
+    constexpr int channels = std::is_same_v<typename GridT::ValueType, openvdb::Vec3s> ? 3 : 1;
+    const auto accessor = grid.getConstAccessor();
+    for (double x = from[0]; x < to[0]; x += step[0]) {
+        for (double y = from[1]; y < to[1]; y += step[1]) {
+            for (double z = from[2]; z < to[2]; z += step[2]) {
+                float fromTree[channels], fromBrick[channels];
+                GridRenderVolume::trilinear(accessor, openvdb::Vec3d(x, y, z), fromTree);
+                brick.trilinear(openvdb::Vec3d(x, y, z), fromBrick);
+                for (int c = 0; c < channels; ++c) {
+                    ASSERT_TRUE(std::isfinite(fromBrick[c])) << x << " " << y << " " << z;
+                    ASSERT_TRUE(sameBits(fromTree[c], fromBrick[c])) << x << " " << y << " " << z;
+                }
+            }
+        }
+    }
+}
 
 TEST(VoxelBrick, SamplesAsTheTreeToTheBitInLeavesAcrossThemInTilesAndBeyond) {
     const auto grid = patchwork();
@@ -59,19 +82,9 @@ TEST(VoxelBrick, SamplesColoursAsTheTreeToTheBit) {
     for (int i = 0; i < 10; ++i) {
         for (int j = 0; j < 10; ++j) writer.setValue(Coord(i, j, i - j), openvdb::Vec3s(float(i), float(j), 0.5f * float(i + j)));
     }
-    const auto accessor = grid.getConstAccessor();
     VoxelBrick<openvdb::Vec3SGrid> brick;
     brick.fill(grid, CoordBBox(Coord(-1, -1, -11), Coord(11, 11, 11)));
-    for (double x = -0.5; x < 10.0; x += 0.7) {
-        for (double y = -0.5; y < 10.0; y += 0.9) {
-            for (double z = -10.5; z < 10.0; z += 1.1) {
-                float fromTree[3], fromBrick[3];
-                GridRenderVolume::trilinear(accessor, openvdb::Vec3d(x, y, z), fromTree);
-                brick.trilinear(openvdb::Vec3d(x, y, z), fromBrick);
-                for (int c = 0; c < 3; ++c) ASSERT_TRUE(sameBits(fromTree[c], fromBrick[c])) << x << " " << y << " " << z;
-            }
-        }
-    }
+    expectSamplesAsTheTree(grid, brick, {-0.5, -0.5, -10.5}, {10.0, 10.0, 10.0}, {0.7, 0.9, 1.1});
 }
 
 // The float range's ends and its denormals: the blend is the tree's, in doubles, so
@@ -83,20 +96,9 @@ TEST(VoxelBrick, SamplesTheFloatRangesEndsAndDenormalsAsTheTree) {
     for (int i = 0; i < 12; ++i) {
         for (int j = 0; j < 3; ++j) writer.setValue(Coord(i, j, i % 4), values[(i + j) % 6]);
     }
-    const auto accessor = grid.getConstAccessor();
     VoxelBrick<openvdb::FloatGrid> brick;
     brick.fill(grid, CoordBBox(Coord(-1, -1, -1), Coord(13, 4, 5)));
-    for (double x = -0.5; x < 12.0; x += 0.25) {
-        for (double y = -0.5; y < 3.0; y += 0.5) {
-            for (double z = -0.5; z < 4.0; z += 0.5) {
-                float fromTree, fromBrick;
-                GridRenderVolume::trilinear(accessor, openvdb::Vec3d(x, y, z), &fromTree);
-                brick.trilinear(openvdb::Vec3d(x, y, z), &fromBrick);
-                ASSERT_TRUE(std::isfinite(fromBrick)) << x << " " << y << " " << z;
-                ASSERT_TRUE(sameBits(fromTree, fromBrick)) << x << " " << y << " " << z;
-            }
-        }
-    }
+    expectSamplesAsTheTree(grid, brick, {-0.5, -0.5, -0.5}, {12.0, 3.0, 4.0}, {0.25, 0.5, 0.5});
 }
 
 }  // namespace
