@@ -68,30 +68,55 @@ std::vector<CoordBBox> latticeReach(const GaussianField& field, const Mat4d& lat
     return reach;
 }
 
-/// Origins of the blocks that at least one Gaussian reaches.
-std::vector<Coord> occupiedBlocksOf(const std::vector<CoordBBox>& reach, const CoordBBox& latticeBox) {
-    const std::vector<Coord> origins = blockOrigins(latticeBox);
-    if (origins.empty()) return {};
-    // Origins are listed z, y, x; a block's slot in that list follows from its offset.
-    const Coord first = origins.front(), last = origins.back();
-    const int countX = (last.x() - first.x()) / kBlockDim + 1, countY = (last.y() - first.y()) / kBlockDim + 1;
-    const auto slot = [&](const Coord& origin) {
-        return (std::size_t((origin.z() - first.z()) / kBlockDim) * countY + (origin.y() - first.y()) / kBlockDim) * countX +
-               (origin.x() - first.x()) / kBlockDim;
-    };
-    std::vector<std::uint8_t> occupied(origins.size(), 0);
-    for (const CoordBBox& box : reach) {
-        if (box.empty()) continue;
-        for (const Coord& origin : blockOrigins(box)) occupied[slot(origin)] = 1;
+/// Which block lists hold Gaussian @a g: the blocks its reach box overlaps.
+template <typename Visit>
+void forEachBlockSlot(const CoordBBox& reach, const BlockSlots& slots, Visit&& visit) {
+    const Coord low = slots.blockOf(reach.min()), high = slots.blockOf(reach.max());
+    for (int z = low.z(); z <= high.z(); ++z) {
+        for (int y = low.y(); y <= high.y(); ++y) {
+            for (int x = low.x(); x <= high.x(); ++x) visit(slots.slotOf(x, y, z));
+        }
     }
-    std::vector<Coord> reached;
-    for (const Coord& origin : origins) {
-        if (occupied[slot(origin)]) reached.push_back(origin);
-    }
-    return reached;
 }
 
 }  // namespace
+
+BlockSlots::BlockSlots(const CoordBBox& box) {
+    if (box.empty()) return;
+    const int mask = ~(kBlockDim - 1);
+    mFirst = Coord(box.min().x() & mask, box.min().y() & mask, box.min().z() & mask);
+    const Coord last = blockOf(box.max());
+    mCountX = last.x() + 1;
+    mCountY = last.y() + 1;
+    mCountZ = last.z() + 1;
+}
+
+Coord BlockSlots::blockOf(const Coord& voxel) const {
+    const int mask = ~(kBlockDim - 1);
+    return Coord(((voxel.x() & mask) - mFirst.x()) / kBlockDim, ((voxel.y() & mask) - mFirst.y()) / kBlockDim,
+                 ((voxel.z() & mask) - mFirst.z()) / kBlockDim);
+}
+
+Coord BlockSlots::originOf(std::size_t slot) const {
+    const auto x = int(slot % std::size_t(mCountX)), y = int(slot / std::size_t(mCountX) % std::size_t(mCountY)),
+               z = int(slot / (std::size_t(mCountX) * std::size_t(mCountY)));
+    return mFirst + Coord(x * kBlockDim, y * kBlockDim, z * kBlockDim);
+}
+
+BlockLists::BlockLists(const std::vector<CoordBBox>& reach, const BlockSlots& slots) : mStarts(slots.size() + 1, 0) {
+    // Counted, then filled in index order, so that each list is ascending.
+    for (const CoordBBox& box : reach) {
+        if (!box.empty()) forEachBlockSlot(box, slots, [&](std::size_t slot) { ++mStarts[slot + 1]; });
+    }
+    for (std::size_t slot = 0; slot < slots.size(); ++slot) mStarts[slot + 1] += mStarts[slot];
+    mGaussians.resize(mStarts.back());
+    std::vector<std::size_t> next(mStarts.begin(), mStarts.end() - 1);
+    for (std::size_t g = 0; g < reach.size(); ++g) {
+        if (!reach[g].empty()) {
+            forEachBlockSlot(reach[g], slots, [&](std::size_t slot) { mGaussians[next[slot]++] = std::uint32_t(g); });
+        }
+    }
+}
 
 Lattice sourceLattice(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims) {
     return {worldFromIndex, CoordBBox(Coord(0), Coord(dims) - Coord(1))};
@@ -129,18 +154,19 @@ double voxelSizeForResolution(const Mat4d& worldFromIndex, const openvdb::Vec3i&
 LatticeSampler::LatticeSampler(const GaussianField& field, const Mat4d& fieldWorldFromIndex, const Lattice& lattice,
                                const CoordBBox& fieldBox)
     : mField(field), mLattice(lattice), mFieldFromLattice(lattice.worldFromIndex * fieldWorldFromIndex.inverse()),
-      mFieldCells(fieldBox.min().asVec3d() - Vec3d(0.5), fieldBox.max().asVec3d() + Vec3d(0.5)) {
-    mReach = latticeReach(field, fieldWorldFromIndex * lattice.worldFromIndex.inverse(), lattice.box);
+      mFieldCells(fieldBox.min().asVec3d() - Vec3d(0.5), fieldBox.max().asVec3d() + Vec3d(0.5)),
+      mReach(latticeReach(field, fieldWorldFromIndex * lattice.worldFromIndex.inverse(), lattice.box)),
+      mSlots(lattice.box), mLists(mReach, mSlots) {
     for (int a = 0; a < 3; ++a) mLatticeSteps[a] = mFieldFromLattice.transform3x3(Vec3d(a == 0, a == 1, a == 2));
 }
 
-float LatticeSampler::reachCeiling(const std::vector<std::uint32_t>& hits, const float lower[3], const float upper[3],
-                                   int channels) const {
+float LatticeSampler::reachCeiling(const std::uint32_t* hits, const std::uint32_t* hitsEnd, const float lower[3],
+                                   const float upper[3], int channels) const {
     // Over the block a Gaussian is at most its peak times exp(-d^2 / (2 sigma_max^2)),
     // d the distance from its mean to the block: q >= |x - mean|^2 / sigma_max^2.
     float ceiling = 0.0f;
-    for (std::uint32_t index : hits) {
-        const ActiveGaussian& g = mField.gaussians()[index];
+    for (const std::uint32_t* hit = hits; hit != hitsEnd; ++hit) {
+        const ActiveGaussian& g = mField.gaussians()[*hit];
         float d2 = 0.0f;
         for (int a = 0; a < 3; ++a) {
             const float gap = std::max({lower[a] - g.mean[a], 0.0f, g.mean[a] - upper[a]});
@@ -180,7 +206,13 @@ bool allVoxelsInside(const CoordBBox& voxels, const Mat4d& cellsFromVoxels, cons
     return true;
 }
 
-std::vector<Coord> LatticeSampler::occupiedBlocks() const { return occupiedBlocksOf(mReach, mLattice.box); }
+std::vector<Coord> LatticeSampler::occupiedBlocks() const {
+    std::vector<Coord> occupied;
+    for (std::size_t slot = 0; slot < mSlots.size(); ++slot) {
+        if (mLists.count(slot) > 0) occupied.push_back(mSlots.originOf(slot));
+    }
+    return occupied;
+}
 
 namespace {
 
@@ -280,14 +312,16 @@ CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums, float sk
     }
     // Each reaching Gaussian in index order: the order GaussianField::evaluate sums
     // in, so that exact evaluation gives the same float at the same point.
-    float lower[3], upper[3];
-    fieldBoundsOf(voxels, mFieldFromLattice, lower, upper);
-    std::vector<std::uint32_t> hits;
-    mField.bvh().overlapping(lower, upper, hits);
-    std::sort(hits.begin(), hits.end());
+    const std::size_t slot = mSlots.slotOf(mSlots.blockOf(origin));
+    const std::uint32_t *hits = mLists.begin(slot), *hitsEnd = mLists.end(slot);
     const int channels = mField.channels();
-    if (skipUpTo >= 0.0f && reachCeiling(hits, lower, upper, channels) <= skipUpTo) return CoordBBox();
-    for (std::uint32_t index : hits) {
+    if (skipUpTo >= 0.0f) {
+        float lower[3], upper[3];
+        fieldBoundsOf(voxels, mFieldFromLattice, lower, upper);
+        if (reachCeiling(hits, hitsEnd, lower, upper, channels) <= skipUpTo) return CoordBBox();
+    }
+    for (const std::uint32_t* hit = hits; hit != hitsEnd; ++hit) {
+        const std::uint32_t index = *hit;
         CoordBBox reached = mReach[index];
         reached.intersect(voxels);
         if (reached.empty()) continue;

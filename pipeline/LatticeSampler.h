@@ -58,6 +58,39 @@ struct BlockQuadratic {
     double G[3][3], gLin[3], h;
 };
 
+/// The 8^3 blocks over a box of voxels, numbered in z, y, x order as blockOrigins()
+/// lists them: a block's number (slot) is where its list of Gaussians is kept.
+class BlockSlots {
+public:
+    explicit BlockSlots(const openvdb::CoordBBox& box);
+    /// The block that holds @a voxel, counted in blocks from the first: inside the box.
+    openvdb::Coord blockOf(const openvdb::Coord& voxel) const;
+    std::size_t slotOf(int x, int y, int z) const {
+        return (std::size_t(z) * std::size_t(mCountY) + std::size_t(y)) * std::size_t(mCountX) + std::size_t(x);
+    }
+    std::size_t slotOf(const openvdb::Coord& block) const { return slotOf(block.x(), block.y(), block.z()); }
+    openvdb::Coord originOf(std::size_t slot) const;
+    std::size_t size() const { return std::size_t(mCountX) * std::size_t(mCountY) * std::size_t(mCountZ); }
+
+private:
+    openvdb::Coord mFirst;  ///< the first block's origin
+    int mCountX = 0, mCountY = 0, mCountZ = 0;
+};
+
+/// The Gaussians whose reach (a box of lattice voxels each) overlaps each block, in
+/// ascending order: one pass over the boxes instead of a BVH query per block.
+class BlockLists {
+public:
+    BlockLists(const std::vector<openvdb::CoordBBox>& reach, const BlockSlots& slots);
+    const std::uint32_t* begin(std::size_t slot) const { return mGaussians.data() + mStarts[slot]; }
+    const std::uint32_t* end(std::size_t slot) const { return mGaussians.data() + mStarts[slot + 1]; }
+    std::size_t count(std::size_t slot) const { return mStarts[slot + 1] - mStarts[slot]; }
+
+private:
+    std::vector<std::size_t> mStarts;  ///< by slot, and one past the last
+    std::vector<std::uint32_t> mGaussians;
+};
+
 /// How sampleBlock() evaluates each Gaussian over a block.
 enum class BlockEvaluation {
     /// Point by point, as GaussianField::evaluate does: the very same floats.
@@ -74,10 +107,10 @@ enum class BlockEvaluation {
 };
 
 /// Evaluates @a field, which lives in the index space that @a fieldWorldFromIndex
-/// places in the world, at the voxel centres of a lattice. Each block asks the
-/// field's BVH once for the Gaussians whose truncated bounds reach it, then adds
-/// them up in index order, the order GaussianField::evaluate sums in. Build once,
-/// then sample blocks from many threads.
+/// places in the world, at the voxel centres of a lattice. Each block takes the
+/// Gaussians whose truncated bounds reach it from lists made once (BlockLists), then
+/// adds them up in index order, the order GaussianField::evaluate sums in. Build
+/// once, then sample blocks from many threads.
 class LatticeSampler {
 public:
     /// @param fieldBox  the voxels the field stands for (its source volume): lattice
@@ -107,8 +140,8 @@ public:
 private:
     /// The most the Gaussians @a hits can add up to at any point of the field-space
     /// box [lower, upper], in any channel.
-    float reachCeiling(const std::vector<std::uint32_t>& hits, const float lower[3], const float upper[3],
-                       int channels) const;
+    float reachCeiling(const std::uint32_t* hits, const std::uint32_t* hitsEnd, const float lower[3],
+                       const float upper[3], int channels) const;
     /// Adds Gaussian @a index over @a reached, row by row (BlockEvaluation::rows).
     void addRows(std::uint32_t index, const openvdb::Coord& origin, const openvdb::CoordBBox& reached,
                  const std::int32_t inCells[], float* sums, bool eightLanes) const;
@@ -119,6 +152,8 @@ private:
     openvdb::Vec3d mLatticeSteps[3];  ///< field-space step along each lattice axis
     openvdb::BBoxd mFieldCells;  ///< fieldBox grown by half a voxel: its cells, edge to edge
     std::vector<openvdb::CoordBBox> mReach;  ///< lattice voxels each Gaussian can reach
+    BlockSlots mSlots;
+    BlockLists mLists;
 };
 
 }  // namespace gvr

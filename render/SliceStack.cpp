@@ -11,7 +11,6 @@
 #include <cmath>
 #include <map>
 #include <optional>
-#include <set>
 
 namespace gvr {
 
@@ -431,14 +430,17 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     }
     for (Slice& slice : mSlices) slice.rowRuns.assign(mGeometry.height + 1, 0);
     std::vector<std::unique_ptr<BlockSource>> sources;
-    std::set<Coord> occupied;
+    std::vector<Coord> occupied;
     for (const StackLayer& layer : layers) {
         const double invisibleUpTo = layer.classifier.transferFunction().transparentUpTo();
         const Lattice lattice = mGeometry.lattice();
         sources.push_back(sampling == StackSampling::preview ? layer.volume->previewBlocksOn(lattice, invisibleUpTo)
                                                              : layer.volume->blocksOn(lattice, invisibleUpTo));
-        for (const Coord& origin : sources.back()->occupiedBlocks()) occupied.insert(origin);
+        const std::vector<Coord> blocks = sources.back()->occupiedBlocks();
+        occupied.insert(occupied.end(), blocks.begin(), blocks.end());
     }
+    std::sort(occupied.begin(), occupied.end());
+    occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
     std::map<int, std::vector<Coord>> slabs;  // block origins by their first slice
     for (const Coord& origin : occupied) slabs[origin.z()].push_back(origin);
     const VolumeCells cells(mGeometry, volume);

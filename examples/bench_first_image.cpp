@@ -1,0 +1,67 @@
+// First-image benchmark: what `gvr view` does before its window shows anything, and
+// then until its first picture, without a window (issue 35: 0.3 s from the window).
+//
+//   build/examples/bench_first_image out/chest-400k.gvr [repeats]
+//
+// Prints the set-up (reading, the classifier with its percentiles) once, then for
+// each repeat a fresh session's first frame at 512 x 512: the coarse preview stack,
+// built at once (for an asset, straight from its Gaussians), and one composite.
+// A repeat reuses what the set-up evaluated, as the window does. Figures are
+// printed, never asserted.
+
+#include "render/ViewSession.h"
+#include "workflow/RenderInput.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+
+namespace gvr {
+namespace {
+
+constexpr int kSize = 512;
+
+double msSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+int run(const std::string& path, int repeats) {
+    auto start = std::chrono::steady_clock::now();
+    const RenderInput input = loadRenderInput(path, "", "", ShearWarpSettings{}.minimumFootprintVoxels(), {});
+    const double readMs = msSince(start);
+    start = std::chrono::steady_clock::now();
+    auto scene = std::make_shared<StyledLayers>();
+    scene->layers.push_back({input.volume.get(), classifierFor("", *input.volume)});
+    const double classifyMs = msSince(start);
+    std::printf("%s: read %.0f ms, classifier %.0f ms\n", path.c_str(), readMs, classifyMs);
+
+    const OrthoCamera camera =
+        makeCamera({30.0, 15.0}, worldCorners(input.volume->worldFromIndex(), input.volume->box()), kSize, kSize);
+    for (int r = 0; r < repeats; ++r) {
+        ViewSession session(scene, ShearWarpSettings{}, Prefetch::none, FirstImage::coarseFirst);
+        start = std::chrono::steady_clock::now();
+        FrameStats first;
+        session.render(camera, &first);
+        const double firstMs = msSince(start);
+        std::printf("first image %.1f ms (coarse build %.1f ms, %zu Gaussians touched)\n", firstMs, first.buildMs,
+                    first.gaussiansTouched);
+    }
+    return 0;
+}
+
+}  // namespace
+}  // namespace gvr
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: bench_first_image INPUT [repeats]\n");
+        return 2;
+    }
+    try {
+        return gvr::run(argv[1], argc > 2 ? std::atoi(argv[2]) : 5);
+    } catch (const std::exception& error) {
+        std::fprintf(stderr, "bench_first_image: %s\n", error.what());
+        return 1;
+    }
+}
