@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 namespace gvr {
 namespace {
@@ -116,6 +117,47 @@ TEST(LatticeSampler, SkippedBlocksNeverHoldValuesAboveTheBound) {
     }
     EXPECT_GT(skipped, 10u);  // the bound is tight enough to matter
     EXPECT_GT(kept, 10u);
+}
+
+TEST(BlockSlots, NumberBlocksAsBlockOriginsListsThemAlsoAtNegativeUnalignedCorners) {
+    const openvdb::CoordBBox box(openvdb::Coord(-13, 5, -1), openvdb::Coord(20, 9, 17));
+    const BlockSlots slots(box);
+    const std::vector<openvdb::Coord> origins = blockOrigins(box);
+    ASSERT_EQ(slots.size(), origins.size());
+    for (std::size_t slot = 0; slot < origins.size(); ++slot) {
+        EXPECT_EQ(slots.originOf(slot), origins[slot]);
+        EXPECT_EQ(slots.slotOf(slots.blockOf(origins[slot] + openvdb::Coord(7))), slot);
+    }
+    EXPECT_EQ(slots.slotOf(slots.blockOf(box.min())), 0u);
+    EXPECT_EQ(slots.slotOf(slots.blockOf(box.max())), origins.size() - 1);
+}
+
+TEST(BlockLists, HoldEveryBoxThatMeetsABlockInAscendingOrder) {
+    const openvdb::CoordBBox box(openvdb::Coord(-20, -3, 0), openvdb::Coord(30, 25, 40));
+    const BlockSlots slots(box);
+    std::vector<openvdb::CoordBBox> reach;
+    std::mt19937 random(5);
+    std::uniform_int_distribution<int> corner(-20, 30), size(0, 12);
+    for (int g = 0; g < 400; ++g) {
+        const openvdb::Coord low(corner(random), corner(random), corner(random));
+        openvdb::CoordBBox r(low, low + openvdb::Coord(size(random), size(random), size(random)));
+        r.intersect(box);  // as the sampler keeps them; some end up empty
+        reach.push_back(r);
+    }
+    const BlockLists lists(reach, slots);
+    const std::vector<openvdb::Coord> origins = blockOrigins(box);
+    std::size_t pairs = 0;
+    for (std::size_t slot = 0; slot < origins.size(); ++slot) {
+        const openvdb::CoordBBox block(origins[slot], origins[slot] + openvdb::Coord(kBlockDim - 1));
+        std::vector<std::uint32_t> expected;
+        for (std::uint32_t g = 0; g < reach.size(); ++g) {
+            if (!reach[g].empty() && reach[g].hasOverlap(block)) expected.push_back(g);
+        }
+        EXPECT_EQ(std::vector<std::uint32_t>(lists.begin(slot), lists.end(slot)), expected) << origins[slot];
+        EXPECT_EQ(lists.count(slot), expected.size());
+        pairs += expected.size();
+    }
+    EXPECT_GT(pairs, reach.size());  // boxes that straddle blocks are listed in each
 }
 
 }  // namespace
