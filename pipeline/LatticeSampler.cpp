@@ -68,7 +68,7 @@ std::vector<CoordBBox> latticeReach(const GaussianField& field, const Mat4d& lat
     return reach;
 }
 
-/// Which block lists hold Gaussian @a g: the blocks its reach box overlaps.
+/// Calls @a visit with the slot of each block that @a reach overlaps.
 template <typename Visit>
 void forEachBlockSlot(const CoordBBox& reach, const BlockSlots& slots, Visit&& visit) {
     const Coord low = slots.blockOf(reach.min()), high = slots.blockOf(reach.max());
