@@ -22,18 +22,14 @@ namespace {
 
 constexpr int kSize = 512;
 
-double msSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
 int run(const std::string& path, int repeats) {
     auto start = std::chrono::steady_clock::now();
     const RenderInput input = loadRenderInput(path, "", "", ShearWarpSettings{}.minimumFootprintVoxels(), {});
-    const double readMs = msSince(start);
+    const double readMs = millisecondsSince(start);
     start = std::chrono::steady_clock::now();
     auto scene = std::make_shared<StyledLayers>();
     scene->layers.push_back({input.volume.get(), classifierFor("", *input.volume)});
-    const double classifyMs = msSince(start);
+    const double classifyMs = millisecondsSince(start);
     std::printf("%s: read %.0f ms, classifier %.0f ms\n", path.c_str(), readMs, classifyMs);
 
     const OrthoCamera camera =
@@ -43,7 +39,7 @@ int run(const std::string& path, int repeats) {
         start = std::chrono::steady_clock::now();
         FrameStats first;
         session.render(camera, &first);
-        const double firstMs = msSince(start);
+        const double firstMs = millisecondsSince(start);
         std::printf("first image %.1f ms (coarse build %.1f ms, %zu Gaussians touched)\n", firstMs, first.buildMs,
                     first.gaussiansTouched);
     }
