@@ -5,7 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #if defined(__SSE2__)
-#include <emmintrin.h>
+#include <immintrin.h>
 #endif
 
 #include <algorithm>
@@ -87,7 +87,7 @@ struct ClassifiedLight {
 class ValueLight {
 public:
     ValueLight(const ValueLevels& levels, double lengthRatio)
-        : mLight(ValueLevels::kCount), mDarkBelow(levels.darkBelow()) {
+        : mLight(ValueLevels::kCount + 1), mDarkBelow(levels.darkBelow()) {
         for (int level = 0; level < ValueLevels::kCount; ++level) {
             const std::array<float, 4>& rgba = levels.rgba(level);
             const float opacity = opacityOverLength(rgba[3], lengthRatio);
@@ -98,7 +98,8 @@ public:
     /// The table's reader, held by value where pixels are composited: the compiler
     /// must reload what a pixel's store might change, and a copy's floats it need not.
     /// It reads taps weighed in levels (codes times ValueCoding::levelsPerCode): a
-    /// resampled level is the taps' sum plus the slice's first level.
+    /// resampled level is the taps' sum plus the slice's first level. Entry kCount,
+    /// after the levels, adds nothing: where dark pixels go when lanes cannot skip them.
     struct Lookup {
         const Floats4* light;
         float firstLevel, darkBelow;
@@ -330,44 +331,56 @@ struct ShearedRuns {
 /// Four floats at a float's alignment: an RGBA pixel of the intermediate image.
 using PixelFloats = float __attribute__((vector_size(16), aligned(4)));
 
-/// Where the processor has AVX2, pixels of a stack of values are resampled this
-/// many at a time before any is composited, so that their taps fill eight lanes:
-/// one pixel at a time spent most of its instructions moving two codes into place.
-/// (Without AVX2, GCC converts 16-bit codes to floats one by one, and chunks are slower.)
-constexpr int kChunkPixels = 32;
-
 using Ints8 = int __attribute__((vector_size(32)));
 using Codes8 = std::uint16_t __attribute__((vector_size(16)));
 
-/// The level of each of @a count neighbouring pixels from the taps' @a column on,
-/// or -1 for a dark one: ValueLight::Lookup's, in the same order of operations, so
-/// the same float, eight lanes at a time.
+/// The table entries of eight neighbouring pixels from the taps' @a column on:
+/// ValueLight::Lookup's levels, in the same order of operations (so the same
+/// floats), and ValueLevels::kCount for a dark one.
 template <std::size_t TapCount>
-__attribute__((target("avx2"))) void chunkLevels(const std::array<Tap<std::uint16_t>, TapCount>& taps, int column,
-                                                 int count, ValueLight::Lookup lookup, int* levels) {
-    int i = 0;
-    for (; i + 8 <= count; i += 8) {
-        Floats8 sum{};
-        for (std::size_t t = 0; t < TapCount; ++t) {
-            Codes8 right, left;
-            std::memcpy(&right, taps[t].columns + column + i, sizeof right);
-            std::memcpy(&left, taps[t].columns + column + i + 1, sizeof left);
-            const Floats8 tap = taps[t].right * __builtin_convertvector(right, Floats8) +
-                                taps[t].left * __builtin_convertvector(left, Floats8);
-            sum = t == 0 ? tap : sum + tap;
-        }
-        const Floats8 level = sum + lookup.firstLevel;
-        // ValueLevels::nearest, lane by lane (NaN too goes to 0).
-        Floats8 rounded = level + 0.5f;
-        rounded = rounded > 0.0f ? rounded : Floats8{};
-        rounded = rounded < float(ValueLevels::kCount - 1) ? rounded : Floats8{} + float(ValueLevels::kCount - 1);
-        const Ints8 out = level < lookup.darkBelow ? Ints8{} - 1 : __builtin_convertvector(rounded, Ints8);
-        std::memcpy(levels + i, &out, sizeof out);
+__attribute__((target("avx2"), always_inline)) inline Ints8 eightLevels(
+    const std::array<Tap<std::uint16_t>, TapCount>& taps, int column, ValueLight::Lookup lookup) {
+    Floats8 sum{};
+    for (std::size_t t = 0; t < TapCount; ++t) {
+        Codes8 right, left;
+        std::memcpy(&right, taps[t].columns + column, sizeof right);
+        std::memcpy(&left, taps[t].columns + column + 1, sizeof left);
+        const Floats8 tap = taps[t].right * __builtin_convertvector(right, Floats8) +
+                            taps[t].left * __builtin_convertvector(left, Floats8);
+        sum = t == 0 ? tap : sum + tap;
     }
-    for (; i < count; ++i) {
-        float sum = 0.0f;
-        for (std::size_t t = 0; t < TapCount; ++t) sum = t == 0 ? taps[t](column + i) : sum + taps[t](column + i);
-        levels[i] = lookup.dark(0, sum) ? -1 : ValueLevels::nearest(sum + lookup.firstLevel);
+    const Floats8 level = sum + lookup.firstLevel;
+    // ValueLevels::nearest, lane by lane (NaN too goes to 0).
+    constexpr float kLast = float(ValueLevels::kCount - 1);
+    Floats8 rounded = level + 0.5f;
+    rounded = rounded > 0.0f ? rounded : Floats8{};
+    rounded = rounded < kLast ? rounded : Floats8{} + kLast;
+    return level < lookup.darkBelow ? Ints8{} + ValueLevels::kCount : __builtin_convertvector(rounded, Ints8);
+}
+
+/// Composites pixels [@a p, @a p + 8) of a row, two to a register. Those closed
+/// already keep their value, as the one-pixel loop's links leave them (a pixel is
+/// closed once its opacity reaches @a termination); those that reach it now close.
+template <std::size_t TapCount>
+__attribute__((target("avx2"))) void compositeEight(const std::array<Tap<std::uint16_t>, TapCount>& taps, int p,
+                                                    int shift, ValueLight::Lookup lookup, float termination,
+                                                    float* rgba, OpenPixels& open) {
+    const Ints8 levels = eightLevels(taps, p + shift, lookup);
+    for (int pair = 0; pair < 4; ++pair) {
+        float* pixels = rgba + std::size_t(p + 2 * pair) * 4;
+        // Two pixels' light in one register, without a trip through memory (which
+        // stalls: two 16-byte stores cannot forward to one 32-byte load).
+        const Floats8 light = (Floats8)_mm256_insertf128_ps(
+            _mm256_castps128_ps256((__m128)lookup.light[levels[2 * pair]]), (__m128)lookup.light[levels[2 * pair + 1]], 1);
+        Floats8 value;
+        std::memcpy(&value, pixels, sizeof value);
+        const Floats8 alpha = __builtin_shuffle(value, Ints8{3, 3, 3, 3, 7, 7, 7, 7});
+        const Floats8 composited = value + (1.0f - alpha) * light;
+        const Floats8 kept = alpha >= termination ? value : composited;
+        std::memcpy(pixels, &kept, sizeof kept);
+        for (int half = 0; half < 2; ++half) {
+            if (alpha[4 * half] < termination && composited[4 * half + 3] >= termination) open.close(p + 2 * pair + half);
+        }
     }
 }
 
@@ -383,35 +396,24 @@ struct Compositing {
     template <typename... Taps>
     void pixels(OpenPixels& open, RayEnds ends, const ValueCoding& coding, float* rgba, int first, int last, int shift,
                 Taps... taps) const {
-        if constexpr (std::is_same_v<Light, ValueLight>) {
-            if (processorHasAvx2()) {
-                return pixelsInChunks(open, light.lookup(ends, coding), rgba, first, last, shift, std::array{taps...});
-            }
-        }
         const float termination = terminationOpacity;  // a local: pixel stores cannot change it
         auto lookup = light.lookup(ends, coding);
-        for (int p = open.next(first); p <= last; p = open.next(p + 1)) {
+        int p = open.next(first);
+        if constexpr (std::is_same_v<Light, ValueLight>) {
+            // Eight pixels at a time where the processor has AVX2: one at a time spent
+            // most of its instructions moving two codes and one pixel into place.
+            // (Without AVX2, GCC converts 16-bit codes one by one, and lanes are slower.)
+            if (processorHasAvx2()) {
+                const std::array tapArray{taps...};
+                for (; p + 7 <= last; p = open.next(p + 8)) {
+                    compositeEight(tapArray, p, shift, lookup, termination, rgba, open);
+                }
+            }
+        }
+        for (; p <= last; p = open.next(p + 1)) {
             const auto sum = (taps(p + shift) + ...);
             if (lookup.dark(p, sum)) continue;  // what is not dark may still add nothing, harmlessly
             composite(rgba, p, lookup(sum), termination, open);
-        }
-    }
-
-    /// The same for ValueLight, a chunk of pixels at a time: their levels first
-    /// (chunkLevels), then each open pixel's light.
-    template <std::size_t TapCount>
-    void pixelsInChunks(OpenPixels& open, ValueLight::Lookup lookup, float* rgba, int first, int last, int shift,
-                        const std::array<Tap<std::uint16_t>, TapCount>& taps) const {
-        const float termination = terminationOpacity;
-        int levels[kChunkPixels];
-        for (int start = open.next(first); start <= last; start = open.next(start)) {
-            const int count = std::min(kChunkPixels, last - start + 1);
-            chunkLevels(taps, start + shift, count, lookup, levels);
-            const int end = start + count;
-            for (int p = start; p < end; p = open.next(p + 1)) {
-                if (levels[p - start] >= 0) composite(rgba, p, lookup.light[levels[p - start]], termination, open);
-            }
-            start = end;
         }
     }
 
