@@ -201,13 +201,6 @@ public:
     }
 
 private:
-    /// Where each lattice index along one lattice axis falls on its grid axis: a
-    /// voxel and the fraction beyond it.
-    struct AxisSteps {
-        std::array<int, kBlockDim> base;
-        std::array<double, kBlockDim> t;
-    };
-
     /// The grid axis each lattice axis runs along, when each runs along one (axis
     /// stacks, and the grids' own lattices): no other axis adds to its coordinate.
     static std::optional<std::array<int, 3>> gridAxesOf(const Mat4d& gridFromLattice) {
@@ -229,39 +222,28 @@ private:
     }
 
     /// As the general loop, to the bit (the terms a lattice axis leaves out are
-    /// exact zeros): each voxel's place along each axis found once for the block.
+    /// exact zeros): each voxel's place along each axis found once for the block,
+    /// and the brick blended axis by axis.
     template <typename Brick>
     void sampleAlongAxes(const Brick& brick, const CoordBBox& voxels, float* values) const {
         constexpr int channels = std::is_same_v<typename GridT::ValueType, openvdb::Vec3s> ? 3 : 1;
         const std::array<int, 3>& axisOf = *mGridAxisOf;
-        std::array<AxisSteps, 3> steps;
+        std::array<typename Brick::Steps, 3> alongGrid;  // by grid axis
         for (int r = 0; r < 3; ++r) {
             const int c = axisOf[r];
-            for (int v = voxels.min()[r]; v <= voxels.max()[r]; ++v) {
-                const double x = double(v) * mGridFromLattice(r, c) + mGridFromLattice(3, c);
-                const int base = int(std::floor(x));
-                steps[r].base[v - voxels.min()[r]] = base;
-                steps[r].t[v - voxels.min()[r]] = x - double(base);
+            typename Brick::Steps& steps = alongGrid[c];
+            steps.count = voxels.dim()[r];
+            for (int n = 0; n < steps.count; ++n) {
+                const double x = double(voxels.min()[r] + n) * mGridFromLattice(r, c) + mGridFromLattice(3, c);
+                steps.base[n] = int(std::floor(x));
+                steps.t[n] = x - double(steps.base[n]);
             }
         }
-        Coord base;
-        openvdb::Vec3d t;
-        for (int i = voxels.min().x(); i <= voxels.max().x(); ++i) {
-            const int si = i - voxels.min().x();
-            base[axisOf[0]] = steps[0].base[si];
-            t[axisOf[0]] = steps[0].t[si];
-            for (int j = voxels.min().y(); j <= voxels.max().y(); ++j) {
-                const int sj = j - voxels.min().y();
-                base[axisOf[1]] = steps[1].base[sj];
-                t[axisOf[1]] = steps[1].t[sj];
-                for (int k = voxels.min().z(); k <= voxels.max().z(); ++k) {
-                    const int sk = k - voxels.min().z();
-                    base[axisOf[2]] = steps[2].base[sk];
-                    t[axisOf[2]] = steps[2].t[sk];
-                    brick.trilinearAt(base, t, values + blockOffset(Coord(i, j, k)) * channels);
-                }
-            }
-        }
+        brick.trilinearAlongAxes(alongGrid[0], alongGrid[1], alongGrid[2], [&](int a, int b, int c) {
+            const std::array<int, 3> along{a, b, c};  // by grid axis
+            const Coord ijk = voxels.min() + Coord(along[axisOf[0]], along[axisOf[1]], along[axisOf[2]]);
+            return values + blockOffset(ijk) * channels;
+        });
     }
 
     /// The box, in the grid's index space, that lattice voxels @a voxels span.

@@ -101,5 +101,67 @@ TEST(VoxelBrick, SamplesTheFloatRangesEndsAndDenormalsAsTheTree) {
     expectSamplesAsTheTree(grid, brick, {-0.5, -0.5, -0.5}, {12.0, 3.0, 4.0}, {0.25, 0.5, 0.5});
 }
 
+/// Samples from @a first, @a step apart, along one grid axis.
+template <typename GridT>
+typename VoxelBrick<GridT>::Steps stepsFrom(double first, double step, int count) {
+    typename VoxelBrick<GridT>::Steps steps;
+    steps.count = count;
+    for (int n = 0; n < count; ++n) {
+        const double x = first + n * step;
+        steps.base[n] = int(std::floor(x));
+        steps.t[n] = x - steps.base[n];
+    }
+    return steps;
+}
+
+/// trilinearAlongAxes against trilinearAt at every sample of @a x by @a y by @a z.
+template <typename GridT>
+void expectAlongAxesAsEachSample(const VoxelBrick<GridT>& brick, const typename VoxelBrick<GridT>::Steps& x,
+                                 const typename VoxelBrick<GridT>::Steps& y,
+                                 const typename VoxelBrick<GridT>::Steps& z) {
+    constexpr int channels = std::is_same_v<typename GridT::ValueType, openvdb::Vec3s> ? 3 : 1;
+    float blended[kBlockDim][kBlockDim][kBlockDim][channels];
+    brick.trilinearAlongAxes(x, y, z, [&](int a, int b, int c) { return blended[a][b][c]; });
+    for (int a = 0; a < x.count; ++a) {
+        for (int b = 0; b < y.count; ++b) {
+            for (int c = 0; c < z.count; ++c) {
+                float each[channels];
+                brick.trilinearAt(Coord(x.base[a], y.base[b], z.base[c]), openvdb::Vec3d(x.t[a], y.t[b], z.t[c]), each);
+                for (int ch = 0; ch < channels; ++ch) {
+                    ASSERT_TRUE(sameBits(each[ch], blended[a][b][c][ch])) << a << " " << b << " " << c;
+                }
+            }
+        }
+    }
+}
+
+// A block whose samples run along the grid's axes blends its brick axis by axis,
+// sharing lerps between samples: finer and coarser than the voxels, running
+// backwards, and with fewer than eight samples a side, it must give each sample's
+// own trilinear blend, bit for bit.
+TEST(VoxelBrick, BlendsAlongTheAxesAsSampleBySample) {
+    const auto grid = patchwork();
+    VoxelBrick<openvdb::FloatGrid> brick;
+    brick.fill(*grid, CoordBBox(Coord(-14, -13, -12), Coord(36, 13, 14)));
+    using Steps = VoxelBrick<openvdb::FloatGrid>::Steps;
+    const Steps finer = stepsFrom<openvdb::FloatGrid>(-3.3, 0.6, 8);
+    const Steps coarser = stepsFrom<openvdb::FloatGrid>(10.2, 2.1, 8);
+    const Steps backwards = stepsFrom<openvdb::FloatGrid>(5.7, -1.3, 8);
+    const Steps few = stepsFrom<openvdb::FloatGrid>(-11.5, 0.7, 3);
+    expectAlongAxesAsEachSample(brick, finer, backwards, coarser);
+    expectAlongAxesAsEachSample(brick, coarser, few, backwards);
+    expectAlongAxesAsEachSample(brick, backwards, finer, few);
+
+    openvdb::Vec3SGrid colours(openvdb::Vec3s(0.1f, 0.2f, 0.3f));
+    auto writer = colours.getAccessor();
+    for (int i = 0; i < 10; ++i) {
+        for (int j = 0; j < 10; ++j) writer.setValue(Coord(i, j, i - j), openvdb::Vec3s(float(i), float(j), 0.5f * float(i + j)));
+    }
+    VoxelBrick<openvdb::Vec3SGrid> colourBrick;
+    colourBrick.fill(colours, CoordBBox(Coord(-1, -1, -11), Coord(11, 11, 11)));
+    expectAlongAxesAsEachSample(colourBrick, stepsFrom<openvdb::Vec3SGrid>(0.2, 1.1, 8),
+                                stepsFrom<openvdb::Vec3SGrid>(9.4, -0.9, 7), stepsFrom<openvdb::Vec3SGrid>(-9.9, 2.3, 8));
+}
+
 }  // namespace
 }  // namespace gvr
