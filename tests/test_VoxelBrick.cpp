@@ -76,15 +76,21 @@ TEST(VoxelBrick, SamplesAsTheTreeToTheBitInLeavesAcrossThemInTilesAndBeyond) {
     EXPECT_GT(samples, 10000);
 }
 
-TEST(VoxelBrick, SamplesColoursAsTheTreeToTheBit) {
-    openvdb::Vec3SGrid grid(openvdb::Vec3s(0.1f, 0.2f, 0.3f));
-    auto writer = grid.getAccessor();
+/// Colours that differ voxel to voxel on a diagonal, over a coloured background.
+openvdb::Vec3SGrid::Ptr colourDiagonal() {
+    auto grid = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.1f, 0.2f, 0.3f));
+    auto writer = grid->getAccessor();
     for (int i = 0; i < 10; ++i) {
         for (int j = 0; j < 10; ++j) writer.setValue(Coord(i, j, i - j), openvdb::Vec3s(float(i), float(j), 0.5f * float(i + j)));
     }
+    return grid;
+}
+
+TEST(VoxelBrick, SamplesColoursAsTheTreeToTheBit) {
+    const auto grid = colourDiagonal();
     VoxelBrick<openvdb::Vec3SGrid> brick;
-    brick.fill(grid, CoordBBox(Coord(-1, -1, -11), Coord(11, 11, 11)));
-    expectSamplesAsTheTree(grid, brick, {-0.5, -0.5, -10.5}, {10.0, 10.0, 10.0}, {0.7, 0.9, 1.1});
+    brick.fill(*grid, CoordBBox(Coord(-1, -1, -11), Coord(11, 11, 11)));
+    expectSamplesAsTheTree(*grid, brick, {-0.5, -0.5, -10.5}, {10.0, 10.0, 10.0}, {0.7, 0.9, 1.1});
 }
 
 // The float range's ends and its denormals: the blend is the tree's, in doubles, so
@@ -152,13 +158,8 @@ TEST(VoxelBrick, BlendsAlongTheAxesAsSampleBySample) {
     expectAlongAxesAsEachSample(brick, coarser, few, backwards);
     expectAlongAxesAsEachSample(brick, backwards, finer, few);
 
-    openvdb::Vec3SGrid colours(openvdb::Vec3s(0.1f, 0.2f, 0.3f));
-    auto writer = colours.getAccessor();
-    for (int i = 0; i < 10; ++i) {
-        for (int j = 0; j < 10; ++j) writer.setValue(Coord(i, j, i - j), openvdb::Vec3s(float(i), float(j), 0.5f * float(i + j)));
-    }
     VoxelBrick<openvdb::Vec3SGrid> colourBrick;
-    colourBrick.fill(colours, CoordBBox(Coord(-1, -1, -11), Coord(11, 11, 11)));
+    colourBrick.fill(*colourDiagonal(), CoordBBox(Coord(-1, -1, -11), Coord(11, 11, 11)));
     expectAlongAxesAsEachSample(colourBrick, stepsFrom<openvdb::Vec3SGrid>(0.2, 1.1, 8),
                                 stepsFrom<openvdb::Vec3SGrid>(9.4, -0.9, 7), stepsFrom<openvdb::Vec3SGrid>(-9.9, 2.3, 8));
 }
