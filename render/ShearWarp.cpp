@@ -374,7 +374,7 @@ __attribute__((target("avx2"))) void compositeEight(const std::array<Tap<std::ui
             _mm256_castps128_ps256((__m128)lookup.light[levels[2 * pair]]), (__m128)lookup.light[levels[2 * pair + 1]], 1);
         Floats8 value;
         std::memcpy(&value, pixels, sizeof value);
-        const Floats8 alpha = __builtin_shuffle(value, Ints8{3, 3, 3, 3, 7, 7, 7, 7});
+        const Floats8 alpha = (Floats8)_mm256_permute_ps((__m256)value, 0xFF);  // each pixel's opacity, four times
         const Floats8 composited = value + (1.0f - alpha) * light;
         const Floats8 kept = alpha >= termination ? value : composited;
         std::memcpy(pixels, &kept, sizeof kept);
