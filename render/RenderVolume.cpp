@@ -9,6 +9,7 @@
 #include "render/ValueRange.h"
 #include "render/VoxelBrick.h"
 
+#include <openvdb/tree/LeafManager.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -438,14 +439,42 @@ double GridRenderVolume::backgroundKey() const {
     return mFloat ? keyOf(mFloat->background()) : keyOf(mColour->background());
 }
 
+namespace {
+
+/// The key of every @a stride-th active value of @a grid, counted in the order of its
+/// value iterator. Where every active value lies in a leaf, the leaves are read on
+/// all cores, each from its first value's place in that order: the same keys, in the
+/// same order, as one walk (a large CT's walk took a tenth of a second).
+template <typename GridT>
+std::vector<float> everyStridethKey(const GridT& grid, std::size_t stride) {
+    std::vector<float> keys;
+    if (grid.tree().activeTileCount() > 0) {
+        std::size_t n = 0;
+        for (auto v = grid.cbeginValueOn(); v; ++v, ++n) {
+            if (n % stride == 0) keys.push_back(float(keyOf(*v)));
+        }
+        return keys;
+    }
+    const openvdb::tree::LeafManager<const typename GridT::TreeType> leaves(grid.tree());
+    std::vector<std::size_t> firstOf(leaves.leafCount() + 1, 0);  // each leaf's first value's place
+    for (std::size_t l = 0; l < leaves.leafCount(); ++l) firstOf[l + 1] = firstOf[l] + leaves.leaf(l).onVoxelCount();
+    keys.resize((firstOf.back() + stride - 1) / stride);
+    tbb::parallel_for(std::size_t(0), leaves.leafCount(), [&](std::size_t l) {
+        std::size_t n = firstOf[l];
+        for (auto v = leaves.leaf(l).cbeginValueOn(); v; ++v, ++n) {
+            if (n % stride == 0) keys[n / stride] = float(keyOf(*v));
+        }
+    });
+    return keys;
+}
+
+}  // namespace
+
 VolumeStatistics GridRenderVolume::gatherStatistics() const {
     VolumeStatistics stats;
     const auto gather = [&](const auto& grid) {
         const std::size_t stride = std::max<std::uint64_t>(1, grid.activeVoxelCount() / kStatisticsSamples);
-        std::size_t n = 0;
-        for (auto v = grid.cbeginValueOn(); v; ++v, ++n) {
-            if (n % stride == 0) stats.values.push_back(float(keyOf(*v)));
-        }
+        stats.values = everyStridethKey(grid, stride);
         const auto accessor = grid.getConstAccessor();
         stats.background = borderMedian(mBox, [&](const Coord& ijk) { return keyOf(accessor.getValue(ijk)); });
     };

@@ -292,6 +292,44 @@ TEST(GridRenderVolume, ExtremeValuesInterpolateAndAreFoundBySkipping) {
     EXPECT_EQ(keptSet.count(Coord(0, 0, 0)), 0u);   // denormals and zeros only, far from it
 }
 
+/// Every @a stride-th active value of @a grid in its value iterator's order: what
+/// a grid's statistics sample, by definition.
+std::vector<float> everyStridethValue(const openvdb::FloatGrid& grid, std::size_t stride) {
+    std::vector<float> values;
+    std::size_t n = 0;
+    for (auto v = grid.cbeginValueOn(); v; ++v, ++n) {
+        if (n % stride == 0) values.push_back(*v);
+    }
+    return values;
+}
+
+// A grid's statistics read its leaves on all cores when every active value lies in
+// a leaf: the sample must be the one walk's, value for value and in order, with
+// leaves holding different numbers of active voxels; with an active tile it walks.
+TEST(GridRenderVolume, StatisticsSampleEveryStridethActiveValueInTheIteratorsOrder) {
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    auto accessor = grid->getAccessor();
+    std::size_t active = 0;
+    for (int i = -40; i < 50; ++i) {
+        for (int j = -30; j < 45; ++j) {
+            for (int k = 0; k < 40; ++k) {
+                if ((i * 7 + j * 3 + k) % 5 == 0 || (i > 20 && j > 10)) continue;  // uneven leaves
+                accessor.setValue(Coord(i, j, k), float(i * 1000 + j * 10 + k % 10));
+                ++active;
+            }
+        }
+    }
+    const std::size_t stride = active / 50000;
+    ASSERT_GE(stride, 2u);
+    ASSERT_EQ(grid->tree().activeTileCount(), 0u);
+    EXPECT_EQ(GridRenderVolume(grid->deepCopy()).statistics().values, everyStridethValue(*grid, stride));
+
+    grid->tree().fill(openvdb::CoordBBox(Coord(64, 0, 0), Coord(95, 31, 31)), 7.0f);  // active tiles
+    ASSERT_GT(grid->tree().activeTileCount(), 0u);
+    const std::size_t withTiles = grid->activeVoxelCount() / 50000;
+    EXPECT_EQ(GridRenderVolume(grid->deepCopy()).statistics().values, everyStridethValue(*grid, withTiles));
+}
+
 TEST(GridRenderVolume, RefusesOtherValueTypesNamingTheGrid) {
     openvdb::Int32Grid::Ptr labels = openvdb::Int32Grid::create(0);
     labels->setName("labels");
