@@ -146,16 +146,16 @@ private:
     openvdb::Vec3SGrid::ConstPtr mColour;
 };
 
-/// The trilinear blend of eight corners, corner n at (n >> 2, n >> 1 & 1, n & 1)
-/// (z fastest, as a leaf's voxels), at fractions @a t, into out[0..channels).
 /// One step of a trilinear blend. In doubles, so that values near the float range's
 /// ends cannot overflow.
 inline double trilinearLerp(double a, double b, double s) { return (1.0 - s) * a + s * b; }
 
+/// The trilinear blend of eight corners, corner n at (n >> 2, n >> 1 & 1, n & 1)
+/// (z fastest, as a leaf's voxels), at fractions @a t, into out[0..channels).
 template <typename ValueT>
 void blendTrilinearCorners(const ValueT (&corners)[8], const openvdb::Vec3d& t, float* out) {
     constexpr int channels = std::is_same_v<ValueT, openvdb::Vec3s> ? 3 : 1;
-    const auto lerp = trilinearLerp;
+    const auto lerp = trilinearLerp;  // a short name: the blend nests three deep
     for (int c = 0; c < channels; ++c) {
         double alongY[2];
         for (int i = 0; i < 2; ++i) {
