@@ -93,20 +93,6 @@ TEST(VoxelBrick, SamplesColoursAsTheTreeToTheBit) {
     expectSamplesAsTheTree(*grid, brick, {-0.5, -0.5, -10.5}, {10.0, 10.0, 10.0}, {0.7, 0.9, 1.1});
 }
 
-// The float range's ends and its denormals: the blend is the tree's, in doubles, so
-// neither overflows nor flushes where the tree's does not.
-TEST(VoxelBrick, SamplesTheFloatRangesEndsAndDenormalsAsTheTree) {
-    openvdb::FloatGrid grid(0.0f);
-    auto writer = grid.getAccessor();
-    const float values[] = {3.0e38f, -3.0e38f, 1e-45f, -1e-45f, FLT_MAX, 1e-38f};
-    for (int i = 0; i < 12; ++i) {
-        for (int j = 0; j < 3; ++j) writer.setValue(Coord(i, j, i % 4), values[(i + j) % 6]);
-    }
-    VoxelBrick<openvdb::FloatGrid> brick;
-    brick.fill(grid, CoordBBox(Coord(-1, -1, -1), Coord(13, 4, 5)));
-    expectSamplesAsTheTree(grid, brick, {-0.5, -0.5, -0.5}, {12.0, 3.0, 4.0}, {0.25, 0.5, 0.5});
-}
-
 /// Samples from @a first, @a step apart, along one grid axis.
 template <typename GridT>
 typename VoxelBrick<GridT>::Steps stepsFrom(double first, double step, int count) {
@@ -139,6 +125,23 @@ void expectAlongAxesAsEachSample(const VoxelBrick<GridT>& brick, const typename 
             }
         }
     }
+}
+
+// The float range's ends and its denormals: the blend is the tree's, in doubles, so
+// neither overflows nor flushes where the tree's does not.
+TEST(VoxelBrick, SamplesTheFloatRangesEndsAndDenormalsAsTheTree) {
+    openvdb::FloatGrid grid(0.0f);
+    auto writer = grid.getAccessor();
+    const float values[] = {3.0e38f, -3.0e38f, 1e-45f, -1e-45f, FLT_MAX, 1e-38f};
+    for (int i = 0; i < 12; ++i) {
+        for (int j = 0; j < 3; ++j) writer.setValue(Coord(i, j, i % 4), values[(i + j) % 6]);
+    }
+    VoxelBrick<openvdb::FloatGrid> brick;
+    brick.fill(grid, CoordBBox(Coord(-1, -1, -1), Coord(13, 4, 5)));
+    expectSamplesAsTheTree(grid, brick, {-0.5, -0.5, -0.5}, {12.0, 3.0, 4.0}, {0.25, 0.5, 0.5});
+    // Blended axis by axis, too: lerp by lerp the same doubles.
+    expectAlongAxesAsEachSample(brick, stepsFrom<openvdb::FloatGrid>(-0.5, 1.7, 8),
+                                stepsFrom<openvdb::FloatGrid>(2.9, -0.4, 8), stepsFrom<openvdb::FloatGrid>(-0.3, 0.6, 8));
 }
 
 // A block whose samples run along the grid's axes blends its brick axis by axis,
