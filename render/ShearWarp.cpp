@@ -1,5 +1,7 @@
 #include "render/ShearWarp.h"
 
+#include "render/Warp.h"
+
 #include "pipeline/FastExp.h"
 
 #include <tbb/parallel_for.h>
@@ -249,14 +251,6 @@ private:
     std::vector<int> mNext;
 };
 
-/// The intermediate image: the slices sheared for a direction and composited front
-/// to back, in the stack's plane.
-struct Intermediate {
-    int width = 0, height = 0;
-    int originX = 0, originY = 0;  ///< stack sample coordinates of pixel (0, 0)
-    std::vector<float> rgba;       ///< premultiplied
-};
-
 /// What a pixel takes from one slice row, sheared: right x the sample in its
 /// column plus left x the next. The shear is the same across one slice, and so
 /// are the weights.
@@ -438,8 +432,11 @@ public:
         mWidth = width;
         mOpen.reset(width);
         mLast.assign(width, RayEnd{});
+        mReached = {};
     }
     bool finished() { return mOpen.next(0) >= mWidth; }
+    /// The pixels that the slices added so far reached.
+    PixelSpan reached() const { return mReached; }
 
     /// Composites @a slice's classified samples over @a pixels: slice rows @a row
     /// (upper) and row + 1 (lower), sheared by @a shear. A row without a run adds
@@ -459,11 +456,11 @@ public:
             const bool inUpper = !upper.empty() && upper.first() <= p, inLower = !lower.empty() && lower.first() <= p;
             const int last = std::min(upper.segmentEnd(inUpper), lower.segmentEnd(inLower));
             if (inUpper && inLower) {
-                compositing.pixels(mOpen, ends, slice.coding, pixels, p, last, shear.shift, upper.tap(), lower.tap());
+                composite(compositing, ends, slice.coding, pixels, p, last, shear.shift, upper.tap(), lower.tap());
             } else if (inUpper) {
-                compositing.pixels(mOpen, ends, slice.coding, pixels, p, last, shear.shift, upper.tap());
+                composite(compositing, ends, slice.coding, pixels, p, last, shear.shift, upper.tap());
             } else {
-                compositing.pixels(mOpen, ends, slice.coding, pixels, p, last, shear.shift, lower.tap());
+                composite(compositing, ends, slice.coding, pixels, p, last, shear.shift, lower.tap());
             }
             p = last + 1;
         }
@@ -489,7 +486,7 @@ public:
             if (upper.empty() || lower.empty()) break;
             const int first = std::max(upper.first(), lower.first()), last = std::min(upper.last(), lower.last());
             if (first <= last) {
-                compositing.pixels(mOpen, ends, slice.coding, pixels, first, last, shear.shift, upper.tap(), lower.tap());
+                composite(compositing, ends, slice.coding, pixels, first, last, shear.shift, upper.tap(), lower.tap());
             }
             p = last + 1;
         }
@@ -501,8 +498,16 @@ private:
     void addAlone(ShearedRuns<std::uint16_t> only, RayEnds ends, const ValueCoding& coding,
                   const Compositing<Light>& compositing, float* pixels) {
         for (; !only.empty(); ++only.runs) {
-            compositing.pixels(mOpen, ends, coding, pixels, only.first(), only.last(), only.shift, only.tap());
+            composite(compositing, ends, coding, pixels, only.first(), only.last(), only.shift, only.tap());
         }
+    }
+
+    /// Composites pixels [first, last], noting that they were reached.
+    template <typename Light, typename... Taps>
+    void composite(const Compositing<Light>& compositing, RayEnds ends, const ValueCoding& coding, float* pixels,
+                   int first, int last, int shift, Taps... taps) {
+        mReached = {std::min(mReached.first, first), std::max(mReached.last, last)};
+        compositing.pixels(mOpen, ends, coding, pixels, first, last, shift, taps...);
     }
 
     RayEnds endsAt(int n) { return {mLast.data(), std::uint32_t(n) + 2}; }
@@ -510,6 +515,7 @@ private:
     int mWidth = 0;
     OpenPixels mOpen;
     std::vector<RayEnd> mLast;  ///< each pixel's
+    PixelSpan mReached;
 };
 
 }  // namespace
@@ -553,7 +559,7 @@ namespace {
 /// back: from the last slice first when @a backwards.
 template <typename Light>
 void compositeBands(const SliceStack& stack, const std::vector<SliceShear>& shears, bool backwards,
-                    const Compositing<Light>& compositing, Intermediate& out) {
+                    const Compositing<Light>& compositing, IntermediateImage& out) {
     const StackGeometry& g = stack.geometry();
     // Bands of rows, each walked slice by slice: a band's rows of one slice lie
     // together in memory, so the stack streams in order instead of hopping between
@@ -578,11 +584,12 @@ void compositeBands(const SliceStack& stack, const std::vector<SliceShear>& shea
             }
             if (!open) break;
         }
+        for (int r = 0; r < rowCount; ++r) out.reached[firstRow + r] = rows[r].reached();
     });
 }
 
 /// @a memory: storage for the intermediate image, of any size and content.
-Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, float terminationOpacity,
+IntermediateImage compositeSlices(const SliceStack& stack, const Vec3d& direction, float terminationOpacity,
                              std::vector<float> memory) {
     const StackGeometry& g = stack.geometry();
     const double dn = direction.dot(g.normal);
@@ -590,7 +597,7 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     const double shiftX = direction.dot(g.e1) / dn * g.sliceMm / g.sampleMm;
     const double shiftY = direction.dot(g.e2) / dn * g.sliceMm / g.sampleMm;
     const double lastX = shiftX * (g.slices - 1), lastY = shiftY * (g.slices - 1);
-    Intermediate out;
+    IntermediateImage out;
     // The margins keep every pixel a sample reaches inside the image, whatever the shear.
     out.originX = int(std::floor(std::min(0.0, -lastX))) - 1;
     out.originY = int(std::floor(std::min(0.0, -lastY))) - 1;
@@ -599,6 +606,7 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     // Each band clears its own rows, while they are in its core's cache.
     out.rgba = std::move(memory);
     out.rgba.resize(std::size_t(out.width) * out.height * 4);
+    out.reached.resize(out.height);
     std::vector<SliceShear> shears(g.slices);
     for (int k = 0; k < g.slices; ++k) shears[k] = shearOf(k, shiftX, shiftY, out.originX, out.originY);
     // A view from behind the stack meets its slices last to first.
@@ -620,13 +628,8 @@ Intermediate compositeSlices(const SliceStack& stack, const Vec3d& direction, fl
     return out;
 }
 
-/// Where the ray of image pixel (x, y) meets the front slice, in intermediate
-/// pixels: u = u0 + x dux + y duy, and v likewise (orthographic rays, so affine).
-struct IntermediateMap {
-    double u0, dux, duy, v0, dvx, dvy;
-};
-
-IntermediateMap intermediateMap(const StackGeometry& g, const OrthoCamera& camera, const Intermediate& intermediate) {
+/// Where the camera's pixels meet the front slice of the stack, on @a intermediate.
+IntermediateMap intermediateMap(const StackGeometry& g, const OrthoCamera& camera, const IntermediateImage& intermediate) {
     const double dn = camera.direction.dot(g.normal);
     const auto onFront = [&](double x, double y) {
         // Follow the pixel's ray to the front slice; its position there, in samples.
@@ -637,78 +640,6 @@ IntermediateMap intermediateMap(const StackGeometry& g, const OrthoCamera& camer
     const openvdb::Vec2d origin = onFront(0, 0), alongX = onFront(1, 0) - origin, alongY = onFront(0, 1) - origin;
     return {origin[0], alongX[0], alongY[0], origin[1], alongX[1], alongY[1]};
 }
-
-Floats4 load4(const float* values) {
-    Floats4 out;
-    std::memcpy(&out, values, sizeof out);
-    return out;
-}
-
-/// The intermediate image, bilinearly, at (u, v), which must lie inside its samples.
-Floats4 bilinearInside(const Intermediate& image, float u, float v) {
-    const int i = int(u), j = int(v);
-    const float fu = u - float(i), fv = v - float(j);
-    const float* a = image.rgba.data() + (std::size_t(j) * image.width + i) * 4;
-    const float* b = a + std::size_t(image.width) * 4;
-    const Floats4 top = (1 - fu) * load4(a) + fu * load4(a + 4);
-    const Floats4 bottom = (1 - fu) * load4(b) + fu * load4(b + 4);
-    return (1 - fv) * top + fv * bottom;
-}
-
-/// The same anywhere: transparent beyond the samples.
-Floats4 bilinear(const Intermediate& image, double u, double v) {
-    // The comparisons are false for NaN, and u < width - 1 keeps i + 1 inside.
-    if (!(u >= 0.0 && v >= 0.0 && u < image.width - 1 && v < image.height - 1)) return Floats4{};
-    return bilinearInside(image, float(u), float(v));
-}
-
-/// How an image pixel averages its footprint on the intermediate image: taps x taps
-/// bilinear taps spread evenly over it, as the anti-aliased ray marcher spreads its
-/// rays over the pixel. At least two a side, and enough that neighbouring taps lie
-/// about one intermediate pixel apart.
-class FootprintFilter {
-public:
-    FootprintFilter(const IntermediateMap& map, const Intermediate& image) : mImage(image) {
-        const double footprint = std::max(std::abs(map.dux) + std::abs(map.duy), std::abs(map.dvx) + std::abs(map.dvy));
-        const int taps = std::clamp(int(std::ceil(footprint)), 2, 4);
-        double reachU = 0.0, reachV = 0.0;
-        for (int ty = 0; ty < taps; ++ty) {
-            for (int tx = 0; tx < taps; ++tx) {
-                const double x = (tx + 0.5) / taps - 0.5, y = (ty + 0.5) / taps - 0.5;
-                const float du = float(x * map.dux + y * map.duy), dv = float(x * map.dvx + y * map.dvy);
-                mOffsets.push_back({du, dv});
-                reachU = std::max(reachU, double(std::abs(du)));
-                reachV = std::max(reachV, double(std::abs(dv)));
-            }
-        }
-        mWeight = 1.0f / float(mOffsets.size());
-        // Taps in floats are a sixth faster than in doubles: the margin covers their
-        // rounding (an ulp at 65536 is 0.004), so that i + 1 stays inside.
-        const double margin = 1e-3 + 1e-6 * std::max(image.width, image.height);
-        mInsideLo = {reachU, reachV};
-        mInsideHi = {image.width - 1 - margin - reachU, image.height - 1 - margin - reachV};
-    }
-
-    /// The pixel whose centre falls at (u, v) on the intermediate image.
-    Floats4 operator()(double u, double v) const {
-        Floats4 sum{};
-        if (u >= mInsideLo[0] && v >= mInsideLo[1] && u < mInsideHi[0] && v < mInsideHi[1]) {
-            for (const Offset& o : mOffsets) sum += bilinearInside(mImage, float(u) + o.du, float(v) + o.dv);
-        } else {
-            for (const Offset& o : mOffsets) sum += bilinear(mImage, u + o.du, v + o.dv);
-        }
-        return sum * mWeight;
-    }
-
-private:
-    struct Offset {
-        float du, dv;
-    };
-    const Intermediate& mImage;
-    std::vector<Offset> mOffsets;
-    float mWeight = 1.0f;
-    openvdb::Vec2d mInsideLo, mInsideHi;  ///< where every tap of a pixel's centre falls inside the samples
-};
 
 }  // namespace
 
@@ -747,19 +678,12 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
 Framebuffer ShearWarpFramer::frame(const SliceStack& stack, const OrthoCamera& camera, float terminationOpacity,
                                    FrameStats& stats) {
     const auto composited = std::chrono::steady_clock::now();
-    Intermediate intermediate = compositeSlices(stack, camera.direction, terminationOpacity, std::move(mIntermediate));
+    IntermediateImage intermediate = compositeSlices(stack, camera.direction, terminationOpacity, std::move(mIntermediate));
     stats.compositeMs = millisecondsSince(composited);
 
     const auto warped = std::chrono::steady_clock::now();
-    const IntermediateMap map = intermediateMap(stack.geometry(), camera, intermediate);
-    Framebuffer image(camera.width, camera.height);
-    const FootprintFilter footprint(map, intermediate);
-    tbb::parallel_for(0, camera.height, [&](int y) {
-        for (int x = 0; x < camera.width; ++x) {
-            const Floats4 pixel = footprint(map.u0 + x * map.dux + y * map.duy, map.v0 + x * map.dvx + y * map.dvy);
-            std::memcpy(image.pixel(x, y), &pixel, sizeof pixel);
-        }
-    });
+    Framebuffer image =
+        warpToImage(intermediate, intermediateMap(stack.geometry(), camera, intermediate), camera.width, camera.height);
     stats.warpMs = millisecondsSince(warped);
     mIntermediate = std::move(intermediate.rgba);
     return image;
