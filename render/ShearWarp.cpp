@@ -326,7 +326,12 @@ struct ShearedRuns {
 using PixelFloats = float __attribute__((vector_size(16), aligned(4)));
 
 using Ints8 = int __attribute__((vector_size(32)));
-using Codes8 = std::uint16_t __attribute__((vector_size(16)));
+
+/// Eight codes from @a codes on, as floats. (GCC converts them half a register at a time.)
+__attribute__((target("avx2"), always_inline)) inline Floats8 eightCodes(const std::uint16_t* codes) {
+    const __m128i bits = _mm_loadu_si128(reinterpret_cast<const __m128i*>(codes));
+    return (Floats8)_mm256_cvtepi32_ps(_mm256_cvtepu16_epi32(bits));
+}
 
 /// The table entries of eight neighbouring pixels from the taps' @a column on:
 /// ValueLight::Lookup's levels, in the same order of operations (so the same
@@ -336,11 +341,8 @@ __attribute__((target("avx2"), always_inline)) inline Ints8 eightLevels(
     const std::array<Tap<std::uint16_t>, TapCount>& taps, int column, ValueLight::Lookup lookup) {
     Floats8 sum{};
     for (std::size_t t = 0; t < TapCount; ++t) {
-        Codes8 right, left;
-        std::memcpy(&right, taps[t].columns + column, sizeof right);
-        std::memcpy(&left, taps[t].columns + column + 1, sizeof left);
-        const Floats8 tap = taps[t].right * __builtin_convertvector(right, Floats8) +
-                            taps[t].left * __builtin_convertvector(left, Floats8);
+        const Floats8 tap = taps[t].right * eightCodes(taps[t].columns + column) +
+                            taps[t].left * eightCodes(taps[t].columns + column + 1);
         sum = t == 0 ? tap : sum + tap;
     }
     const Floats8 level = sum + lookup.firstLevel;
@@ -360,6 +362,7 @@ __attribute__((target("avx2"))) void compositeEight(const std::array<Tap<std::ui
                                                     int shift, ValueLight::Lookup lookup, float termination,
                                                     float* rgba, OpenPixels& open) {
     const Ints8 levels = eightLevels(taps, p + shift, lookup);
+    unsigned closing = 0;  // per pair, a bit per lane of pixels that reach the termination now
     for (int pair = 0; pair < 4; ++pair) {
         float* pixels = rgba + std::size_t(p + 2 * pair) * 4;
         // Two pixels' light in one register, without a trip through memory (which
@@ -372,10 +375,11 @@ __attribute__((target("avx2"))) void compositeEight(const std::array<Tap<std::ui
         const Floats8 composited = value + (1.0f - alpha) * light;
         const Floats8 kept = alpha >= termination ? value : composited;
         std::memcpy(pixels, &kept, sizeof kept);
-        for (int half = 0; half < 2; ++half) {
-            if (alpha[4 * half] < termination && composited[4 * half + 3] >= termination) open.close(p + 2 * pair + half);
-        }
+        const auto closes = (alpha < termination) & (composited >= termination);
+        closing |= unsigned(_mm256_movemask_ps((__m256)closes)) << (8 * pair);
     }
+    // Each pixel's opacity lane: pixel 2 pair + half has lane 4 half + 3 of its pair.
+    for (closing &= 0x88888888u; closing != 0; closing &= closing - 1) open.close(p + __builtin_ctz(closing) / 4);
 }
 
 /// How one frame composites: the light a resampled sample adds over the oblique
