@@ -3,7 +3,7 @@
 waits for and what they see, measured with `gvr render` and `gvr eval`.
 
 Usage: python3 bench/render_table.py [--gvr GVR] [--baseline OLD_GVR] [--orbit N]
-                                     [--size WxH] [--work DIR] NAME=INPUT:TF ...
+                                     [--size WxH] [--supersample S] [--work DIR] NAME=INPUT:TF ...
 
 Each NAME=INPUT:TF is a row: INPUT any file `gvr render` takes, TF a preset or a
 transfer function file. For each row and each binary (the baseline first, when
@@ -14,6 +14,7 @@ given, then GVR, one after the other so that both meet the same machine):
 - a still at azimuth 30, elevation 15, scored by `gvr eval` ("as seen" PSNR)
   against the anti-aliased ray marcher (`--samples 4`) on the same input, beside
   the one-ray ray marcher's own score, the figure to reach.
+--supersample passes S to every shear-warp render (`gvr view` draws with 1).
 Prints a Markdown table, and the same figures as JSON to WORK/render_table.json.
 Nothing is asserted: run it with nothing else on the machine.
 """
@@ -41,8 +42,8 @@ def seen_psnr(gvr, reference, test):
     return run_json([gvr, "eval", reference, test, "--json"])["rendering"]["psnr"]
 
 
-def orbit_figures(gvr, source, tf, size, frames, folder):
-    report = render(gvr, source, tf, os.path.join(folder, "orbit.png"), size, "--orbit", str(frames))
+def orbit_figures(gvr, source, tf, size, frames, folder, *extra):
+    report = render(gvr, source, tf, os.path.join(folder, "orbit.png"), size, "--orbit", str(frames), *extra)
     stats = report["frames"]
     builds = [f["build_ms"] for f in stats if not f["reused"]]
     reused = [f["total_ms"] for f in stats if f["reused"]]
@@ -65,11 +66,12 @@ def measure_row(args, name, source, tf):
     render(args.gvr, source, tf, one_ray, args.size, *view, "--renderer", "raymarch")
     row = {"name": name, "input": source, "tf": tf, "one_ray_psnr": seen_psnr(args.gvr, reference, one_ray)}
     binaries = ([("baseline", args.baseline)] if args.baseline else []) + [("gvr", args.gvr)]
+    shear_warp = ["--supersample", args.supersample] if args.supersample else []
     for label, gvr in binaries:
-        figures = orbit_figures(gvr, source, tf, args.size, args.orbit, folder)
+        figures = orbit_figures(gvr, source, tf, args.size, args.orbit, folder, *shear_warp)
         still = os.path.join(folder, f"{label}.exr")
         # What drew the still (gvr render reports it since 2026-11-28; older binaries do not).
-        figures["still_settings"] = render(gvr, source, tf, still, args.size, *view).get("settings")
+        figures["still_settings"] = render(gvr, source, tf, still, args.size, *view, *shear_warp).get("settings")
         figures["psnr"] = seen_psnr(args.gvr, reference, still)
         row[label] = figures
     return row
@@ -107,6 +109,7 @@ def main():
     parser.add_argument("--baseline", help="an older gvr to measure side by side")
     parser.add_argument("--orbit", type=int, default=120)
     parser.add_argument("--size", default="512x512")
+    parser.add_argument("--supersample", help="passed to gvr render's shear-warp (default: its own)")
     parser.add_argument("--work", default="out/render-table")
     args = parser.parse_args()
     rows = [measure_row(args, *parse_row(text)) for text in args.rows]
