@@ -7,7 +7,7 @@
 //
 // Prints, for a surface and a translucent classification: frames per second of
 // shear-warp frames that reuse the stack and stack build times, with axis and view
-// stacks, supersampled and not; Gaussian and dense-grid shear-warp against the
+// stacks, supersampled and not, and axis stacks at one sample a voxel as VolPack samples; Gaussian and dense-grid shear-warp against the
 // anti-aliased ray marcher (4 x 4 rays a pixel, averaged) on the Gaussians' export
 // and on the original grid (render PSNR as seen), against which the one-ray ray
 // marcher is measured too (the figure to reach); Gaussian shear-warp against the
@@ -26,6 +26,7 @@
 #include "render/ShearWarp.h"
 #include "workflow/Evaluate.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -149,8 +150,10 @@ std::pair<double, double> meanAndWorstDb(const std::vector<Framebuffer>& referen
 }
 
 /// The shear-warp settings compared: axis and view stacks, each supersampled (the
-/// default) and with one sample a pixel (gvr view's default).
-std::vector<ShearWarpSettings> settingsCompared() {
+/// default) and with one sample a pixel (gvr view's default); and axis stacks with
+/// one sample a voxel, as VolPack samples, @a voxelSupersampling being the pixel
+/// over the voxel (at least 1).
+std::vector<ShearWarpSettings> settingsCompared(double voxelSupersampling) {
     std::vector<ShearWarpSettings> all;
     for (const StackOrientation orientation : {StackOrientation::axes, StackOrientation::view}) {
         for (const double supersampling : {ShearWarpSettings{}.supersampling, 1.0}) {
@@ -160,6 +163,10 @@ std::vector<ShearWarpSettings> settingsCompared() {
             all.push_back(settings);
         }
     }
+    ShearWarpSettings asVolPack;
+    asVolPack.stacks = StackOrientation::axes;
+    asVolPack.supersampling = voxelSupersampling;
+    all.push_back(asVolPack);
     return all;
 }
 
@@ -177,12 +184,13 @@ void compare(const char* label, const GaussianRenderVolume& gaussians, const Gri
                 meanAndWorstDb(references.antialiased, references.original).first,
                 meanAndWorstDb(references.gaussiansAntialiased, references.gaussians).first);
     std::vector<double> axisReuseMs;
-    for (const ShearWarpSettings& settings : settingsCompared()) {
+    const double voxelSupersampling = std::max(1.0, cameraAt(original, 0.0).pixelMm / original.voxelMm());
+    for (const ShearWarpSettings& settings : settingsCompared(voxelSupersampling)) {
         const ShearWarpFigures ours = measureShearWarp(gaussians, classifier, settings);
         const ShearWarpFigures dense = measureShearWarp(original, classifier, settings);
         if (settings.stacks == StackOrientation::axes) axisReuseMs.push_back(ours.reuseMs);
         const auto [gaussianDb, worstDb] = meanAndWorstDb(references.original, ours.reuseImages);
-        std::printf("   %s stacks, supersample %.1f\n", nameOf(settings.stacks), settings.supersampling);
+        std::printf("   %s stacks, supersample %.2f\n", nameOf(settings.stacks), settings.supersampling);
         std::printf("      Gaussians: reused frame %.1f ms = %.1f FPS, build %.0f ms; %.1f dB mean, %.1f dB worst "
                     "against the ray marcher on the original; %.1fx its speed; %.1f dB against the anti-aliased "
                     "ray marcher on the Gaussians (the renderer's own error)\n", ours.reuseMs, 1000.0 / ours.reuseMs,
@@ -194,11 +202,12 @@ void compare(const char* label, const GaussianRenderVolume& gaussians, const Gri
     }
     const VolPackResult volpack =
         renderWithVolPack(bytes, kSize, kSize, kReuseFrames, 1.0, kElevation, opacityByValue(classifier));
+    const auto overVolPack = [&](double reuseMs) { return (1000.0 / reuseMs) / volpack.framesPerSecond; };
     std::printf("   VolPack, one thread, the same opacities per voxel: %.1f FPS after a %.2f s classification; "
                 "Gaussian shear-warp (axis stacks, two threads) over VolPack: %.2fx the frames per second "
-                "supersampled, %.2fx with one sample a pixel\n\n",
-                volpack.framesPerSecond, volpack.classifySeconds, (1000.0 / axisReuseMs[0]) / volpack.framesPerSecond,
-                (1000.0 / axisReuseMs[1]) / volpack.framesPerSecond);
+                "supersampled, %.2fx with one sample a voxel (as VolPack), %.2fx with one sample a pixel\n\n",
+                volpack.framesPerSecond, volpack.classifySeconds, overVolPack(axisReuseMs[0]),
+                overVolPack(axisReuseMs[2]), overVolPack(axisReuseMs[1]));
 }
 
 int run(const std::string& assetPath, const std::string& gridPath) {
