@@ -119,7 +119,7 @@ public:
     }
 
 private:
-    static constexpr int kTile = 8;
+    static constexpr int kTile = 4;
 
     /// Lights every tile within the margins of a lit one, first along rows, then columns.
     void widenByMargins() {
