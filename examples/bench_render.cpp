@@ -7,11 +7,12 @@
 //
 // Prints, for a surface and a translucent classification: frames per second of
 // shear-warp frames that reuse the stack and stack build times, with axis and view
-// stacks, supersampled and not, and axis stacks at one sample a voxel as VolPack samples; Gaussian and dense-grid shear-warp against the
-// anti-aliased ray marcher (4 x 4 rays a pixel, averaged) on the Gaussians' export
-// and on the original grid (render PSNR as seen), against which the one-ray ray
-// marcher is measured too (the figure to reach); Gaussian shear-warp against the
-// one-ray ray marcher on the original grid; and frames per second against VolPack
+// stacks, supersampled and not, and axis stacks at one sample a voxel as VolPack
+// samples; Gaussian and dense-grid shear-warp against the anti-aliased ray marcher
+// (4 x 4 rays a pixel, averaged) on the Gaussians' export and on the original grid
+// (render PSNR as seen), against which the one-ray ray marcher is measured too (the
+// figure to reach); Gaussian shear-warp against the one-ray ray marcher on the
+// original grid; and frames per second against VolPack
 // (Lacroute's shear-warp) with the same opacities per voxel, in the same run.
 // The asset's voxels are evaluated once, by its first reference; the Gaussian
 // builds timed here read them, as every build after an asset's first does.

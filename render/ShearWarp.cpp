@@ -596,7 +596,7 @@ void compositeBands(const SliceStack& stack, const std::vector<SliceShear>& shea
 
 /// @a memory: storage for the intermediate image, of any size and content.
 IntermediateImage compositeSlices(const SliceStack& stack, const Vec3d& direction, float terminationOpacity,
-                             std::vector<float> memory) {
+                                  std::vector<float> memory) {
     const StackGeometry& g = stack.geometry();
     const double dn = direction.dot(g.normal);
     // Moving one slice back shifts the ray this far across the slices, in samples.
@@ -635,7 +635,8 @@ IntermediateImage compositeSlices(const SliceStack& stack, const Vec3d& directio
 }
 
 /// Where the camera's pixels meet the front slice of the stack, on @a intermediate.
-IntermediateMap intermediateMap(const StackGeometry& g, const OrthoCamera& camera, const IntermediateImage& intermediate) {
+IntermediateMap intermediateMap(const StackGeometry& g, const OrthoCamera& camera,
+                                const IntermediateImage& intermediate) {
     const double dn = camera.direction.dot(g.normal);
     const auto onFront = [&](double x, double y) {
         // Follow the pixel's ray to the front slice; its position there, in samples.
@@ -684,7 +685,8 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
 Framebuffer ShearWarpFramer::frame(const SliceStack& stack, const OrthoCamera& camera, float terminationOpacity,
                                    FrameStats& stats) {
     const auto composited = std::chrono::steady_clock::now();
-    IntermediateImage intermediate = compositeSlices(stack, camera.direction, terminationOpacity, std::move(mIntermediate));
+    IntermediateImage intermediate =
+        compositeSlices(stack, camera.direction, terminationOpacity, std::move(mIntermediate));
     stats.compositeMs = millisecondsSince(composited);
 
     const auto warped = std::chrono::steady_clock::now();

@@ -31,7 +31,8 @@ IntermediateMap turnedMap(double step, int imageSize) {
 }
 
 bool sameImages(const Framebuffer& a, const Framebuffer& b) {
-    return a.rgba.size() == b.rgba.size() && std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)) == 0;
+    return a.rgba.size() == b.rgba.size() &&
+           std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)) == 0;
 }
 
 double totalOpacity(const Framebuffer& image) {
