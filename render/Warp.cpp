@@ -108,6 +108,28 @@ public:
             }
         }
         widenByMargins();
+        findBounds();
+    }
+
+    /// The image pixels of row @a y outside which none may read light: where the
+    /// row's line on the intermediate image crosses the lit tiles' bounding box (a
+    /// pixel to spare each side for rounding), within [0, @a width).
+    PixelSpan columnsOfRow(const IntermediateMap& map, int y, int width) const {
+        if (mBoundsLo[0] > mBoundsHi[0]) return {};
+        double first = 0.0, last = width - 1.0;
+        const double along[2] = {map.dux, map.dvx}, start[2] = {map.u0 + y * map.duy, map.v0 + y * map.dvy};
+        for (int axis = 0; axis < 2; ++axis) {
+            if (along[axis] == 0.0) {
+                if (!(start[axis] >= mBoundsLo[axis] && start[axis] <= mBoundsHi[axis])) return {};
+                continue;
+            }
+            const double a = (mBoundsLo[axis] - start[axis]) / along[axis], b = (mBoundsHi[axis] - start[axis]) / along[axis];
+            first = std::max(first, std::min(a, b) - 1.0);
+            last = std::min(last, std::max(a, b) + 1.0);
+        }
+        // A bound that is not a number drops out of max and min: every pixel is then asked.
+        if (first > last) return {};
+        return {int(std::floor(first)), int(std::ceil(last))};
     }
 
     /// Whether a pixel whose centre falls at (u, v) may read any light.
@@ -139,11 +161,28 @@ private:
             }
         }
     }
+    /// The intermediate pixels that the lit tiles cover: [lo, hi] along u and v (lo > hi when none is lit).
+    void findBounds() {
+        mBoundsLo = {1.0, 1.0};
+        mBoundsHi = {0.0, 0.0};
+        bool any = false;
+        for (int row = 0; row < mRows; ++row) {
+            for (int column = 0; column < mColumns; ++column) {
+                if (!lit(row, column)) continue;
+                const openvdb::Vec2d lo((column - mMarginU) * kTile, (row - mMarginV) * kTile);
+                const openvdb::Vec2d hi = lo + openvdb::Vec2d(kTile);
+                mBoundsLo = any ? minComponent(mBoundsLo, lo) : lo;
+                mBoundsHi = any ? maxComponent(mBoundsHi, hi) : hi;
+                any = true;
+            }
+        }
+    }
     std::size_t index(int row, int column) const { return std::size_t(row) * mColumns + column; }
     bool lit(int row, int column) const { return mLit[index(row, column)]; }
 
     int mMarginU, mMarginV, mColumns, mRows;
     std::vector<char> mLit;  ///< per tile, rows of columns
+    openvdb::Vec2d mBoundsLo, mBoundsHi;
 };
 
 }  // namespace
@@ -153,7 +192,8 @@ Framebuffer warpToImage(const IntermediateImage& intermediate, const Intermediat
     const FootprintFilter footprint(map, intermediate);
     const LitTiles lit(intermediate, footprint.reach());
     tbb::parallel_for(0, height, [&](int y) {
-        for (int x = 0; x < width; ++x) {
+        const PixelSpan columns = lit.columnsOfRow(map, y, width);
+        for (int x = std::max(0, columns.first); x <= std::min(width - 1, columns.last); ++x) {
             const double u = map.u0 + x * map.dux + y * map.duy, v = map.v0 + x * map.dvx + y * map.dvy;
             if (!lit.mayLight(u, v)) continue;  // the image starts transparent
             const Floats4 pixel = footprint(u, v);
