@@ -123,7 +123,8 @@ public:
                 if (!(start[axis] >= mBoundsLo[axis] && start[axis] <= mBoundsHi[axis])) return {};
                 continue;
             }
-            const double a = (mBoundsLo[axis] - start[axis]) / along[axis], b = (mBoundsHi[axis] - start[axis]) / along[axis];
+            const double a = (mBoundsLo[axis] - start[axis]) / along[axis];
+            const double b = (mBoundsHi[axis] - start[axis]) / along[axis];
             first = std::max(first, std::min(a, b) - 1.0);
             last = std::min(last, std::max(a, b) + 1.0);
         }
