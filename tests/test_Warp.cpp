@@ -23,10 +23,11 @@ IntermediateImage oneTexel(int x, int y) {
     return image;
 }
 
-/// Image pixels @a step intermediate pixels apart, turned by 30 degrees, their
+/// Image pixels @a step intermediate pixels apart, turned by @a degrees, their
 /// centres around the intermediate image's.
-IntermediateMap turnedMap(double step, int imageSize) {
-    const double c = step * std::cos(M_PI / 6), s = step * std::sin(M_PI / 6), half = 0.5 * (imageSize - 1);
+IntermediateMap turnedMap(double step, int imageSize, double degrees = 30.0) {
+    const double angle = degrees * M_PI / 180.0, half = 0.5 * (imageSize - 1);
+    const double c = step * std::cos(angle), s = step * std::sin(angle);
     return {20.0 - half * (c - s), c, -s, 18.0 - half * (s + c), s, c};
 }
 
@@ -41,25 +42,31 @@ double totalOpacity(const Framebuffer& image) {
     return sum;
 }
 
-TEST(Warp, PixelsSeeLightJustBeyondTheReachedSpans) {
-    // With only the lit texel's row and column marked reached, the image must be the
-    // one drawn when every row is reached: the warp may skip only where no tap reaches.
-    // Texels on both sides of the warp's tiles, one pixel's footprint smaller than an
-    // intermediate pixel (two taps a side) and one larger (four a side).
-    for (const double step : {0.7, 3.6}) {
-        const int size = step < 1.0 ? 80 : 16;  // wide enough to cover the image when turned
-        const IntermediateMap map = turnedMap(step, size);
-        for (int y = 1; y < 20; ++y) {
-            for (int x = 1; x < 20; ++x) {
-                IntermediateImage image = oneTexel(x, y);
-                const Framebuffer everywhere = warpToImage(image, map, size, size);
-                ASSERT_GT(totalOpacity(everywhere), 0.0) << "the texel must be seen";
-                image.reached.assign(image.height, PixelSpan{});
-                image.reached[y] = {x, x};
-                EXPECT_TRUE(sameImages(warpToImage(image, map, size, size), everywhere))
-                    << "texel (" << x << ", " << y << "), " << step << " intermediate pixels a pixel";
-            }
+/// With only the lit texel's row and column marked reached, the image must be the
+/// one drawn when every row is reached: the warp may skip only where no tap reaches.
+void expectNoLightLostAroundTexels(double step, double degrees) {
+    const int size = step < 1.0 ? 80 : 16;  // wide enough to cover the image when turned
+    const IntermediateMap map = turnedMap(step, size, degrees);
+    for (int y = 1; y < 20; ++y) {
+        for (int x = 1; x < 20; ++x) {
+            IntermediateImage image = oneTexel(x, y);
+            const Framebuffer everywhere = warpToImage(image, map, size, size);
+            ASSERT_GT(totalOpacity(everywhere), 0.0) << "the texel must be seen";
+            image.reached.assign(image.height, PixelSpan{});
+            image.reached[y] = {x, x};
+            EXPECT_TRUE(sameImages(warpToImage(image, map, size, size), everywhere))
+                << "texel (" << x << ", " << y << "), " << step << " intermediate pixels a pixel, turned " << degrees
+                << " degrees";
         }
+    }
+}
+
+TEST(Warp, PixelsSeeLightJustBeyondTheReachedSpans) {
+    // Texels on both sides of the warp's tiles; a pixel's footprint smaller than an
+    // intermediate pixel (two taps a side) and larger (four a side); the image turned,
+    // or along the intermediate image's axes.
+    for (const double degrees : {30.0, 0.0}) {
+        for (const double step : {0.7, 3.6}) expectNoLightLostAroundTexels(step, degrees);
     }
 }
 
