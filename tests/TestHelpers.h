@@ -4,6 +4,7 @@
 
 #include "io/DenseVolume.h"
 #include "pipeline/GaussianParameters.h"
+#include "render/Framebuffer.h"
 
 #include <openvdb/openvdb.h>
 
@@ -18,6 +19,13 @@
 #include <vector>
 
 namespace gvr::test {
+
+/// The sum of an image's opacities: how much of it is covered, in pixels.
+inline double opacitySum(const Framebuffer& image) {
+    double sum = 0.0;
+    for (std::size_t p = 3; p < image.rgba.size(); p += 4) sum += image.rgba[p];
+    return sum;
+}
 
 /// A fresh folder under the system temporary folder, removed with its contents.
 class TempDir {

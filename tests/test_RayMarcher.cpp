@@ -58,13 +58,8 @@ TEST(RayMarcher, ManyRaysSoftenTheSilhouette) {
         for (std::size_t p = 3; p < image.rgba.size(); p += 4) count += image.rgba[p] > 0.02f && image.rgba[p] < 0.5f;
         return count;
     };
-    const auto coverage = [](const Framebuffer& image) {
-        double sum = 0.0;
-        for (std::size_t p = 3; p < image.rgba.size(); p += 4) sum += image.rgba[p];
-        return sum;
-    };
     EXPECT_GT(partial(many), partial(one) + 10);
-    EXPECT_NEAR(coverage(many) / coverage(one), 1.0, 0.1);  // the same object, only its edge resolved
+    EXPECT_NEAR(test::opacitySum(many) / test::opacitySum(one), 1.0, 0.1);  // the same object, only its edge resolved
 }
 
 TEST(RayMarcher, RefusesRayCountsOutOfRange) {

@@ -37,12 +37,6 @@ double imagePsnr(const Framebuffer& a, const Framebuffer& b) {
     return psnrFromMse(meanSquaredError(asVolume(a), asVolume(b)), 1.0);
 }
 
-double alphaSum(const Framebuffer& image) {
-    double sum = 0.0;
-    for (std::size_t p = 3; p < image.rgba.size(); p += 4) sum += image.rgba[p];
-    return sum;
-}
-
 OrthoCamera cameraFor(const RenderVolume& volume, double azimuth, double elevation, int size = 96) {
     return makeCamera({azimuth, elevation}, worldCorners(volume.worldFromIndex(), volume.box()), size, size);
 }
@@ -71,7 +65,7 @@ TEST(ShearWarp, MatchesRayMarchingFromAxesObliqueAnd45Degrees) {
             const OrthoCamera camera = cameraFor(*volume, view.azimuthDeg, view.elevationDeg);
             const Framebuffer reference = rayMarch(*volume, classifier, camera, RayMarchSettings{});
             const Framebuffer image = shearWarp.render(camera);
-            EXPECT_GT(alphaSum(reference), 100.0) << "the phantom must be visible";
+            EXPECT_GT(test::opacitySum(reference), 100.0) << "the phantom must be visible";
             EXPECT_GE(imagePsnr(image, reference), 35.0)
                 << (orientation == StackOrientation::axes ? "axes" : "view") << " stacks, azimuth " << view.azimuthDeg
                 << ", elevation " << view.elevationDeg;
@@ -90,7 +84,7 @@ TEST(ShearWarp, OpaqueSurfacesLieWhereTheRayMarcherPutsThem) {
     for (const View view : {View{30, 20}, View{0, 45}, View{-130, -35}, View{70, 10}}) {
         const OrthoCamera camera = cameraFor(*volume, view.azimuthDeg, view.elevationDeg, 48);
         const Framebuffer reference = rayMarch(*volume, surface, camera, {});
-        EXPECT_GT(alphaSum(reference), 100.0) << "the surface must be seen";
+        EXPECT_GT(test::opacitySum(reference), 100.0) << "the surface must be seen";
         meanDb += imagePsnr(ShearWarpRenderer(*volume, surface, {}).render(camera), reference) / 4;
     }
     EXPECT_GE(meanDb, 25.5);
@@ -173,7 +167,7 @@ TEST(ShearWarp, MatchesRayMarchingOnShearedAnisotropicVoxels) {
     for (const View view : {View{0, 0}, View{0, 90}, View{60, 30}}) {
         const OrthoCamera camera = cameraFor(sheared, view.azimuthDeg, view.elevationDeg);
         const Framebuffer reference = rayMarch(sheared, classifier, camera, RayMarchSettings{});
-        EXPECT_GT(alphaSum(reference), 50.0);
+        EXPECT_GT(test::opacitySum(reference), 50.0);
         EXPECT_GE(imagePsnr(ShearWarpRenderer(sheared, classifier, {}).render(camera), reference), 35.0)
             << "azimuth " << view.azimuthDeg << ", elevation " << view.elevationDeg;
     }
@@ -210,7 +204,7 @@ TEST(ShearWarp, HalvingTheSliceSpacingKeepsTheImage) {
         const Framebuffer coarse = ShearWarpRenderer(*volume, rampClassifier(), ShearWarpSettings{}).render(camera);
         const Framebuffer halved = ShearWarpRenderer(*volume, rampClassifier(), fine).render(camera);
         EXPECT_GE(imagePsnr(coarse, halved), 40.0) << view.azimuthDeg;
-        EXPECT_NEAR(alphaSum(halved) / alphaSum(coarse), 1.0, 0.01);
+        EXPECT_NEAR(test::opacitySum(halved) / test::opacitySum(coarse), 1.0, 0.01);
     }
 }
 
@@ -219,11 +213,11 @@ TEST(ShearWarp, EmptyVolumesGiveTransparentImages) {
     const GridRenderVolume emptyGrid(test::makeGrid({16, 16, 16}, [](int, int, int) { return 0.0f; }));
     const Classifier classifier(TransferFunction({{0.0, {1, 1, 1, 0}}, {1.0, {1, 1, 1, 0.5f}}}, "test"), 1);
     const OrthoCamera camera = cameraFor(emptyGrid, 20, 10, 32);
-    EXPECT_EQ(alphaSum(ShearWarpRenderer(emptyGrid, classifier, {}).render(camera)), 0.0);
-    EXPECT_EQ(alphaSum(rayMarch(emptyGrid, classifier, camera, {})), 0.0);
+    EXPECT_EQ(test::opacitySum(ShearWarpRenderer(emptyGrid, classifier, {}).render(camera)), 0.0);
+    EXPECT_EQ(test::opacitySum(rayMarch(emptyGrid, classifier, camera, {})), 0.0);
     const GaussianRenderVolume noGaussians(GaussianParameters(0, 1), 3.0f, openvdb::math::Mat4d::identity(),
                                            openvdb::Vec3i(16, 16, 16), ValueMapping{}, 1.0, 0.0);
-    EXPECT_EQ(alphaSum(ShearWarpRenderer(noGaussians, classifier, {}).render(camera)), 0.0);
+    EXPECT_EQ(test::opacitySum(ShearWarpRenderer(noGaussians, classifier, {}).render(camera)), 0.0);
 }
 
 TEST(ShearWarp, NothingExistsOutsideTheVolume) {
@@ -235,7 +229,7 @@ TEST(ShearWarp, NothingExistsOutsideTheVolume) {
     const Framebuffer shearWarp = ShearWarpRenderer(slab, opaque, {}).render(camera);
     const Framebuffer reference = rayMarch(slab, opaque, camera, {});
     // A shell around the box, one voxel thick, would add over 15 % of coverage.
-    EXPECT_NEAR(alphaSum(shearWarp) / alphaSum(reference), 1.0, 0.03);
+    EXPECT_NEAR(test::opacitySum(shearWarp) / test::opacitySum(reference), 1.0, 0.03);
     for (const Framebuffer* image : {&shearWarp, &reference}) {
         EXPECT_EQ(image->pixel(0, 0)[3], 0.0f);  // corners miss the box
         EXPECT_EQ(image->pixel(63, 63)[3], 0.0f);
@@ -265,7 +259,7 @@ std::vector<double> sheetMasses(float minScaleVoxels) {
     for (double elevation = 0.0; elevation <= 80.0; elevation += 7.3) {  // the sheet is the xy plane
         ShearWarpRenderer renderer(sheet, linear, {});
         const OrthoCamera camera = cameraFor(sheet, 17.0, elevation, 64);
-        masses.push_back(alphaSum(renderer.render(camera)) * camera.pixelMm * camera.pixelMm);
+        masses.push_back(test::opacitySum(renderer.render(camera)) * camera.pixelMm * camera.pixelMm);
     }
     return masses;
 }
@@ -295,7 +289,7 @@ TEST(ShearWarp, BrightLargeOverlappingGaussiansDoNotOverflow) {
         ASSERT_GE(v, 0.0f);
         ASSERT_LE(v, 1.0f + 1e-5f);
     }
-    EXPECT_GT(alphaSum(image), 100.0);
+    EXPECT_GT(test::opacitySum(image), 100.0);
 }
 
 void expectAValidImage(const Framebuffer& image, const std::string& what) {
@@ -364,7 +358,7 @@ TEST(ShearWarp, OpacitiesDownToAFloatsLeastAreSafe) {
         for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::axes), segmentsAcross(StackOrientation::axes)}) {
             const Framebuffer image = ShearWarpRenderer(*volume, faint, settings).render(camera);
             expectAValidImage(image, std::to_string(opacity));
-            EXPECT_LT(alphaSum(image), 1e-3) << opacity;
+            EXPECT_LT(test::opacitySum(image), 1e-3) << opacity;
         }
     }
 }
@@ -428,10 +422,10 @@ TEST(ShearWarp, BandsThinnerThanASliceAreSeenAsTheRayMarcherSeesThem) {
     for (const View view : {View{0, 90}, View{30, 60}, View{-20, -70}}) {
         const OrthoCamera camera = cameraFor(ramp, view.azimuthDeg, view.elevationDeg, 64);
         const Framebuffer exact = middleOf(finelyMarched(ramp, band, camera));
-        EXPECT_GT(alphaSum(exact), 100.0) << "the bands must be seen";
+        EXPECT_GT(test::opacitySum(exact), 100.0) << "the bands must be seen";
         for (const StackOrientation orientation : {StackOrientation::axes, StackOrientation::view}) {
             const Framebuffer segments = middleOf(ShearWarpRenderer(ramp, band, segmentsAcross(orientation)).render(camera));
-            EXPECT_NEAR(alphaSum(segments) / alphaSum(exact), 1.0, 0.01) << view.azimuthDeg;
+            EXPECT_NEAR(test::opacitySum(segments) / test::opacitySum(exact), 1.0, 0.01) << view.azimuthDeg;
             EXPECT_GE(imagePsnr(segments, exact), 35.0) << view.azimuthDeg;
         }
     }
@@ -439,7 +433,7 @@ TEST(ShearWarp, BandsThinnerThanASliceAreSeenAsTheRayMarcherSeesThem) {
     // other: the test can fail.
     const OrthoCamera above = cameraFor(ramp, 0, 90, 64);
     const Framebuffer points = middleOf(ShearWarpRenderer(ramp, band, {}).render(above));
-    EXPECT_LT(alphaSum(points), 0.01 * alphaSum(middleOf(finelyMarched(ramp, band, above))));
+    EXPECT_LT(test::opacitySum(points), 0.01 * test::opacitySum(middleOf(finelyMarched(ramp, band, above))));
 }
 
 TEST(ShearWarp, ASteepRampShowsNoSliceRings) {
@@ -479,7 +473,7 @@ TEST(ShearWarp, SegmentsMatchTheRayMarcherOnSmoothVolumesAsPointsDo) {
         const Framebuffer segments =
             ShearWarpRenderer(*volume, rampClassifier(), segmentsAcross(StackOrientation::axes)).render(camera);
         EXPECT_GE(imagePsnr(segments, exact), 50.0) << view.azimuthDeg;
-        EXPECT_NEAR(alphaSum(segments) / alphaSum(exact), 1.0, 0.01) << view.azimuthDeg;
+        EXPECT_NEAR(test::opacitySum(segments) / test::opacitySum(exact), 1.0, 0.01) << view.azimuthDeg;
     }
 }
 

@@ -1,6 +1,7 @@
 // The warp: an image pixel sees the intermediate image's light wherever its taps
 // reach it, whichever rows compositing reached.
 #include "render/Warp.h"
+#include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
 
@@ -36,12 +37,6 @@ bool sameImages(const Framebuffer& a, const Framebuffer& b) {
            std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)) == 0;
 }
 
-double totalOpacity(const Framebuffer& image) {
-    double sum = 0.0;
-    for (std::size_t p = 3; p < image.rgba.size(); p += 4) sum += image.rgba[p];
-    return sum;
-}
-
 /// With only the lit texel's row and column marked reached, the image must be the
 /// one drawn when every row is reached: the warp may skip only where no tap reaches.
 void expectNoLightLostAroundTexels(double step, double degrees) {
@@ -51,7 +46,7 @@ void expectNoLightLostAroundTexels(double step, double degrees) {
         for (int x = 1; x < 20; ++x) {
             IntermediateImage image = oneTexel(x, y);
             const Framebuffer everywhere = warpToImage(image, map, size, size);
-            ASSERT_GT(totalOpacity(everywhere), 0.0) << "the texel must be seen";
+            ASSERT_GT(test::opacitySum(everywhere), 0.0) << "the texel must be seen";
             image.reached.assign(image.height, PixelSpan{});
             image.reached[y] = {x, x};
             EXPECT_TRUE(sameImages(warpToImage(image, map, size, size), everywhere))
@@ -73,14 +68,14 @@ TEST(Warp, PixelsSeeLightJustBeyondTheReachedSpans) {
 TEST(Warp, RowsThatNothingReachedStayTransparent) {
     IntermediateImage image = oneTexel(12, 9);
     image.reached.assign(image.height, PixelSpan{});
-    EXPECT_EQ(totalOpacity(warpToImage(image, turnedMap(0.7, 48), 48, 48)), 0.0);
+    EXPECT_EQ(test::opacitySum(warpToImage(image, turnedMap(0.7, 48), 48, 48)), 0.0);
 }
 
 TEST(Warp, MapsBeyondTheImageOrNotANumberGiveTransparentPixels) {
     const IntermediateImage image = oneTexel(12, 9);
-    EXPECT_EQ(totalOpacity(warpToImage(image, {1e9, 1.0, 0.0, -1e9, 0.0, 1.0}, 8, 8)), 0.0);
+    EXPECT_EQ(test::opacitySum(warpToImage(image, {1e9, 1.0, 0.0, -1e9, 0.0, 1.0}, 8, 8)), 0.0);
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    EXPECT_EQ(totalOpacity(warpToImage(image, {nan, 1.0, 0.0, 0.0, 0.0, 1.0}, 8, 8)), 0.0);
+    EXPECT_EQ(test::opacitySum(warpToImage(image, {nan, 1.0, 0.0, 0.0, 0.0, 1.0}, 8, 8)), 0.0);
 }
 
 }  // namespace
