@@ -164,17 +164,14 @@ private:
     }
     /// The intermediate pixels that the lit tiles cover: [lo, hi] along u and v (lo > hi when none is lit).
     void findBounds() {
-        mBoundsLo = {1.0, 1.0};
-        mBoundsHi = {0.0, 0.0};
-        bool any = false;
+        mBoundsLo = openvdb::Vec2d(INFINITY);
+        mBoundsHi = openvdb::Vec2d(-INFINITY);
         for (int row = 0; row < mRows; ++row) {
             for (int column = 0; column < mColumns; ++column) {
                 if (!lit(row, column)) continue;
                 const openvdb::Vec2d lo((column - mMarginU) * kTile, (row - mMarginV) * kTile);
-                const openvdb::Vec2d hi = lo + openvdb::Vec2d(kTile);
-                mBoundsLo = any ? minComponent(mBoundsLo, lo) : lo;
-                mBoundsHi = any ? maxComponent(mBoundsHi, hi) : hi;
-                any = true;
+                mBoundsLo = minComponent(mBoundsLo, lo);
+                mBoundsHi = maxComponent(mBoundsHi, lo + openvdb::Vec2d(kTile));
             }
         }
     }
@@ -194,7 +191,7 @@ Framebuffer warpToImage(const IntermediateImage& intermediate, const Intermediat
     const LitTiles lit(intermediate, footprint.reach());
     tbb::parallel_for(0, height, [&](int y) {
         const PixelSpan columns = lit.columnsOfRow(map, y, width);
-        for (int x = std::max(0, columns.first); x <= std::min(width - 1, columns.last); ++x) {
+        for (int x = columns.first; x <= columns.last; ++x) {
             const double u = map.u0 + x * map.dux + y * map.duy, v = map.v0 + x * map.dvx + y * map.dvy;
             if (!lit.mayLight(u, v)) continue;  // the image starts transparent
             const Floats4 pixel = footprint(u, v);
