@@ -600,8 +600,8 @@ IntermediateImage compositeSlices(const SliceStack& stack, const Vec3d& directio
     const StackGeometry& g = stack.geometry();
     const double dn = direction.dot(g.normal);
     // Moving one slice back shifts the ray this far across the slices, in samples.
-    const double shiftX = direction.dot(g.e1) / dn * g.sliceMm / g.sampleMm;
-    const double shiftY = direction.dot(g.e2) / dn * g.sliceMm / g.sampleMm;
+    const double shiftX = direction.dot(g.e1) / dn * g.sliceMm / g.sampleMm[0];
+    const double shiftY = direction.dot(g.e2) / dn * g.sliceMm / g.sampleMm[1];
     const double lastX = shiftX * (g.slices - 1), lastY = shiftY * (g.slices - 1);
     IntermediateImage out;
     // The margins keep every pixel a sample reaches inside the image, whatever the shear.
@@ -642,7 +642,8 @@ IntermediateMap intermediateMap(const StackGeometry& g, const OrthoCamera& camer
         // Follow the pixel's ray to the front slice; its position there, in samples.
         const Vec3d p = camera.pixelPoint(x, y);
         const Vec3d q = p + camera.direction * (g.normal.dot(g.origin - p) / dn) - g.origin;
-        return openvdb::Vec2d(q.dot(g.e1) / g.sampleMm - intermediate.originX, q.dot(g.e2) / g.sampleMm - intermediate.originY);
+        return openvdb::Vec2d(q.dot(g.e1) / g.sampleMm[0] - intermediate.originX,
+                              q.dot(g.e2) / g.sampleMm[1] - intermediate.originY);
     };
     const openvdb::Vec2d origin = onFront(0, 0), alongX = onFront(1, 0) - origin, alongY = onFront(0, 1) - origin;
     return {origin[0], alongX[0], alongY[0], origin[1], alongX[1], alongY[1]};

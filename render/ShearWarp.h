@@ -34,6 +34,8 @@ struct ShearWarpSettings {
     /// smaller); [1, 4]. The warp averages over each pixel, so that finer samples
     /// anti-alias the image: at 1 the resampling blurs and aliases by turns across
     /// the image (docs/benchmarks.md, "Supersampled stacks and a footprint warp").
+    /// Along a volume's axes, as axis stacks lie, a stack keeps to the voxel centres
+    /// nearby instead (SliceStack: "Samples on the voxel centres" in the benchmarks).
     double supersampling = 1.5;
     /// How a grey volume's values are composited: segments see bands of the
     /// transfer function thinner than a slice spacing (SliceStack, Classification).
@@ -43,7 +45,7 @@ struct ShearWarpSettings {
     /// How thin a Gaussian may be before GaussianRenderVolume widens it, unless
     /// `--min-scale` says otherwise: half a slice spacing.
     float minimumFootprintVoxels() const { return float(0.5 * sliceSpacingVoxels); }
-    /// The spacing of a stack's samples across the slices, for @a camera's pixels over
+    /// The spacing to ask of a stack's samples across the slices, for @a camera's pixels over
     /// @a volume's voxels: samples much finer than the voxels would only resample the
     /// same trilinear field, however far the view zooms in.
     double sampleMmFor(const OrthoCamera& camera, const RenderVolume& volume) const {

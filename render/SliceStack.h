@@ -3,7 +3,9 @@
 /// stack direction: what shear-warp builds once and composites for many views.
 ///
 /// Slices are sampled on a lattice in world space (sampleMm across, sliceMm apart),
-/// so any stack direction works, not only the volume's axes. A stack of one grey
+/// so any stack direction works, not only the volume's axes. Along a volume's axis
+/// the samples fall on its voxel centres, where resampling a slice bilinearly gives
+/// the trilinear field exactly, as the ray marcher samples it. A stack of one grey
 /// volume keeps each sample's value, as a 16-bit code, and compositing classifies
 /// the value it resamples from them (post-classification, as the ray marcher does:
 /// an opaque surface then lies where the values cross it, not where resampled
@@ -18,6 +20,8 @@
 #include "render/Classifier.h"
 #include "render/RenderVolume.h"
 
+#include <openvdb/math/Vec2.h>
+
 #include <array>
 #include <atomic>
 #include <cstdint>
@@ -31,7 +35,8 @@ namespace gvr {
 struct StackGeometry {
     openvdb::Vec3d normal, e1, e2;  ///< unit, world; slices are perpendicular to normal
     openvdb::Vec3d origin;          ///< world position of sample (0, 0) of slice 0, the front
-    double sampleMm = 1.0, sliceMm = 1.0;  ///< across the slices, and between them
+    openvdb::Vec2d sampleMm{1.0, 1.0};  ///< between samples along e1 and along e2
+    double sliceMm = 1.0;               ///< between slices
     int width = 0, height = 0, slices = 0;
 
     /// The sample lattice: index (i, j, k) is sample (i, j) of slice k.

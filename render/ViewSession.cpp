@@ -54,8 +54,7 @@ bool ViewSession::fits(const StackTarget& target, const OrthoCamera& camera) con
 
 bool ViewSession::fits(const BuiltStack& built, const OrthoCamera& camera) const {
     if (!built.stack) return false;
-    const StackGeometry& g = built.stack->geometry();
-    return fits(StackTarget{built.scene, g.normal, g.sampleMm}, camera);
+    return fits(StackTarget{built.scene, built.stack->geometry().normal, built.sampleMm}, camera);
 }
 
 bool ViewSession::shearableFor(const OrthoCamera& camera) const {
@@ -83,6 +82,7 @@ ViewSession::BuiltStack ViewSession::buildStack(const StackTarget& target, doubl
     const auto start = std::chrono::steady_clock::now();
     BuiltStack built;
     built.scene = target.scene;
+    built.sampleMm = target.sampleMm;
     built.stack = std::make_unique<SliceStack>(target.scene->layers, target.normal, spacingVoxels, target.sampleMm,
                                                ProgressFn{}, cancel, sampling, segments);
     built.buildMs = millisecondsSince(start);

@@ -70,6 +70,7 @@ private:
     struct BuiltStack {
         Scene scene;
         std::unique_ptr<SliceStack> stack;
+        double sampleMm = 0;  ///< asked for: the stack's lattice may keep to the voxel centres nearby
         double buildMs = 0;
     };
 

@@ -40,6 +40,69 @@ TEST(SliceStack, GreyVolumesKeepValuesAndOtherStacksClassifiedSamples) {
     EXPECT_EQ(SliceStack(ball, fog, openvdb::Vec3d(0, 0, 1), 1.0, 1.0).valueLevels(), nullptr);
 }
 
+/// Where lattice sample (i, j) of @a stack's front slice lies in @a volume's index space.
+openvdb::Vec3d indexOfSample(const SliceStack& stack, const RenderVolume& volume, int i, int j) {
+    const openvdb::Vec3d world = stack.geometry().lattice().worldFromIndex.transform(openvdb::Vec3d(i, j, 0));
+    return volume.worldFromIndex().inverse().transform(world);
+}
+
+/// Whether @a x is a whole number, as a voxel centre's index is.
+bool onVoxelCentre(double x) { return std::abs(x - std::round(x)) < 1e-6; }
+
+// Across a volume's axis, a stack's samples fall on the voxel centres (and evenly
+// between them), where bilinear resampling gives the trilinear field exactly; not
+// when that would take them much further apart, or closer, than asked.
+TEST(SliceStack, SamplesAlongAVolumesAxesFallOnItsVoxelCentres) {
+    // Voxels of 1 x 1 x 1.5 mm; a stack across y has x and z in its plane.
+    const GridRenderVolume volume(test::makeGrid({20, 16, 12}, hollowBallAt, openvdb::Vec3d(1.0, 1.0, 1.5)));
+    struct Case {
+        double askedMm, xStep, zStep;  // 0: not on the centres, the spacing asked
+    };
+    for (const Case c : {Case{0.78, 1.0, 0.0}, Case{0.7, 0.0, 0.75}, Case{1.2, 1.0, 1.5}, Case{2.2, 2.0, 0.0},
+                         Case{0.45, 0.5, 0.5}}) {
+        const SliceStack stack(volume, shellClassifier(), openvdb::Vec3d(0, 1, 0), 1.0, c.askedMm);
+        const StackGeometry& g = stack.geometry();
+        const int xAxis = std::abs(g.e1.x()) > 0.5 ? 0 : 1;  // which of e1 and e2 runs along x
+        EXPECT_DOUBLE_EQ(g.sampleMm[xAxis], c.xStep > 0.0 ? c.xStep : c.askedMm) << c.askedMm;
+        EXPECT_DOUBLE_EQ(g.sampleMm[1 - xAxis], c.zStep > 0.0 ? c.zStep : c.askedMm) << c.askedMm;
+        // On the voxel centres, or on them and evenly between them.
+        const double xPerVoxel = std::max(1.0, 1.0 / c.xStep), zPerVoxel = std::max(1.0, 1.5 / c.zStep);
+        for (int n = 0; n < std::min(g.width, g.height); ++n) {
+            const openvdb::Vec3d index = indexOfSample(stack, volume, n, n);
+            if (c.xStep > 0.0) EXPECT_TRUE(onVoxelCentre(index.x() * xPerVoxel)) << c.askedMm << " " << n;
+            if (c.zStep > 0.0) EXPECT_TRUE(onVoxelCentre(index.z() * zPerVoxel)) << c.askedMm << " " << n;
+        }
+    }
+}
+
+// Resampling a slice between its outermost samples and the space beyond must meet
+// the background's value: the lattice reaches one sample beyond the volume's cells
+// on every side, whether its samples fall on the voxel centres or not.
+TEST(SliceStack, TheLatticeReachesOneSampleBeyondTheVolumeOnEverySide) {
+    const GridRenderVolume volume(test::makeGrid({20, 16, 12}, hollowBallAt, openvdb::Vec3d(1.0, 1.0, 1.5)));
+    const openvdb::Vec3d lo(-0.5), hi(19.5, 15.5, 11.5);  // the cells, in index space
+    const auto inside = [&](const openvdb::Vec3d& p, int axis) { return p[axis] >= lo[axis] && p[axis] <= hi[axis]; };
+    for (const openvdb::Vec3d& direction : {openvdb::Vec3d(0, 1, 0), openvdb::Vec3d(0, 0, 1)}) {
+        for (const double askedMm : {0.8, 1.0, 1.3}) {
+            const SliceStack stack(volume, shellClassifier(), direction, 1.0, askedMm);
+            const StackGeometry& g = stack.geometry();
+            const int mid1 = g.width / 2, mid2 = g.height / 2;
+            for (int axis = 0; axis < 3; ++axis) {
+                if (std::abs(direction[axis]) > 0.5) continue;  // across the slices, not in their plane
+                const bool alongE1 = std::abs(std::abs(g.e1[axis]) - 1.0) < 1e-9;
+                const int last = (alongE1 ? g.width : g.height) - 1;
+                const auto sample = [&](int n) {
+                    return alongE1 ? indexOfSample(stack, volume, n, mid2) : indexOfSample(stack, volume, mid1, n);
+                };
+                EXPECT_FALSE(inside(sample(0), axis)) << askedMm << " axis " << axis;
+                EXPECT_TRUE(inside(sample(1), axis)) << askedMm << " axis " << axis;
+                EXPECT_TRUE(inside(sample(last - 1), axis)) << askedMm << " axis " << axis;
+                EXPECT_FALSE(inside(sample(last), axis)) << askedMm << " axis " << axis;
+            }
+        }
+    }
+}
+
 // A viewer cancels a build the view has moved away from: the build stops at the
 // next slab of eight slices, however far it got, and says so.
 TEST(SliceStack, ABuildStopsAtTheNextSlabOnceCancelled) {
@@ -65,35 +128,42 @@ TEST(SliceStack, ABuildStopsAtTheNextSlabOnceCancelled) {
 /// sample) that can be seen keeps its four corners, with their true values in
 /// codes: what compositing resamples. @return the cells that can be seen
 std::size_t checkVisibleCellsAreKept(const SliceStack& stack) {
-    EXPECT_EQ(stack.geometry().width, 40);
+    // Lattice sample (i, j) of slice k is voxel (i - 1, j - 1, k): the lattice reaches
+    // a sample of background beyond the volume on each side.
+    constexpr int kSide = 42;
+    EXPECT_EQ(stack.geometry().width, kSide);
+    EXPECT_EQ(stack.geometry().height, kSide);
     EXPECT_EQ(stack.geometry().slices, 40);
     const ValueLevels& levels = *stack.valueLevels();
     std::size_t visibleCells = 0;
     for (int k = 0; k < 40; ++k) {
         const Slice& slice = stack.slices()[k];
-        const auto codeAt = [&](int i, int j) { return slice.coding.code(hollowBallAt(i, j, k)); };
+        const auto codeAt = [&](int i, int j) {
+            const bool inside = i >= 1 && j >= 1 && i <= 40 && j <= 40;
+            return slice.coding.code(inside ? hollowBallAt(i - 1, j - 1, k) : 0.0f);
+        };
         // Each row's stored codes by column, -1 where the row keeps none.
-        std::vector<int> stored(40 * 40, -1);
-        for (int j = 0; j < 40; ++j) {
+        std::vector<int> stored(kSide * kSide, -1);
+        for (int j = 0; j < kSide; ++j) {
             for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r) {
                 const RowRun& run = slice.runs[r];
                 // The neighbours on either side are the row's own, or the background beyond it.
-                EXPECT_EQ(slice.codes[run.offset - 1], run.begin > 0 ? codeAt(run.begin - 1, j) : slice.coding.code(0.0f));
-                EXPECT_EQ(slice.codes[run.offset + run.end - run.begin], run.end < 40 ? codeAt(run.end, j) : slice.coding.code(0.0f));
-                for (std::uint32_t i = run.begin; i < run.end; ++i) stored[j * 40 + i] = slice.codes[run.offset + i - run.begin];
+                EXPECT_EQ(slice.codes[run.offset - 1], codeAt(int(run.begin) - 1, j));
+                EXPECT_EQ(slice.codes[run.offset + run.end - run.begin], codeAt(int(run.end), j));
+                for (std::uint32_t i = run.begin; i < run.end; ++i) stored[j * kSide + i] = slice.codes[run.offset + i - run.begin];
             }
         }
-        for (int j = 0; j + 1 < 40; ++j) {
-            for (int i = 0; i + 1 < 40; ++i) {
+        for (int j = 0; j + 1 < kSide; ++j) {
+            for (int i = 0; i + 1 < kSide; ++i) {
                 const int corners[4] = {codeAt(i, j), codeAt(i + 1, j), codeAt(i, j + 1), codeAt(i + 1, j + 1)};
                 const auto levelOf = [&](int code) { return ValueLevels::nearest(slice.coding.level(float(code))); };
                 const int lo = levelOf(*std::min_element(corners, corners + 4)), hi = levelOf(*std::max_element(corners, corners + 4));
                 if (!levels.anyVisibleLevel(lo, hi)) continue;
                 ++visibleCells;
-                EXPECT_EQ(stored[j * 40 + i], corners[0]) << i << " " << j << " " << k;
-                EXPECT_EQ(stored[j * 40 + i + 1], corners[1]) << i << " " << j << " " << k;
-                EXPECT_EQ(stored[(j + 1) * 40 + i], corners[2]) << i << " " << j << " " << k;
-                EXPECT_EQ(stored[(j + 1) * 40 + i + 1], corners[3]) << i << " " << j << " " << k;
+                EXPECT_EQ(stored[j * kSide + i], corners[0]) << i << " " << j << " " << k;
+                EXPECT_EQ(stored[j * kSide + i + 1], corners[1]) << i << " " << j << " " << k;
+                EXPECT_EQ(stored[(j + 1) * kSide + i], corners[2]) << i << " " << j << " " << k;
+                EXPECT_EQ(stored[(j + 1) * kSide + i + 1], corners[3]) << i << " " << j << " " << k;
             }
         }
     }
@@ -102,7 +172,7 @@ std::size_t checkVisibleCellsAreKept(const SliceStack& stack) {
 
 TEST(SliceStack, RowsOfValuesKeepEveryCellThatCanBeSeenWithItsNeighbours) {
     const GridRenderVolume ball = hollowBall();
-    // Across z at one voxel a sample, sample (i, j) of slice k is voxel (i, j, k).
+    // Across z at one voxel a sample, on the voxel centres.
     EXPECT_GT(checkVisibleCellsAreKept(SliceStack(ball, shellClassifier(), openvdb::Vec3d(0, 0, 1), 1.0, 1.0)), 1000u);
     // Only a band of values can be seen: a cell whose corners lie below and above it
     // holds values that can, though none of its corners can.
@@ -111,11 +181,21 @@ TEST(SliceStack, RowsOfValuesKeepEveryCellThatCanBeSeenWithItsNeighbours) {
     EXPECT_GT(checkVisibleCellsAreKept(SliceStack(ball, band, openvdb::Vec3d(0, 0, 1), 1.0, 1.0)), 1000u);
 }
 
-/// The slices of @a stack that keep any sample.
+/// The slices of @a stack that keep a sample two or more from the lattice's edges
+/// (nearer, the cells that reach the background beyond the volume cross every value
+/// between the volume's and the background's, as the ray marcher sees them).
 std::vector<int> slicesWithRuns(const SliceStack& stack) {
+    const StackGeometry& g = stack.geometry();
     std::vector<int> kept;
-    for (int k = 0; k < stack.geometry().slices; ++k) {
-        if (!stack.slices()[k].runs.empty()) kept.push_back(k);
+    for (int k = 0; k < g.slices; ++k) {
+        const Slice& slice = stack.slices()[k];
+        bool keeps = false;
+        for (int j = 2; j + 2 < g.height; ++j) {
+            for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r) {
+                keeps = keeps || (int(slice.runs[r].end) > 2 && int(slice.runs[r].begin) < g.width - 2);
+            }
+        }
+        if (keeps) kept.push_back(k);
     }
     return kept;
 }
