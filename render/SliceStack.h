@@ -5,7 +5,8 @@
 /// Slices are sampled on a lattice in world space (sampleMm across, sliceMm apart),
 /// so any stack direction works, not only the volume's axes. Along a volume's axis
 /// the samples fall on its voxel centres, where resampling a slice bilinearly gives
-/// the trilinear field exactly, as the ray marcher samples it. A stack of one grey
+/// the trilinear field exactly, as the ray marcher samples it; slices across one lie
+/// 2% further apart than asked, off its voxel planes but for one in fifty. A stack of one grey
 /// volume keeps each sample's value, as a 16-bit code, and compositing classifies
 /// the value it resamples from them (post-classification, as the ray marcher does:
 /// an opaque surface then lies where the values cross it, not where resampled

@@ -144,6 +144,28 @@ TEST(ShearWarp, ContentCutByTheVolumesFacesLooksAsTheRayMarcherSeesIt) {
     }
 }
 
+// Slices that all lay on the voxel planes saw the transfer function only at the
+// voxels' own values, never between them as a ray does: on a shell with noise from
+// voxel to voxel through a steep ramp, axis stacks scored 37.2 dB against the
+// reference then, 38.1 with slices 2% further apart (on the chest CT, 48 and 54).
+TEST(ShearWarp, AxisStacksSeeTheFieldBetweenTheVoxelPlanes) {
+    const auto volume = std::make_shared<GridRenderVolume>(test::makeGrid({40, 36, 32}, [](int i, int j, int k) {
+        const double r = std::sqrt((i - 20.0) * (i - 20.0) + (j - 18.0) * (j - 18.0) + (k - 16.0) * (k - 16.0));
+        // Noise from voxel to voxel, as a scan's: the planes see all of it, a ray between them less.
+        const double noise = 150.0 * (((i * 73 + j * 151 + k * 283) * 2654435761u >> 8) % 1000 / 500.0 - 1.0);
+        return float(1000.0 * std::exp(-std::pow((r - 11.0) / 1.2, 2.0)) + noise + 400.0);
+    }));
+    const Classifier steep(TransferFunction({{300.0, {0.9f, 0.6f, 0.4f, 0.0f}}, {500.0, {1.0f, 0.9f, 0.8f, 0.3f}}}, "test"), 1);
+    RayMarchSettings antialiased;
+    antialiased.raysPerSide = kReferenceRaysPerSide;
+    double meanDb = 0.0;
+    for (const View view : {View{30, 20}, View{-130, -35}, View{70, 10}}) {
+        const OrthoCamera camera = cameraFor(*volume, view.azimuthDeg, view.elevationDeg, 48);
+        meanDb += imagePsnr(ShearWarpRenderer(*volume, steep, {}).render(camera), rayMarch(*volume, steep, camera, antialiased)) / 3;
+    }
+    EXPECT_GE(meanDb, 37.7);
+}
+
 TEST(ShearWarp, AxisStacksAreBuiltOnceAndServeAnOrbitFromBothSides) {
     const auto volume = phantom();
     const Classifier classifier = rampClassifier();
