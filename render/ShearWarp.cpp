@@ -276,13 +276,14 @@ struct Tap {
 struct SliceShear {
     int rowOffset, shift;
     float upperLeft, upperRight, lowerLeft, lowerRight;
+    double row;  ///< the row of the slice, fractional, that intermediate row 0 meets
 };
 
 SliceShear shearOf(int k, double shiftX, double shiftY, int originX, int originY) {
     const double sy = originY + k * shiftY, sx = k * shiftX;
     const int jy = int(std::floor(sy)), ix = int(std::floor(sx));
     const float fy = float(sy - jy), fx = float(sx - ix);
-    return {jy, originX + ix, fx * (1 - fy), (1 - fx) * (1 - fy), fx * fy, (1 - fx) * fy};
+    return {jy, originX + ix, fx * (1 - fy), (1 - fx) * (1 - fy), fx * fy, (1 - fx) * fy, sy};
 }
 
 /// One slice row's runs, seen from an intermediate row: run r reaches pixels
@@ -585,6 +586,10 @@ void compositeBands(const SliceStack& stack, const std::vector<SliceShear>& shea
                 const int row = firstRow + r;
                 if (rows[r].finished()) continue;
                 open = true;
+                // Rays beyond the volume's faces cross nothing, whatever the
+                // background's row beyond resamples to.
+                const double sliceRow = row + shears[k].row;
+                if (sliceRow < g.firstRowInside - 1e-6 || sliceRow > g.lastRowInside + 1e-6) continue;
                 rows[r].add(slice, n, row + shears[k].rowOffset, g.height, shears[k], compositing,
                             out.rgba.data() + std::size_t(row) * out.width * 4);
             }

@@ -127,10 +127,10 @@ std::optional<VoxelRow> voxelRowAlong(const RenderVolume& volume, const Vec3d& a
 }
 
 /// How far a lattice on the voxel centres may stray from the spacing asked: at
-/// ct-head's default view (pixels of 1.2 voxels, 0.8 voxels asked) a lattice of one
-/// voxel scores 2.2 dB more against the reference with the `mri` preset than one
-/// of 0.8 voxels (0.8 less with a surface; both pass the one-ray ray marcher), from
-/// two thirds of the samples (docs/benchmarks.md, "Samples on the voxel centres").
+/// ct-head's default view (pixels of 1.39 voxels, 0.93 asked) a lattice of one
+/// voxel scores 2.2 dB more against the reference with the `mri` preset than the
+/// lattice asked (0.8 less with a surface), from 86% of the samples
+/// (docs/benchmarks.md, "Samples on the voxel centres, slices off the voxel planes").
 constexpr double kVoxelStepReach = 1.3;
 
 /// The step of a lattice on the voxel centres of @a row nearest @a wantedMm: a
@@ -161,23 +161,33 @@ AxisSamples samplesAlong(const RenderVolume& volume, const Vec3d& along, double 
     return paddedSamples(centredSamples(lo, hi, wantedMm));
 }
 
-/// Slices across a volume's axis lie this much further apart than asked, so that
-/// their places drift against the voxel planes, a voxel every fifty slices. Slices
-/// on the planes see the transfer function only where the field takes its voxels'
-/// values, never between: at one voxel apart, axis stacks' images fell 1.4 to 6 dB
-/// short of slices 2% further apart (docs/benchmarks.md, "Slices off the voxel planes").
-constexpr double kSliceDrift = 1.02;
+/// Slices across a volume's axis lie this far off its voxel planes, in voxels. On the
+/// planes, with samples on the voxel centres, a ray met only the voxels' own values
+/// and a scan's steps of value showed as rings: at 512 x 512 at `gvr render`'s
+/// default view, axis stacks' images of ct-head and the chest scored 1.6 to 7.9 dB
+/// closer to the reference a quarter of a voxel off them (at 256 x 256, from 1.1 dB
+/// further to 0.6 closer: docs/benchmarks.md, "Samples on the voxel centres, slices
+/// off the voxel planes").
+constexpr double kSlicesOffPlanes = 0.25;
+
+/// Slices @a step apart within [lo, hi], kSlicesOffPlanes of a voxel off the voxel
+/// planes of @a row (whatever the step, so that a view from either side meets them alike).
+AxisSamples slicesOffPlanes(double lo, double hi, double step, const VoxelRow& row) {
+    const double phase = row.centreMm + kSlicesOffPlanes * row.edgeMm;
+    const double first = std::ceil((lo - phase) / step), last = std::floor((hi - phase) / step);
+    return {std::max(1, int(last - first) + 1), phase + first * step, step};
+}
 
 /// The lattice of slices perpendicular to @a direction that covers the volume,
-/// @a sliceSpacingVoxels apart (a voxel is the volume's smallest voxel edge; across
-/// one of its axes, kSliceDrift further) and about @a sampleMm across.
+/// @a sliceSpacingVoxels apart (a voxel is the volume's smallest voxel edge) and
+/// about @a sampleMm across.
 StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& direction, double sliceSpacingVoxels,
                                double sampleMm) {
     StackGeometry g;
     g.normal = direction.unit();
     g.e1 = helperAxis(g.normal).cross(g.normal).unit();
     g.e2 = g.normal.cross(g.e1).unit();
-    g.sliceMm = volume.voxelMm() * sliceSpacingVoxels * (voxelRowAlong(volume, g.normal) ? kSliceDrift : 1.0);
+    g.sliceMm = volume.voxelMm() * sliceSpacingVoxels;
     Vec3d lo(1e300), hi(-1e300);
     for (const Vec3d& corner : worldCorners(volume.worldFromIndex(), volume.box())) {
         const Vec3d p(corner.dot(g.e1), corner.dot(g.e2), corner.dot(g.normal));
@@ -186,11 +196,15 @@ StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& directio
     }
     const AxisSamples across = samplesAlong(volume, g.e1, lo[0], hi[0], sampleMm);
     const AxisSamples down = samplesAlong(volume, g.e2, lo[1], hi[1], sampleMm);
-    const AxisSamples slices = centredSamples(lo[2], hi[2], g.sliceMm);
+    const std::optional<VoxelRow> planes = voxelRowAlong(volume, g.normal);
+    const AxisSamples slices =
+        planes ? slicesOffPlanes(lo[2], hi[2], g.sliceMm, *planes) : centredSamples(lo[2], hi[2], g.sliceMm);
     g.sampleMm = {across.step, down.step};
     g.width = across.count;
     g.height = down.count;
     g.slices = slices.count;
+    g.firstRowInside = (lo[1] - down.first) / down.step;
+    g.lastRowInside = (hi[1] - down.first) / down.step;
     g.origin = g.e1 * across.first + g.e2 * down.first + g.normal * slices.first;
     return g;
 }
@@ -519,13 +533,11 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     : mGeometry(stackGeometryFor(*layers.front().volume, direction, sliceSpacingVoxels, sampleMm)),
       mSlices(mGeometry.slices) {
     const RenderVolume& volume = *layers.front().volume;
-    // The slices' own spacing, which may be a little more than asked (kSliceDrift).
-    const double spacingVoxels = mGeometry.sliceMm / volume.voxelMm();
     const TransferFunction& tf = layers.front().classifier.transferFunction();
     // Values outside the volume are not the background's but nothing at all; a
     // visible background keeps the samples classified, so that they stay nothing.
     if (layers.size() == 1 && volume.channels() == 1 && tf(volume.backgroundKey())[3] == 0.0f) {
-        mLevels = std::make_unique<ValueLevels>(tf, spacingVoxels);
+        mLevels = std::make_unique<ValueLevels>(tf, sliceSpacingVoxels);
         mClassification = segments.classification;
     }
     for (Slice& slice : mSlices) slice.rowRuns.assign(mGeometry.height + 1, 0);
@@ -561,7 +573,7 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
         buildSlices(
             mGeometry, slabs, StackSample{}, counter, cancel,
             [&](const Coord& origin, int firstSlice, Slab<StackSample>& slab) {
-                storeClassified(layers, sources, spacingVoxels, cells, origin, firstSlice, slab);
+                storeClassified(layers, sources, sliceSpacingVoxels, cells, origin, firstSlice, slab);
             },
             [&](int firstSlice, int count, const Slab<StackSample>& slab) {
                 tbb::parallel_for(0, count, [&](int k) {

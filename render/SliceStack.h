@@ -6,7 +6,7 @@
 /// so any stack direction works, not only the volume's axes. Along a volume's axis
 /// the samples fall on its voxel centres, where resampling a slice bilinearly gives
 /// the trilinear field exactly, as the ray marcher samples it; slices across one lie
-/// 2% further apart than asked, off its voxel planes but for one in fifty. A stack of one grey
+/// a quarter of a voxel off its voxel planes. A stack of one grey
 /// volume keeps each sample's value, as a 16-bit code, and compositing classifies
 /// the value it resamples from them (post-classification, as the ray marcher does:
 /// an opaque surface then lies where the values cross it, not where resampled
@@ -39,6 +39,10 @@ struct StackGeometry {
     openvdb::Vec2d sampleMm{1.0, 1.0};  ///< between samples along e1 and along e2
     double sliceMm = 1.0;               ///< between slices
     int width = 0, height = 0, slices = 0;
+    /// The volume's extent along e2, in rows of samples (fractional): its faces,
+    /// when e2 runs along one of its axes. Nothing lies beyond them, though the
+    /// lattice reaches a row further (of background, for resampling up to them).
+    double firstRowInside = 0.0, lastRowInside = 0.0;
 
     /// The sample lattice: index (i, j, k) is sample (i, j) of slice k.
     Lattice lattice() const;

@@ -79,7 +79,8 @@ Floats4 clampedPremultiplied(Floats4 pixel) {
 /// Catmull-Rom taps spread evenly over it, as the anti-aliased ray marcher spreads
 /// its rays over the pixel. At least two a side, and enough that neighbouring taps
 /// lie about one intermediate pixel apart. (Bilinear taps blurred stills by 0.4 to
-/// 6 dB against the reference: docs/benchmarks.md, "Samples on the voxel centres".)
+/// 6.6 dB against the reference: docs/benchmarks.md, "Samples on the voxel centres,
+/// slices off the voxel planes".)
 class FootprintFilter {
 public:
     FootprintFilter(const IntermediateMap& map, const IntermediateImage& image) : mImage(image) {

@@ -144,28 +144,6 @@ TEST(ShearWarp, ContentCutByTheVolumesFacesLooksAsTheRayMarcherSeesIt) {
     }
 }
 
-// Slices that all lay on the voxel planes saw the transfer function only at the
-// voxels' own values, never between them as a ray does: on a shell with noise from
-// voxel to voxel through a steep ramp, axis stacks scored 37.2 dB against the
-// reference then, 38.1 with slices 2% further apart (on the chest CT, 48 and 54).
-TEST(ShearWarp, AxisStacksSeeTheFieldBetweenTheVoxelPlanes) {
-    const auto volume = std::make_shared<GridRenderVolume>(test::makeGrid({40, 36, 32}, [](int i, int j, int k) {
-        const double r = std::sqrt((i - 20.0) * (i - 20.0) + (j - 18.0) * (j - 18.0) + (k - 16.0) * (k - 16.0));
-        // Noise from voxel to voxel, as a scan's: the planes see all of it, a ray between them less.
-        const double noise = 150.0 * (((i * 73 + j * 151 + k * 283) * 2654435761u >> 8) % 1000 / 500.0 - 1.0);
-        return float(1000.0 * std::exp(-std::pow((r - 11.0) / 1.2, 2.0)) + noise + 400.0);
-    }));
-    const Classifier steep(TransferFunction({{300.0, {0.9f, 0.6f, 0.4f, 0.0f}}, {500.0, {1.0f, 0.9f, 0.8f, 0.3f}}}, "test"), 1);
-    RayMarchSettings antialiased;
-    antialiased.raysPerSide = kReferenceRaysPerSide;
-    double meanDb = 0.0;
-    for (const View view : {View{30, 20}, View{-130, -35}, View{70, 10}}) {
-        const OrthoCamera camera = cameraFor(*volume, view.azimuthDeg, view.elevationDeg, 48);
-        meanDb += imagePsnr(ShearWarpRenderer(*volume, steep, {}).render(camera), rayMarch(*volume, steep, camera, antialiased)) / 3;
-    }
-    EXPECT_GE(meanDb, 37.7);
-}
-
 TEST(ShearWarp, AxisStacksAreBuiltOnceAndServeAnOrbitFromBothSides) {
     const auto volume = phantom();
     const Classifier classifier = rampClassifier();
@@ -452,13 +430,13 @@ Classifier bandClassifier(double lo, double hi, float opacity) {
 
 TEST(ShearWarp, BandsThinnerThanASliceAreSeenAsTheRayMarcherSeesThem) {
     // Values rise 100 a voxel along z, so a band 30 values wide is a sheet 0.3 voxels
-    // thick, between the slices at z = 4 and 5 (and again between 11 and 12, where
-    // they fall). Wide, so that the middle of the image sees the bands far from the
+    // thick, between the slices at z = 4.25 and 5.25 (a quarter voxel off the planes)
+    // and again between 11.25 and 12.25, where they fall. Wide, so that the middle of the image sees the bands far from the
     // volume's sides, where the values fall through them to the background beyond;
     // 0 at the top face, so that the rays entering there meet the bands only inside.
     const GridRenderVolume ramp(
         test::makeGrid({64, 64, 17}, [](int, int, int k) { return 100.0f * (8 - std::abs(k - 8)); }));
-    const Classifier band = bandClassifier(460.0, 490.0, 0.6f);
+    const Classifier band = bandClassifier(430.0, 460.0, 0.6f);
     for (const View view : {View{0, 90}, View{30, 60}, View{-20, -70}}) {
         const OrthoCamera camera = cameraFor(ramp, view.azimuthDeg, view.elevationDeg, 64);
         const Framebuffer exact = middleOf(finelyMarched(ramp, band, camera));

@@ -65,8 +65,12 @@ TEST(SliceStack, SamplesAlongAVolumesAxesFallOnItsVoxelCentres) {
         const int xAxis = std::abs(g.e1.x()) > 0.5 ? 0 : 1;  // which of e1 and e2 runs along x
         EXPECT_DOUBLE_EQ(g.sampleMm[xAxis], c.xStep > 0.0 ? c.xStep : c.askedMm) << c.askedMm;
         EXPECT_DOUBLE_EQ(g.sampleMm[1 - xAxis], c.zStep > 0.0 ? c.zStep : c.askedMm) << c.askedMm;
-        // The slices drift off the voxel planes: a voxel (1 mm) and 2% apart.
-        EXPECT_DOUBLE_EQ(g.sliceMm, 1.02);
+        // The slices lie a voxel (1 mm) apart, a quarter of a voxel off the voxel planes.
+        EXPECT_DOUBLE_EQ(g.sliceMm, 1.0);
+        for (int k = 0; k < g.slices; ++k) {
+            const double y = volume.worldFromIndex().inverse().transform(g.lattice().worldFromIndex.transform(openvdb::Vec3d(0, 0, k))).y();
+            EXPECT_NEAR(y - std::floor(y), 0.25, 1e-9) << k;
+        }
         // On the voxel centres, or on them and evenly between them.
         const double xPerVoxel = std::max(1.0, 1.0 / c.xStep), zPerVoxel = std::max(1.0, 1.5 / c.zStep);
         for (int n = 0; n < std::min(g.width, g.height); ++n) {
@@ -137,7 +141,7 @@ TEST(SliceStack, ABuildStopsAtTheNextSlabOnceCancelled) {
 std::size_t checkVisibleCellsAreKept(const SliceStack& stack) {
     // Lattice sample (i, j) of slice k is at voxel (i - 1, j - 1, z_k): the lattice
     // reaches a sample of background beyond the volume on each side, and its slices
-    // lie 2% more than a voxel apart, off the voxel planes.
+    // lie a quarter of a voxel off the voxel planes.
     constexpr int kSide = 42;
     const Lattice lattice = stack.geometry().lattice();
     EXPECT_EQ(stack.geometry().width, kSide);
@@ -242,7 +246,7 @@ TEST(SliceStack, SegmentsKeepTheSlicesOnEitherSideOfABandThatFallsBetweenThem) {
         for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r) count += slice.runs[r].end - slice.runs[r].begin;
         return count;
     };
-    segments.maxAngleDeg = 44.0;  // one sample across a slice spacing (1.02 voxels: tan 44 x 1.02 < 1)
+    segments.maxAngleDeg = 45.0;  // one sample across a slice spacing
     const SliceStack along(step, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::voxels, {Classification::segments, 0.0});
     const SliceStack oblique(step, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::voxels, segments);
     EXPECT_EQ(keptInRow(oblique, 7, 12), keptInRow(along, 7, 12) + 1);
