@@ -165,13 +165,13 @@ AxisSamples samplesAlong(const RenderVolume& volume, const Vec3d& along, double 
 /// planes, with samples on the voxel centres, a ray met only the voxels' own values
 /// and a scan's steps of value showed as rings: at 512 x 512 at `gvr render`'s
 /// default view, axis stacks' images of ct-head and the chest scored 1.6 to 7.9 dB
-/// closer to the reference a quarter of a voxel off them (at 256 x 256, from 1.1 dB
-/// further to 0.6 closer: docs/benchmarks.md, "Samples on the voxel centres, slices
-/// off the voxel planes").
+/// closer to the reference a quarter of a voxel off them (with a sharper warp than
+/// today's; at 256 x 256, from 1.1 dB further to 0.6 closer: docs/benchmarks.md,
+/// "Samples on the voxel centres, slices off the voxel planes").
 constexpr double kSlicesOffPlanes = 0.25;
 
 /// Slices @a step apart within [lo, hi], kSlicesOffPlanes of a voxel off the voxel
-/// planes of @a row (whatever the step, so that a view from either side meets them alike).
+/// planes of @a row.
 AxisSamples slicesOffPlanes(double lo, double hi, double step, const VoxelRow& row) {
     const double phase = row.centreMm + kSlicesOffPlanes * row.edgeMm;
     const double first = std::ceil((lo - phase) / step), last = std::floor((hi - phase) / step);

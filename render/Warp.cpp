@@ -19,68 +19,28 @@ Floats4 load4(const float* values) {
     return out;
 }
 
-/// Catmull-Rom's weights for the four texels around a point @a f of the way from the
-/// second to the third: it passes through the texels and keeps a linear ramp, as
-/// bilinear weights do, but blurs much less between them.
-void catmullRomWeights(float f, float w[4]) {
-    const float f2 = f * f, f3 = f2 * f;
-    w[0] = 0.5f * (-f3 + 2.0f * f2 - f);
-    w[1] = 0.5f * (3.0f * f3 - 5.0f * f2 + 2.0f);
-    w[2] = 0.5f * (-3.0f * f3 + 4.0f * f2 + f);
-    w[3] = 0.5f * (f3 - f2);
-}
-
-/// The intermediate image at (u, v), through Catmull-Rom's 4 x 4 texels, which must
-/// all lie inside the image: 1 <= u, v and u < width - 2, v < height - 2.
-Floats4 cubicInside(const IntermediateImage& image, float u, float v) {
+/// The intermediate image, bilinearly, at (u, v), which must lie inside its samples.
+Floats4 bilinearInside(const IntermediateImage& image, float u, float v) {
     const int i = int(u), j = int(v);
-    float wu[4], wv[4];
-    catmullRomWeights(u - float(i), wu);
-    catmullRomWeights(v - float(j), wv);
-    Floats4 sum{};
-    for (int b = 0; b < 4; ++b) {
-        const float* row = image.rgba.data() + (std::size_t(j - 1 + b) * image.width + (i - 1)) * 4;
-        sum += wv[b] * (wu[0] * load4(row) + wu[1] * load4(row + 4) + wu[2] * load4(row + 8) + wu[3] * load4(row + 12));
-    }
-    return sum;
+    const float fu = u - float(i), fv = v - float(j);
+    const float* a = image.rgba.data() + (std::size_t(j) * image.width + i) * 4;
+    const float* b = a + std::size_t(image.width) * 4;
+    const Floats4 top = (1 - fu) * load4(a) + fu * load4(a + 4);
+    const Floats4 bottom = (1 - fu) * load4(b) + fu * load4(b + 4);
+    return (1 - fv) * top + fv * bottom;
 }
 
-/// The same anywhere: transparent beyond the image.
-Floats4 cubic(const IntermediateImage& image, double u, double v) {
-    // The comparisons are false for NaN; beyond these bounds every texel is outside.
-    if (!(u > -2.0 && v > -2.0 && u < image.width + 1.0 && v < image.height + 1.0)) return Floats4{};
-    const int i = int(std::floor(u)), j = int(std::floor(v));
-    float wu[4], wv[4];
-    catmullRomWeights(float(u - i), wu);
-    catmullRomWeights(float(v - j), wv);
-    Floats4 sum{};
-    for (int b = 0; b < 4; ++b) {
-        const int y = j - 1 + b;
-        if (y < 0 || y >= image.height) continue;
-        for (int a = 0; a < 4; ++a) {
-            const int x = i - 1 + a;
-            if (x < 0 || x >= image.width) continue;
-            sum += wv[b] * wu[a] * load4(image.rgba.data() + (std::size_t(y) * image.width + x) * 4);
-        }
-    }
-    return sum;
-}
-
-/// A premultiplied pixel as it may be: Catmull-Rom's negative lobes can take a sum
-/// past the ends (below zero beside an edge, above one within it).
-Floats4 clampedPremultiplied(Floats4 pixel) {
-    const float alpha = std::clamp(pixel[3], 0.0f, 1.0f);
-    for (int c = 0; c < 3; ++c) pixel[c] = std::clamp(pixel[c], 0.0f, alpha);
-    pixel[3] = alpha;
-    return pixel;
+/// The same anywhere: transparent beyond the samples.
+Floats4 bilinear(const IntermediateImage& image, double u, double v) {
+    // The comparisons are false for NaN, and u < width - 1 keeps i + 1 inside.
+    if (!(u >= 0.0 && v >= 0.0 && u < image.width - 1 && v < image.height - 1)) return Floats4{};
+    return bilinearInside(image, float(u), float(v));
 }
 
 /// How an image pixel averages its footprint on the intermediate image: taps x taps
-/// Catmull-Rom taps spread evenly over it, as the anti-aliased ray marcher spreads
-/// its rays over the pixel. At least two a side, and enough that neighbouring taps
-/// lie about one intermediate pixel apart. (Bilinear taps blurred stills by 0.4 to
-/// 6.6 dB against the reference: docs/benchmarks.md, "Samples on the voxel centres,
-/// slices off the voxel planes".)
+/// bilinear taps spread evenly over it, as the anti-aliased ray marcher spreads its
+/// rays over the pixel. At least two a side, and enough that neighbouring taps lie
+/// about one intermediate pixel apart.
 class FootprintFilter {
 public:
     FootprintFilter(const IntermediateMap& map, const IntermediateImage& image) : mImage(image) {
@@ -96,27 +56,26 @@ public:
                 reachV = std::max(reachV, double(std::abs(dv)));
             }
         }
-        // A tap reads texels up to two from where it falls.
-        mReach = {reachU + 2.0, reachV + 2.0};
+        mReach = {reachU, reachV};
         mWeight = 1.0f / float(mOffsets.size());
         // Taps in floats are a sixth faster than in doubles: the margin covers their
-        // rounding (an ulp at 65536 is 0.004), so that i + 2 stays inside.
+        // rounding (an ulp at 65536 is 0.004), so that i + 1 stays inside.
         const double margin = 1e-3 + 1e-6 * std::max(image.width, image.height);
-        mInsideLo = {reachU + 1.0 + margin, reachV + 1.0 + margin};
-        mInsideHi = {image.width - 2 - margin - reachU, image.height - 2 - margin - reachV};
+        mInsideLo = {reachU, reachV};
+        mInsideHi = {image.width - 1 - margin - reachU, image.height - 1 - margin - reachV};
     }
 
     /// The pixel whose centre falls at (u, v) on the intermediate image.
     Floats4 operator()(double u, double v) const {
         Floats4 sum{};
         if (u >= mInsideLo[0] && v >= mInsideLo[1] && u < mInsideHi[0] && v < mInsideHi[1]) {
-            for (const Offset& o : mOffsets) sum += cubicInside(mImage, float(u) + o.du, float(v) + o.dv);
+            for (const Offset& o : mOffsets) sum += bilinearInside(mImage, float(u) + o.du, float(v) + o.dv);
         } else {
-            for (const Offset& o : mOffsets) sum += cubic(mImage, u + o.du, v + o.dv);
+            for (const Offset& o : mOffsets) sum += bilinear(mImage, u + o.du, v + o.dv);
         }
-        return clampedPremultiplied(sum * mWeight);
+        return sum * mWeight;
     }
-    /// How far from a pixel's centre, in intermediate pixels, its taps read texels.
+    /// How far from a pixel's centre, in intermediate pixels, its taps fall.
     openvdb::Vec2d reach() const { return mReach; }
 
 private:
@@ -136,8 +95,8 @@ private:
 class LitTiles {
 public:
     LitTiles(const IntermediateImage& image, openvdb::Vec2d reach)
-        // A pixel reads texels up to reach from its centre: that many tiles away, rounded up.
-        : mMarginU(int(reach[0] / kTile) + 1), mMarginV(int(reach[1] / kTile) + 1),
+        // A tap reads texels up to reach + 1 from the centre: that many tiles away, rounded up.
+        : mMarginU(int((reach[0] + 1.0) / kTile) + 1), mMarginV(int((reach[1] + 1.0) / kTile) + 1),
           mColumns((image.width + kTile - 1) / kTile + 2 * mMarginU),
           mRows((image.height + kTile - 1) / kTile + 2 * mMarginV), mLit(std::size_t(mColumns) * mRows, 0) {
         for (int j = 0; j < image.height; ++j) {

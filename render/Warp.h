@@ -32,7 +32,7 @@ struct IntermediateMap {
 };
 
 /// The image of @a width x @a height pixels, each the average of the intermediate
-/// image over the pixel's footprint on it (Catmull-Rom taps spread over it, as the
+/// image over the pixel's footprint on it (bilinear taps spread over it, as the
 /// anti-aliased ray marcher spreads its rays); transparent beyond it.
 Framebuffer warpToImage(const IntermediateImage& intermediate, const IntermediateMap& map, int width, int height);
 

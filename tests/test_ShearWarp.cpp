@@ -130,7 +130,8 @@ TEST(ShearWarp, StackSamplesAreSupersampledPixelsOrVoxelsWhicheverIsLarger) {
 // A scan cut through the body has content on its faces, and (as ingested grids)
 // nothing active between: it must look as the ray marcher sees it, from axis stacks
 // too, whose lattices reach a sample of background beyond the volume (without it,
-// 37.2-44.9 dB here against 43.2-46.8, and stripes on ct-head's base and crown).
+// and with slices on the voxel planes, 36.7-44.2 dB here against 40.8-44.7, and
+// stripes on ct-head's base and crown).
 TEST(ShearWarp, ContentCutByTheVolumesFacesLooksAsTheRayMarcherSeesIt) {
     const auto volume = std::make_shared<GridRenderVolume>(test::makeGrid({32, 28, 20}, [](int i, int j, int k) {
         return k < 3 || k > 17 ? float(500.0 + 300.0 * std::sin(0.3 * i) * std::cos(0.25 * j + 0.4 * k)) : 0.0f;
@@ -140,7 +141,7 @@ TEST(ShearWarp, ContentCutByTheVolumesFacesLooksAsTheRayMarcherSeesIt) {
         const OrthoCamera camera = cameraFor(*volume, view.azimuthDeg, view.elevationDeg, 40);
         const Framebuffer reference = rayMarch(*volume, classifier, camera, RayMarchSettings{});
         const Framebuffer image = ShearWarpRenderer(*volume, classifier, {}).render(camera);
-        EXPECT_GE(imagePsnr(image, reference), 42.0) << view.azimuthDeg << ", " << view.elevationDeg;
+        EXPECT_GE(imagePsnr(image, reference), 40.0) << view.azimuthDeg << ", " << view.elevationDeg;
     }
 }
 

@@ -1,6 +1,5 @@
 // The warp: an image pixel sees the intermediate image's light wherever its taps
-// reach it, whichever rows compositing reached; its taps keep detail between
-// texels, and its pixels stay valid premultiplied colour.
+// reach it, whichever rows compositing reached.
 #include "render/Warp.h"
 #include "tests/TestHelpers.h"
 
@@ -77,64 +76,6 @@ TEST(Warp, MapsBeyondTheImageOrNotANumberGiveTransparentPixels) {
     EXPECT_EQ(test::opacitySum(warpToImage(image, {1e9, 1.0, 0.0, -1e9, 0.0, 1.0}, 8, 8)), 0.0);
     const double nan = std::numeric_limits<double>::quiet_NaN();
     EXPECT_EQ(test::opacitySum(warpToImage(image, {nan, 1.0, 0.0, 0.0, 0.0, 1.0}, 8, 8)), 0.0);
-}
-
-/// A 40 x 36 intermediate image whose opacity waves along its rows, @a period texels
-/// long, between 0.1 and 0.9; every row reached.
-IntermediateImage wave(double period) {
-    IntermediateImage image;
-    image.width = 40;
-    image.height = 36;
-    image.rgba.resize(std::size_t(image.width) * image.height * 4);
-    for (int y = 0; y < image.height; ++y) {
-        for (int x = 0; x < image.width; ++x) {
-            const float alpha = float(0.5 + 0.4 * std::cos(2.0 * M_PI * x / period));
-            float* texel = image.rgba.data() + (std::size_t(y) * image.width + x) * 4;
-            texel[0] = texel[1] = texel[2] = 0.5f * alpha;
-            texel[3] = alpha;
-        }
-    }
-    image.reached.assign(image.height, PixelSpan{0, image.width - 1});
-    return image;
-}
-
-// Detail between texels keeps its contrast: a wave six texels long, the pixels'
-// centres halfway between texels, keeps 82% of its swing through Catmull-Rom taps,
-// where bilinear ones kept 75% (the wave itself averaged over each pixel keeps 83%).
-TEST(Warp, DetailBetweenTexelsKeepsItsContrast) {
-    const IntermediateImage image = wave(6.0);
-    const IntermediateMap halfwayBetween{2.5, 1.0, 0.0, 2.0, 0.0, 1.0};
-    const Framebuffer pixels = warpToImage(image, halfwayBetween, 32, 30);
-    float lowest = 1.0f, highest = 0.0f;
-    for (int x = 0; x < 30; ++x) {
-        const float alpha = pixels.pixel(x, 15)[3];
-        lowest = std::min(lowest, alpha);
-        highest = std::max(highest, alpha);
-    }
-    EXPECT_GT((highest - lowest) / 0.8f, 0.8f);
-}
-
-// Catmull-Rom's negative lobes overshoot beside a sharp edge; a pixel must still be
-// premultiplied colour: 0 <= colour <= opacity <= 1.
-TEST(Warp, PixelsBesideSharpEdgesStayValidPremultipliedColour) {
-    IntermediateImage image = oneTexel(20, 18);
-    float* texel = image.rgba.data() + (std::size_t(18) * image.width + 20) * 4;
-    for (int c = 0; c < 4; ++c) texel[c] = 1.0f;  // opaque white beside transparent black
-    for (const double step : {0.7, 1.0, 3.6}) {
-        const Framebuffer pixels = warpToImage(image, turnedMap(step, 24), 24, 24);
-        ASSERT_GT(test::opacitySum(pixels), 0.0) << step;
-        for (int y = 0; y < 24; ++y) {
-            for (int x = 0; x < 24; ++x) {
-                const float* p = pixels.pixel(x, y);
-                EXPECT_GE(p[3], 0.0f);
-                EXPECT_LE(p[3], 1.0f);
-                for (int c = 0; c < 3; ++c) {
-                    EXPECT_GE(p[c], 0.0f) << step;
-                    EXPECT_LE(p[c], p[3]) << step;
-                }
-            }
-        }
-    }
 }
 
 }  // namespace
