@@ -139,7 +139,9 @@ constexpr double kVoxelStepReach = 1.3;
 std::optional<double> stepOnVoxels(double wantedMm, const VoxelRow& row) {
     const double step = wantedMm <= row.edgeMm ? row.edgeMm / std::floor(row.edgeMm / wantedMm)
                                                : row.edgeMm * std::round(wantedMm / row.edgeMm);
-    if (!(step <= wantedMm * kVoxelStepReach && step * kVoxelStepReach >= wantedMm)) return std::nullopt;  // NaN too
+    if (!std::isfinite(step) || !(step <= wantedMm * kVoxelStepReach && step * kVoxelStepReach >= wantedMm)) {
+        return std::nullopt;  // NaN and infinity too
+    }
     return step;
 }
 
