@@ -517,7 +517,9 @@ private:
 /// How far, in samples across and down, a view within @a maxAngleDeg of a stack's
 /// normal (up to 80 degrees) shears from one slice to the next.
 int segmentReach(const StackGeometry& g, double maxAngleDeg) {
-    const double shift = std::tan(std::clamp(maxAngleDeg, 0.0, 80.0) * M_PI / 180.0) * g.sliceMm / std::min(g.sampleMm[0], g.sampleMm[1]);
+    // Across the finer of the two sample spacings, the shear reaches furthest.
+    const double finerMm = std::min(g.sampleMm[0], g.sampleMm[1]);
+    const double shift = std::tan(std::clamp(maxAngleDeg, 0.0, 80.0) * M_PI / 180.0) * g.sliceMm / finerMm;
     return int(std::ceil(shift - 1e-9));
 }
 
