@@ -34,11 +34,17 @@ namespace {
 
 constexpr double kDegreesPerPixel = 0.4;  ///< orbit speed of a drag
 constexpr double kZoomPerNotch = 1.1;     ///< of the mouse wheel
+/// A view unchanged this long is at rest: its still builds (ViewSession::refineAtRest).
+constexpr double kRestSeconds = 0.2;
+/// How often a window with a still to come looks for it, and one with nothing to
+/// come for events, when no event arrives.
+constexpr int kStillPollMs = 20, kIdleWaitMs = 250;
 const std::vector<std::string> kPresets = {"ct", "ct-bone", "mri", "rgb"};
 
 struct ViewFlags {
     std::string input, tf, show, hide, size = "800x800", screenshots = ".";
     double azimuth = 30.0, elevation = 15.0;
+    double stillSupersampling = ShearWarpSettings{}.supersampling;  ///< 0: no still
     std::uint64_t frames = 0;
     bool json = false;
     ShearWarpSettings shearWarp;
@@ -65,7 +71,8 @@ public:
         mState.tf = flags.tf.empty() ? defaultPreset(mInput.volume->channels(), mInput.volume->statistics()) : flags.tf;
         mInitial = mState;
         classify();
-        mSession = std::make_unique<ViewSession>(scene(), flags.shearWarp, Prefetch::nextAxis, FirstImage::coarseFirst);
+        mSession = std::make_unique<ViewSession>(scene(), flags.shearWarp, Prefetch::nextAxis, FirstImage::coarseFirst,
+                                                 stillSettings(flags));
     }
 
     /// Why the transfer function does not suit the data; empty when it does.
@@ -74,19 +81,26 @@ public:
     /// @param commandStart  when the command began, for the time to the first image
     void run(SdlWindow& window, std::chrono::steady_clock::time_point commandStart) {
         const auto start = std::chrono::steady_clock::now();
-        bool busy = true;
+        bool busy = true, stillToCome = false;
         while (!mQuit) {
             // When the picture cannot change by itself, sleep in the event queue.
-            if (!handleEvents(busy) && !busy) continue;
+            const bool changed = handleEvents(busy ? 0 : stillToCome ? kStillPollMs : kIdleWaitMs);
             std::tie(mWidth, mHeight) = window.size();
+            const OrthoCamera view = camera(mWidth, mHeight);
+            noteMove();
+            if (millisecondsSince(mLastMove) >= 1000.0 * kRestSeconds) mSession->refineAtRest(view);
+            stillToCome = mSession->stillPending(view);
+            if (!changed && !busy && !mSession->stillBuilt()) continue;
             FrameStats frame;
-            const Framebuffer image = mSession->render(camera(mWidth, mHeight), &frame);
+            const Framebuffer image = mSession->render(view, &frame);
             recordFrame(frame);
             window.show(image, mState.hud ? hud(frame) : std::vector<std::string>{});
             if (mFrames == 1) mFirstImageMs = millisecondsSince(commandStart);
             if (!frame.stale && mRefinedImageMs == 0) mRefinedImageMs = millisecondsSince(commandStart);
+            if (frame.still && mStillImageMs == 0) mStillImageMs = millisecondsSince(commandStart);
             if (mFlags.frames > 0 && mFrames >= mFlags.frames) break;
             busy = frame.stale || mSession->building() || mFlags.frames > 0;
+            stillToCome = mSession->stillPending(view);
         }
         mSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
@@ -95,6 +109,7 @@ public:
         return {{"frames", mFrames},
                 {"first_image_ms", mFirstImageMs},
                 {"refined_image_ms", mRefinedImageMs},
+                {"still_image_ms", mStillImageMs},
                 {"seconds", mSeconds},
                 {"mean_fps", mSeconds > 0 ? mFrames / mSeconds : 0.0},
                 {"stacks_built", mSession->stacksBuilt()},
@@ -108,6 +123,20 @@ public:
     }
 
 private:
+    /// The settings of the still a rested view gets, if any.
+    static std::optional<ShearWarpSettings> stillSettings(const ViewFlags& flags) {
+        if (flags.stillSupersampling == 0.0) return std::nullopt;
+        return stillSettingsFor(flags.shearWarp, flags.stillSupersampling);
+    }
+
+    /// Restarts the wait for rest when the camera or the window has changed since the last look.
+    void noteMove() {
+        const auto looks = std::make_tuple(mState.view.azimuthDeg, mState.view.elevationDeg, mState.zoom, mWidth, mHeight);
+        if (looks == mLastLooks) return;
+        mLastLooks = looks;
+        mLastMove = std::chrono::steady_clock::now();
+    }
+
     OrthoCamera camera(int width, int height) const {
         OrthoCamera camera = makeCamera(mState.view, mCorners, width, height);
         camera.pixelMm /= mState.zoom;
@@ -137,13 +166,18 @@ private:
     /// choice: opacity and structure changes reuse it.
     void classify() { mBase = classifierFor(mState.tf, *mInput.volume, &mMismatch); }
 
-    void changeScene() { mSession->setScene(scene()); }
+    void changeScene() {
+        mSession->setScene(scene());
+        mLastMove = std::chrono::steady_clock::now();
+    }
 
-    /// Polls (or, when not @a busy, waits for) events; whether any came.
-    bool handleEvents(bool busy) {
+    /// Polls events (or waits up to @a waitMs for the first); whether any came.
+    bool handleEvents(int waitMs) {
         SDL_Event event;
         bool changed = false;
-        const auto next = [&] { return busy || changed ? SDL_PollEvent(&event) : SDL_WaitEventTimeout(&event, 250); };
+        const auto next = [&] {
+            return waitMs == 0 || changed ? SDL_PollEvent(&event) : SDL_WaitEventTimeout(&event, waitMs);
+        };
         while (next()) {
             changed = true;
             if (event.type == SDL_QUIT) mQuit = true;
@@ -226,7 +260,10 @@ private:
         std::ostringstream rate, stack, view;
         rate << std::fixed << std::setprecision(1) << 1000.0 / std::max(mSmoothedMs, 1e-3) << " FPS, "
              << std::setprecision(1) << mSmoothedMs << " ms a frame";
-        stack << (frame.stale ? "stack: building for this view..." : frame.reused ? "stack: reused" : "stack: rebuilt")
+        stack << (frame.still   ? "stack: the still, across the view"
+                  : frame.stale ? "stack: building for this view..."
+                  : frame.reused ? "stack: reused"
+                                 : "stack: rebuilt")
               << "; last build " << std::fixed << std::setprecision(0) << mLastBuild.buildMs << " ms, "
               << mLastBuild.gaussiansTouched << " Gaussians touched";
         view << std::fixed << "tf " << mState.tf << " (t), opacity x" << std::setprecision(2)
@@ -254,7 +291,9 @@ private:
     bool mQuit = false;
     int mWidth = 0, mHeight = 0;
     std::uint64_t mFrames = 0, mStaleFrames = 0;
-    double mSeconds = 0, mSmoothedMs = 0, mFirstImageMs = 0, mRefinedImageMs = 0;
+    double mSeconds = 0, mSmoothedMs = 0, mFirstImageMs = 0, mRefinedImageMs = 0, mStillImageMs = 0;
+    std::tuple<double, double, double, int, int> mLastLooks;
+    std::chrono::steady_clock::time_point mLastMove = std::chrono::steady_clock::now();
     FrameStats mLastBuild;
     std::vector<std::string> mScreenshots;
 };
@@ -264,6 +303,9 @@ void runView(const ViewFlags& flags) {
     PhaseTimes setup;
     const std::string problem = flags.shearWarp.validate();
     if (!problem.empty()) throw InputError("gvr view", problem);
+    if (flags.stillSupersampling != 0.0 && !stillSettingsFor(flags.shearWarp, flags.stillSupersampling).validate().empty()) {
+        throw InputError("gvr view", "--still-supersample must be 0 (no still) or from 1 to 4");
+    }
     const auto [width, height] = parseImageSize(flags.size);
     if (flags.input.empty() || !std::filesystem::exists(flags.input)) throw InputError(flags.input, "no such file or folder");
     RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, flags.shearWarp.minimumFootprintVoxels(),
@@ -302,12 +344,18 @@ void addViewCommand(CLI::App& app) {
     // gvr render is where fidelity pays.
     flags->shearWarp.supersampling = 1.0;
     addStackFlags(*command, flags->shearWarp);
+    command
+        ->add_option("--still-supersample", flags->stillSupersampling,
+                     "Once the view rests (0.2 s), draw it again from a stack across it with this many samples along "
+                     "each side of a pixel, built in the background, as gvr render draws a still; screenshots show "
+                     "it too. 0: keep the moving frames")
+        ->capture_default_str();
     command->add_option("--screenshots", flags->screenshots, "Folder for the screenshots (key s)")->capture_default_str();
     command->add_option("--frames", flags->frames, "Close after this many frames (0: when the window closes)");
     addSourceFlags(*command, flags->source);
     command->add_flag("--json", flags->json,
-                      "On closing, print the set-up's, the first image's and the refined image's times, frames, rates, "
-                      "rebuilds and screenshots as JSON");
+                      "On closing, print the set-up's, the first image's, the refined image's and the still's times, "
+                      "frames, rates, rebuilds and screenshots as JSON");
     command->callback([flags] { runView(*flags); });
 }
 

@@ -84,6 +84,8 @@ struct FrameStats {
     /// Drawn from a stack built for another view or scene, or the last frame
     /// repeated, while the right stack builds in the background (ViewSession).
     bool stale = false;
+    /// Drawn from the still of a view at rest (ViewSession::refineAtRest).
+    bool still = false;
 };
 
 /// The milliseconds of FrameStats: wall time since @a start.

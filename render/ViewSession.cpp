@@ -34,11 +34,20 @@ double coarsenessFor(const RenderVolume& volume, double fullMm, double spacingVo
 
 }  // namespace
 
-ViewSession::ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch, FirstImage firstImage)
-    : mScene(std::move(scene)), mSettings(settings), mPrefetch(prefetch), mFirstImage(firstImage) {}
+ShearWarpSettings stillSettingsFor(ShearWarpSettings moving, double supersampling) {
+    moving.stacks = StackOrientation::view;
+    moving.supersampling = supersampling;
+    return moving;
+}
+
+ViewSession::ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch, FirstImage firstImage,
+                         std::optional<ShearWarpSettings> still)
+    : mScene(std::move(scene)), mSettings(settings), mPrefetch(prefetch), mFirstImage(firstImage),
+      mStillSettings(std::move(still)) {}
 
 ViewSession::~ViewSession() {
-    if (mBuild.valid()) cancelBuild();
+    if (mBuild.result.valid()) cancel(mBuild);
+    if (mStillBuild.result.valid()) cancel(mStillBuild);
     for (std::future<BuiltStack>& build : mCancelled) build.wait();
 }
 
@@ -89,21 +98,31 @@ ViewSession::BuiltStack ViewSession::buildStack(const StackTarget& target, doubl
     return built;
 }
 
-void ViewSession::startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal) {
-    mBuildTarget = {mScene, normal, mSettings.sampleMmFor(camera, *mScene->layers.front().volume)};
-    mBuildCancel = std::make_shared<std::atomic<bool>>(false);
-    mBuild = std::async(std::launch::async,
-                        [target = mBuildTarget, cancel = mBuildCancel, spacing = mSettings.sliceSpacingVoxels,
-                         segments = mSettings.segmentViews()] { return buildStack(target, spacing, segments, cancel.get());
-                        });
+ViewSession::PendingBuild ViewSession::startBuilding(const StackTarget& target, const ShearWarpSettings& settings) {
+    PendingBuild build;
+    build.target = target;
+    build.cancel = std::make_shared<std::atomic<bool>>(false);
+    build.result = std::async(std::launch::async, [target, cancel = build.cancel, spacing = settings.sliceSpacingVoxels,
+                                                   segments = settings.segmentViews()] {
+        return buildStack(target, spacing, segments, cancel.get());
+    });
+    return build;
 }
 
-void ViewSession::cancelBuild() {
-    mBuildCancel->store(true);
+void ViewSession::startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal) {
+    mBuild = startBuilding({mScene, normal, mSettings.sampleMmFor(camera, *mScene->layers.front().volume)}, mSettings);
+}
+
+void ViewSession::cancel(PendingBuild& build) {
+    build.cancel->store(true);
     // A future of std::async waits for its thread when destroyed: kept until ready,
     // so that dropping it never holds up a frame.
-    mCancelled.push_back(std::move(mBuild));
+    mCancelled.push_back(std::move(build.result));
     ++mBuildsCancelled;
+}
+
+bool ViewSession::finished(const PendingBuild& build) {
+    return build.result.valid() && build.result.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
 }
 
 void ViewSession::buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& normal, FrameStats& frame) {
@@ -122,7 +141,7 @@ void ViewSession::buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& n
 }
 
 void ViewSession::prefetchNextAxis(const OrthoCamera& camera) {
-    if (mPrefetch != Prefetch::nextAxis || mSettings.stacks != StackOrientation::axes || mBuild.valid() ||
+    if (mPrefetch != Prefetch::nextAxis || mSettings.stacks != StackOrientation::axes || building() ||
         !fits(mCurrent, camera)) {
         return;
     }
@@ -140,8 +159,8 @@ void ViewSession::prefetchNextAxis(const OrthoCamera& camera) {
 }
 
 void ViewSession::adoptFinishedBuild(const OrthoCamera& camera, FrameStats& frame) {
-    if (!mBuild.valid() || mBuild.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
-    BuiltStack built = mBuild.get();
+    if (!finished(mBuild)) return;
+    BuiltStack built = mBuild.result.get();
     ++mStacksBuilt;
     if (!fits(built, camera) && fits(mCurrent, camera)) {
         if (mSettings.stacks == StackOrientation::axes) keep(std::move(built));
@@ -164,21 +183,26 @@ Framebuffer ViewSession::render(const OrthoCamera& camera, FrameStats* stats) {
         return build.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
     };
     mCancelled.erase(std::remove_if(mCancelled.begin(), mCancelled.end(), stopped), mCancelled.end());
+    if (drawStill(camera, frame)) {
+        frame.totalMs = millisecondsSince(start);
+        if (stats) *stats = frame;
+        return mLastFrame;
+    }
     adoptFinishedBuild(camera, frame);
     if (!fits(mCurrent, camera)) recallKept(camera);
     // The view has moved on from what is being built (a prefetch included): build what it needs now.
-    if (!fits(mCurrent, camera) && mBuild.valid() && !fits(mBuildTarget, camera)) cancelBuild();
+    if (!fits(mCurrent, camera) && building() && !fits(mBuild.target, camera)) cancel(mBuild);
     const openvdb::Vec3d normal = mSettings.stackNormalFor(camera.direction);
     const bool sameSize = mLastFrame.width == camera.width && mLastFrame.height == camera.height;
     // Before the full build starts, so that the two do not share the cores.
-    if (mFirstImage == FirstImage::coarseFirst && !sameSize && !shearableFor(camera) && !mBuild.valid()) {
+    if (mFirstImage == FirstImage::coarseFirst && !sameSize && !shearableFor(camera) && !building()) {
         buildCoarse(camera, normal, frame);
     }
-    if (!fits(mCurrent, camera) && !mBuild.valid()) startBuild(camera, normal);
+    if (!fits(mCurrent, camera) && !building()) startBuild(camera, normal);
     // Nothing to show meanwhile (the first frame, or a new size far off): wait.
     while (!sameSize && !shearableFor(camera)) {
-        if (!mBuild.valid()) startBuild(camera, normal);
-        mBuild.wait();
+        if (!building()) startBuild(camera, normal);
+        mBuild.result.wait();
         adoptFinishedBuild(camera, frame);
         if (!fits(mCurrent, camera)) recallKept(camera);
     }
@@ -194,13 +218,62 @@ Framebuffer ViewSession::render(const OrthoCamera& camera, FrameStats* stats) {
 
 Framebuffer ViewSession::renderSettled(const OrthoCamera& camera, FrameStats* stats) {
     FrameStats frame;
+    if (stillPending(camera)) {
+        startStill(camera);
+        mStillBuild.result.wait();
+    }
     Framebuffer image = render(camera, &frame);
     while (frame.stale) {
-        mBuild.wait();
+        mBuild.result.wait();
         image = render(camera, &frame);
     }
     if (stats) *stats = frame;
     return image;
+}
+
+ViewSession::StackTarget ViewSession::stillTargetFor(const OrthoCamera& camera) const {
+    const RenderVolume& volume = *mScene->layers.front().volume;
+    return {mScene, mStillSettings->stackNormalFor(camera.direction), mStillSettings->sampleMmFor(camera, volume)};
+}
+
+bool ViewSession::stillPending(const OrthoCamera& camera) const {
+    return mStillSettings && !(mStill.stack && mStillTarget == stillTargetFor(camera));
+}
+
+void ViewSession::startStill(const OrthoCamera& camera) {
+    const StackTarget wanted = stillTargetFor(camera);
+    if (mStillBuild.result.valid() && mStillBuild.target == wanted) return;
+    if (mStillBuild.result.valid()) cancel(mStillBuild);
+    mStillBuild = startBuilding(wanted, *mStillSettings);
+}
+
+void ViewSession::refineAtRest(const OrthoCamera& camera) {
+    // After the moving frames' own build: the two would share the cores.
+    if (stillPending(camera) && !building()) startStill(camera);
+}
+
+bool ViewSession::drawStill(const OrthoCamera& camera, FrameStats& frame) {
+    if (!mStillSettings) return false;
+    const StackTarget wanted = stillTargetFor(camera);
+    const bool fresh = finished(mStillBuild);
+    if (fresh) {
+        mStillTarget = mStillBuild.target;
+        mStill = mStillBuild.result.get();
+        ++mStacksBuilt;
+    }
+    if (!mStill.stack || !(mStillTarget == wanted)) {
+        mStill = BuiltStack{};  // the view or the scene has moved on: its memory goes
+        if (mStillBuild.result.valid() && !(mStillBuild.target == wanted)) cancel(mStillBuild);
+        return false;
+    }
+    frame.still = true;
+    if (fresh) {
+        frame.reused = false;
+        frame.buildMs = mStill.buildMs;
+        frame.gaussiansTouched = mStill.stack->gaussiansTouched();
+    }
+    mLastFrame = mFramer.frame(*mStill.stack, camera, mStillSettings->terminationOpacity, frame);
+    return true;
 }
 
 }  // namespace gvr

@@ -3,7 +3,9 @@
 /// it does not have (or the scene changes), the new stack is built in the background
 /// while frames keep coming from the old one, so the window never waits for a build.
 /// A build that the view has moved away from is cancelled for the one it needs now.
-/// Stacks across the axes are kept, so that an orbit builds each at most once.
+/// Stacks across the axes are kept, so that an orbit builds each at most once. Once
+/// the view rests, a session may draw a still instead: a stack across the view at
+/// `gvr render`'s sampling, built in the background, which the next move drops.
 #pragma once
 
 #include "render/ShearWarp.h"
@@ -12,6 +14,7 @@
 #include <atomic>
 #include <future>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace gvr {
@@ -41,10 +44,17 @@ enum class FirstImage {
     coarseFirst,
 };
 
+/// The settings of the still drawn once the view rests: those of @a moving, with a
+/// stack across the view at @a supersampling samples a pixel, as `gvr render` draws
+/// a single image.
+ShearWarpSettings stillSettingsFor(ShearWarpSettings moving, double supersampling);
+
 class ViewSession {
 public:
+    /// @param still  the settings of the still drawn once the view rests
+    ///               (refineAtRest); none: the moving frames stay
     ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch = Prefetch::none,
-                FirstImage firstImage = FirstImage::settled);
+                FirstImage firstImage = FirstImage::settled, std::optional<ShearWarpSettings> still = std::nullopt);
     ~ViewSession();  ///< cancels a build in progress, and waits for it to stop
 
     /// Draw @a scene from the next frame on (its stack is built in the background).
@@ -57,11 +67,22 @@ public:
     /// be sheared that far.
     Framebuffer render(const OrthoCamera& camera, FrameStats* stats = nullptr);
 
-    /// The same, from the stack built for this view and scene: waits for builds as
-    /// needed (for screenshots, which must show what `gvr render` would).
+    /// The same, from the stack built for this view and scene (the still, when the
+    /// session has one): waits for builds as needed (for screenshots, which must
+    /// show what `gvr render` would).
     Framebuffer renderSettled(const OrthoCamera& camera, FrameStats* stats = nullptr);
 
-    bool building() const { return mBuild.valid(); }
+    /// The view has rested on @a camera: starts building its still in the
+    /// background, unless the session has none, holds or builds it already, or
+    /// builds a stack the moving frames need (then later). render() draws the still
+    /// (stats.still) once it is built, until the view or the scene changes.
+    void refineAtRest(const OrthoCamera& camera);
+    /// Whether @a camera's still is yet to be drawn (false when the session has none).
+    bool stillPending(const OrthoCamera& camera) const;
+    /// Whether a still's build has finished: the next render() draws it, if the view is still there.
+    bool stillBuilt() const { return finished(mStillBuild); }
+
+    bool building() const { return mBuild.result.valid(); }
     int stacksBuilt() const { return mStacksBuilt; }
     /// Builds abandoned because the view or the scene moved on before they finished.
     int buildsCancelled() const { return mBuildsCancelled; }
@@ -79,6 +100,17 @@ private:
         Scene scene;
         openvdb::Vec3d normal;
         double sampleMm = 0;
+
+        bool operator==(const StackTarget& other) const {
+            return scene == other.scene && normal == other.normal && sampleMm == other.sampleMm;
+        }
+    };
+
+    /// A stack building on another thread, and the flag that stops it.
+    struct PendingBuild {
+        std::future<BuiltStack> result;
+        StackTarget target;                         ///< what it builds
+        std::shared_ptr<std::atomic<bool>> cancel;  ///< shared with its thread
     };
 
     /// The scene's stack across @a normal, built now on this thread.
@@ -94,10 +126,19 @@ private:
     void dropKept(const openvdb::Vec3d& normal);
     /// Keeps @a built among the stacks of other axes, in place of any across the same axis.
     void keep(BuiltStack built);
+    static PendingBuild startBuilding(const StackTarget& target, const ShearWarpSettings& settings);
     void startBuild(const OrthoCamera& camera, const openvdb::Vec3d& normal);
-    /// Stops the build in progress without waiting for it: it finishes its slab
-    /// alone, and is forgotten once it has.
-    void cancelBuild();
+    /// Stops @a build without waiting for it: it finishes its slab alone, and is
+    /// forgotten once it has.
+    void cancel(PendingBuild& build);
+    static bool finished(const PendingBuild& build);
+    /// Starts building @a camera's still, unless it is being built.
+    void startStill(const OrthoCamera& camera);
+    /// The still @a camera's view would be drawn from.
+    StackTarget stillTargetFor(const OrthoCamera& camera) const;
+    /// Draws the still for @a camera when the session holds it; drops a still and
+    /// cancels a still's build that the view or the scene has left.
+    bool drawStill(const OrthoCamera& camera, FrameStats& frame);
     /// Makes a coarse stack for @a camera the current one (FirstImage::coarseFirst).
     void buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& normal, FrameStats& frame);
     void prefetchNextAxis(const OrthoCamera& camera);
@@ -109,11 +150,13 @@ private:
     ShearWarpSettings mSettings;
     Prefetch mPrefetch;
     FirstImage mFirstImage;
+    std::optional<ShearWarpSettings> mStillSettings;
     BuiltStack mCurrent;
     std::vector<BuiltStack> mKept;  ///< other axes' stacks, never empty ones
-    std::future<BuiltStack> mBuild;
-    StackTarget mBuildTarget;                       ///< what mBuild builds
-    std::shared_ptr<std::atomic<bool>> mBuildCancel;  ///< mBuild's flag, shared with its thread
+    PendingBuild mBuild;
+    BuiltStack mStill;
+    StackTarget mStillTarget;  ///< what mStill was built for
+    PendingBuild mStillBuild;
     std::vector<std::future<BuiltStack>> mCancelled;  ///< cancelled builds still stopping
     Framebuffer mLastFrame;
     ShearWarpFramer mFramer;

@@ -233,6 +233,86 @@ TEST(ViewSession, ABuildTheViewHasLeftIsCancelledForTheOneItNeedsNow) {
     EXPECT_EQ(image.rgba, freshFrame(scene, view(0.0, 85.0)).rgba);
 }
 
+/// gvr view's settings: axis stacks at one sample a pixel while the view moves,
+/// gvr render's still once it rests.
+ShearWarpSettings movingSettings() {
+    ShearWarpSettings settings;
+    settings.supersampling = 1.0;
+    return settings;
+}
+const ShearWarpSettings kStill = stillSettingsFor(movingSettings(), 1.5);
+
+TEST(ViewSession, AViewAtRestIsDrawnAgainAsGvrRendersStill) {
+    const auto volume = blob();
+    const Scene scene = sceneOf(*volume, 0.1f);
+    ViewSession session(scene, movingSettings(), Prefetch::none, FirstImage::settled, kStill);
+    const OrthoCamera camera = cameraFor(*volume, 30.0);
+    FrameStats moving;
+    const Framebuffer axisFrame = session.render(camera, &moving);
+    EXPECT_FALSE(moving.still);
+    EXPECT_TRUE(session.stillPending(camera));
+    session.refineAtRest(camera);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (!session.stillBuilt()) {
+        ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the still never finished";
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    FrameStats rested;
+    const Framebuffer still = session.render(camera, &rested);
+    EXPECT_TRUE(rested.still);
+    EXPECT_FALSE(rested.reused);
+    EXPECT_FALSE(session.stillPending(camera));
+    EXPECT_EQ(still.rgba, ShearWarpRenderer(scene->layers, kStill).render(camera).rgba);
+    EXPECT_NE(still.rgba, axisFrame.rgba);
+    FrameStats again;
+    EXPECT_EQ(session.render(camera, &again).rgba, still.rgba);
+    EXPECT_TRUE(again.still && again.reused);
+
+    // A move drops the still: the moving frames are the axis stacks' again.
+    FrameStats turned;
+    const Framebuffer image = session.render(cameraFor(*volume, 35.0), &turned);
+    EXPECT_FALSE(turned.still);
+    EXPECT_EQ(image.rgba, ShearWarpRenderer(scene->layers, movingSettings()).render(cameraFor(*volume, 35.0)).rgba);
+    EXPECT_TRUE(session.stillPending(camera));
+}
+
+TEST(ViewSession, ScreenshotsShowTheStillWhenTheSessionHasOne) {
+    const auto volume = blob();
+    const Scene scene = sceneOf(*volume, 0.1f);
+    ViewSession session(scene, movingSettings(), Prefetch::none, FirstImage::coarseFirst, kStill);
+    FrameStats settled;
+    const Framebuffer image = session.renderSettled(cameraFor(*volume, 60.0), &settled);
+    EXPECT_TRUE(settled.still);
+    EXPECT_EQ(image.rgba, ShearWarpRenderer(scene->layers, kStill).render(cameraFor(*volume, 60.0)).rgba);
+}
+
+TEST(ViewSession, AStillTheViewHasLeftIsCancelledAndTheMovingFramesGoOn) {
+    GatedVolume volume(blob());
+    const Scene scene = sceneOf(volume, 0.1f);
+    ViewSession session(scene, movingSettings(), Prefetch::none, FirstImage::settled, kStill);
+    session.render(cameraFor(volume, 30.0));
+    volume.open = false;
+    session.refineAtRest(cameraFor(volume, 30.0));  // waits at the gate
+    EXPECT_FALSE(session.building());  // the still does not hold up the moving frames' builds
+    FrameStats moved;
+    session.render(cameraFor(volume, 40.0), &moved);  // the same axis stack: no build waits
+    EXPECT_FALSE(moved.still);
+    EXPECT_FALSE(moved.stale);
+    EXPECT_EQ(session.buildsCancelled(), 1);
+    // The moving frames' own build comes first: no still starts beside it (one
+    // would be cancelled as the view moves on).
+    session.render(cameraFor(volume, 120.0));  // along x: its build waits at the gate
+    ASSERT_TRUE(session.building());
+    session.refineAtRest(cameraFor(volume, 120.0));
+    session.render(cameraFor(volume, 125.0));
+    EXPECT_EQ(session.buildsCancelled(), 1);
+    volume.open = true;
+    FrameStats settled;
+    session.renderSettled(cameraFor(volume, 125.0), &settled);
+    EXPECT_TRUE(settled.still);
+    EXPECT_FALSE(session.stillPending(cameraFor(volume, 125.0)));
+}
+
 TEST(ViewSession, AViewFarFromEveryStackWaitsRatherThanShearingAtGrazingAngles) {
     const auto volume = blob();
     ViewSession session(sceneOf(*volume, 0.1f), ShearWarpSettings{});

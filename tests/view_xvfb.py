@@ -4,12 +4,14 @@
 Usage: xvfb-run -a -s "-screen 0 1280x1024x24" python3 view_xvfb.py GVR SHARED_DATA WORK
 
 - A fixed view's screenshot matches `gvr render` at the same camera within one
-  8-bit level on average.
+  8-bit level on average: it is the still the window draws once the view rests,
+  which comes after the coarse and the refined images.
 - A drag to the right turns the azimuth by 0.4 degrees a pixel: the screenshot
   then matches `gvr render` at the new azimuth.
 - The wheel zooms in (more pixels covered), `]` raises the opacity, `t` moves to
   the next preset, and the number keys hide structures as `gvr render --hide` does.
-- A missing file and a missing display are one-line errors with exit code 2.
+- A missing file, a missing display and a still's sampling out of range are
+  one-line errors with exit code 2.
 """
 import json
 import os
@@ -93,9 +95,9 @@ class Window:
 
 
 def render(source, name, *args):
-    """gvr render at the window's settings: gvr view's defaults, axis stacks and one stack sample a pixel."""
+    """gvr render's still at the window's size: what a screenshot (the view at rest) shows."""
     path = os.path.join(WORK, name)
-    gvr("render", source, "-o", path, "--size", SIZE, "--stacks", "axes", "--supersample", "1", "-q", *args)
+    gvr("render", source, "-o", path, "--size", SIZE, "-q", *args)
     return path
 
 
@@ -146,6 +148,8 @@ def main():
                     f"first image after {summary['first_image_ms']:.0f} ms, set-up {1000 * setup['total']:.0f} ms")
     passed &= check(summary["refined_image_ms"] > summary["first_image_ms"],
                     f"the coarse image first, the refined one after {summary['refined_image_ms']:.0f} ms")
+    passed &= check(summary["still_image_ms"] > summary["refined_image_ms"],
+                    f"the still once the view rests, after {summary['still_image_ms']:.0f} ms")
 
     passed &= check_structures()
     passed &= check_bad_input(asset)
@@ -175,6 +179,9 @@ def check_bad_input(asset):
     missing = subprocess.run([GVR, "view", os.path.join(WORK, "missing.gvr")], capture_output=True, text=True)
     ok = check(missing.returncode == 2 and missing.stderr.count("\n") == 1 and "missing.gvr" in missing.stderr,
                "a missing file: exit 2, " + missing.stderr.strip())
+    still = subprocess.run([GVR, "view", asset, "--still-supersample", "7"], capture_output=True, text=True)
+    ok &= check(still.returncode == 2 and still.stderr.count("\n") == 1 and "--still-supersample" in still.stderr,
+                "a still's sampling out of range: exit 2, " + still.stderr.strip())
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
     headless = subprocess.run([GVR, "view", asset], capture_output=True, text=True, env=env)
     return check(headless.returncode == 2 and headless.stderr.count("\n") == 1 and "display" in headless.stderr,
