@@ -89,8 +89,8 @@ public:
             const OrthoCamera view = camera(mWidth, mHeight);
             noteMove();
             if (millisecondsSince(mLastMove) >= 1000.0 * kRestSeconds) mSession->refineAtRest(view);
-            stillToCome = mSession->stillPending(view);
-            if (!changed && !busy && !mSession->stillBuilt()) continue;
+            stillToCome = mSession->stillPending();
+            if (!changed && !busy && !mSession->stillToDraw(view)) continue;
             FrameStats frame;
             const Framebuffer image = mSession->render(view, &frame);
             recordFrame(frame);
@@ -100,7 +100,7 @@ public:
             if (frame.still && mStillImageMs == 0) mStillImageMs = millisecondsSince(commandStart);
             if (mFlags.frames > 0 && mFrames >= mFlags.frames) break;
             busy = frame.stale || mSession->building() || mFlags.frames > 0;
-            stillToCome = mSession->stillPending(view);
+            stillToCome = mSession->stillPending();
         }
         mSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
@@ -260,10 +260,11 @@ private:
         std::ostringstream rate, stack, view;
         rate << std::fixed << std::setprecision(1) << 1000.0 / std::max(mSmoothedMs, 1e-3) << " FPS, "
              << std::setprecision(1) << mSmoothedMs << " ms a frame";
-        stack << (frame.still   ? "stack: the still, across the view"
+        stack << (frame.still   ? "stack: the still"
                   : frame.stale ? "stack: building for this view..."
                   : frame.reused ? "stack: reused"
                                  : "stack: rebuilt")
+              << (mSession->buildingStill() && !frame.still ? " (the still builds)" : "")
               << "; last build " << std::fixed << std::setprecision(0) << mLastBuild.buildMs << " ms, "
               << mLastBuild.gaussiansTouched << " Gaussians touched";
         view << std::fixed << "tf " << mState.tf << " (t), opacity x" << std::setprecision(2)
@@ -346,9 +347,9 @@ void addViewCommand(CLI::App& app) {
     addStackFlags(*command, flags->shearWarp);
     command
         ->add_option("--still-supersample", flags->stillSupersampling,
-                     "Once the view rests (0.2 s), draw it again from a stack across it with this many samples along "
-                     "each side of a pixel, built in the background, as gvr render draws a still; screenshots show "
-                     "it too. 0: keep the moving frames")
+                     "Once the view rests (0.2 s), draw it again from a stack with this many samples along each side "
+                     "of a pixel, built in the background and kept while it serves the view (gvr render's default: "
+                     "past the one-ray ray marcher); screenshots show it. 0: keep the moving frames")
         ->capture_default_str();
     command->add_option("--screenshots", flags->screenshots, "Folder for the screenshots (key s)")->capture_default_str();
     command->add_option("--frames", flags->frames, "Close after this many frames (0: when the window closes)");

@@ -22,6 +22,12 @@ constexpr double kZoomInLimit = 1.5, kZoomOutLimit = 2.0;
 /// a build of about a tenth of a second on two cores.
 constexpr double kMinCoarseness = 2.0, kCoarseSamples = 2.0e6;
 
+/// Whether @a a and @a b show the same picture.
+bool sameView(const OrthoCamera& a, const OrthoCamera& b) {
+    return a.direction == b.direction && a.right == b.right && a.up == b.up && a.centre == b.centre &&
+           a.pixelMm == b.pixelMm && a.width == b.width && a.height == b.height;
+}
+
 /// How many times further apart a coarse stack's samples lie than those of a full
 /// stack with samples @a fullMm apart across its slices and @a spacingVoxels between them.
 double coarsenessFor(const RenderVolume& volume, double fullMm, double spacingVoxels) {
@@ -35,7 +41,6 @@ double coarsenessFor(const RenderVolume& volume, double fullMm, double spacingVo
 }  // namespace
 
 ShearWarpSettings stillSettingsFor(ShearWarpSettings moving, double supersampling) {
-    moving.stacks = StackOrientation::view;
     moving.supersampling = supersampling;
     return moving;
 }
@@ -218,9 +223,12 @@ Framebuffer ViewSession::render(const OrthoCamera& camera, FrameStats* stats) {
 
 Framebuffer ViewSession::renderSettled(const OrthoCamera& camera, FrameStats* stats) {
     FrameStats frame;
-    if (stillPending(camera)) {
-        startStill(camera);
-        mStillBuild.result.wait();
+    if (mStillSettings) {
+        mRestingOn = camera;
+        if (!holdsStillFor(camera)) {
+            startStill(camera);
+            mStillBuild.result.wait();
+        }
     }
     Framebuffer image = render(camera, &frame);
     while (frame.stale) {
@@ -236,43 +244,59 @@ ViewSession::StackTarget ViewSession::stillTargetFor(const OrthoCamera& camera) 
     return {mScene, mStillSettings->stackNormalFor(camera.direction), mStillSettings->sampleMmFor(camera, volume)};
 }
 
-bool ViewSession::stillPending(const OrthoCamera& camera) const {
-    return mStillSettings && !(mStill.stack && mStillTarget == stillTargetFor(camera));
+bool ViewSession::stillServes(const StackTarget& target, const OrthoCamera& camera) const {
+    const StackTarget wanted = stillTargetFor(camera);
+    return target.scene == wanted.scene && target.sampleMm == wanted.sampleMm &&
+           mStillSettings->serves(target.normal, camera.direction);
+}
+
+bool ViewSession::holdsStillFor(const OrthoCamera& camera) const {
+    return mStill.stack && stillServes(mStillTarget, camera);
+}
+
+bool ViewSession::stillToDraw(const OrthoCamera& camera) const {
+    if (!stillPending() || !mRestingOn || !sameView(*mRestingOn, camera)) return false;
+    return holdsStillFor(camera) || (finished(mStillBuild) && stillServes(mStillBuild.target, camera));
 }
 
 void ViewSession::startStill(const OrthoCamera& camera) {
-    const StackTarget wanted = stillTargetFor(camera);
-    if (mStillBuild.result.valid() && mStillBuild.target == wanted) return;
+    if (mStillBuild.result.valid() && stillServes(mStillBuild.target, camera)) return;
     if (mStillBuild.result.valid()) cancel(mStillBuild);
-    mStillBuild = startBuilding(wanted, *mStillSettings);
+    mStill = BuiltStack{};
+    mStillBuild = startBuilding(stillTargetFor(camera), *mStillSettings);
 }
 
 void ViewSession::refineAtRest(const OrthoCamera& camera) {
+    if (!mStillSettings) return;
+    mRestingOn = camera;
     // After the moving frames' own build: the two would share the cores.
-    if (stillPending(camera) && !building()) startStill(camera);
+    if (!holdsStillFor(camera) && !building()) startStill(camera);
+}
+
+void ViewSession::adoptFinishedStill() {
+    if (!finished(mStillBuild)) return;
+    mStillTarget = mStillBuild.target;
+    mStill = mStillBuild.result.get();
+    mStillFresh = true;
+    ++mStacksBuilt;
 }
 
 bool ViewSession::drawStill(const OrthoCamera& camera, FrameStats& frame) {
+    mStillShown = false;
     if (!mStillSettings) return false;
-    const StackTarget wanted = stillTargetFor(camera);
-    const bool fresh = finished(mStillBuild);
-    if (fresh) {
-        mStillTarget = mStillBuild.target;
-        mStill = mStillBuild.result.get();
-        ++mStacksBuilt;
-    }
-    if (!mStill.stack || !(mStillTarget == wanted)) {
-        mStill = BuiltStack{};  // the view or the scene has moved on: its memory goes
-        if (mStillBuild.result.valid() && !(mStillBuild.target == wanted)) cancel(mStillBuild);
-        return false;
-    }
+    adoptFinishedStill();
+    if (mRestingOn && !sameView(*mRestingOn, camera)) mRestingOn.reset();
+    if (mStillBuild.result.valid() && !stillServes(mStillBuild.target, camera)) cancel(mStillBuild);
+    if (!mRestingOn || !holdsStillFor(camera)) return false;
     frame.still = true;
-    if (fresh) {
+    if (mStillFresh) {
         frame.reused = false;
         frame.buildMs = mStill.buildMs;
         frame.gaussiansTouched = mStill.stack->gaussiansTouched();
+        mStillFresh = false;
     }
     mLastFrame = mFramer.frame(*mStill.stack, camera, mStillSettings->terminationOpacity, frame);
+    mStillShown = true;
     return true;
 }
 

@@ -4,8 +4,9 @@
 /// while frames keep coming from the old one, so the window never waits for a build.
 /// A build that the view has moved away from is cancelled for the one it needs now.
 /// Stacks across the axes are kept, so that an orbit builds each at most once. Once
-/// the view rests, a session may draw a still instead: a stack across the view at
-/// `gvr render`'s sampling, built in the background, which the next move drops.
+/// the view rests, a session may draw a still instead: a finer stack, built in the
+/// background and kept while it serves the view, so that the frame rate comes from
+/// coarse stacks and what a person studies from fine ones.
 #pragma once
 
 #include "render/ShearWarp.h"
@@ -44,9 +45,9 @@ enum class FirstImage {
     coarseFirst,
 };
 
-/// The settings of the still drawn once the view rests: those of @a moving, with a
-/// stack across the view at @a supersampling samples a pixel, as `gvr render` draws
-/// a single image.
+/// The settings of the still drawn once the view rests: those of @a moving, with
+/// @a supersampling samples a pixel side (`gvr render`'s 1.5 passes the one-ray ray
+/// marcher, axis stacks included: docs/benchmarks.md).
 ShearWarpSettings stillSettingsFor(ShearWarpSettings moving, double supersampling);
 
 class ViewSession {
@@ -72,15 +73,18 @@ public:
     /// show what `gvr render` would).
     Framebuffer renderSettled(const OrthoCamera& camera, FrameStats* stats = nullptr);
 
-    /// The view has rested on @a camera: starts building its still in the
-    /// background, unless the session has none, holds or builds it already, or
-    /// builds a stack the moving frames need (then later). render() draws the still
-    /// (stats.still) once it is built, until the view or the scene changes.
+    /// The view has rested on @a camera: render() draws it from the still (stats.still)
+    /// until the view moves, once a still stack that serves it is there. Starts
+    /// building one in the background unless the session has no still settings,
+    /// holds or builds one already, or builds a stack for the moving frames (then
+    /// at a later call).
     void refineAtRest(const OrthoCamera& camera);
-    /// Whether @a camera's still is yet to be drawn (false when the session has none).
-    bool stillPending(const OrthoCamera& camera) const;
-    /// Whether a still's build has finished: the next render() draws it, if the view is still there.
-    bool stillBuilt() const { return finished(mStillBuild); }
+    /// Whether the last frame was not the still of a view at rest: a still may be to
+    /// come (false when the session has no still settings).
+    bool stillPending() const { return mStillSettings && !mStillShown; }
+    /// Whether render() would now draw @a camera, at rest, from a still it has not drawn yet.
+    bool stillToDraw(const OrthoCamera& camera) const;
+    bool buildingStill() const { return mStillBuild.result.valid(); }
 
     bool building() const { return mBuild.result.valid(); }
     int stacksBuilt() const { return mStacksBuilt; }
@@ -132,12 +136,18 @@ private:
     /// forgotten once it has.
     void cancel(PendingBuild& build);
     static bool finished(const PendingBuild& build);
-    /// Starts building @a camera's still, unless it is being built.
-    void startStill(const OrthoCamera& camera);
-    /// The still @a camera's view would be drawn from.
+    /// The still @a camera's view would be built for.
     StackTarget stillTargetFor(const OrthoCamera& camera) const;
-    /// Draws the still for @a camera when the session holds it; drops a still and
-    /// cancels a still's build that the view or the scene has left.
+    /// Whether a still built for @a target serves @a camera's view.
+    bool stillServes(const StackTarget& target, const OrthoCamera& camera) const;
+    bool holdsStillFor(const OrthoCamera& camera) const;
+    /// Starts building @a camera's still, unless one that serves it is building;
+    /// a held still that does not serve it goes, and its memory with it.
+    void startStill(const OrthoCamera& camera);
+    /// Makes a finished still build the held still.
+    void adoptFinishedStill();
+    /// Draws @a camera from the still when the view rests there and one serves it;
+    /// cancels a still's build that cannot serve the view.
     bool drawStill(const OrthoCamera& camera, FrameStats& frame);
     /// Makes a coarse stack for @a camera the current one (FirstImage::coarseFirst).
     void buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& normal, FrameStats& frame);
@@ -157,6 +167,8 @@ private:
     BuiltStack mStill;
     StackTarget mStillTarget;  ///< what mStill was built for
     PendingBuild mStillBuild;
+    std::optional<OrthoCamera> mRestingOn;  ///< the view at rest, until it moves
+    bool mStillShown = false, mStillFresh = false;  ///< the last frame was the still; mStill not drawn yet
     std::vector<std::future<BuiltStack>> mCancelled;  ///< cancelled builds still stopping
     Framebuffer mLastFrame;
     ShearWarpFramer mFramer;

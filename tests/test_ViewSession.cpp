@@ -242,7 +242,16 @@ ShearWarpSettings movingSettings() {
 }
 const ShearWarpSettings kStill = stillSettingsFor(movingSettings(), 1.5);
 
-TEST(ViewSession, AViewAtRestIsDrawnAgainAsGvrRendersStill) {
+/// Waits for the still of @a camera, at rest, to be ready to draw.
+void waitForTheStill(const ViewSession& session, const OrthoCamera& camera) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (!session.stillToDraw(camera)) {
+        ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the still never finished";
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+}
+
+TEST(ViewSession, AViewAtRestIsDrawnAgainFromTheFinerStillStack) {
     const auto volume = blob();
     const Scene scene = sceneOf(*volume, 0.1f);
     ViewSession session(scene, movingSettings(), Prefetch::none, FirstImage::settled, kStill);
@@ -250,67 +259,73 @@ TEST(ViewSession, AViewAtRestIsDrawnAgainAsGvrRendersStill) {
     FrameStats moving;
     const Framebuffer axisFrame = session.render(camera, &moving);
     EXPECT_FALSE(moving.still);
-    EXPECT_TRUE(session.stillPending(camera));
+    EXPECT_TRUE(session.stillPending());
+    EXPECT_FALSE(session.stillToDraw(camera));  // not at rest yet
     session.refineAtRest(camera);
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while (!session.stillBuilt()) {
-        ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the still never finished";
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
+    waitForTheStill(session, camera);
     FrameStats rested;
     const Framebuffer still = session.render(camera, &rested);
     EXPECT_TRUE(rested.still);
     EXPECT_FALSE(rested.reused);
-    EXPECT_FALSE(session.stillPending(camera));
+    EXPECT_FALSE(session.stillPending());
+    EXPECT_FALSE(session.stillToDraw(camera));  // drawn
     EXPECT_EQ(still.rgba, ShearWarpRenderer(scene->layers, kStill).render(camera).rgba);
     EXPECT_NE(still.rgba, axisFrame.rgba);
-    FrameStats again;
-    EXPECT_EQ(session.render(camera, &again).rgba, still.rgba);
-    EXPECT_TRUE(again.still && again.reused);
+    EXPECT_EQ(session.stacksBuilt(), 2);
 
-    // A move drops the still: the moving frames are the axis stacks' again.
-    FrameStats turned;
-    const Framebuffer image = session.render(cameraFor(*volume, 35.0), &turned);
-    EXPECT_FALSE(turned.still);
-    EXPECT_EQ(image.rgba, ShearWarpRenderer(scene->layers, movingSettings()).render(cameraFor(*volume, 35.0)).rgba);
-    EXPECT_TRUE(session.stillPending(camera));
+    // Moving, the frames are the coarser stack's again; resting where the still
+    // stack serves, it is drawn at once, built no more.
+    const OrthoCamera turned = cameraFor(*volume, 35.0);
+    FrameStats moved;
+    EXPECT_EQ(session.render(turned, &moved).rgba, ShearWarpRenderer(scene->layers, movingSettings()).render(turned).rgba);
+    EXPECT_FALSE(moved.still);
+    EXPECT_TRUE(session.stillPending());
+    session.refineAtRest(turned);
+    EXPECT_TRUE(session.stillToDraw(turned));
+    FrameStats again;
+    EXPECT_EQ(session.render(turned, &again).rgba, ShearWarpRenderer(scene->layers, kStill).render(turned).rgba);
+    EXPECT_TRUE(again.still && again.reused);
+    EXPECT_EQ(session.stacksBuilt(), 2);
+    EXPECT_FALSE(session.buildingStill());
 }
 
 TEST(ViewSession, ScreenshotsShowTheStillWhenTheSessionHasOne) {
     const auto volume = blob();
     const Scene scene = sceneOf(*volume, 0.1f);
-    ViewSession session(scene, movingSettings(), Prefetch::none, FirstImage::coarseFirst, kStill);
-    FrameStats settled;
-    const Framebuffer image = session.renderSettled(cameraFor(*volume, 60.0), &settled);
-    EXPECT_TRUE(settled.still);
-    EXPECT_EQ(image.rgba, ShearWarpRenderer(scene->layers, kStill).render(cameraFor(*volume, 60.0)).rgba);
+    for (const ShearWarpSettings& still : {kStill, stillSettingsFor(viewStacks(), 2.0)}) {
+        ViewSession session(scene, movingSettings(), Prefetch::none, FirstImage::coarseFirst, still);
+        FrameStats settled;
+        const Framebuffer image = session.renderSettled(cameraFor(*volume, 60.0), &settled);
+        EXPECT_TRUE(settled.still);
+        EXPECT_EQ(image.rgba, ShearWarpRenderer(scene->layers, still).render(cameraFor(*volume, 60.0)).rgba);
+    }
 }
 
-TEST(ViewSession, AStillTheViewHasLeftIsCancelledAndTheMovingFramesGoOn) {
+TEST(ViewSession, AStillThatCannotServeTheViewIsCancelledAndNoneStartsBesideAMovingBuild) {
     GatedVolume volume(blob());
     const Scene scene = sceneOf(volume, 0.1f);
     ViewSession session(scene, movingSettings(), Prefetch::none, FirstImage::settled, kStill);
-    session.render(cameraFor(volume, 30.0));
+    session.render(cameraFor(volume, 30.0));  // along y
     volume.open = false;
     session.refineAtRest(cameraFor(volume, 30.0));  // waits at the gate
+    EXPECT_TRUE(session.buildingStill());
     EXPECT_FALSE(session.building());  // the still does not hold up the moving frames' builds
     FrameStats moved;
-    session.render(cameraFor(volume, 40.0), &moved);  // the same axis stack: no build waits
-    EXPECT_FALSE(moved.still);
-    EXPECT_FALSE(moved.stale);
+    session.render(cameraFor(volume, 40.0), &moved);  // still along y: the still's build goes on
+    EXPECT_FALSE(moved.still || moved.stale);
+    EXPECT_EQ(session.buildsCancelled(), 0);
+    session.render(cameraFor(volume, 120.0), &moved);  // along x: its build waits at the gate
+    EXPECT_TRUE(moved.stale);
     EXPECT_EQ(session.buildsCancelled(), 1);
-    // The moving frames' own build comes first: no still starts beside it (one
-    // would be cancelled as the view moves on).
-    session.render(cameraFor(volume, 120.0));  // along x: its build waits at the gate
-    ASSERT_TRUE(session.building());
+    EXPECT_FALSE(session.buildingStill());
+    // The moving frames' own build comes first: no still starts beside it.
     session.refineAtRest(cameraFor(volume, 120.0));
-    session.render(cameraFor(volume, 125.0));
-    EXPECT_EQ(session.buildsCancelled(), 1);
+    EXPECT_FALSE(session.buildingStill());
     volume.open = true;
     FrameStats settled;
-    session.renderSettled(cameraFor(volume, 125.0), &settled);
+    const Framebuffer image = session.renderSettled(cameraFor(volume, 120.0), &settled);
     EXPECT_TRUE(settled.still);
-    EXPECT_FALSE(session.stillPending(cameraFor(volume, 125.0)));
+    EXPECT_EQ(image.rgba, ShearWarpRenderer(scene->layers, kStill).render(cameraFor(volume, 120.0)).rgba);
 }
 
 TEST(ViewSession, AViewFarFromEveryStackWaitsRatherThanShearingAtGrazingAngles) {

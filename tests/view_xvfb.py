@@ -95,9 +95,10 @@ class Window:
 
 
 def render(source, name, *args):
-    """gvr render's still at the window's size: what a screenshot (the view at rest) shows."""
+    """What a screenshot (the view at rest) shows: gvr render at the window's size and
+    stacks (axes; gvr render's own supersampling, the still's)."""
     path = os.path.join(WORK, name)
-    gvr("render", source, "-o", path, "--size", SIZE, "-q", *args)
+    gvr("render", source, "-o", path, "--size", SIZE, "--stacks", "axes", "-q", *args)
     return path
 
 
