@@ -287,7 +287,8 @@ bool ViewSession::drawStill(const OrthoCamera& camera, FrameStats& frame) {
     adoptFinishedStill();
     if (mRestingOn && !sameView(*mRestingOn, camera)) mRestingOn.reset();
     if (mStillBuild.result.valid() && !stillServes(mStillBuild.target, camera)) cancel(mStillBuild);
-    if (!mRestingOn || !holdsStillFor(camera)) return false;
+    if (mStill.stack && !holdsStillFor(camera)) mStill = BuiltStack{};  // its memory goes
+    if (!mRestingOn || !mStill.stack) return false;
     frame.still = true;
     if (mStillFresh) {
         frame.reused = false;

@@ -147,7 +147,7 @@ private:
     /// Makes a finished still build the held still.
     void adoptFinishedStill();
     /// Draws @a camera from the still when the view rests there and one serves it;
-    /// cancels a still's build that cannot serve the view.
+    /// drops the still, or cancels a still's build, that cannot serve the view.
     bool drawStill(const OrthoCamera& camera, FrameStats& frame);
     /// Makes a coarse stack for @a camera the current one (FirstImage::coarseFirst).
     void buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& normal, FrameStats& frame);

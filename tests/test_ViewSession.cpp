@@ -287,6 +287,15 @@ TEST(ViewSession, AViewAtRestIsDrawnAgainFromTheFinerStillStack) {
     EXPECT_TRUE(again.still && again.reused);
     EXPECT_EQ(session.stacksBuilt(), 2);
     EXPECT_FALSE(session.buildingStill());
+
+    // Along another axis the still cannot serve: its memory goes, and a rest back
+    // where it served needs it built again.
+    FrameStats away;
+    session.render(cameraFor(*volume, 120.0), &away);
+    EXPECT_FALSE(away.still);
+    session.render(turned);
+    session.refineAtRest(turned);
+    EXPECT_FALSE(session.stillToDraw(turned));
 }
 
 TEST(ViewSession, ScreenshotsShowTheStillWhenTheSessionHasOne) {
