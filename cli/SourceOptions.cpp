@@ -26,7 +26,8 @@ void addSourceFlags(CLI::App& command, SourceFlags& flags, bool withThreshold) {
         command.add_option("--threshold", flags.threshold,
                            "Deactivate voxels at or below this value (physical units, e.g. HU; "
                            "luminance for RGB). Default: -950 for a CT (air out, lungs kept), else only the "
-                           "volume's minimum");
+                           "volume's minimum (for RGB, only when it holds 1 % of the voxels: a section on paper "
+                           "keeps its darkest voxels, and the paper is what lies outside)");
         command.add_option("--threshold-above", flags.thresholdAbove,
                            "Deactivate voxels at or above this value too: a bright background such as the white "
                            "paper behind a cryosection (luminance for RGB)");

@@ -5,6 +5,7 @@
 #include "pipeline/LatticeSampler.h"
 #include "pipeline/LeafAssembly.h"
 #include "pipeline/Luminance.h"
+#include "pipeline/VolumeBorder.h"
 #include "pipeline/VolumeMetadata.h"
 
 #include <tbb/blocked_range.h>
@@ -287,7 +288,8 @@ struct SlabRecord {
 /// held. Without a threshold the cut is the volume's minimum, which is known only
 /// at the end: each slab is cut at the minimum seen so far, and the few slabs read
 /// before the minimum fell (usually none: padding and air come early) are read
-/// and built again at the final cut.
+/// and built again at the final cut; so are those with inactive voxels when the
+/// minimum turns out to be no background (minimumIsNoBackground).
 template <typename T, typename GridT>
 class SlabBuild {
 public:
@@ -311,30 +313,29 @@ public:
         for (SlabRecord& record : mRecords) {
             if (record.cut != finalCut()) record = rebuildSlab(readSlab(record.first, record.count), record);
         }
+        if (minimumIsNoBackground()) {
+            mMinimumKept = true;
+            for (SlabRecord& record : mRecords) {
+                if (record.inactive.all.count > 0) record = rebuildSlab(readSlab(record.first, record.count), record);
+            }
+        }
+        mBackground = surroundings();
         mGrid->tree().root().setBackground(backgroundValue(), /*updateChildNodes=*/true);
         return mGrid;
     }
 
     const Range& range() const { return mRange; }
-    /// With only a cut from above, the darkest voxels are the subject, not its background.
+    /// With only a cut from above, the darkest voxels are the subject, not its
+    /// background; so they are when they are few (minimumIsNoBackground).
     double finalCut() const {
         if (mSettings.threshold) return *mSettings.threshold;
-        return mSettings.thresholdAbove ? -std::numeric_limits<double>::infinity() : mRange.min;
+        return mSettings.thresholdAbove || mMinimumKept ? -std::numeric_limits<double>::infinity() : mRange.min;
     }
     double cutAbove() const { return mSettings.thresholdAbove.value_or(std::numeric_limits<double>::infinity()); }
 
-    /// What inactive voxels stand for: the mean of those above the lowest value when
-    /// the lowest holds at least kPaddingShare of them (a CT's padding, which would
-    /// drag air's -1000 HU to an unphysical -1800), else the mean of all of them;
-    /// the minimum (black for RGB) when none are inactive.
-    openvdb::Vec3d background() const {
-        const InactiveTally inactive = inactiveTally();
-        if (inactive.all.count == 0) return openvdb::Vec3d(mLayout.channels == 1 ? mRange.min : 0.0);
-        if (paddingSetApart(inactive)) {
-            return (inactive.all.sum - inactive.atLowest.sum) / double(inactive.all.count - inactive.atLowest.count);
-        }
-        return inactive.all.sum / double(inactive.all.count);
-    }
+    /// What inactive voxels stand for, and what samplers meet beyond the volume's
+    /// faces (known once run() has built the grid).
+    const openvdb::Vec3d& background() const { return mBackground; }
 
     /// The value and count of the padding that background() left out, if it did.
     std::optional<std::pair<double, std::uint64_t>> padding() const {
@@ -345,6 +346,51 @@ public:
 
 private:
     static constexpr double kPaddingShare = 0.05;
+    /// A colour volume whose darkest voxels are fewer than this share of it has no
+    /// dark background to cut: a section photographed on paper, whose darkest voxel
+    /// is the specimen's.
+    static constexpr double kBackgroundShare = 0.01;
+
+    bool minimumIsNoBackground() const {
+        const double voxels = double(mLayout.dims[0]) * double(mLayout.dims[1]) * double(mLayout.dims[2]);
+        return mLayout.channels == 3 && !mSettings.threshold && !mSettings.thresholdAbove &&
+               double(inactiveTally().all.count) < kBackgroundShare * voxels;
+    }
+
+    /// The mean of the inactive voxels above the lowest value when the lowest holds
+    /// at least kPaddingShare of them (a CT's padding, which would drag air's -1000
+    /// HU to an unphysical -1800), else the mean of all of them. With none, the
+    /// minimum of grey data, and the median of a colour volume's faces, channel by
+    /// channel (VolumeBorder.h: the paper or the medium of a section): black beside
+    /// the white paper of the faces blended into a grey shell there, which the `rgb`
+    /// preset, dense away from the faces' colour, showed as a box.
+    openvdb::Vec3d surroundings() const {
+        const InactiveTally inactive = inactiveTally();
+        if (inactive.all.count == 0) return mLayout.channels == 1 ? openvdb::Vec3d(mRange.min) : facesMedian();
+        if (paddingSetApart(inactive)) {
+            return (inactive.all.sum - inactive.atLowest.sum) / double(inactive.all.count - inactive.atLowest.count);
+        }
+        return inactive.all.sum / double(inactive.all.count);
+    }
+
+    /// The median of the grid's values on the volume's faces, channel by channel.
+    openvdb::Vec3d facesMedian() const {
+        const openvdb::CoordBBox box(Coord(0), Coord(int(mLayout.dims[0]) - 1, int(mLayout.dims[1]) - 1,
+                                                     int(mLayout.dims[2]) - 1));
+        const auto accessor = mGrid->getConstAccessor();
+        openvdb::Vec3d median(0.0);
+        for (int c = 0; c < mLayout.channels; ++c) {
+            median[c] = borderMedian(box, [&](const Coord& ijk) {
+                const typename GridT::ValueType value = accessor.getValue(ijk);
+                if constexpr (std::is_same_v<typename GridT::ValueType, openvdb::Vec3s>) {
+                    return double(value[c]);
+                } else {
+                    return double(value);
+                }
+            });
+        }
+        return median;
+    }
 
     InactiveTally inactiveTally() const {
         InactiveTally inactive;
@@ -399,6 +445,8 @@ private:
     const DenseVolume& mLayout;
     const GridBuildSettings& mSettings;
     typename GridT::Ptr mGrid;
+    bool mMinimumKept = false;  ///< minimumIsNoBackground: nothing is cut from below
+    openvdb::Vec3d mBackground{0.0};
     ProgressCounter mCounter;
     Range mRange;
     std::vector<SlabRecord> mRecords;

@@ -23,7 +23,9 @@ struct GridBuildSettings {
     std::string sourceFile;  ///< recorded in the metadata and named in errors
     /// Voxels whose value (luminance for RGB) is at or below this are inactive.
     /// Unset: kCtDefaultThreshold for a CT (modality "CT"), else only voxels at the
-    /// volume's minimum, e.g. zero padding or air fill.
+    /// volume's minimum, e.g. zero padding or air fill; for colour, only when they
+    /// are at least 1 % of the volume (a section photographed on paper has a darkest
+    /// voxel of its own: nothing is cut, and the background is its faces' median).
     std::optional<double> threshold;
     /// Voxels at or above this (luminance for RGB) are inactive too: the white paper
     /// or bright medium behind a cryosection.

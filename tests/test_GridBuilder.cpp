@@ -1,6 +1,7 @@
 #include "io/GridBuilder.h"
 #include "io/Readers.h"
 #include "pipeline/Error.h"
+#include "pipeline/Luminance.h"
 #include "pipeline/VolumeMetadata.h"
 #include "tests/TestHelpers.h"
 
@@ -140,6 +141,32 @@ TEST(GridBuilder, ColourBecomesVec3ColorGridThresholdedOnLuminance) {
     EXPECT_EQ(grid->tree().getValue(openvdb::Coord(1, 0, 0)), openvdb::Vec3s(200, 100, 50));
     EXPECT_EQ(grid->background(), openvdb::Vec3s(0, 0, 10));
     EXPECT_EQ(readVolumeMetadata(*grid)->channels, 3);
+}
+
+TEST(GridBuilder, AColourSectionOnPaperKeepsItsRareDarkestVoxelAndThePaperIsOutside) {
+    // White paper, a specimen in the middle whose darkest voxel is one of 2,000.
+    const std::array<std::int64_t, 3> dims{20, 20, 5};
+    std::vector<std::uint8_t> rgb;
+    for (int k = 0; k < 5; ++k) {
+        for (int j = 0; j < 20; ++j) {
+            for (int i = 0; i < 20; ++i) {
+                const bool specimen = std::abs(i - 10) < 4 && std::abs(j - 10) < 4 && k > 0 && k < 4;
+                const bool darkest = i == 10 && j == 10 && k == 2;
+                const std::uint8_t r = darkest ? 20 : specimen ? 120 + i : 250, g = specimen ? 60 + j : 248;
+                rgb.insert(rgb.end(), {darkest ? std::uint8_t(20) : r, darkest ? std::uint8_t(5) : g,
+                                       specimen ? std::uint8_t(40) : std::uint8_t(245)});
+            }
+        }
+    }
+    auto grid = openvdb::GridBase::grid<openvdb::Vec3SGrid>(buildGrid(makeVolume(dims, rgb, SampleType::UInt8, 3), {}));
+    ASSERT_TRUE(grid);
+    EXPECT_EQ(grid->activeVoxelCount(), 20u * 20u * 5u);  // the darkest voxel is the specimen's, not background
+    EXPECT_EQ(grid->tree().getValue(openvdb::Coord(10, 10, 2)), openvdb::Vec3s(20, 5, 40));
+    // Outside the volume lies what its faces show, so that the paper does not fade
+    // into a dark shell at the faces.
+    EXPECT_EQ(grid->background(), openvdb::Vec3s(250, 248, 245));
+    EXPECT_NEAR(readVolumeMetadata(*grid)->background, luminance(openvdb::Vec3d(250, 248, 245)), 1e-3);
+    EXPECT_FALSE(readVolumeMetadata(*grid)->threshold);
 }
 
 TEST(GridBuilder, TransformMapsIndexToWorldWithShearAndAnisotropicSpacing) {
