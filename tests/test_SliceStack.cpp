@@ -86,6 +86,22 @@ TEST(SliceStack, SamplesAlongAVolumesAxesFallOnItsVoxelCentres) {
     EXPECT_DOUBLE_EQ(oblique.sliceMm, 1.0);
 }
 
+// Classified samples blend colours classified at the samples, not the colour of
+// blended voxels: on the voxel centres they would gain nothing and scored far lower
+// on a colour section. Their stacks take the spacing asked.
+TEST(SliceStack, ClassifiedSamplesTakeTheSpacingAskedAlongTheAxesToo) {
+    const GridRenderVolume volume(test::makeGrid({20, 16, 12}, hollowBallAt, openvdb::Vec3d(1.0, 1.0, 1.5)));
+    const SliceStack layered({{&volume, shellClassifier()}, {&volume, shellClassifier()}}, openvdb::Vec3d(0, 1, 0),
+                             1.0, 0.78);
+    ASSERT_EQ(layered.valueLevels(), nullptr);
+    EXPECT_EQ(layered.geometry().sampleMm, openvdb::Vec2d(0.78));
+    EXPECT_FALSE(onVoxelCentre(indexOfSample(layered, volume, 3, 3).x()) &&
+                 onVoxelCentre(indexOfSample(layered, volume, 4, 4).x()));
+    // The slices still lie a quarter of a voxel off the voxel planes.
+    const double y = volume.worldFromIndex().inverse().transform(layered.geometry().origin).y();
+    EXPECT_NEAR(y - std::floor(y), 0.25, 1e-9);
+}
+
 // Resampling a slice between its outermost samples and the space beyond must meet
 // the background's value: the lattice reaches one sample beyond the volume's cells
 // on every side, whether its samples fall on the voxel centres or not.
