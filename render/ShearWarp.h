@@ -34,8 +34,8 @@ struct ShearWarpSettings {
     /// smaller); [1, 4]. The warp averages over each pixel, so that finer samples
     /// anti-alias the image: at 1 the resampling blurs and aliases by turns across
     /// the image (docs/benchmarks.md, "Supersampled stacks and a footprint warp").
-    /// Along a volume's axes, as axis stacks lie, a stack keeps to the voxel centres
-    /// nearby instead (SliceStack; docs/benchmarks.md, "Samples on the voxel centres").
+    /// Along a volume's axes, as axis stacks lie, a stack of values keeps to the voxel
+    /// centres nearby instead (SliceStack; docs/benchmarks.md, "Samples on the voxel centres").
     double supersampling = 1.5;
     /// How a grey volume's values are composited: segments see bands of the
     /// transfer function thinner than a slice spacing (SliceStack, Classification).
