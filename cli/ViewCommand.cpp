@@ -81,15 +81,14 @@ public:
     /// @param commandStart  when the command began, for the time to the first image
     void run(SdlWindow& window, std::chrono::steady_clock::time_point commandStart) {
         const auto start = std::chrono::steady_clock::now();
-        bool busy = true, stillToCome = false;
+        bool busy = true;
         while (!mQuit) {
             // When the picture cannot change by itself, sleep in the event queue.
-            const bool changed = handleEvents(busy ? 0 : stillToCome ? kStillPollMs : kIdleWaitMs);
+            const bool changed = handleEvents(busy ? 0 : mSession->stillPending() ? kStillPollMs : kIdleWaitMs);
             std::tie(mWidth, mHeight) = window.size();
             const OrthoCamera view = camera(mWidth, mHeight);
             noteMove();
             if (millisecondsSince(mLastMove) >= 1000.0 * kRestSeconds) mSession->refineAtRest(view);
-            stillToCome = mSession->stillPending();
             if (!changed && !busy && !mSession->stillToDraw(view)) continue;
             FrameStats frame;
             const Framebuffer image = mSession->render(view, &frame);
@@ -100,7 +99,6 @@ public:
             if (frame.still && mStillImageMs == 0) mStillImageMs = millisecondsSince(commandStart);
             if (mFlags.frames > 0 && mFrames >= mFlags.frames) break;
             busy = frame.stale || mSession->building() || mFlags.frames > 0;
-            stillToCome = mSession->stillPending();
         }
         mSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
