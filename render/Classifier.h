@@ -21,6 +21,8 @@ public:
 
     /// Straight (not premultiplied) RGBA of one sample of channels() floats.
     std::array<float, 4> operator()(const float* value) const;
+    /// The colour of an RGB sample, without its opacity.
+    std::array<float, 3> colour(const float* value) const;
 
     int channels() const { return mChannels; }
     const TransferFunction& transferFunction() const { return mTf; }

@@ -327,6 +327,8 @@ std::unique_ptr<BlockSource> RenderVolume::blocksOn(const Lattice& lattice, doub
     return gridBlocksOn(voxels(), lattice, invisibleUpTo, /*backgroundVisible=*/backgroundKey() > invisibleUpTo);
 }
 
+double RenderVolume::backgroundKey() const { return keyOf(background().data(), channels()); }
+
 double RenderVolume::voxelMm() const {
     const openvdb::Vec3d spacing = axisSpacing(mWorldFromIndex);
     return std::min({spacing[0], spacing[1], spacing[2]});
@@ -348,10 +350,10 @@ GaussianRenderVolume::GaussianRenderVolume(const GaussianAsset& asset, float min
                            asset.source.valueMax, asset.source.threshold.value_or(asset.source.valueMin),
                            minScaleVoxels) {}
 
-double GaussianRenderVolume::backgroundKey() const {
-    float background[3];
-    for (int c = 0; c < channels(); ++c) background[c] = mMapping.toPhysicalFloat(0.0, c);
-    return keyOf(background, channels());
+std::array<float, 3> GaussianRenderVolume::background() const {
+    std::array<float, 3> value{};
+    for (int c = 0; c < channels(); ++c) value[c] = mMapping.toPhysicalFloat(0.0, c);
+    return value;
 }
 
 std::size_t GaussianRenderVolume::evaluateVoxelsOnce() const {
@@ -435,8 +437,10 @@ GridRenderVolume::GridRenderVolume(openvdb::GridBase::ConstPtr grid) : mGrid(std
     }
 }
 
-double GridRenderVolume::backgroundKey() const {
-    return mFloat ? keyOf(mFloat->background()) : keyOf(mColour->background());
+std::array<float, 3> GridRenderVolume::background() const {
+    if (mFloat) return {mFloat->background(), 0.0f, 0.0f};
+    const openvdb::Vec3s colour = mColour->background();
+    return {colour[0], colour[1], colour[2]};
 }
 
 namespace {

@@ -54,8 +54,10 @@ public:
     /// Gathered on first use and kept: a Gaussian volume evaluates its field for it,
     /// and a viewer asks again at each change of preset. Thread-safe.
     const VolumeStatistics& statistics() const;
-    /// What empty space holds (its luminance for RGB), in physical units.
-    virtual double backgroundKey() const = 0;
+    /// What empty space holds, in physical units: channels() values.
+    virtual std::array<float, 3> background() const = 0;
+    /// background()'s value, or its luminance for RGB.
+    double backgroundKey() const;
 
     const openvdb::math::Mat4d& worldFromIndex() const { return mWorldFromIndex; }
     const openvdb::CoordBBox& box() const { return mBox; }  ///< the volume's voxels, index space
@@ -103,7 +105,7 @@ public:
     std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override;
     /// Samples the Gaussians at the lattice's points (those that could be seen).
     std::unique_ptr<BlockSource> previewBlocksOn(const Lattice& lattice, double invisibleUpTo) const override;
-    double backgroundKey() const override;
+    std::array<float, 3> background() const override;
 
 protected:
     VolumeStatistics gatherStatistics() const override;
@@ -132,7 +134,7 @@ public:
     int channels() const override { return mColour ? 3 : 1; }
     const openvdb::GridBase& voxels() const override { return *mGrid; }
     /// What inactive voxels hold.
-    double backgroundKey() const override;
+    std::array<float, 3> background() const override;
     /// Trilinear value at index-space point @a x into out[0..channels).
     template <typename Accessor>
     static void trilinear(const Accessor& accessor, const openvdb::Vec3d& x, float* out);

@@ -88,6 +88,7 @@ struct ClassifiedLight {
 /// The stack holds codes; each slice's coding turns a resampled code into a level.
 class ValueLight {
 public:
+    using Sample = std::uint16_t;
     ValueLight(const ValueLevels& levels, double lengthRatio)
         : mLight(ValueLevels::kCount + 1), mDarkBelow(levels.darkBelow()) {
         for (int level = 0; level < ValueLevels::kCount; ++level) {
@@ -111,6 +112,8 @@ public:
     };
     Lookup lookup(RayEnds, const ValueCoding& coding) const { return {mLight.data(), coding.firstLevel, mDarkBelow}; }
     const Floats4* table() const { return mLight.data(); }
+    /// What one step of a stored code weighs, in levels.
+    static float unitOf(const ValueCoding& coding) { return coding.levelsPerCode; }
 
 private:
     std::vector<Floats4> mLight;
@@ -128,6 +131,7 @@ using Doubles4 = double __attribute__((vector_size(32)));
 /// within one level is that level's ValueLight.
 class SegmentLight {
 public:
+    using Sample = std::uint16_t;
     SegmentLight(const ValueLevels& levels, double lengthRatio)
         : mPoints(levels, lengthRatio), mBelow(ValueLevels::kCount + 1), mDarkBelow(levels.darkBelow()) {
         mBelow[0] = Doubles4{};
@@ -196,12 +200,46 @@ public:
     Lookup lookup(RayEnds ends, const ValueCoding& coding) const {
         return {mPoints.table(), mBelow.data(), coding.firstLevel, mDarkBelow, ends};
     }
+    static float unitOf(const ValueCoding& coding) { return ValueLight::unitOf(coding); }
 
 private:
     static constexpr double kOpaqueExtinction = 1e4;
     ValueLight mPoints;
     std::vector<Doubles4> mBelow;  ///< integrals of colour x extinction, and of extinction, below each level
     float mDarkBelow;  ///< a level
+};
+
+/// What a colour resampled from a stack of colours adds over the oblique path: the
+/// colour, with the opacity that the transfer function gives its luminance's
+/// level. So colours blend before they are classified, as the ray marcher blends
+/// them: a stack of classified colours fell 3.2 dB short of the one-ray ray marcher
+/// on a colour section (docs/benchmarks.md, "Stacks of colours").
+class ColourLight {
+public:
+    using Sample = StackSample;
+    ColourLight(const ValueLevels& levels, double lengthRatio) : mLuminance(levels, lengthRatio) {}
+
+    struct Lookup {
+        ValueLight::Lookup luminance;
+        float opacity = 0.0f;  ///< at the taps that dark() last looked at
+
+        /// Taps' colours are x 65535, and their luminance in levels (unitOf).
+        bool dark(int, Floats4 taps) {
+            opacity = luminance(taps[3])[3];
+            return opacity <= 0.0f;
+        }
+        Floats4 operator()(Floats4 taps) const {
+            Floats4 light = taps * (opacity / 65535.0f);
+            light[3] = opacity;
+            return light;
+        }
+    };
+    Lookup lookup(RayEnds ends, const ValueCoding& coding) const { return {mLuminance.lookup(ends, coding)}; }
+    /// What one stored step weighs: a 65535th of a colour, a code's levels of luminance.
+    static Floats4 unitOf(const ValueCoding& coding) { return Floats4{1.0f, 1.0f, 1.0f, coding.levelsPerCode}; }
+
+private:
+    ValueLight mLuminance;
 };
 
 float load(std::uint16_t code) { return code; }
@@ -277,13 +315,19 @@ struct SliceShear {
     int rowOffset, shift;
     float upperLeft, upperRight, lowerLeft, lowerRight;
     double row;  ///< the row of the slice, fractional, that intermediate row 0 meets
+    /// The pixels whose samples lie within the volume's faces along the rows: those
+    /// beyond cross nothing, though the lattice reaches a sample further.
+    int firstPixel, lastPixel;
 };
 
-SliceShear shearOf(int k, double shiftX, double shiftY, int originX, int originY) {
-    const double sy = originY + k * shiftY, sx = k * shiftX;
+SliceShear shearOf(const StackGeometry& g, int k, double shiftX, double shiftY, int originX, int originY) {
+    const double sy = originY + k * shiftY, sx = originX + k * shiftX;
     const int jy = int(std::floor(sy)), ix = int(std::floor(sx));
     const float fy = float(sy - jy), fx = float(sx - ix);
-    return {jy, originX + ix, fx * (1 - fy), (1 - fx) * (1 - fy), fx * fy, (1 - fx) * fy, sy};
+    // Pixel p samples the slice at column p + sx.
+    const int firstPixel = int(std::ceil(g.firstColumnInside - sx - 1e-6));
+    const int lastPixel = int(std::floor(g.lastColumnInside - sx + 1e-6));
+    return {jy, ix, fx * (1 - fy), (1 - fx) * (1 - fy), fx * fy, (1 - fx) * fy, sy, firstPixel, lastPixel};
 }
 
 /// One slice row's runs, seen from an intermediate row: run r reaches pixels
@@ -298,9 +342,9 @@ struct ShearedRuns {
     int shift = 0;
     Weighed right{}, left{};
 
-    /// @a unit: what one stored step weighs, ValueCoding::levelsPerCode for codes.
+    /// @a unit: what one stored step weighs (a Light's unitOf), 1 for classified samples.
     ShearedRuns(const Slice& slice, int row, int height, int shiftBy, float leftWeight, float rightWeight,
-                float unit = 1.0f)
+                Weighed unit = Weighed{} + 1.0f)
         // Weighed{} + w is w, or w in each of four lanes.
         : samples(slice.stored<Sample>().data()), shift(shiftBy), right(Weighed{} + rightWeight * unit),
           left(Weighed{} + leftWeight * unit) {
@@ -361,7 +405,7 @@ __attribute__((target("avx2"), always_inline)) inline Ints8 eightLevels(
 /// already keep their value, as the one-pixel loop's links leave them (a pixel is
 /// closed once its opacity reaches @a termination); those that reach it now close.
 template <std::size_t TapCount>
-__attribute__((target("avx2"))) void compositeEight(const std::array<Tap<std::uint16_t>, TapCount>& taps, int p,
+__attribute__((target("avx2"), always_inline)) inline void compositeEight(const std::array<Tap<std::uint16_t>, TapCount>& taps, int p,
                                                     int shift, ValueLight::Lookup lookup, float termination,
                                                     float* rgba, OpenPixels& open) {
     const Ints8 levels = eightLevels(taps, p + shift, lookup);
@@ -385,6 +429,17 @@ __attribute__((target("avx2"))) void compositeEight(const std::array<Tap<std::ui
     for (closing &= 0x88888888u; closing != 0; closing &= closing - 1) open.close(p + __builtin_ctz(closing) / 4);
 }
 
+/// Composites the open pixels of [@a p, @a last] eight at a time while eight
+/// remain, and returns the first pixel left: one function around the whole loop,
+/// so that its constants stay in registers.
+template <std::size_t TapCount>
+__attribute__((target("avx2"))) int compositeEights(const std::array<Tap<std::uint16_t>, TapCount>& taps, int p,
+                                                    int last, int shift, ValueLight::Lookup lookup,
+                                                    float termination, float* rgba, OpenPixels& open) {
+    for (; p + 7 <= last; p = open.next(p + 8)) compositeEight(taps, p, shift, lookup, termination, rgba, open);
+    return p;
+}
+
 /// How one frame composites: the light a resampled sample adds over the oblique
 /// path (ClassifiedLight or ValueLight), and where a pixel stops.
 template <typename Light>
@@ -405,10 +460,7 @@ struct Compositing {
             // most of its instructions moving two codes and one pixel into place.
             // (Without AVX2, GCC converts 16-bit codes one by one, and lanes are slower.)
             if (processorHasAvx2()) {
-                const std::array tapArray{taps...};
-                for (; p + 7 <= last; p = open.next(p + 8)) {
-                    compositeEight(tapArray, p, shift, lookup, termination, rgba, open);
-                }
+                p = compositeEights(std::array{taps...}, p, last, shift, lookup, termination, rgba, open);
             }
         }
         for (; p <= last; p = open.next(p + 1)) {
@@ -463,29 +515,30 @@ public:
             const bool inUpper = !upper.empty() && upper.first() <= p, inLower = !lower.empty() && lower.first() <= p;
             const int last = std::min(upper.segmentEnd(inUpper), lower.segmentEnd(inLower));
             if (inUpper && inLower) {
-                composite(compositing, ends, slice.coding, pixels, p, last, shear.shift, upper.tap(), lower.tap());
+                composite(compositing, ends, slice.coding, pixels, p, last, shear, upper.tap(), lower.tap());
             } else if (inUpper) {
-                composite(compositing, ends, slice.coding, pixels, p, last, shear.shift, upper.tap());
+                composite(compositing, ends, slice.coding, pixels, p, last, shear, upper.tap());
             } else {
-                composite(compositing, ends, slice.coding, pixels, p, last, shear.shift, lower.tap());
+                composite(compositing, ends, slice.coding, pixels, p, last, shear, lower.tap());
             }
             p = last + 1;
         }
     }
 
-    /// The same for a slice of values (ValueLight or SegmentLight). A value needs
-    /// both rows, unless one weighs nothing: where either has no run, every value
-    /// lies in cells that cannot be seen, nor can the stretches of rays through
-    /// them (see SliceStack).
+    /// The same for a slice of values (ValueLight, SegmentLight or ColourLight). A
+    /// value needs both rows, unless one weighs nothing: where either has no run,
+    /// every value lies in cells that cannot be seen, nor can the stretches of rays
+    /// through them (see SliceStack).
     template <typename Light>
     void add(const Slice& slice, int n, int row, int sliceHeight, const SliceShear& shear,
              const Compositing<Light>& compositing, float* pixels) {
+        using Sample = typename Light::Sample;
         const RayEnds ends = endsAt(n);
-        const float unit = slice.coding.levelsPerCode;
-        ShearedRuns<std::uint16_t> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight, unit);
-        ShearedRuns<std::uint16_t> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight, unit);
-        if (shear.lowerLeft + shear.lowerRight == 0.0f) return addAlone(upper, ends, slice.coding, compositing, pixels);
-        if (shear.upperLeft + shear.upperRight == 0.0f) return addAlone(lower, ends, slice.coding, compositing, pixels);
+        const auto unit = Light::unitOf(slice.coding);
+        ShearedRuns<Sample> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight, unit);
+        ShearedRuns<Sample> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight, unit);
+        if (shear.lowerLeft + shear.lowerRight == 0.0f) return addAlone(upper, ends, slice.coding, shear, compositing, pixels);
+        if (shear.upperLeft + shear.upperRight == 0.0f) return addAlone(lower, ends, slice.coding, shear, compositing, pixels);
         // Walk the stretches that both rows' runs reach, left to right.
         for (int p = INT32_MIN;;) {
             upper.skipTo(p);
@@ -493,28 +546,31 @@ public:
             if (upper.empty() || lower.empty()) break;
             const int first = std::max(upper.first(), lower.first()), last = std::min(upper.last(), lower.last());
             if (first <= last) {
-                composite(compositing, ends, slice.coding, pixels, first, last, shear.shift, upper.tap(), lower.tap());
+                composite(compositing, ends, slice.coding, pixels, first, last, shear, upper.tap(), lower.tap());
             }
             p = last + 1;
         }
     }
 
 private:
-    /// One slice row's codes, where the other row weighs nothing.
+    /// One slice row's values, where the other row weighs nothing.
     template <typename Light>
-    void addAlone(ShearedRuns<std::uint16_t> only, RayEnds ends, const ValueCoding& coding,
-                  const Compositing<Light>& compositing, float* pixels) {
+    void addAlone(ShearedRuns<typename Light::Sample> only, RayEnds ends, const ValueCoding& coding,
+                  const SliceShear& shear, const Compositing<Light>& compositing, float* pixels) {
         for (; !only.empty(); ++only.runs) {
-            composite(compositing, ends, coding, pixels, only.first(), only.last(), only.shift, only.tap());
+            composite(compositing, ends, coding, pixels, only.first(), only.last(), shear, only.tap());
         }
     }
 
-    /// Composites pixels [first, last], noting that they were reached.
+    /// Composites pixels [first, last] within the volume's faces, noting that they were reached.
     template <typename Light, typename... Taps>
     void composite(const Compositing<Light>& compositing, RayEnds ends, const ValueCoding& coding, float* pixels,
-                   int first, int last, int shift, Taps... taps) {
+                   int first, int last, const SliceShear& shear, Taps... taps) {
+        first = std::max(first, shear.firstPixel);
+        last = std::min(last, shear.lastPixel);
+        if (first > last) return;
         mReached = {std::min(mReached.first, first), std::max(mReached.last, last)};
-        compositing.pixels(mOpen, ends, coding, pixels, first, last, shift, taps...);
+        compositing.pixels(mOpen, ends, coding, pixels, first, last, shear.shift, taps...);
     }
 
     RayEnds endsAt(int n) { return {mLast.data(), std::uint32_t(n) + 2}; }
@@ -619,13 +675,16 @@ IntermediateImage compositeSlices(const SliceStack& stack, const Vec3d& directio
     out.rgba.resize(std::size_t(out.width) * out.height * 4);
     out.reached.resize(out.height);
     std::vector<SliceShear> shears(g.slices);
-    for (int k = 0; k < g.slices; ++k) shears[k] = shearOf(k, shiftX, shiftY, out.originX, out.originY);
+    for (int k = 0; k < g.slices; ++k) shears[k] = shearOf(g, k, shiftX, shiftY, out.originX, out.originY);
     // A view from behind the stack meets its slices last to first.
     const bool backwards = dn < 0.0;
     // The path through one slice is 1 / cos(angle) slice spacings long.
     const double obliquity = 1.0 / std::abs(dn);
     const ValueLevels* levels = stack.valueLevels();
-    if (levels && stack.classification() == Classification::segments) {
+    if (stack.content() == StackContent::colours) {
+        const ColourLight light(*levels, obliquity);
+        compositeBands(stack, shears, backwards, Compositing<ColourLight>{light, terminationOpacity}, out);
+    } else if (levels && stack.classification() == Classification::segments) {
         const SegmentLight light(*levels, obliquity);
         compositeBands(stack, shears, backwards, Compositing<SegmentLight>{light, terminationOpacity}, out);
     } else if (levels) {

@@ -6,12 +6,14 @@
 /// so any stack direction works, not only the volume's axes. Along a volume's axis
 /// the samples fall on its voxel centres, where resampling a slice bilinearly gives
 /// the trilinear field exactly, as the ray marcher samples it; slices across one lie
-/// a quarter of a voxel off its voxel planes. A stack of one grey
-/// volume keeps each sample's value, as a 16-bit code, and compositing classifies
-/// the value it resamples from them (post-classification, as the ray marcher does:
-/// an opaque surface then lies where the values cross it, not where resampled
-/// opacities do). Other stacks (colour, or several layers) keep each sample classified:
-/// premultiplied colour and the opacity of one slice spacing, 16 bits each. Each
+/// a quarter of a voxel off its voxel planes. A stack of one volume whose
+/// background cannot be seen keeps each sample's value (StackContent), 16 bits a
+/// channel, and compositing classifies the value it resamples from them
+/// (post-classification, as the ray marcher does: an opaque surface then lies where
+/// the values cross it, not where resampled opacities do, and a colour section's
+/// colours blend before they are classified). Other stacks (several layers, or a
+/// visible background) keep each sample classified: premultiplied colour and the
+/// opacity of one slice spacing, 16 bits each. Each
 /// slice row keeps only its runs of samples that can be seen (Lacroute's
 /// run-length encoding), which is how compositing skips empty space, inside the
 /// body too.
@@ -43,13 +45,31 @@ struct StackGeometry {
     /// when e2 runs along one of its axes. Nothing lies beyond them, though the
     /// lattice reaches a row further (of background, for resampling up to them).
     double firstRowInside = 0.0, lastRowInside = 0.0;
+    /// The same along e1, in columns.
+    double firstColumnInside = 0.0, lastColumnInside = 0.0;
+    /// Whether the samples of a slice fall on the volume's voxel centres (and evenly
+    /// between them) along e1 and e2.
+    bool samplesOnVoxels = false;
 
     /// The sample lattice: index (i, j, k) is sample (i, j) of slice k.
     Lattice lattice() const;
 };
 
+/// What a stack's slices hold.
+enum class StackContent {
+    /// Classified samples (StackSample): premultiplied colour and opacity.
+    classified,
+    /// A grey volume's values, as codes (Slice::codes).
+    values,
+    /// A colour volume's values (StackSample): the colour the classifier gives it, and
+    /// the code of its luminance, which the transfer function classifies.
+    colours,
+};
+
 struct StackSample {
-    std::uint16_t r = 0, g = 0, b = 0, a = 0;  ///< premultiplied colour and opacity, x 65535
+    /// Premultiplied colour and opacity, x 65535; in a stack of colours, the colour
+    /// x 65535 and the code of its luminance.
+    std::uint16_t r = 0, g = 0, b = 0, a = 0;
 };
 
 /// Transparent gaps shorter than this many samples stay inside a run: a run costs
@@ -90,9 +110,9 @@ struct Slice {
     /// every sample outside them is transparent.
     std::vector<std::uint32_t> rowRuns;
     std::vector<RowRun> runs;
-    std::vector<StackSample> samples;  ///< classified stacks
-    std::vector<std::uint16_t> codes;  ///< stacks of values (ValueLevels), laid out as samples are
-    ValueCoding coding;                ///< what the codes stand for
+    std::vector<StackSample> samples;  ///< classified stacks, and stacks of colours
+    std::vector<std::uint16_t> codes;  ///< stacks of grey values (ValueLevels), laid out as samples are
+    ValueCoding coding;                ///< what the codes stand for (of the luminance, for colours)
 
     /// samples or codes, by the type of what is stored: for code written once for both.
     template <typename Sample>
@@ -216,8 +236,7 @@ public:
     /// Samples @a volume on the stack's lattice (in parallel over 8^3 blocks, only
     /// where the volume has content). Opacities are corrected from one voxel to one
     /// slice spacing: 1 - (1 - alpha)^(sliceMm / voxelMm). The samples keep their
-    /// values when the volume is grey and its background transparent, and are
-    /// classified otherwise.
+    /// values when the volume's background is transparent, and are classified otherwise.
     /// @param cancel  when set (from any thread), the build stops within one slab of
     ///                eight slices and throws Cancelled
     SliceStack(const RenderVolume& volume, const Classifier& classifier, const openvdb::Vec3d& direction,
@@ -235,14 +254,17 @@ public:
     const std::vector<Slice>& slices() const { return mSlices; }
     /// Gaussians the build evaluated (0 for grids).
     std::size_t gaussiansTouched() const { return mGaussiansTouched; }
-    /// How to classify the slices' values; null when the slices hold classified samples.
+    StackContent content() const { return mContent; }
+    /// How to classify the slices' values (the luminance of colours); null when the
+    /// slices hold classified samples.
     const ValueLevels* valueLevels() const { return mLevels.get(); }
-    /// How the slices' values are composited: segments only for a stack of values
-    /// built for them.
+    /// How the slices' values are composited: segments only for a stack of grey
+    /// values built for them.
     Classification classification() const { return mClassification; }
 
 private:
     StackGeometry mGeometry;
+    StackContent mContent = StackContent::classified;
     std::unique_ptr<ValueLevels> mLevels;
     Classification mClassification = Classification::points;
     std::vector<Slice> mSlices;

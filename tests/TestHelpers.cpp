@@ -65,6 +65,20 @@ openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<flo
     return buildGrid(volume, settings);
 }
 
+openvdb::GridBase::Ptr makeColourGrid(std::array<int, 3> dims, const std::function<openvdb::Vec3s(int, int, int)>& colour,
+                                      const openvdb::Vec3s& outside, openvdb::Vec3d spacingMm) {
+    const openvdb::Vec3SGrid::Ptr grid = openvdb::Vec3SGrid::create(outside);
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(1.0));
+    grid->transform().preScale(spacingMm);
+    openvdb::Vec3SGrid::Accessor accessor = grid->getAccessor();
+    for (int k = 0; k < dims[2]; ++k) {
+        for (int j = 0; j < dims[1]; ++j) {
+            for (int i = 0; i < dims[0]; ++i) accessor.setValue(openvdb::Coord(i, j, k), colour(i, j, k));
+        }
+    }
+    return grid;
+}
+
 openvdb::GridBase::Ptr blobGrid(std::array<int, 3> dims) {
     return makeGrid(dims, [dims](int i, int j, int k) {
         const double x = i - 0.5 * dims[0], y = j - 0.5 * dims[1], z = k - 0.5 * dims[2];

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 
 namespace gvr {
@@ -18,15 +19,18 @@ namespace {
 
 /// Soft blobs and a shell of different densities, on anisotropic voxels, every
 /// value times @a factor.
+float phantomAt(int i, int j, int k) {
+    const double x = i - 24.0, y = j - 20.0, z = (k - 14.0) * 1.5;
+    const double r = std::sqrt(x * x + y * y + z * z);
+    const double shell = std::exp(-std::pow((r - 15.0) / 2.0, 2.0));
+    const double blob = std::exp(-((x - 6) * (x - 6) + (y + 4) * (y + 4) + z * z) / 30.0);
+    return float(600.0 * shell + 1000.0 * blob);
+}
+const std::array<int, 3> kPhantomDims{48, 40, 28};
+
 std::shared_ptr<GridRenderVolume> phantom(float factor = 1.0f) {
-    const auto value = [factor](int i, int j, int k) {
-        const double x = i - 24.0, y = j - 20.0, z = (k - 14.0) * 1.5;
-        const double r = std::sqrt(x * x + y * y + z * z);
-        const double shell = std::exp(-std::pow((r - 15.0) / 2.0, 2.0));
-        const double blob = std::exp(-((x - 6) * (x - 6) + (y + 4) * (y + 4) + z * z) / 30.0);
-        return float(600.0 * shell + 1000.0 * blob) * factor;
-    };
-    return std::make_shared<GridRenderVolume>(test::makeGrid({48, 40, 28}, value, openvdb::Vec3d(1.0, 1.0, 1.5)));
+    const auto value = [factor](int i, int j, int k) { return phantomAt(i, j, k) * factor; };
+    return std::make_shared<GridRenderVolume>(test::makeGrid(kPhantomDims, value, openvdb::Vec3d(1.0, 1.0, 1.5)));
 }
 
 Classifier rampClassifier(double top = 1000.0, float opacity = 0.08f) {
@@ -493,6 +497,51 @@ TEST(ShearWarp, SegmentsMatchTheRayMarcherOnSmoothVolumesAsPointsDo) {
             ShearWarpRenderer(*volume, rampClassifier(), segmentsAcross(StackOrientation::axes)).render(camera);
         EXPECT_GE(imagePsnr(segments, exact), 50.0) << view.azimuthDeg;
         EXPECT_NEAR(test::opacitySum(segments) / test::opacitySum(exact), 1.0, 0.01) << view.azimuthDeg;
+    }
+}
+
+TEST(ShearWarp, ColoursBlendBeforeTheyAreClassifiedAsTheRayMarcherBlendsThem) {
+    // A colour section's tissue: the phantom's density darkens a pale ground whose
+    // hue ripples, and a steep function of luminance makes the dense parts opaque.
+    // Classified samples blend the opacities of neighbouring voxels, not their
+    // luminance, and widen the surface: these views covered 4.2 and 2.5 % more than
+    // the ray marcher's, where a stack of colours covers 0.1 and 0.3 % less or more.
+    const auto tissue = std::make_shared<GridRenderVolume>(test::makeColourGrid(kPhantomDims, [](int i, int j, int k) {
+        const float dark = 0.2f * phantomAt(i, j, k), ripple = 30.0f * float(std::sin(0.4 * i + 0.3 * j));
+        return openvdb::Vec3s(255.0f - dark, 240.0f - dark + ripple, 230.0f - 1.1f * dark - ripple);
+    }, openvdb::Vec3s(255.0f, 240.0f, 230.0f)));
+    // Opaque below a luminance of 170, about a density of 350; the ground is clear.
+    const Classifier surface(TransferFunction({{160.0, {1, 1, 1, 0.95f}}, {180.0, {1, 1, 1, 0.0f}}}, "test"), 3,
+                             1.0 / 255.0);
+    for (const View view : {View{30, 20}, View{-130, -35}}) {
+        const OrthoCamera camera = cameraFor(*tissue, view.azimuthDeg, view.elevationDeg, 48);
+        ShearWarpRenderer renderer(*tissue, surface, stacksAcross(StackOrientation::axes));
+        const Framebuffer image = renderer.render(camera);
+        ASSERT_EQ(renderer.stacks().front()->content(), StackContent::colours) << view.azimuthDeg;
+        const Framebuffer reference = rayMarch(*tissue, surface, camera, {});
+        EXPECT_GT(test::opacitySum(reference), 100.0) << "the surface must be seen";
+        EXPECT_NEAR(test::opacitySum(image) / test::opacitySum(reference), 1.0, 0.01) << view.azimuthDeg;
+        EXPECT_GE(imagePsnr(image, reference), 27.5) << view.azimuthDeg;
+    }
+}
+
+TEST(ShearWarp, RaysStopAtTheVolumesFacesAcrossTheSlicesRowsToo) {
+    // Tissue up to every face, the clear ground outside. A stack's lattice reaches a
+    // sample of ground beyond each face, and resampling between the two draws a
+    // shell half a voxel deep around the volume unless rays stop at the faces: along
+    // the slices' columns too, these views covered 0.8 to 1.4 % more than the ray
+    // marcher's (0.2 to 0.4 % with the stop).
+    const auto block = std::make_shared<GridRenderVolume>(test::makeColourGrid(
+        {20, 16, 12}, [](int, int, int) { return openvdb::Vec3s(120.0f, 60.0f, 40.0f); },
+        openvdb::Vec3s(255.0f, 240.0f, 230.0f)));
+    const Classifier dense(TransferFunction({{100.0, {1, 1, 1, 0.4f}}, {200.0, {1, 1, 1, 0.0f}}}, "test"), 3,
+                           1.0 / 255.0);
+    for (const View view : {View{30, 20}, View{-130, -35}, View{70, 10}}) {
+        const OrthoCamera camera = cameraFor(*block, view.azimuthDeg, view.elevationDeg, 48);
+        const Framebuffer image = ShearWarpRenderer(*block, dense, stacksAcross(StackOrientation::axes)).render(camera);
+        const Framebuffer reference = rayMarch(*block, dense, camera, {});
+        EXPECT_NEAR(test::opacitySum(image) / test::opacitySum(reference), 1.0, 0.006) << view.azimuthDeg;
+        EXPECT_GE(imagePsnr(image, reference), 29.5) << view.azimuthDeg;
     }
 }
 

@@ -5,6 +5,7 @@
 #include "render/SliceStack.h"
 
 #include "pipeline/Error.h"
+#include "pipeline/Luminance.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -31,13 +32,67 @@ Classifier shellClassifier() {
 TEST(SliceStack, GreyVolumesKeepValuesAndOtherStacksClassifiedSamples) {
     const GridRenderVolume ball = hollowBall();
     const SliceStack values(ball, shellClassifier(), openvdb::Vec3d(0, 0, 1), 1.0, 1.0);
+    EXPECT_EQ(values.content(), StackContent::values);
     EXPECT_NE(values.valueLevels(), nullptr);
     // Two layers combine their classified samples; so does a visible background,
     // whose values outside the volume would be wrongly seen.
     const SliceStack layered({{&ball, shellClassifier()}, {&ball, shellClassifier()}}, openvdb::Vec3d(0, 0, 1), 1.0, 1.0);
+    EXPECT_EQ(layered.content(), StackContent::classified);
     EXPECT_EQ(layered.valueLevels(), nullptr);
     const Classifier fog(TransferFunction({{0.0, {1, 1, 1, 0.01f}}, {1000.0, {1, 1, 1, 0.5f}}}, "test"), 1);
-    EXPECT_EQ(SliceStack(ball, fog, openvdb::Vec3d(0, 0, 1), 1.0, 1.0).valueLevels(), nullptr);
+    EXPECT_EQ(SliceStack(ball, fog, openvdb::Vec3d(0, 0, 1), 1.0, 1.0).content(), StackContent::classified);
+}
+
+// A colour volume keeps its colours, and the luminance that classifies them, where
+// its samples fall on the voxel centres; elsewhere, classified samples on the
+// spacing asked (resampled apart, colour and opacity came out paler).
+TEST(SliceStack, ColourVolumesKeepTheirColoursOnTheVoxelCentres) {
+    const openvdb::Vec3s paper(250.0f, 240.0f, 230.0f);
+    const GridRenderVolume section(test::makeColourGrid({20, 16, 12}, [&](int i, int j, int k) {
+        const float dark = hollowBallAt(i, j, k) / 5.0f;
+        return openvdb::Vec3s(paper[0] - dark, paper[1] - 1.2f * dark, paper[2] - 1.1f * dark);
+    }, paper));
+    const Classifier darkIsDense(TransferFunction({{50.0, {1, 1, 1, 0.5f}}, {200.0, {1, 1, 1, 0.0f}}}, "test"), 3,
+                                 1.0 / 250.0);
+    const SliceStack onCentres(section, darkIsDense, openvdb::Vec3d(0, 0, 1), 1.0, 1.0);
+    ASSERT_EQ(onCentres.content(), StackContent::colours);
+    ASSERT_TRUE(onCentres.geometry().samplesOnVoxels);
+    const ValueLevels& levels = *onCentres.valueLevels();
+    int checked = 0;
+    for (const Slice& slice : onCentres.slices()) {
+        EXPECT_TRUE(slice.codes.empty());
+        for (int j = 0; j < onCentres.geometry().height; ++j) {
+            for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r) {
+                const RowRun& run = slice.runs[r];
+                for (std::uint32_t i = run.begin; i < run.end; ++i, ++checked) {
+                    // The sample's voxel: its colour, scaled, and its luminance's level.
+                    const openvdb::Vec3d index = onCentres.geometry().lattice().worldFromIndex.transform(
+                        openvdb::Vec3d(double(i), double(j), double(&slice - onCentres.slices().data())));
+                    const openvdb::Coord voxel(int(std::lround(index.x())), int(std::lround(index.y())), int(std::floor(index.z())));
+                    const double below = index.z() - voxel.z();  // slices lie off the voxel planes
+                    const auto at = [&](int dz) {
+                        return dynamic_cast<const openvdb::Vec3SGrid&>(section.voxels()).getConstAccessor().getValue(
+                            voxel.offsetBy(0, 0, dz));
+                    };
+                    const openvdb::Vec3s value = at(0) * float(1.0 - below) + at(1) * float(below);
+                    const StackSample& sample = slice.samples[run.offset + i - run.begin];
+                    EXPECT_NEAR(sample.r, value[0] / 250.0 * 65535.0, 2.0);
+                    EXPECT_NEAR(sample.b, value[2] / 250.0 * 65535.0, 2.0);
+                    const float level = slice.coding.level(sample.a);
+                    EXPECT_NEAR(ValueLevels::nearest(level), levels.levelOf(float(luminance(value))), 1);
+                }
+            }
+        }
+    }
+    EXPECT_GT(checked, 100);
+    // Samples a third of a voxel apart are too far from the centres' spacing.
+    const SliceStack offCentres(section, darkIsDense, openvdb::Vec3d(0, 0, 1), 1.0, 0.34);
+    EXPECT_EQ(offCentres.content(), StackContent::classified);
+    EXPECT_EQ(offCentres.geometry().sampleMm, openvdb::Vec2d(0.34));
+    // Nor may the paper be seen: outside the volume is nothing, not paper.
+    const Classifier paperSeen(TransferFunction({{50.0, {1, 1, 1, 0.5f}}, {300.0, {1, 1, 1, 0.1f}}}, "test"), 3,
+                               1.0 / 250.0);
+    EXPECT_EQ(SliceStack(section, paperSeen, openvdb::Vec3d(0, 0, 1), 1.0, 1.0).content(), StackContent::classified);
 }
 
 /// Where lattice sample (i, j) of @a stack's front slice lies in @a volume's index space.

@@ -181,7 +181,7 @@ public:
     std::unique_ptr<BlockSource> blocksOn(const Lattice& lattice, double invisibleUpTo) const override {
         return std::make_unique<Blocks>(mGrid->blocksOn(lattice, invisibleUpTo), open);
     }
-    double backgroundKey() const override { return mGrid->backgroundKey(); }
+    std::array<float, 3> background() const override { return mGrid->background(); }
 
     std::atomic<bool> open{true};
 
