@@ -229,7 +229,7 @@ public:
             return opacity <= 0.0f;
         }
         Floats4 operator()(Floats4 taps) const {
-            Floats4 light = taps * (opacity / 65535.0f);
+            Floats4 light = taps * (opacity * (1.0f / 65535.0f));
             light[3] = opacity;
             return light;
         }

@@ -290,7 +290,8 @@ struct ColourValue {
     float luminance = 0.0f;
 };
 
-/// A sample of @a value (@a channels floats) as a slab of Value keeps it.
+/// @a value (as many floats as the volume has channels) as a slab keeps it: the
+/// value, or the colour and its luminance (the last argument picks which).
 float slabValue(const float* value, const Classifier&, float) { return *value; }
 ColourValue slabValue(const float* value, const Classifier& classifier, ColourValue) {
     return {classifier.colour(value), float(luminance(value))};
