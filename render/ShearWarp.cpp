@@ -321,13 +321,14 @@ struct SliceShear {
 };
 
 SliceShear shearOf(const StackGeometry& g, int k, double shiftX, double shiftY, int originX, int originY) {
-    const double sy = originY + k * shiftY, sx = originX + k * shiftX;
+    const double sy = originY + k * shiftY, sx = k * shiftX;
     const int jy = int(std::floor(sy)), ix = int(std::floor(sx));
     const float fy = float(sy - jy), fx = float(sx - ix);
-    // Pixel p samples the slice at column p + sx.
-    const int firstPixel = int(std::ceil(g.firstColumnInside - sx - 1e-6));
-    const int lastPixel = int(std::floor(g.lastColumnInside - sx + 1e-6));
-    return {jy, ix, fx * (1 - fy), (1 - fx) * (1 - fy), fx * fy, (1 - fx) * fy, sy, firstPixel, lastPixel};
+    // Pixel p samples the slice at column p + originX + sx.
+    const double column = originX + sx;
+    const int firstPixel = int(std::ceil(g.firstColumnInside - column - 1e-6));
+    const int lastPixel = int(std::floor(g.lastColumnInside - column + 1e-6));
+    return {jy, originX + ix, fx * (1 - fy), (1 - fx) * (1 - fy), fx * fy, (1 - fx) * fy, sy, firstPixel, lastPixel};
 }
 
 /// One slice row's runs, seen from an intermediate row: run r reaches pixels
