@@ -179,8 +179,21 @@ public:
         const CoordBBox corners(Coord::floor(reach.min()) - Coord(1), Coord::floor(reach.max()) + Coord(2));
         constexpr int channels = std::is_same_v<typename GridT::ValueType, openvdb::Vec3s> ? 3 : 1;
         const auto sampleEach = [&](const auto& trilinear) {
-            for (auto ijk = voxels.begin(); ijk; ++ijk) {
-                trilinear(mGridFromLattice.transform((*ijk).asVec3d()), values + blockOffset(*ijk) * channels);
+            // Mat4d::transform's sums, in its order, with the terms a row of voxels shares
+            // added once: the same positions to the bit.
+            const Mat4d& m = mGridFromLattice;
+            for (int i = voxels.min().x(); i <= voxels.max().x(); ++i) {
+                for (int j = voxels.min().y(); j <= voxels.max().y(); ++j) {
+                    const double di = i, dj = j;
+                    const double rowX = di * m(0, 0) + dj * m(1, 0), rowY = di * m(0, 1) + dj * m(1, 1),
+                                 rowZ = di * m(0, 2) + dj * m(1, 2);
+                    for (int k = voxels.min().z(); k <= voxels.max().z(); ++k) {
+                        const double dk = k;
+                        const openvdb::Vec3d x(rowX + dk * m(2, 0) + m(3, 0), rowY + dk * m(2, 1) + m(3, 1),
+                                               rowZ + dk * m(2, 2) + m(3, 2));
+                        trilinear(x, values + blockOffset(Coord(i, j, k)) * channels);
+                    }
+                }
             }
         };
         const auto accessor = mGrid.getConstAccessor();

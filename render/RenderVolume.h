@@ -148,6 +148,18 @@ private:
     openvdb::Vec3SGrid::ConstPtr mColour;
 };
 
+/// The voxel below @a x along one axis: std::floor's, in fewer instructions where the
+/// processor has no rounding instruction (SSE4.1) for it. @a x lies well inside int's range.
+inline int voxelBelow(double x) {
+    const int truncated = int(x);
+    return truncated - (x < double(truncated));
+}
+
+/// The voxel below @a x: its cell's first corner.
+inline openvdb::Coord voxelBelow(const openvdb::Vec3d& x) {
+    return openvdb::Coord(voxelBelow(x[0]), voxelBelow(x[1]), voxelBelow(x[2]));
+}
+
 /// One step of a trilinear blend. In doubles, so that values near the float range's
 /// ends cannot overflow.
 inline double trilinearLerp(double a, double b, double s) { return (1.0 - s) * a + s * b; }
@@ -174,7 +186,7 @@ void GridRenderVolume::trilinear(const Accessor& accessor, const openvdb::Vec3d&
     using ValueT = typename Accessor::ValueType;
     using LeafT = typename std::remove_const_t<typename Accessor::TreeType>::LeafNodeType;
     constexpr int channels = std::is_same_v<ValueT, openvdb::Vec3s> ? 3 : 1;
-    const openvdb::Coord base(int(std::floor(x[0])), int(std::floor(x[1])), int(std::floor(x[2])));
+    const openvdb::Coord base = voxelBelow(x);
     ValueT corners[8];
     constexpr int last = int(LeafT::DIM) - 1;
     if ((base.x() & last) != last && (base.y() & last) != last && (base.z() & last) != last) {

@@ -41,7 +41,7 @@ public:
     /// As GridRenderVolume::trilinear, to the bit: @a x with its eight corners must
     /// lie in box().
     void trilinear(const openvdb::Vec3d& x, float* out) const {
-        const openvdb::Coord base(int(std::floor(x[0])), int(std::floor(x[1])), int(std::floor(x[2])));
+        const openvdb::Coord base = voxelBelow(x);
         trilinearAt(base, x - base.asVec3d(), out);
     }
 
