@@ -350,7 +350,8 @@ void addViewCommand(CLI::App& app) {
         ->add_option("--still-supersample", flags->stillSupersampling,
                      "Once the view rests (0.2 s), draw it again from a stack with this many samples along each side "
                      "of a pixel, built in the background and kept while it serves the view (gvr render's default: "
-                     "past the one-ray ray marcher); screenshots show it. 0 (or --supersample's value): keep the moving frames")
+                     "past the one-ray ray marcher); screenshots show it. 0 (or --supersample's value): keep the "
+                     "moving frames")
         ->capture_default_str();
     command->add_option("--screenshots", flags->screenshots, "Folder for the screenshots (key s)")->capture_default_str();
     command->add_option("--frames", flags->frames, "Close after this many frames (0: when the window closes)");

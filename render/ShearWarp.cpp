@@ -406,9 +406,9 @@ __attribute__((target("avx2"), always_inline)) inline Ints8 eightLevels(
 /// already keep their value, as the one-pixel loop's links leave them (a pixel is
 /// closed once its opacity reaches @a termination); those that reach it now close.
 template <std::size_t TapCount>
-__attribute__((target("avx2"), always_inline)) inline void compositeEight(const std::array<Tap<std::uint16_t>, TapCount>& taps, int p,
-                                                    int shift, ValueLight::Lookup lookup, float termination,
-                                                    float* rgba, OpenPixels& open) {
+__attribute__((target("avx2"), always_inline)) inline void compositeEight(
+    const std::array<Tap<std::uint16_t>, TapCount>& taps, int p, int shift, ValueLight::Lookup lookup, float termination,
+    float* rgba, OpenPixels& open) {
     const Ints8 levels = eightLevels(taps, p + shift, lookup);
     unsigned closing = 0;  // per pair, a bit per lane of pixels that reach the termination now
     for (int pair = 0; pair < 4; ++pair) {
@@ -538,8 +538,9 @@ public:
         const auto unit = Light::unitOf(slice.coding);
         ShearedRuns<Sample> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight, unit);
         ShearedRuns<Sample> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight, unit);
-        if (shear.lowerLeft + shear.lowerRight == 0.0f) return addAlone(upper, ends, slice.coding, shear, compositing, pixels);
-        if (shear.upperLeft + shear.upperRight == 0.0f) return addAlone(lower, ends, slice.coding, shear, compositing, pixels);
+        const ValueCoding& coding = slice.coding;
+        if (shear.lowerLeft + shear.lowerRight == 0.0f) return addAlone(upper, ends, coding, shear, compositing, pixels);
+        if (shear.upperLeft + shear.upperRight == 0.0f) return addAlone(lower, ends, coding, shear, compositing, pixels);
         // Walk the stretches that both rows' runs reach, left to right.
         for (int p = INT32_MIN;;) {
             upper.skipTo(p);

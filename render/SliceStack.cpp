@@ -624,13 +624,14 @@ SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier,
 
 SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direction, double sliceSpacingVoxels,
                        double sampleMm, const ProgressFn& progress, const std::atomic<bool>* cancel,
-                       StackSampling sampling, SegmentViews segments)
-{
+                       StackSampling sampling, SegmentViews segments) {
     std::tie(mGeometry, mContent) = layoutFor(layers, direction, sliceSpacingVoxels, sampleMm);
     mSlices.resize(mGeometry.slices);
     const RenderVolume& volume = *layers.front().volume;
     const Classifier& classifier = layers.front().classifier;
-    if (mContent != StackContent::classified) mLevels = std::make_unique<ValueLevels>(classifier.transferFunction(), sliceSpacingVoxels);
+    if (mContent != StackContent::classified) {
+        mLevels = std::make_unique<ValueLevels>(classifier.transferFunction(), sliceSpacingVoxels);
+    }
     // Pre-integration takes one value a sample.
     if (mContent == StackContent::values) mClassification = segments.classification;
     for (Slice& slice : mSlices) slice.rowRuns.assign(mGeometry.height + 1, 0);

@@ -65,7 +65,8 @@ openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<flo
     return buildGrid(volume, settings);
 }
 
-openvdb::GridBase::Ptr makeColourGrid(std::array<int, 3> dims, const std::function<openvdb::Vec3s(int, int, int)>& colour,
+openvdb::GridBase::Ptr makeColourGrid(std::array<int, 3> dims,
+                                      const std::function<openvdb::Vec3s(int, int, int)>& colour,
                                       const openvdb::Vec3s& outside, openvdb::Vec3d spacingMm) {
     const openvdb::Vec3SGrid::Ptr grid = openvdb::Vec3SGrid::create(outside);
     grid->setTransform(openvdb::math::Transform::createLinearTransform(1.0));

@@ -91,7 +91,8 @@ openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<flo
 
 /// A colour grid of @a dims whose voxel (i, j, k) holds colour(i, j, k), every voxel
 /// active, on a background of @a outside, with spacing @a spacingMm.
-openvdb::GridBase::Ptr makeColourGrid(std::array<int, 3> dims, const std::function<openvdb::Vec3s(int, int, int)>& colour,
+openvdb::GridBase::Ptr makeColourGrid(std::array<int, 3> dims,
+                                      const std::function<openvdb::Vec3s(int, int, int)>& colour,
                                       const openvdb::Vec3s& outside, openvdb::Vec3d spacingMm = openvdb::Vec3d(1.0));
 
 /// A blob on a gentle ripple over a floor of 20: smooth content with one bright

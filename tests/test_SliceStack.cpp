@@ -68,7 +68,8 @@ TEST(SliceStack, ColourVolumesKeepTheirColoursOnTheVoxelCentres) {
                     // The sample's voxel: its colour, scaled, and its luminance's level.
                     const openvdb::Vec3d index = onCentres.geometry().lattice().worldFromIndex.transform(
                         openvdb::Vec3d(double(i), double(j), double(&slice - onCentres.slices().data())));
-                    const openvdb::Coord voxel(int(std::lround(index.x())), int(std::lround(index.y())), int(std::floor(index.z())));
+                    const openvdb::Coord voxel(int(std::lround(index.x())), int(std::lround(index.y())),
+                                               int(std::floor(index.z())));
                     const double below = index.z() - voxel.z();  // slices lie off the voxel planes
                     const auto at = [&](int dz) {
                         return dynamic_cast<const openvdb::Vec3SGrid&>(section.voxels()).getConstAccessor().getValue(
