@@ -402,14 +402,16 @@ __attribute__((target("avx2"), always_inline)) inline Ints8 eightLevels(
     return level < lookup.darkBelow ? Ints8{} + ValueLevels::kCount : __builtin_convertvector(rounded, Ints8);
 }
 
-/// Composites pixels [@a p, @a p + 8) of a row, two to a register. Those closed
-/// already keep their value, as the one-pixel loop's links leave them (a pixel is
-/// closed once its opacity reaches @a termination); those that reach it now close.
+/// Composites pixels [@a p, @a p + 8) of a row, two to a register, but for the
+/// first @a done, which take nothing. Those closed already keep their value, as the
+/// one-pixel loop's links leave them (a pixel is closed once its opacity reaches
+/// @a termination); those that reach it now close.
 template <std::size_t TapCount>
 __attribute__((target("avx2"), always_inline)) inline void compositeEight(
-    const std::array<Tap<std::uint16_t>, TapCount>& taps, int p, int shift, ValueLight::Lookup lookup, float termination,
-    float* rgba, OpenPixels& open) {
-    const Ints8 levels = eightLevels(taps, p + shift, lookup);
+    const std::array<Tap<std::uint16_t>, TapCount>& taps, int p, int done, int shift, ValueLight::Lookup lookup,
+    float termination, float* rgba, OpenPixels& open) {
+    const Ints8 lanes{0, 1, 2, 3, 4, 5, 6, 7};
+    const Ints8 levels = lanes < done ? Ints8{} + ValueLevels::kCount : eightLevels(taps, p + shift, lookup);
     unsigned closing = 0;  // per pair, a bit per lane of pixels that reach the termination now
     for (int pair = 0; pair < 4; ++pair) {
         float* pixels = rgba + std::size_t(p + 2 * pair) * 4;
@@ -430,15 +432,20 @@ __attribute__((target("avx2"), always_inline)) inline void compositeEight(
     for (closing &= 0x88888888u; closing != 0; closing &= closing - 1) open.close(p + __builtin_ctz(closing) / 4);
 }
 
-/// Composites the open pixels of [@a p, @a last] eight at a time while eight
-/// remain, and returns the first pixel left: one function around the whole loop,
-/// so that its constants stay in registers.
+/// Composites the open pixels of [@a p, @a last] eight at a time, and returns the
+/// first pixel left: one function around the whole loop, so that its constants
+/// stay in registers. The last few go as the eight that end at @a last, where the
+/// row has eight pixels: one at a time, each cost about as much as eight (a branch
+/// on its darkness that the processor mispredicts). The eight's taps may read up to
+/// seven samples before the stretch: kStoredMargin keeps them within the slice.
 template <std::size_t TapCount>
 __attribute__((target("avx2"))) int compositeEights(const std::array<Tap<std::uint16_t>, TapCount>& taps, int p,
                                                     int last, int shift, ValueLight::Lookup lookup,
                                                     float termination, float* rgba, OpenPixels& open) {
-    for (; p + 7 <= last; p = open.next(p + 8)) compositeEight(taps, p, shift, lookup, termination, rgba, open);
-    return p;
+    for (; p + 7 <= last; p = open.next(p + 8)) compositeEight(taps, p, 0, shift, lookup, termination, rgba, open);
+    if (p > last || last < 7) return p;
+    compositeEight(taps, last - 7, p - (last - 7), shift, lookup, termination, rgba, open);
+    return last + 1;
 }
 
 /// How one frame composites: the light a resampled sample adds over the oblique

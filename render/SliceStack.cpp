@@ -46,7 +46,7 @@ template <typename Sample>
 Slice compress(const Sample* plane, int width, int height, const std::vector<std::uint8_t>& keep, Sample outside) {
     Slice slice;
     slice.rowRuns.reserve(height + 1);
-    std::uint32_t offset = 0;
+    std::uint32_t offset = kStoredMargin;
     for (int j = 0; j < height; ++j) {
         slice.rowRuns.push_back(std::uint32_t(slice.runs.size()));
         const std::uint8_t* marked = keep.data() + std::size_t(j) * width;
@@ -66,7 +66,7 @@ Slice compress(const Sample* plane, int width, int height, const std::vector<std
     }
     slice.rowRuns.push_back(std::uint32_t(slice.runs.size()));
     std::vector<Sample>& stored = slice.stored<Sample>();
-    stored.assign(offset, outside);
+    stored.assign(offset + kStoredMargin, outside);
     for (int j = 0; j < height; ++j) {
         const Sample* row = plane + std::size_t(j) * width;
         for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r) {

@@ -76,6 +76,11 @@ struct StackSample {
 /// more to step over than a few empty samples cost to composite.
 constexpr int kRunGap = 4;
 
+/// Samples of background a slice stores before its first run and after its last,
+/// so that compositing may read eight samples at once from anywhere within seven
+/// of a run, and take nothing from those beyond it.
+constexpr int kStoredMargin = 8;
+
 /// A run is stored with its row's neighbouring sample on either side (the
 /// background beyond the row's ends), so that resampling may read a run's
 /// neighbours without a test: classified samples there are transparent.
