@@ -75,8 +75,64 @@ struct RayEnds {
     std::uint32_t stamp;
 };
 
+/// The pixels of one intermediate row that still take light. Each pixel links to
+/// the first open pixel at or after it, so a stretch of opaque pixels is stepped
+/// over in one jump (Lacroute and Levoy's opaque-pixel links).
+class OpenPixels {
+public:
+    void reset(int width) {
+        mNext.resize(width + 1);  // the last entry is the end: always open
+        std::iota(mNext.begin(), mNext.end(), 0);
+    }
+    /// The first open pixel at or after @a p (the width when none is).
+    int next(int p) {
+        while (mNext[p] != p) {
+            mNext[p] = mNext[mNext[p]];  // halve the path for the next search
+            p = mNext[p];
+        }
+        return p;
+    }
+    void close(int p) { mNext[p] = p + 1; }
+
+private:
+    std::vector<int> mNext;
+};
+
+/// Four floats at a float's alignment: an RGBA pixel of the intermediate image.
+using PixelFloats = float __attribute__((vector_size(16), aligned(4)));
+
+/// An intermediate row's pixels, RGBA side by side: a pixel is one register.
+struct InterleavedRow {
+    float* rgba;
+    /// Adds @a light behind pixel @a p, closing it once it is opaque enough.
+    void add(int p, Floats4 light, float termination, OpenPixels& open) const {
+        // A typed store, unlike memcpy's, tells the compiler that only floats change.
+        PixelFloats& pixel = *reinterpret_cast<PixelFloats*>(rgba + std::size_t(p) * 4);
+        Floats4 value = pixel;
+        value += (1.0f - value[3]) * light;
+        pixel = value;
+        if (value[3] >= termination) open.close(p);
+    }
+};
+
+/// An intermediate row's pixels, a plane per channel: eight neighbouring pixels'
+/// channel is one register, and their light four, where side by side it took a
+/// register per two pixels and the instructions to move light and opacity there.
+struct PlanarRow {
+    float* planes;  ///< red, green, blue and opacity, each `width` floats
+    int width;
+    float* channel(int c) const { return planes + std::size_t(c) * width; }
+    /// As InterleavedRow's: the same operations on the same floats.
+    void add(int p, Floats4 light, float termination, OpenPixels& open) const {
+        const float clear = 1.0f - channel(3)[p];
+        for (int c = 0; c < 4; ++c) channel(c)[p] += clear * light[c];
+        if (channel(3)[p] >= termination) open.close(p);
+    }
+};
+
 /// What a classified sample, or a sum of them, adds over the oblique path.
 struct ClassifiedLight {
+    using Row = InterleavedRow;
     const ObliquityTable& oblique;
     static bool dark(int, Floats4 stored) { return stored[3] <= 0.0f; }
     Floats4 operator()(Floats4 stored) const { return oblique(stored); }
@@ -89,6 +145,7 @@ struct ClassifiedLight {
 class ValueLight {
 public:
     using Sample = std::uint16_t;
+    using Row = PlanarRow;
     ValueLight(const ValueLevels& levels, double lengthRatio)
         : mLight(ValueLevels::kCount + 1), mDarkBelow(levels.darkBelow()) {
         for (int level = 0; level < ValueLevels::kCount; ++level) {
@@ -132,6 +189,7 @@ using Doubles4 = double __attribute__((vector_size(32)));
 class SegmentLight {
 public:
     using Sample = std::uint16_t;
+    using Row = InterleavedRow;
     SegmentLight(const ValueLevels& levels, double lengthRatio)
         : mPoints(levels, lengthRatio), mBelow(ValueLevels::kCount + 1), mDarkBelow(levels.darkBelow()) {
         mBelow[0] = Doubles4{};
@@ -217,6 +275,7 @@ private:
 class ColourLight {
 public:
     using Sample = StackSample;
+    using Row = InterleavedRow;
     ColourLight(const ValueLevels& levels, double lengthRatio) : mLuminance(levels, lengthRatio) {}
 
     struct Lookup {
@@ -265,29 +324,6 @@ Floats4 load(const StackSample& sample) {
     return Floats4{float(sample.r), float(sample.g), float(sample.b), float(sample.a)};
 #endif
 }
-
-/// The pixels of one intermediate row that still take light. Each pixel links to
-/// the first open pixel at or after it, so a stretch of opaque pixels is stepped
-/// over in one jump (Lacroute and Levoy's opaque-pixel links).
-class OpenPixels {
-public:
-    void reset(int width) {
-        mNext.resize(width + 1);  // the last entry is the end: always open
-        std::iota(mNext.begin(), mNext.end(), 0);
-    }
-    /// The first open pixel at or after @a p (the width when none is).
-    int next(int p) {
-        while (mNext[p] != p) {
-            mNext[p] = mNext[mNext[p]];  // halve the path for the next search
-            p = mNext[p];
-        }
-        return p;
-    }
-    void close(int p) { mNext[p] = p + 1; }
-
-private:
-    std::vector<int> mNext;
-};
 
 /// What a pixel takes from one slice row, sheared: right x the sample in its
 /// column plus left x the next. The shear is the same across one slice, and so
@@ -368,9 +404,6 @@ struct ShearedRuns {
     }
 };
 
-/// Four floats at a float's alignment: an RGBA pixel of the intermediate image.
-using PixelFloats = float __attribute__((vector_size(16), aligned(4)));
-
 using Ints8 = int __attribute__((vector_size(32)));
 
 /// Eight codes from @a codes on, as floats. (GCC converts them half a register at a time.)
@@ -402,49 +435,107 @@ __attribute__((target("avx2"), always_inline)) inline Ints8 eightLevels(
     return level < lookup.darkBelow ? Ints8{} + ValueLevels::kCount : __builtin_convertvector(rounded, Ints8);
 }
 
-/// Composites pixels [@a p, @a p + 8) of a row, two to a register, but for the
-/// first @a done, which take nothing. Those closed already keep their value, as the
-/// one-pixel loop's links leave them (a pixel is closed once its opacity reaches
-/// @a termination); those that reach it now close.
+/// The light of eight table entries, a register per channel.
+struct EightLights {
+    Floats8 red, green, blue, opacity;
+};
+
+/// Two table entries, @a lo and @a hi bytes into @a table, in one register.
+__attribute__((target("avx2"), always_inline)) inline __m256 twoEntries(const char* table, int lo, int hi) {
+    const __m128 low = _mm_load_ps(reinterpret_cast<const float*>(table + lo));
+    const __m128 high = _mm_load_ps(reinterpret_cast<const float*>(table + hi));
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(low), high, 1);
+}
+
+/// Table @a light's entries at eight @a levels, transposed from entries side by side.
+__attribute__((target("avx2"), always_inline)) inline EightLights eightLights(const Floats4* light, Ints8 levels) {
+    // Byte offsets read back one by one: extracting lanes takes two instructions each.
+    alignas(32) std::int32_t at[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(at), (__m256i)(levels * int(sizeof(Floats4))));
+    asm("" : "+m"(at));  // else GCC extracts the lanes after all
+    const char* table = reinterpret_cast<const char*>(light);
+    // Lanes 0 and 4 side by side in one register, 1 and 5 in the next, and so on.
+    const __m256 e04 = twoEntries(table, at[0], at[4]), e15 = twoEntries(table, at[1], at[5]);
+    const __m256 e26 = twoEntries(table, at[2], at[6]), e37 = twoEntries(table, at[3], at[7]);
+    const __m256 rg01 = _mm256_unpacklo_ps(e04, e15), ba01 = _mm256_unpackhi_ps(e04, e15);  // r0 r1 g0 g1 | r4 r5 g4 g5
+    const __m256 rg23 = _mm256_unpacklo_ps(e26, e37), ba23 = _mm256_unpackhi_ps(e26, e37);
+    return {(Floats8)_mm256_shuffle_ps(rg01, rg23, 0x44), (Floats8)_mm256_shuffle_ps(rg01, rg23, 0xEE),
+            (Floats8)_mm256_shuffle_ps(ba01, ba23, 0x44), (Floats8)_mm256_shuffle_ps(ba01, ba23, 0xEE)};
+}
+
+/// Eight floats at a float's alignment.
+using PlaneFloats = float __attribute__((vector_size(32), aligned(4)));
+
+/// Eight floats from @a at on, and back: typed, unlike memcpy's, so that the
+/// compiler knows that a store changes only floats.
+__attribute__((target("avx2"), always_inline)) inline Floats8 loadEight(const float* at) {
+    return *reinterpret_cast<const PlaneFloats*>(at);
+}
+__attribute__((target("avx2"), always_inline)) inline void storeEight(float* at, Floats8 values) {
+    *reinterpret_cast<PlaneFloats*>(at) = values;
+}
+
+/// The light that the taps resample for pixels [@a p, @a p + 8), but for the first
+/// @a done, which take nothing.
 template <std::size_t TapCount>
-__attribute__((target("avx2"), always_inline)) inline void compositeEight(
-    const std::array<Tap<std::uint16_t>, TapCount>& taps, int p, int done, int shift, ValueLight::Lookup lookup,
-    float termination, float* rgba, OpenPixels& open) {
+__attribute__((target("avx2"), always_inline)) inline EightLights lightOfEight(
+    const std::array<Tap<std::uint16_t>, TapCount>& taps, int p, int done, int shift, ValueLight::Lookup lookup) {
     const Ints8 lanes{0, 1, 2, 3, 4, 5, 6, 7};
     const Ints8 levels = lanes < done ? Ints8{} + ValueLevels::kCount : eightLevels(taps, p + shift, lookup);
-    unsigned closing = 0;  // per pair, a bit per lane of pixels that reach the termination now
-    for (int pair = 0; pair < 4; ++pair) {
-        float* pixels = rgba + std::size_t(p + 2 * pair) * 4;
-        // Two pixels' light in one register, without a trip through memory (which
-        // stalls: two 16-byte stores cannot forward to one 32-byte load).
-        const Floats8 light = (Floats8)_mm256_insertf128_ps(
-            _mm256_castps128_ps256((__m128)lookup.light[levels[2 * pair]]), (__m128)lookup.light[levels[2 * pair + 1]], 1);
-        Floats8 value;
-        std::memcpy(&value, pixels, sizeof value);
-        const Floats8 alpha = (Floats8)_mm256_permute_ps((__m256)value, 0xFF);  // each pixel's opacity, four times
-        const Floats8 composited = value + (1.0f - alpha) * light;
-        const Floats8 kept = alpha >= termination ? value : composited;
-        std::memcpy(pixels, &kept, sizeof kept);
-        const auto closes = (alpha < termination) & (composited >= termination);
-        closing |= unsigned(_mm256_movemask_ps((__m256)closes)) << (8 * pair);
+    return eightLights(lookup.light, levels);
+}
+
+/// Adds @a light behind pixels [@a p, @a p + 8). Those closed already take nothing
+/// and keep their value, as the one-pixel loop's links leave them (a pixel is
+/// closed once its opacity reaches @a termination); those that reach it now close.
+__attribute__((target("avx2"), always_inline)) inline void compositeEight(const EightLights& light, int p,
+                                                                          float termination, PlanarRow row,
+                                                                          OpenPixels& open) {
+    float* const opacity = row.channel(3) + p;
+    const Floats8 alpha = loadEight(opacity);
+    const auto isOpen = alpha < termination;
+    // A closed pixel's channels gain light x 0, which leaves them as they are.
+    const Floats8 clear = isOpen ? 1.0f - alpha : Floats8{};
+    const Floats8* channels[3] = {&light.red, &light.green, &light.blue};
+    for (int c = 0; c < 3; ++c) {
+        float* const at = row.channel(c) + p;
+        storeEight(at, loadEight(at) + clear * *channels[c]);
     }
-    // Each pixel's opacity lane: pixel 2 pair + half has lane 4 half + 3 of its pair.
-    for (closing &= 0x88888888u; closing != 0; closing &= closing - 1) open.close(p + __builtin_ctz(closing) / 4);
+    const Floats8 composited = alpha + clear * light.opacity;
+    storeEight(opacity, composited);
+    unsigned closing = unsigned(_mm256_movemask_ps((__m256)(isOpen & (composited >= termination))));
+    for (; closing != 0; closing &= closing - 1) open.close(p + __builtin_ctz(closing));
 }
 
 /// Composites the open pixels of [@a p, @a last] eight at a time, and returns the
 /// first pixel left: one function around the whole loop, so that its constants
-/// stay in registers. The last few go as the eight that end at @a last, where the
-/// row has eight pixels: one at a time, each cost about as much as eight (a branch
-/// on its darkness that the processor mispredicts). The eight's taps may read up to
-/// seven samples before the stretch: kStoredMargin keeps them within the slice.
+/// stay in registers. Each eight's light is resampled before the eight before it
+/// is composited, so that the two chains of dependent instructions overlap: chest
+/// frames a thirtieth faster than where the processor was left to overlap them.
+/// (The next open pixel can be found first: closing pixels changes only their own
+/// links.) The last few go as the
+/// eight that end at @a last, where the row has eight pixels: one at a time, each
+/// cost about as much as eight (a branch on its darkness that the processor
+/// mispredicts). The eight's taps may read up to seven samples before the
+/// stretch: kStoredMargin keeps them within the slice.
 template <std::size_t TapCount>
 __attribute__((target("avx2"))) int compositeEights(const std::array<Tap<std::uint16_t>, TapCount>& taps, int p,
                                                     int last, int shift, ValueLight::Lookup lookup,
-                                                    float termination, float* rgba, OpenPixels& open) {
-    for (; p + 7 <= last; p = open.next(p + 8)) compositeEight(taps, p, 0, shift, lookup, termination, rgba, open);
+                                                    float termination, PlanarRow row, OpenPixels& open) {
+    if (p + 7 <= last) {
+        EightLights light = lightOfEight(taps, p, 0, shift, lookup);
+        for (bool more = true; more;) {
+            const int next = open.next(p + 8);
+            more = next + 7 <= last;
+            EightLights following{};
+            if (more) following = lightOfEight(taps, next, 0, shift, lookup);
+            compositeEight(light, p, termination, row, open);
+            p = next;
+            light = following;
+        }
+    }
     if (p > last || last < 7) return p;
-    compositeEight(taps, last - 7, p - (last - 7), shift, lookup, termination, rgba, open);
+    compositeEight(lightOfEight(taps, last - 7, p - (last - 7), shift, lookup), last - 7, termination, row, open);
     return last + 1;
 }
 
@@ -458,8 +549,8 @@ struct Compositing {
     /// Composites the open pixels of [first, last] of an intermediate row, each
     /// taking the sum of @a taps at its column, pixel + shift.
     template <typename... Taps>
-    void pixels(OpenPixels& open, RayEnds ends, const ValueCoding& coding, float* rgba, int first, int last, int shift,
-                Taps... taps) const {
+    void pixels(OpenPixels& open, RayEnds ends, const ValueCoding& coding, typename Light::Row row, int first,
+                int last, int shift, Taps... taps) const {
         const float termination = terminationOpacity;  // a local: pixel stores cannot change it
         auto lookup = light.lookup(ends, coding);
         int p = open.next(first);
@@ -468,24 +559,14 @@ struct Compositing {
             // most of its instructions moving two codes and one pixel into place.
             // (Without AVX2, GCC converts 16-bit codes one by one, and lanes are slower.)
             if (processorHasAvx2()) {
-                p = compositeEights(std::array{taps...}, p, last, shift, lookup, termination, rgba, open);
+                p = compositeEights(std::array{taps...}, p, last, shift, lookup, termination, row, open);
             }
         }
         for (; p <= last; p = open.next(p + 1)) {
             const auto sum = (taps(p + shift) + ...);
             if (lookup.dark(p, sum)) continue;  // what is not dark may still add nothing, harmlessly
-            composite(rgba, p, lookup(sum), termination, open);
+            row.add(p, lookup(sum), termination, open);
         }
-    }
-
-    /// Adds @a light behind pixel @a p, closing it once it is opaque enough.
-    static void composite(float* rgba, int p, Floats4 light, float termination, OpenPixels& open) {
-        // A typed store, unlike memcpy's, tells the compiler that only floats change.
-        PixelFloats& pixel = *reinterpret_cast<PixelFloats*>(rgba + std::size_t(p) * 4);
-        Floats4 value = pixel;
-        value += (1.0f - value[3]) * light;
-        pixel = value;
-        if (value[3] >= termination) open.close(p);
     }
 };
 
@@ -509,7 +590,7 @@ public:
     /// (upper) and row + 1 (lower), sheared by @a shear. A row without a run adds
     /// nothing. @a n counts the slices composited before this one.
     void add(const Slice& slice, int n, int row, int sliceHeight, const SliceShear& shear,
-             const Compositing<ClassifiedLight>& compositing, float* pixels) {
+             const Compositing<ClassifiedLight>& compositing, InterleavedRow pixels) {
         const RayEnds ends = endsAt(n);
         ShearedRuns<StackSample> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight);
         ShearedRuns<StackSample> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight);
@@ -539,7 +620,7 @@ public:
     /// through them (see SliceStack).
     template <typename Light>
     void add(const Slice& slice, int n, int row, int sliceHeight, const SliceShear& shear,
-             const Compositing<Light>& compositing, float* pixels) {
+             const Compositing<Light>& compositing, typename Light::Row pixels) {
         using Sample = typename Light::Sample;
         const RayEnds ends = endsAt(n);
         const auto unit = Light::unitOf(slice.coding);
@@ -565,7 +646,7 @@ private:
     /// One slice row's values, where the other row weighs nothing.
     template <typename Light>
     void addAlone(ShearedRuns<typename Light::Sample> only, RayEnds ends, const ValueCoding& coding,
-                  const SliceShear& shear, const Compositing<Light>& compositing, float* pixels) {
+                  const SliceShear& shear, const Compositing<Light>& compositing, typename Light::Row pixels) {
         for (; !only.empty(); ++only.runs) {
             composite(compositing, ends, coding, pixels, only.first(), only.last(), shear, only.tap());
         }
@@ -573,7 +654,8 @@ private:
 
     /// Composites pixels [first, last] within the volume's faces, noting that they were reached.
     template <typename Light, typename... Taps>
-    void composite(const Compositing<Light>& compositing, RayEnds ends, const ValueCoding& coding, float* pixels,
+    void composite(const Compositing<Light>& compositing, RayEnds ends, const ValueCoding& coding,
+                   typename Light::Row pixels,
                    int first, int last, const SliceShear& shear, Taps... taps) {
         first = std::max(first, shear.firstPixel);
         last = std::min(last, shear.lastPixel);
@@ -627,6 +709,55 @@ double angleToStackDeg(const Vec3d& direction, const Vec3d& normal) {
 
 namespace {
 
+/// Where a band of rows is composited: in the intermediate image itself, RGBA side
+/// by side, or in planes that are interleaved into it once the band is done (a
+/// pass over the band, little beside compositing it slice by slice).
+template <typename Row>
+class BandPixels;
+
+template <>
+class BandPixels<InterleavedRow> {
+public:
+    BandPixels(IntermediateImage& out, int firstRow, int rowCount)
+        : mFirst(out.rgba.data() + std::size_t(firstRow) * out.width * 4), mWidth(out.width) {
+        std::fill(mFirst, mFirst + std::size_t(rowCount) * mWidth * 4, 0.0f);
+    }
+    InterleavedRow row(int r) const { return {mFirst + std::size_t(r) * mWidth * 4}; }
+    void finish() const {}
+
+private:
+    float* mFirst;
+    int mWidth;
+};
+
+template <>
+class BandPixels<PlanarRow> {
+public:
+    BandPixels(IntermediateImage& out, int firstRow, int rowCount)
+        : mOut(out), mFirstRow(firstRow), mRowCount(rowCount) {
+        planes().assign(std::size_t(rowCount) * out.width * 4, 0.0f);
+    }
+    PlanarRow row(int r) const { return {planes().data() + std::size_t(r) * mOut.width * 4, mOut.width}; }
+    void finish() const {
+        for (int r = 0; r < mRowCount; ++r) {
+            const PlanarRow from = row(r);
+            float* to = mOut.rgba.data() + std::size_t(mFirstRow + r) * mOut.width * 4;
+            for (int p = 0; p < mOut.width; ++p) {
+                for (int c = 0; c < 4; ++c) to[std::size_t(p) * 4 + c] = from.channel(c)[p];
+            }
+        }
+    }
+
+private:
+    /// Each thread's, kept from band to band.
+    static std::vector<float>& planes() {
+        thread_local std::vector<float> kept;
+        return kept;
+    }
+    IntermediateImage& mOut;
+    int mFirstRow, mRowCount;
+};
+
 /// Composites every slice of @a stack into @a out, sheared by @a shears, front to
 /// back: from the last slice first when @a backwards.
 template <typename Light>
@@ -641,8 +772,7 @@ void compositeBands(const SliceStack& stack, const std::vector<SliceShear>& shea
         thread_local RowCompositor rows[kBandRows];
         const int firstRow = band * kBandRows, rowCount = std::min(kBandRows, out.height - firstRow);
         for (int r = 0; r < rowCount; ++r) rows[r].reset(out.width);
-        float* const bandPixels = out.rgba.data() + std::size_t(firstRow) * out.width * 4;
-        std::fill(bandPixels, bandPixels + std::size_t(rowCount) * out.width * 4, 0.0f);
+        BandPixels<typename Light::Row> pixels(out, firstRow, rowCount);
         for (int n = 0; n < g.slices; ++n) {
             const int k = backwards ? g.slices - 1 - n : n;
             const Slice& slice = stack.slices()[k];
@@ -655,11 +785,11 @@ void compositeBands(const SliceStack& stack, const std::vector<SliceShear>& shea
                 // background's row beyond resamples to.
                 const double sliceRow = row + shears[k].row;
                 if (sliceRow < g.firstRowInside - 1e-6 || sliceRow > g.lastRowInside + 1e-6) continue;
-                rows[r].add(slice, n, row + shears[k].rowOffset, g.height, shears[k], compositing,
-                            out.rgba.data() + std::size_t(row) * out.width * 4);
+                rows[r].add(slice, n, row + shears[k].rowOffset, g.height, shears[k], compositing, pixels.row(r));
             }
             if (!open) break;
         }
+        pixels.finish();
         for (int r = 0; r < rowCount; ++r) out.reached[firstRow + r] = rows[r].reached();
     });
 }
