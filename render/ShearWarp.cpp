@@ -463,16 +463,19 @@ __attribute__((target("avx2"), always_inline)) inline EightLights eightLights(co
             (Floats8)_mm256_shuffle_ps(ba01, ba23, 0x44), (Floats8)_mm256_shuffle_ps(ba01, ba23, 0xEE)};
 }
 
-/// Eight floats at a float's alignment.
-using PlaneFloats = float __attribute__((vector_size(32), aligned(4)));
+/// Eight floats at a float's alignment: packed, since clang keeps a vector
+/// typedef's own alignment whatever its aligned attribute says.
+struct __attribute__((packed)) PlaneFloats {
+    Floats8 values;
+};
 
 /// Eight floats from @a at on, and back: typed, unlike memcpy's, so that the
 /// compiler knows that a store changes only floats.
 __attribute__((target("avx2"), always_inline)) inline Floats8 loadEight(const float* at) {
-    return *reinterpret_cast<const PlaneFloats*>(at);
+    return reinterpret_cast<const PlaneFloats*>(at)->values;
 }
 __attribute__((target("avx2"), always_inline)) inline void storeEight(float* at, Floats8 values) {
-    *reinterpret_cast<PlaneFloats*>(at) = values;
+    reinterpret_cast<PlaneFloats*>(at)->values = values;
 }
 
 /// The light that the taps resample for pixels [@a p, @a p + 8), but for the first
