@@ -416,6 +416,18 @@ CellLevels cellLevels(const std::vector<std::uint16_t>& codes, const ValueCoding
     return cells;
 }
 
+/// ValueLevels::markVisible's loop, without branches: a stack build judges every
+/// cell of every slice (one at a time, with a test for each neighbouring slice,
+/// chest CT builds took 3 % longer).
+__attribute__((target_clones("avx2", "default"))) void markVisibleLevels(const std::uint16_t* lo,
+                                                                         const std::uint16_t* hi, std::size_t count,
+                                                                         const std::uint16_t* visibleFrom,
+                                                                         std::uint8_t* seen) {
+    for (std::size_t n = 0; n < count; ++n) {
+        seen[n] = std::uint8_t(hi[n] >= lo[n]) & std::uint8_t(visibleFrom[lo[n]] <= hi[n]);
+    }
+}
+
 /// Widens cells [to, to + count) of @a into by the levels of cells [from, from + count) of @a cells.
 void takeLevels(CellLevels& into, std::size_t to, const CellLevels& cells, std::size_t from, std::size_t count) {
     for (std::size_t n = 0; n < count; ++n) {
@@ -549,19 +561,21 @@ private:
         const int width = mGeometry.width, height = mGeometry.height;
         if (before && before->slice != p.slice - 1) before = nullptr;
         if (after && after->slice != p.slice + 1) after = nullptr;
-        std::vector<std::uint8_t> seen(std::size_t(width) * height, 0);
-        for (int j = 0; j + 1 < height; ++j) {
-            for (int x = 0; x + 1 < width; ++x) {
-                const std::size_t n = std::size_t(j) * width + x;
-                int lo = p.cells.lo[n], hi = p.cells.hi[n];
-                for (const Plane* neighbour : {before, after}) {
-                    if (!neighbour) continue;
-                    lo = std::min<int>(lo, neighbour->reachable.lo[n]);
-                    hi = std::max<int>(hi, neighbour->reachable.hi[n]);
-                }
-                seen[n] = mLevels.anyVisibleLevel(lo, hi);
+        const std::size_t size = std::size_t(width) * height;
+        std::vector<std::uint8_t> seen(size);
+        if (before || after) {
+            CellLevels judged = p.cells;
+            for (const Plane* neighbour : {before, after}) {
+                if (neighbour) takeLevels(judged, 0, neighbour->reachable, 0, size);
             }
+            mLevels.markVisible(judged.lo.data(), judged.hi.data(), size, seen.data());
+        } else {
+            mLevels.markVisible(p.cells.lo.data(), p.cells.hi.data(), size, seen.data());
         }
+        // The last column and row hold no cells (a cell is kept at its first corner),
+        // whatever the neighbours' widened levels say there.
+        for (int j = 0; j < height; ++j) seen[std::size_t(j) * width + width - 1] = 0;
+        if (height > 0) std::fill(seen.end() - width, seen.end(), 0);
         mSlices[p.slice] = compress(p.stored.data(), width, height, cornersOf(seen, width, height),
                                     storedOf(mOutside, p.coding.code(slabKey(mOutside))));
         mSlices[p.slice].coding = p.coding;
@@ -684,6 +698,11 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
             });
     }
     for (const auto& source : sources) mGaussiansTouched += source->gaussiansReaching();
+}
+
+void ValueLevels::markVisible(const std::uint16_t* lo, const std::uint16_t* hi, std::size_t count,
+                              std::uint8_t* seen) const {
+    markVisibleLevels(lo, hi, count, mVisibleFrom.data(), seen);
 }
 
 ValueLevels::ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels)

@@ -166,6 +166,8 @@ public:
     bool anyVisible(float lo, float hi) const { return anyVisibleLevel(levelOf(lo), levelOf(hi)); }
     /// Whether some level in [lo, hi] is not transparent (none when lo > hi).
     bool anyVisibleLevel(int lo, int hi) const { return hi >= lo && mVisibleFrom[lo] <= hi; }
+    /// anyVisibleLevel(lo[n], hi[n]) into seen[n] for each n below @a count.
+    void markVisible(const std::uint16_t* lo, const std::uint16_t* hi, std::size_t count, std::uint8_t* seen) const;
 
 private:
     /// Values to levels. In double precision, so that any span of float values, from
