@@ -512,15 +512,15 @@ __attribute__((target("avx2"), always_inline)) inline void compositeEight(const 
 
 /// Composites the open pixels of [@a p, @a last] eight at a time, and returns the
 /// first pixel left: one function around the whole loop, so that its constants
-/// stay in registers. Each eight's light is resampled before the eight before it
-/// is composited, so that the two chains of dependent instructions overlap: chest
-/// frames a thirtieth faster than where the processor was left to overlap them.
-/// (The next open pixel can be found first: closing pixels changes only their own
-/// links.) The last few go as the
-/// eight that end at @a last, where the row has eight pixels: one at a time, each
-/// cost about as much as eight (a branch on its darkness that the processor
-/// mispredicts). The eight's taps may read up to seven samples before the
-/// stretch: kStoredMargin keeps them within the slice.
+/// stay in registers.
+/// - Each eight's light is resampled before the eight before it is composited, so
+///   that the two chains of dependent instructions overlap: chest frames a
+///   thirtieth faster than where the processor was left to overlap them. (The next
+///   open pixel can be found first: closing pixels changes only their own links.)
+/// - The last few go as the eight that end at @a last, where the row has eight
+///   pixels: one at a time, each cost about as much as eight (a branch on its
+///   darkness that the processor mispredicts). That eight's taps may read up to
+///   seven samples before the stretch: kStoredMargin keeps them within the slice.
 template <std::size_t TapCount>
 __attribute__((target("avx2"))) int compositeEights(const std::array<Tap<std::uint16_t>, TapCount>& taps, int p,
                                                     int last, int shift, ValueLight::Lookup lookup,
@@ -658,8 +658,7 @@ private:
     /// Composites pixels [first, last] within the volume's faces, noting that they were reached.
     template <typename Light, typename... Taps>
     void composite(const Compositing<Light>& compositing, RayEnds ends, const ValueCoding& coding,
-                   typename Light::Row pixels,
-                   int first, int last, const SliceShear& shear, Taps... taps) {
+                   typename Light::Row pixels, int first, int last, const SliceShear& shear, Taps... taps) {
         first = std::max(first, shear.firstPixel);
         last = std::min(last, shear.lastPixel);
         if (first > last) return;

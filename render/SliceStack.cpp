@@ -562,16 +562,18 @@ private:
         if (before && before->slice != p.slice - 1) before = nullptr;
         if (after && after->slice != p.slice + 1) after = nullptr;
         const std::size_t size = std::size_t(width) * height;
-        std::vector<std::uint8_t> seen(size);
+        // A segment's cell is judged with what rays through it meet in the neighbouring slices.
+        CellLevels withNeighbours;
+        const CellLevels* judged = &p.cells;
         if (before || after) {
-            CellLevels judged = p.cells;
+            withNeighbours = p.cells;
             for (const Plane* neighbour : {before, after}) {
-                if (neighbour) takeLevels(judged, 0, neighbour->reachable, 0, size);
+                if (neighbour) takeLevels(withNeighbours, 0, neighbour->reachable, 0, size);
             }
-            mLevels.markVisible(judged.lo.data(), judged.hi.data(), size, seen.data());
-        } else {
-            mLevels.markVisible(p.cells.lo.data(), p.cells.hi.data(), size, seen.data());
+            judged = &withNeighbours;
         }
+        std::vector<std::uint8_t> seen(size);
+        mLevels.markVisible(judged->lo.data(), judged->hi.data(), size, seen.data());
         // The last column and row hold no cells (a cell is kept at its first corner),
         // whatever the neighbours' widened levels say there.
         for (int j = 0; j < height; ++j) seen[std::size_t(j) * width + width - 1] = 0;
