@@ -157,12 +157,29 @@ AxisSamples samplesOnVoxels(double lo, double hi, double step, const VoxelRow& r
     return {int(after - before) + 1, row.centreMm + before * step, step, true};
 }
 
-/// Samples along @a along covering [lo, hi] and one beyond each end: on the voxel
-/// centres when @a onVoxels, it runs along an axis of the volume and they lie about
-/// @a wantedMm apart, else centred.
+/// How much finer than asked a stack may sample, to keep to the voxels (voxelRate).
+constexpr double kFinerThanAsked = 2.0;
+
+/// The spacing to sample along @a along when @a wantedMm is asked: no coarser than
+/// the voxels along it (its voxel edge, or the smallest where it runs along no
+/// axis), nor kFinerThanAsked times finer than asked. Where the view shrinks the
+/// volume, samples further apart than the voxels skip some, and a thin structure
+/// between them shows as stripes: at 256 x 256, chest `ct` frames fell up to 6.8 dB
+/// short of the one-ray ray marcher (docs/benchmarks.md, "Samples no coarser than
+/// the voxels").
+double voxelRate(const RenderVolume& volume, const std::optional<VoxelRow>& row, double wantedMm) {
+    const double voxelMm = row ? row->edgeMm : volume.voxelMm();
+    return std::max(std::min(wantedMm, voxelMm), wantedMm / kFinerThanAsked);
+}
+
+/// Samples along @a along covering [lo, hi] and one beyond each end, about
+/// @a wantedMm apart (at voxelRate when @a fine): on the voxel centres when
+/// @a onVoxels, it runs along an axis of the volume and they lie near, else centred.
 AxisSamples samplesAlong(const RenderVolume& volume, const Vec3d& along, double lo, double hi, double wantedMm,
-                         bool onVoxels) {
-    if (const std::optional<VoxelRow> row = onVoxels ? voxelRowAlong(volume, along) : std::nullopt) {
+                         bool onVoxels, bool fine) {
+    const std::optional<VoxelRow> row = voxelRowAlong(volume, along);
+    if (fine) wantedMm = voxelRate(volume, row, wantedMm);
+    if (row && onVoxels) {
         if (const std::optional<double> step = stepOnVoxels(wantedMm, *row)) return samplesOnVoxels(lo, hi, *step, *row);
     }
     return paddedSamples(centredSamples(lo, hi, wantedMm));
@@ -194,7 +211,7 @@ AxisSamples slicesOffPlanes(double lo, double hi, double step, const VoxelRow& r
 /// colour cryosection scored 28.05 dB against the reference on the voxel centres,
 /// 36.85 off them (docs/benchmarks.md, "A still once the view rests").
 StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& direction, double sliceSpacingVoxels,
-                               double sampleMm, bool keepsValues) {
+                               double sampleMm, bool keepsValues, bool fine) {
     StackGeometry g;
     g.normal = direction.unit();
     g.e1 = helperAxis(g.normal).cross(g.normal).unit();
@@ -206,8 +223,8 @@ StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& directio
         lo = openvdb::math::minComponent(lo, p);
         hi = openvdb::math::maxComponent(hi, p);
     }
-    const AxisSamples across = samplesAlong(volume, g.e1, lo[0], hi[0], sampleMm, keepsValues);
-    const AxisSamples down = samplesAlong(volume, g.e2, lo[1], hi[1], sampleMm, keepsValues);
+    const AxisSamples across = samplesAlong(volume, g.e1, lo[0], hi[0], sampleMm, keepsValues, fine);
+    const AxisSamples down = samplesAlong(volume, g.e2, lo[1], hi[1], sampleMm, keepsValues, fine);
     const std::optional<VoxelRow> planes = voxelRowAlong(volume, g.normal);
     const AxisSamples slices =
         planes ? slicesOffPlanes(lo[2], hi[2], g.sliceMm, *planes) : centredSamples(lo[2], hi[2], g.sliceMm);
@@ -619,13 +636,15 @@ StackContent contentOf(const std::vector<StackLayer>& layers) {
 /// images of a colour section came out paler than the ray marcher's, up to 4.4 dB
 /// further than classified samples (docs/benchmarks.md, "Stacks of colours").
 std::pair<StackGeometry, StackContent> layoutFor(const std::vector<StackLayer>& layers, const Vec3d& direction,
-                                                 double sliceSpacingVoxels, double sampleMm) {
+                                                 double sliceSpacingVoxels, double sampleMm, StackSampling sampling) {
     const RenderVolume& volume = *layers.front().volume;
     const StackContent content = contentOf(layers);
+    const bool fine = sampling == StackSampling::voxels;
     const StackGeometry g =
-        stackGeometryFor(volume, direction, sliceSpacingVoxels, sampleMm, content != StackContent::classified);
+        stackGeometryFor(volume, direction, sliceSpacingVoxels, sampleMm, content != StackContent::classified, fine);
     if (content == StackContent::colours && !g.samplesOnVoxels) {
-        return {stackGeometryFor(volume, direction, sliceSpacingVoxels, sampleMm, false), StackContent::classified};
+        return {stackGeometryFor(volume, direction, sliceSpacingVoxels, sampleMm, false, fine),
+                StackContent::classified};
     }
     return {g, content};
 }
@@ -641,7 +660,7 @@ SliceStack::SliceStack(const RenderVolume& volume, const Classifier& classifier,
 SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direction, double sliceSpacingVoxels,
                        double sampleMm, const ProgressFn& progress, const std::atomic<bool>* cancel,
                        StackSampling sampling, SegmentViews segments) {
-    std::tie(mGeometry, mContent) = layoutFor(layers, direction, sliceSpacingVoxels, sampleMm);
+    std::tie(mGeometry, mContent) = layoutFor(layers, direction, sliceSpacingVoxels, sampleMm, sampling);
     mSlices.resize(mGeometry.slices);
     const RenderVolume& volume = *layers.front().volume;
     const Classifier& classifier = layers.front().classifier;

@@ -112,15 +112,18 @@ TEST(SliceStack, SamplesAlongAVolumesAxesFallOnItsVoxelCentres) {
     // Voxels of 1 x 1 x 1.5 mm; a stack across y has x and z in its plane.
     const GridRenderVolume volume(test::makeGrid({20, 16, 12}, hollowBallAt, openvdb::Vec3d(1.0, 1.0, 1.5)));
     struct Case {
-        double askedMm, xStep, zStep;  // 0: not on the centres, the spacing asked
+        double askedMm, xStep, zStep;
+        bool xOnCentres, zOnCentres;
     };
-    for (const Case c : {Case{0.78, 1.0, 0.0}, Case{0.7, 0.0, 0.75}, Case{1.2, 1.0, 1.5}, Case{2.2, 2.0, 0.0},
-                         Case{0.45, 0.5, 0.5}}) {
+    // Asked coarser than the voxels, samples keep to them, but never more than twice as fine as asked (4.4).
+    for (const Case c : {Case{0.78, 1.0, 0.78, true, false}, Case{0.7, 0.7, 0.75, false, true},
+                         Case{1.2, 1.0, 1.5, true, true}, Case{2.2, 1.0, 1.5, true, true},
+                         Case{4.4, 2.0, 2.2, true, false}, Case{0.45, 0.5, 0.5, true, true}}) {
         const SliceStack stack(volume, shellClassifier(), openvdb::Vec3d(0, 1, 0), 1.0, c.askedMm);
         const StackGeometry& g = stack.geometry();
         const int xAxis = std::abs(g.e1.x()) > 0.5 ? 0 : 1;  // which of e1 and e2 runs along x
-        EXPECT_DOUBLE_EQ(g.sampleMm[xAxis], c.xStep > 0.0 ? c.xStep : c.askedMm) << c.askedMm;
-        EXPECT_DOUBLE_EQ(g.sampleMm[1 - xAxis], c.zStep > 0.0 ? c.zStep : c.askedMm) << c.askedMm;
+        EXPECT_DOUBLE_EQ(g.sampleMm[xAxis], c.xStep) << c.askedMm;
+        EXPECT_DOUBLE_EQ(g.sampleMm[1 - xAxis], c.zStep) << c.askedMm;
         // The slices lie a voxel (1 mm) apart, a quarter of a voxel off the voxel planes.
         EXPECT_DOUBLE_EQ(g.sliceMm, 1.0);
         for (int k = 0; k < g.slices; ++k) {
@@ -131,15 +134,28 @@ TEST(SliceStack, SamplesAlongAVolumesAxesFallOnItsVoxelCentres) {
         const double xPerVoxel = std::max(1.0, 1.0 / c.xStep), zPerVoxel = std::max(1.0, 1.5 / c.zStep);
         for (int n = 0; n < std::min(g.width, g.height); ++n) {
             const openvdb::Vec3d index = indexOfSample(stack, volume, n, n);
-            if (c.xStep > 0.0) EXPECT_TRUE(onVoxelCentre(index.x() * xPerVoxel)) << c.askedMm << " " << n;
-            if (c.zStep > 0.0) EXPECT_TRUE(onVoxelCentre(index.z() * zPerVoxel)) << c.askedMm << " " << n;
+            if (c.xOnCentres) EXPECT_TRUE(onVoxelCentre(index.x() * xPerVoxel)) << c.askedMm << " " << n;
+            if (c.zOnCentres) EXPECT_TRUE(onVoxelCentre(index.z() * zPerVoxel)) << c.askedMm << " " << n;
         }
     }
-    // Off the volume's axes, the spacings asked.
+    // Off the volume's axes, the spacings asked, or the least voxel edge where that is finer.
     const StackGeometry oblique =
         SliceStack(volume, shellClassifier(), openvdb::Vec3d(1, 2, 0.5), 1.0, 0.8).geometry();
     EXPECT_EQ(oblique.sampleMm, openvdb::Vec2d(0.8));
     EXPECT_DOUBLE_EQ(oblique.sliceMm, 1.0);
+    EXPECT_EQ(SliceStack(volume, shellClassifier(), openvdb::Vec3d(1, 2, 0.5), 1.0, 1.7).geometry().sampleMm,
+              openvdb::Vec2d(1.0));
+}
+
+// A coarse first image must come quickly: a preview keeps to the spacing asked.
+TEST(SliceStack, APreviewTakesTheSpacingAskedHoweverCoarse) {
+    const GridRenderVolume volume(test::makeGrid({20, 16, 12}, hollowBallAt, openvdb::Vec3d(1.0, 1.0, 1.5)));
+    const SliceStack preview(volume, shellClassifier(), openvdb::Vec3d(0, 1, 0), 1.0, 2.2, {}, nullptr,
+                             StackSampling::preview);
+    const StackGeometry& g = preview.geometry();
+    const int xAxis = std::abs(g.e1.x()) > 0.5 ? 0 : 1;
+    EXPECT_DOUBLE_EQ(g.sampleMm[xAxis], 2.0);  // two voxels, on their centres
+    EXPECT_DOUBLE_EQ(g.sampleMm[1 - xAxis], 2.2);
 }
 
 // Classified samples blend colours classified at the samples, not the colour of
