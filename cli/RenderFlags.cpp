@@ -29,7 +29,7 @@ void addStackFlags(CLI::App& command, ShearWarpSettings& settings, bool* automat
     command.add_option("--supersample", settings.supersampling,
                        "Stack samples along each side of an image pixel (of a voxel, zoomed in), 1 to 4, averaged "
                        "over each pixel by the warp: 1.5 anti-aliases (on grids, past the one-ray ray marcher); 1 is "
-                       "about twice as fast")
+                       "up to about twice as fast. Never coarser than the voxels, where the view shrinks the volume")
         ->capture_default_str();
     command
         .add_option_function<std::string>(

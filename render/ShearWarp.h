@@ -47,7 +47,8 @@ struct ShearWarpSettings {
     float minimumFootprintVoxels() const { return float(0.5 * sliceSpacingVoxels); }
     /// The spacing to ask of a stack's samples across the slices, for @a camera's pixels over
     /// @a volume's voxels: samples much finer than the voxels would only resample the
-    /// same trilinear field, however far the view zooms in.
+    /// same trilinear field, however far the view zooms in. (Where the view shrinks
+    /// the volume, the stack takes no coarser than the voxels: SliceStack.)
     double sampleMmFor(const OrthoCamera& camera, const RenderVolume& volume) const {
         return std::max(camera.pixelMm, volume.voxelMm()) / supersampling;
     }

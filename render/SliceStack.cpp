@@ -204,7 +204,7 @@ AxisSamples slicesOffPlanes(double lo, double hi, double step, const VoxelRow& r
 
 /// The lattice of slices perpendicular to @a direction that covers the volume,
 /// @a sliceSpacingVoxels apart (a voxel is the volume's smallest voxel edge) and
-/// about @a sampleMm across: on the voxel centres nearby for a stack of values,
+/// about @a sampleMm across (at voxelRate when @a fine): on the voxel centres nearby for a stack of values,
 /// whose bilinear resampling is then the trilinear field. Not for classified
 /// samples: there resampling blends colours classified at the voxels, not the
 /// colour of blended voxels, and at `gvr render`'s default view axis frames of the

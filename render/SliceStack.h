@@ -244,6 +244,9 @@ public:
     /// where the volume has content). Opacities are corrected from one voxel to one
     /// slice spacing: 1 - (1 - alpha)^(sliceMm / voxelMm). The samples keep their
     /// values when the volume's background is transparent, and are classified otherwise.
+    /// @param sampleMm  the spacing asked across the slices: a stack of the voxels
+    ///                  (not a preview) samples no coarser than they lie along each
+    ///                  axis, nor more than twice as finely as asked (StackGeometry::sampleMm)
     /// @param cancel  when set (from any thread), the build stops within one slab of
     ///                eight slices and throws Cancelled
     SliceStack(const RenderVolume& volume, const Classifier& classifier, const openvdb::Vec3d& direction,
