@@ -147,6 +147,24 @@ TEST(SliceStack, SamplesAlongAVolumesAxesFallOnItsVoxelCentres) {
               openvdb::Vec2d(1.0));
 }
 
+// Each axis keeps to its own voxels: capped at the smallest voxel edge, the 4 mm
+// axis would take sixteen times the samples it needs.
+TEST(SliceStack, StronglyAnisotropicVoxelsAreSampledNoCoarserThanEachAxisOwn) {
+    const GridRenderVolume volume(test::makeGrid({20, 16, 12}, hollowBallAt, openvdb::Vec3d(0.25, 1.0, 4.0)));
+    struct Case {
+        double askedMm, xStep, zStep;
+    };
+    // Each axis no coarser than its voxels (0.25 mm along x, 4 along z), nor over twice as fine as asked.
+    for (const Case c : {Case{0.5, 0.25, 0.5}, Case{2.0, 1.0, 2.0}, Case{8.0, 4.0, 4.0}}) {
+        const SliceStack stack(volume, shellClassifier(), openvdb::Vec3d(0, 1, 0), 1.0, c.askedMm);
+        const StackGeometry& g = stack.geometry();
+        const int xAxis = std::abs(g.e1.x()) > 0.5 ? 0 : 1;
+        EXPECT_DOUBLE_EQ(g.sampleMm[xAxis], c.xStep) << c.askedMm;
+        EXPECT_DOUBLE_EQ(g.sampleMm[1 - xAxis], c.zStep) << c.askedMm;
+        EXPECT_TRUE(g.samplesOnVoxels) << c.askedMm;
+    }
+}
+
 // A coarse first image must come quickly: a preview keeps to the spacing asked.
 TEST(SliceStack, APreviewTakesTheSpacingAskedHoweverCoarse) {
     const GridRenderVolume volume(test::makeGrid({20, 16, 12}, hollowBallAt, openvdb::Vec3d(1.0, 1.0, 1.5)));
