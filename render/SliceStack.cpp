@@ -162,11 +162,12 @@ constexpr double kFinerThanAsked = 2.0;
 
 /// The spacing to sample along @a along when @a wantedMm is asked: no coarser than
 /// the voxels along it (its voxel edge, or the smallest where it runs along no
-/// axis), nor kFinerThanAsked times finer than asked. Where the view shrinks the
-/// volume, samples further apart than the voxels skip some, and a thin structure
-/// between them shows as stripes: at 256 x 256, chest `ct` frames fell up to 6.8 dB
-/// short of the one-ray ray marcher (docs/benchmarks.md, "Samples no coarser than
-/// the voxels").
+/// axis), nor more than kFinerThanAsked times finer than asked. Where the view
+/// shrinks the volume, samples further apart than the voxels skip some, and a thin
+/// structure between them shows as stripes: at 256 x 256, chest `ct` frames fell up
+/// to 6.8 dB short of the one-ray ray marcher (docs/benchmarks.md, "Samples no
+/// coarser than the voxels"). Asked coarser than the voxels, a stack so holds at
+/// most a sample a voxel.
 double voxelRate(const RenderVolume& volume, const std::optional<VoxelRow>& row, double wantedMm) {
     const double voxelMm = row ? row->edgeMm : volume.voxelMm();
     return std::max(std::min(wantedMm, voxelMm), wantedMm / kFinerThanAsked);
@@ -204,12 +205,12 @@ AxisSamples slicesOffPlanes(double lo, double hi, double step, const VoxelRow& r
 
 /// The lattice of slices perpendicular to @a direction that covers the volume,
 /// @a sliceSpacingVoxels apart (a voxel is the volume's smallest voxel edge) and
-/// about @a sampleMm across (at voxelRate when @a fine): on the voxel centres nearby for a stack of values,
-/// whose bilinear resampling is then the trilinear field. Not for classified
-/// samples: there resampling blends colours classified at the voxels, not the
-/// colour of blended voxels, and at `gvr render`'s default view axis frames of the
-/// colour cryosection scored 28.05 dB against the reference on the voxel centres,
-/// 36.85 off them (docs/benchmarks.md, "A still once the view rests").
+/// about @a sampleMm across (at voxelRate when @a fine): on the voxel centres
+/// nearby for a stack of values, whose bilinear resampling is then the trilinear
+/// field. Not for classified samples: there resampling blends colours classified
+/// at the voxels, not the colour of blended voxels, and at `gvr render`'s default
+/// view axis frames of the colour cryosection scored 28.05 dB against the reference
+/// on the voxel centres, 36.85 off them (docs/benchmarks.md, "A still once the view rests").
 StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& direction, double sliceSpacingVoxels,
                                double sampleMm, bool keepsValues, bool fine) {
     StackGeometry g;
