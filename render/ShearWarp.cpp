@@ -98,19 +98,23 @@ private:
     std::vector<int> mNext;
 };
 
-/// Four floats at a float's alignment: an RGBA pixel of the intermediate image.
-using PixelFloats = float __attribute__((vector_size(16), aligned(4)));
+/// A vector at a float's alignment, read and written typed, unlike memcpy's, so
+/// that the compiler knows that a store changes only floats. Packed, since clang
+/// keeps a vector typedef's own alignment whatever its aligned attribute says.
+template <typename Vector>
+struct __attribute__((packed)) Unaligned {
+    Vector values;
+};
 
 /// An intermediate row's pixels, RGBA side by side: a pixel is one register.
 struct InterleavedRow {
     float* rgba;
     /// Adds @a light behind pixel @a p, closing it once it is opaque enough.
     void add(int p, Floats4 light, float termination, OpenPixels& open) const {
-        // A typed store, unlike memcpy's, tells the compiler that only floats change.
-        PixelFloats& pixel = *reinterpret_cast<PixelFloats*>(rgba + std::size_t(p) * 4);
-        Floats4 value = pixel;
+        Unaligned<Floats4>& pixel = *reinterpret_cast<Unaligned<Floats4>*>(rgba + std::size_t(p) * 4);
+        Floats4 value = pixel.values;
         value += (1.0f - value[3]) * light;
-        pixel = value;
+        pixel.values = value;
         if (value[3] >= termination) open.close(p);
     }
 };
@@ -463,19 +467,12 @@ __attribute__((target("avx2"), always_inline)) inline EightLights eightLights(co
             (Floats8)_mm256_shuffle_ps(ba01, ba23, 0x44), (Floats8)_mm256_shuffle_ps(ba01, ba23, 0xEE)};
 }
 
-/// Eight floats at a float's alignment: packed, since clang keeps a vector
-/// typedef's own alignment whatever its aligned attribute says.
-struct __attribute__((packed)) PlaneFloats {
-    Floats8 values;
-};
-
-/// Eight floats from @a at on, and back: typed, unlike memcpy's, so that the
-/// compiler knows that a store changes only floats.
+/// Eight floats from @a at on, and back.
 __attribute__((target("avx2"), always_inline)) inline Floats8 loadEight(const float* at) {
-    return reinterpret_cast<const PlaneFloats*>(at)->values;
+    return reinterpret_cast<const Unaligned<Floats8>*>(at)->values;
 }
 __attribute__((target("avx2"), always_inline)) inline void storeEight(float* at, Floats8 values) {
-    reinterpret_cast<PlaneFloats*>(at)->values = values;
+    reinterpret_cast<Unaligned<Floats8>*>(at)->values = values;
 }
 
 /// The light that the taps resample for pixels [@a p, @a p + 8), but for the first
