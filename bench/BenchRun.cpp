@@ -38,10 +38,12 @@ struct RunSkipped : std::runtime_error {
 };
 
 /// A number from gvr's JSON: "inf" is +infinity, null or anything else NaN.
-double jsonDouble(const json& value) {
-    if (value.is_number()) return value.get<double>();
-    if (value.is_string() && value.get<std::string>() == "inf") return INFINITY;
-    return NAN;
+double jsonDouble(const json& value) { return value.is_number() ? value.get<double>() : NAN; }
+
+/// A PSNR from eval's JSON, where a perfect match is a null beside an MSE of 0.
+double psnrIn(const json& psnr, const json& mse) {
+    if (psnr.is_null() && mse.is_number() && mse.get<double>() == 0.0) return INFINITY;
+    return jsonDouble(psnr);
 }
 
 /// What a compressor left behind for evaluation.
@@ -366,7 +368,9 @@ private:
 
     void evaluateVolume(const Reconstruction& r, const std::string& folder, BenchRow& row) {
         const json e = gvr("eval", {"eval", mSource, r.grid}, folder + "/log.txt");
-        for (const char* key : {"psnr", "fg_psnr", "ssim", "ms_ssim"}) row.set(key, jsonDouble(e[key]));
+        row.set("psnr", psnrIn(e["psnr"], e["mse"]));
+        row.set("fg_psnr", psnrIn(e["fg_psnr"], e["fg_mse"]));
+        for (const char* key : {"ssim", "ms_ssim"}) row.set(key, jsonDouble(e[key]));
     }
 
     /// Renders the views and scores each against the ray-marched original.
@@ -382,7 +386,7 @@ private:
         double psnr = 0, ssim = 0;
         for (std::size_t v = 0; v < views.size(); ++v) {
             const json e = gvr("view eval", {"eval", mTruth[v], views[v]}, log);
-            psnr += jsonDouble(e["rendering"]["psnr"]) / views.size();
+            psnr += psnrIn(e["rendering"]["psnr"], e["mse"]) / views.size();
             ssim += jsonDouble(e["ssim"]) / views.size();
         }
         row.set("render_psnr", psnr);

@@ -1,6 +1,7 @@
 #include "bench/BenchTable.h"
 
 #include "io/AtomicFile.h"
+#include "io/Figures.h"
 #include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
@@ -83,9 +84,8 @@ nlohmann::json typedCell(const BenchRow& row, const std::string& column) {
     if (isListColumn(column)) return row.list(column);
     const std::string text = row.get(column);
     if (textColumns().count(column)) return text;
-    if (text == "inf") return "inf";
     const std::optional<double> value = row.number(column);
-    return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+    return value ? jsonNumber(*value) : nlohmann::json(nullptr);
 }
 
 void writeText(const std::string& path, const std::string& text) {
@@ -185,7 +185,13 @@ void writeResultsJson(const std::string& path, const std::string& manifestPath, 
     nlohmann::json out = {{"manifest", manifestPath}, {"rows", nlohmann::json::array()}};
     for (const BenchRow& row : rows) {
         nlohmann::json typed = nlohmann::json::object();
-        for (const std::string& column : benchColumns()) typed[column] = typedCell(row, column);
+        nlohmann::json infinite = nlohmann::json::array();
+        for (const std::string& column : benchColumns()) {
+            typed[column] = typedCell(row, column);
+            if (typed[column].is_null() && row.number(column) == INFINITY) infinite.push_back(column);
+        }
+        // JSON has no infinity: a lossless row's PSNRs are null, and named here.
+        typed["infinite"] = infinite;
         out["rows"].push_back(typed);
     }
     writeText(path, out.dump(1) + "\n");

@@ -44,7 +44,7 @@ ABLATION_COLUMNS = [("PSNR dB", "psnr", 2), ("FG PSNR dB", "fg_psnr", 2), ("SSIM
 # --- reading -------------------------------------------------------------------------------------
 
 def number(value):
-    """A float, or None when not measured; the bench writes +infinity as the string "inf"."""
+    """A float, or None when not measured (load_results() puts back the infinities)."""
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         return None
     try:
@@ -59,6 +59,11 @@ def load_results(results_dir):
     if not isinstance(data, dict):
         raise ValueError("the top level is not a JSON object")
     rows = [row for row in data.get("rows") or [] if isinstance(row, dict)]
+    for row in rows:  # JSON has no infinity: the bench writes null and names the column
+        infinite = row.get("infinite")
+        for column in infinite if isinstance(infinite, list) else []:
+            if isinstance(column, str) and row.get(column) is None:
+                row[column] = math.inf
     return str(data.get("manifest", "")), rows
 
 

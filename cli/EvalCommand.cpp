@@ -2,6 +2,7 @@
 
 #include "cli/Commands.h"
 #include "cli/SourceOptions.h"
+#include "io/AtomicFile.h"
 #include "io/Figures.h"
 #include "workflow/Evaluate.h"
 
@@ -82,6 +83,11 @@ void addEvalCommand(CLI::App& app) {
         ->capture_default_str();
     command->add_flag("--json", flags->json, "Print the result as JSON");
     command->callback([flags] {
+        const EvalOptions& options = flags->options;
+        if (!options.differenceImage.empty()) {
+            checkOutputPath("--difference", options.differenceImage,
+                            {flags->reference, flags->test, options.mask, options.labels});
+        }
         flags->options.ingest = toIngestOptions(flags->source);
         printEvaluation(*flags, evaluate(flags->reference, flags->test, flags->options));
     });

@@ -28,6 +28,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 
 namespace gvr {
 
@@ -85,6 +86,33 @@ void reportTeamError(int rank, int size, const std::exception& error) {
     diagnostics() << "gvr: error (rank " << rank << " of " << size << "): " << inCommandLineTerms(error.what()) << "\n";
 }
 
+/// When the run after reading took over 2 % more than --time: one line saying so,
+/// with the costs that do not shrink with the budget (a large volume's set-up and
+/// final measurement can outlast a short one). Else empty.
+std::string overrunNote(const PhaseTimes& phases, const FitReport& fit, double budget) {
+    const nlohmann::json laps = phases.json();
+    const double afterLoading = phases.total() - laps.value("load", 0.0);
+    if (!(budget > 0.0) || afterLoading <= 1.02 * budget) return "";
+    std::ostringstream note;
+    note << std::fixed << std::setprecision(1) << "the fit took " << afterLoading << " s after reading, over --time "
+         << budget << ": on this volume the set-up alone takes " << fit.setupSeconds << " s, "
+         << fit.iterations << (fit.iterations == 1 ? " iteration " : " iterations ") << fit.adamSeconds - fit.setupSeconds
+         << " s and the final measurement " << laps.value("measure", 0.0) << " s";
+    return note.str();
+}
+
+/// The final amplitude solve, with why it did not run ("skipped") or null, and no
+/// PSNRs for a solve that did not run.
+nlohmann::json amplitudeSolveJson(const FitReport& fit, double peak) {
+    const AmplitudeSolveReport& solve = fit.amplitudeSolve;
+    const bool ran = solve.mseBefore > 0.0;
+    return {{"skipped", fit.amplitudeSolveSkipped.empty() ? nlohmann::json() : nlohmann::json(fit.amplitudeSolveSkipped)},
+            {"iterations", solve.iterations},
+            {"seconds", solve.seconds},
+            {"psnr_before_db", ran ? jsonNumber(psnrFromMse(solve.mseBefore, peak)) : nlohmann::json()},
+            {"psnr_after_db", ran ? jsonNumber(psnrFromMse(solve.mseAfter, peak)) : nlohmann::json()}};
+}
+
 nlohmann::json structuresJson(const GaussianAsset& asset, const std::vector<StructureFit>& structures) {
     nlohmann::json out = nlohmann::json::array();
     for (const StructureFit& s : structures) {
@@ -126,6 +154,10 @@ void report(const FitFlags& flags, const BudgetedFitResult& result, double peak,
     const std::uint64_t rawBytes = asset.source.rawSourceBytes();
     const std::uint64_t floatBytes = std::uint64_t(asset.source.dims.x()) * asset.source.dims.y() *
                                      asset.source.dims.z() * asset.source.channels * 4;
+    const std::string undertrained = undertrainedNote(result, flags.options.settings, "--min-samples");
+    if (!undertrained.empty()) diagnostics() << "gvr: warning: " << undertrained << "\n";
+    const std::string overran = overrunNote(phases, fit, flags.options.settings.seconds);
+    if (!overran.empty()) diagnostics() << "gvr: warning: " << overran << "\n";
     if (flags.json) {
         nlohmann::json out = {{"output", flags.output}, {"gaussians", asset.params.count()},
                               {"file_bytes", fileBytes}, {"raw_source_bytes", rawBytes},
@@ -138,12 +170,12 @@ void report(const FitFlags& flags, const BudgetedFitResult& result, double peak,
                               {"psnr_db", jsonNumber(error.psnr)}, {"fg_psnr_db", jsonNumber(error.foregroundPsnr)},
                               {"peak", peak}, {"skipped_steps", fit.skippedSteps},
                               {"pruned", fit.pruned}, {"respawned", fit.respawned},
-                              {"amplitude_solve", {{"iterations", fit.amplitudeSolve.iterations},
-                                                   {"seconds", fit.amplitudeSolve.seconds},
-                                                   {"psnr_before_db", jsonNumber(psnrFromMse(fit.amplitudeSolve.mseBefore, peak))},
-                                                   {"psnr_after_db", jsonNumber(psnrFromMse(fit.amplitudeSolve.mseAfter, peak))}}},
+                              {"added_to_fill_budget", fit.added},
+                              {"amplitude_solve", amplitudeSolveJson(fit, peak)},
                               {"dropped_to_fit_budget", result.dropped}, {"peak_rss_mib", peakRssMiB()},
                               {"gaussians_allowed_by_ratio", fit.requestedGaussians},
+                              {"voxel_samples_per_gaussian", samplesPerGaussian(result)},
+                              {"undertrained", undertrained.empty() ? nlohmann::json() : nlohmann::json(undertrained)},
                               {"phase_seconds", phases.json()}};
         if (!result.structures.empty()) out["structures"] = structuresJson(asset, result.structures);
         if (bricked) {
@@ -165,15 +197,19 @@ void report(const FitFlags& flags, const BudgetedFitResult& result, double peak,
               << double(floatBytes) / fileBytes << ":1 against float32\n"
               << "  fit:             " << fit.iterations << " iterations in " << std::setprecision(4)
               << fit.seconds << " s (set-up " << fit.setupSeconds << " s); " << fit.skippedSteps << " steps skipped (non-finite), "
-              << fit.pruned << " Gaussians pruned, " << fit.respawned << " respawned\n";
+              << fit.pruned << " Gaussians pruned, " << fit.respawned << " respawned, " << fit.added
+              << " added where the file had room\n";
     if (fit.requestedGaussians > 0) {
         std::cout << "  count:           fewer Gaussians than the ratio allows (" << fit.requestedGaussians
-                  << "): the time budget trains about " << flags.options.settings.minSamplesPerGaussian
-                  << " voxel samples each for fewer (--min-samples)\n";
+                  << "), as --min-samples " << flags.options.settings.minSamplesPerGaussian
+                  << " asked: the time budget gives about that many voxel samples to each of fewer\n";
     }
-    std::cout
-              << "  amplitude solve: " << fit.amplitudeSolve.iterations << " CG iterations in "
-              << fit.amplitudeSolve.seconds << " s";
+    std::cout << "  amplitude solve: ";
+    if (!fit.amplitudeSolveSkipped.empty()) {
+        std::cout << "skipped: " << fit.amplitudeSolveSkipped;
+    } else {
+        std::cout << fit.amplitudeSolve.iterations << " CG iterations in " << fit.amplitudeSolve.seconds << " s";
+    }
     if (fit.amplitudeSolve.mseBefore > 0.0) {
         std::cout << ", dense PSNR " << formatDb(psnrFromMse(fit.amplitudeSolve.mseBefore, peak)) << " -> "
                   << formatDb(psnrFromMse(fit.amplitudeSolve.mseAfter, peak)) << " dB (geometry as stored, amplitudes not yet rounded)";
@@ -292,7 +328,7 @@ void runFit(FitFlags& flags) {
         result = fitToBudget(target, flags.input, flags.options, progressObserver(bar, log), loaded.labels.get());
     }
     phases.lap("fit");
-    writeAsset(flags.output, result.asset);
+    writeAssetBytes(flags.output, result.file);
     log.finish();
     phases.lap("write");
     ProgressBar measuring("measuring", !flags.quiet);
@@ -321,7 +357,7 @@ void addBrickFlags(CLI::App& command, BrickFlags& flags) {
 
 void addTuningFlags(CLI::App& command, FitSettings& s) {
     command.option_defaults()->group("Sampling (the block engine)");
-    command.add_option("--batch", s.voxelBatch, "Voxel samples per iteration (expected), in whole 8^3 blocks drawn by error")
+    command.add_option("--batch", s.voxelBatch, "Voxel samples per iteration (expected), in whole 8^3 blocks drawn by error (0: 8 a Gaussian, at least 524288)")
         ->capture_default_str();
     command.add_option("--row-stride", s.rowStride, "Evaluate every k-th row (along z) of a drawn block, weighted by k")
         ->capture_default_str();
@@ -329,8 +365,9 @@ void addTuningFlags(CLI::App& command, FitSettings& s) {
     command.add_option("--rebin-every", s.rebinEvery, "Iterations between binning every Gaussian to its blocks afresh")
         ->capture_default_str();
     command.add_option("--min-samples", s.minSamplesPerGaussian,
-                       "With --ratio and --time: fit fewer Gaussians than the ratio allows when the time cannot give "
-                       "each about this many voxel samples, measured over the first iterations (0: never)")
+                       "With --ratio and --time: trade Gaussians for training, fitting fewer than the ratio allows "
+                       "(so a higher ratio) when the time cannot give each about this many voxel samples, measured "
+                       "over the first iterations (0: never; the file keeps the ratio)")
         ->capture_default_str();
     command.add_option("--mc-lambda", s.importance.uniformShare, "lambda: uniform share of p(x) = lambda/n + (1-lambda) p_imp(x)")->capture_default_str();
     command.add_option("--mc-epsilon", s.importance.epsilon, "epsilon added to each block's error in p_imp")->capture_default_str();
@@ -372,7 +409,7 @@ void addEncodingFlags(CLI::App& command, AssetEncoding& e) {
 
 void addFitCommand(CLI::App& app) {
     auto flags = std::make_shared<FitFlags>();
-    flags->options.settings.seconds = 300.0;
+    flags->options.settings.seconds = kDefaultFitSeconds;
     CLI::App* command = app.add_subcommand(
         "fit", "Fit Gaussians to a volume (a .vdb from ingest, or any input ingest reads) and write a "
                "Gaussian asset. Ablations: full = Monte Carlo importance voxels then the slice curriculum; "

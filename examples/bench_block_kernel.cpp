@@ -56,7 +56,7 @@ void measure(const char* label, const GaussianParameters& params, const VolumeTa
     bins.build(field);
     const FitSettings defaults;
     const BlockSampler sampler(grid, ImportanceSettings{}, defaults.rowStride);
-    const std::vector<SampledBlock> blocks = sampler.draw(double(defaults.voxelBatch), 1);
+    const std::vector<SampledBlock> blocks = sampler.draw(double(defaults.batchFor(params.count())), 1);
     GradientChunks chunks;
     Timing eight, four;
     for (int r = 0; r < kRepeats; ++r) {
@@ -89,8 +89,8 @@ int main(int argc, char** argv) {
         const VolumeTarget target(chooseVolumeGrid(*grids, argv[1]), argv[1]);
         std::vector<std::string> sets(argv + 2, argv + argc);
         if (sets.empty()) sets = {"10000", "40000", "100000", "400000"};
-        std::printf("%s, the fit's defaults (batch %zu voxels, every %d-th row); fastest of %d calls\n\n", argv[1],
-                    std::size_t(FitSettings{}.voxelBatch), FitSettings{}.rowStride, kRepeats);
+        std::printf("%s, the fit's defaults (batch %.0f voxels a Gaussian, at least %zu; every %d-th row); fastest of %d calls\n\n",
+                    argv[1], kBatchPerGaussian, kLeastVoxelBatch, FitSettings{}.rowStride, kRepeats);
         std::printf("| Gaussians from | count | blocks | 8 lanes: ms | M voxels/s | 4 lanes: ms | M voxels/s | 8 against 4 |\n"
                     "|---|---|---|---|---|---|---|---|\n");
         for (const std::string& set : sets) {

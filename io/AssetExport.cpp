@@ -131,7 +131,7 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     for (auto& grid : result.grids) {
         if (grid->getName() == "density") grid->setGridClass(openvdb::GRID_FOG_VOLUME);
         describe(*grid, asset, result, settings.assetPath);
-        if (settings.dcc) grid->insertMeta("gvr_units", openvdb::StringMetadata("metres; density and colour 0..1"));
+        if (settings.dcc) grid->insertMeta("gvr_units", openvdb::StringMetadata(kDccUnits));
     }
     return result;
 }

@@ -20,6 +20,10 @@ enum class GridNaming { Blender, Houdini };
 /// density in 0..1 as this transfer function's opacity (at the value, or the
 /// luminance for RGB), colour in 0..1 (the transfer function's for grey data, the
 /// data's times colourScale for RGB), and the world in metres.
+/// The gvr_units metadata of a DCC export's grids, whose world unit is the metre
+/// where gvr's is the millimetre.
+inline constexpr const char* kDccUnits = "metres; density and colour 0..1";
+
 struct DccStyle {
     TransferFunction transfer;
     double colourScale = 1.0 / 255.0;

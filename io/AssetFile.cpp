@@ -269,6 +269,13 @@ std::uint64_t assetFileBytes(const GaussianAsset& asset) {
     return encodeAsset(copy).size();
 }
 
+std::size_t assetRoom(GaussianAsset& asset, std::uint64_t maxBytes) {
+    const std::uint64_t bytes = encodeAsset(asset).size();
+    if (bytes >= maxBytes || asset.params.count() == 0) return 0;
+    const double perGaussian = double(bytes) / double(asset.params.count());
+    return std::size_t(double(maxBytes - bytes) / perGaussian);
+}
+
 std::size_t assetCapacity(const GaussianAsset& asset, std::uint64_t maxBytes) {
     // The header grows with the count's digits and the ranges, and every zstd frame
     // has its own header: keep 512 bytes of slack.
@@ -287,9 +294,7 @@ GaussianParameters quantisedCopy(const GaussianParameters& params, const AssetEn
     return roundTripAssetBodyV2(params, quantisation);
 }
 
-/// The file bytes of @a asset, after dropping its weakest Gaussians until they fit
-/// in @a maxBytes (0: no limit).
-std::string encodeWithin(GaussianAsset& asset, std::uint64_t maxBytes) {
+std::string encodeAssetWithin(GaussianAsset& asset, std::uint64_t maxBytes) {
     std::string bytes = encodeAsset(asset);
     while (maxBytes > 0 && asset.params.count() > 0 && bytes.size() > maxBytes) {
         const double perGaussian = double(bytes.size()) / double(asset.params.count());
@@ -302,13 +307,13 @@ std::string encodeWithin(GaussianAsset& asset, std::uint64_t maxBytes) {
 
 std::size_t fitAssetInto(GaussianAsset& asset, std::uint64_t maxBytes) {
     const std::size_t before = asset.params.count();
-    encodeWithin(asset, maxBytes);
+    encodeAssetWithin(asset, maxBytes);
     return before - asset.params.count();
 }
 
 std::size_t writeAsset(const std::string& path, GaussianAsset& asset, std::uint64_t maxBytes) {
     const std::size_t before = asset.params.count();
-    writeAssetBytes(path, encodeWithin(asset, maxBytes));
+    writeAssetBytes(path, encodeAssetWithin(asset, maxBytes));
     return before - asset.params.count();
 }
 

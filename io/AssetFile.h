@@ -47,6 +47,11 @@ std::size_t assetCapacity(const GaussianAsset& asset, std::uint64_t maxBytes);
 /// The exact file size @a asset would have.
 std::uint64_t assetFileBytes(const GaussianAsset& asset);
 
+/// About how many more Gaussians, each coded as the asset's average one now is, fit
+/// in @a maxBytes: 0 once the file is that large. Puts @a asset into storage order,
+/// as encodeAsset() does.
+std::size_t assetRoom(GaussianAsset& asset, std::uint64_t maxBytes);
+
 /// Writes atomically, in the current version. The Gaussians are put into storage
 /// order (label groups kept, Morton order inside). With @a maxBytes > 0, the
 /// Gaussians with the smallest peak amplitude are dropped first until the file fits.
@@ -57,6 +62,10 @@ std::size_t writeAsset(const std::string& path, GaussianAsset& asset, std::uint6
 /// weakest Gaussians dropped until the file fits in @a maxBytes (0: no limit).
 /// @return the number of Gaussians dropped.
 std::size_t fitAssetInto(GaussianAsset& asset, std::uint64_t maxBytes);
+
+/// fitAssetInto(), for a caller that then writes the file (writeAssetBytes()).
+/// @return the file's bytes.
+std::string encodeAssetWithin(GaussianAsset& asset, std::uint64_t maxBytes);
 
 /// The whole file for @a asset, which is put into storage order first.
 std::string encodeAsset(GaussianAsset& asset);

@@ -12,9 +12,10 @@
 
 namespace gvr {
 
-/// A number, or the string "inf" (JSON has no infinity; Python's float() reads it).
+/// A number, or null where it is not finite (the PSNR of a perfect match): JSON has
+/// no infinity, and a string in a number's place breaks a reader that sums columns.
 inline nlohmann::json jsonNumber(double value) {
-    if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+    if (!std::isfinite(value)) return nullptr;
     return value;
 }
 

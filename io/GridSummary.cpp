@@ -1,5 +1,7 @@
 #include "io/GridSummary.h"
 
+#include "io/AssetExport.h"
+
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -71,6 +73,12 @@ nlohmann::json metadataValue(const openvdb::Metadata& meta) {
     return meta.str();
 }
 
+/// Millimetres in one world unit of @a grid: 1000 for a DCC export's metres.
+double millimetresPerUnit(const openvdb::GridBase& grid) {
+    const auto units = grid.getMetadata<openvdb::StringMetadata>("gvr_units");
+    return units && units->value() == kDccUnits ? 1000.0 : 1.0;
+}
+
 }  // namespace
 
 GridSummary summarizeGrid(const openvdb::GridBase& grid) {
@@ -79,7 +87,7 @@ GridSummary summarizeGrid(const openvdb::GridBase& grid) {
     summary.valueType = grid.valueType();
     summary.gridClass = openvdb::GridBase::gridClassToString(grid.getGridClass());
     summary.dims = grid.evalActiveVoxelBoundingBox().dim();
-    summary.spacingMm = grid.transform().voxelSize();
+    summary.spacingMm = grid.transform().voxelSize() * millimetresPerUnit(grid);
     summary.activeVoxels = grid.activeVoxelCount();
     summary.memoryBytes = grid.memUsage();
     ActiveRange range;

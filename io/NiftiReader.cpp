@@ -48,7 +48,9 @@ RawHeader readRawHeader(const std::string& path) {
         RawHeader header;
         header.size = size;
         header.swap = swap;
-        header.voxOffset = size == 348 ? double(fieldAt<float>(bytes, 108, swap)) : fieldAt<double>(bytes, 168, swap);
+        // NIfTI-1 writes vox_offset as a float, NIfTI-2 as an int64.
+        header.voxOffset = size == 348 ? double(fieldAt<float>(bytes, 108, swap))
+                                       : double(fieldAt<std::int64_t>(bytes, 168, swap));
         for (int axis = 0; axis < 3; ++axis) {
             header.pixdim[axis] = size == 348 ? double(fieldAt<float>(bytes, 80 + 4 * axis, swap))
                                               : fieldAt<double>(bytes, 112 + 8 * axis, swap);

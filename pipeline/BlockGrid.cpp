@@ -63,6 +63,12 @@ void BlockGrid::exclude(const std::vector<openvdb::Coord>& voxels) {
     }
 }
 
+bool BlockGrid::trainable(const openvdb::Coord& ijk) const {
+    if (!mBox.isInside(ijk)) return false;
+    const auto found = mExcluded.find(blockOf(ijk));
+    return found == mExcluded.end() || !found->second.test(std::size_t(blockOffset(ijk)));
+}
+
 void BlockGrid::trainableMask(std::uint32_t block, std::int32_t mask[kBlockVoxels]) const {
     const openvdb::Coord o = origin(block);
     openvdb::CoordBBox voxels(o, o.offsetBy(kBlockDim - 1));

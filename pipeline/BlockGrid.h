@@ -40,6 +40,8 @@ public:
     /// Trainable voxels of a block, and of the whole box.
     std::uint32_t trainableVoxels(std::uint32_t block) const { return mTrainable[block]; }
     std::uint64_t trainableVoxels() const { return mTotalTrainable; }
+    /// Whether voxel @a ijk lies in box() and was not set aside.
+    bool trainable(const openvdb::Coord& ijk) const;
     /// -1 at the blockOffset() of each trainable voxel of @a block, 0 elsewhere.
     void trainableMask(std::uint32_t block, std::int32_t mask[kBlockVoxels]) const;
 

@@ -202,7 +202,7 @@ __attribute__((always_inline)) inline GradientSums aboutTheMean(const double cen
 
 /// Residuals over the block's sampled rows into work.upstream (dL/df, zero where a
 /// voxel is not trainable). @return sum of squared residuals.
-double residuals(const Pass& pass, const SampledBlock& sampled, const openvdb::Coord& origin, BlockWork& work,
+double residuals(const Pass& pass, const SampledBlock& sampled, BlockWork& work,
                  BlockOutcome& outcome) {
     const int channels = pass.field.channels();
     const int rowStride = pass.settings.rowStride;
@@ -224,11 +224,6 @@ double residuals(const Pass& pass, const SampledBlock& sampled, const openvdb::C
                 }
                 squared += voxelSquared;
                 ++outcome.voxels;
-                if (voxelSquared > outcome.worstSquared) {
-                    outcome.worstSquared = voxelSquared;
-                    outcome.worst.position = {float(origin.x() + x), float(origin.y() + y), float(origin.z() + z)};
-                    for (int c = 0; c < channels; ++c) outcome.worst.residual[c] = -residual[c];
-                }
             }
         }
     }
@@ -270,7 +265,7 @@ __attribute__((always_inline)) inline double evaluateBlockWith(const Pass& pass,
                               {originOffset[0] + kCentre, originOffset[1] + kCentre, originOffset[2] + kCentre}});
     }
     pass.target.blockValues(origin, work.target);
-    const double squared = residuals(pass, sampled, origin, work, outcome);
+    const double squared = residuals(pass, sampled, work, outcome);
     if (!gradients) return squared;
     for (const Pair& pair : work.pairs) {
         const ActiveGaussian& g = field.gaussians()[pair.gaussian];

@@ -13,7 +13,6 @@
 #include "pipeline/BlockBins.h"
 #include "pipeline/BlockSampler.h"
 #include "pipeline/Loss.h"
-#include "pipeline/Pruning.h"
 #include "pipeline/VolumeTarget.h"
 
 #include <vector>
@@ -24,8 +23,6 @@ namespace gvr {
 struct BlockOutcome {
     double squared = 0.0;        ///< sum of |f - t|^2 over the voxels evaluated (channels summed)
     std::uint32_t voxels = 0;    ///< trainable voxels evaluated
-    float worstSquared = -1.0f;  ///< the largest |f - t|^2 among them; -1 when none
-    RespawnSite worst{};         ///< that voxel, and target - f there
 };
 
 enum class BlockKernel {

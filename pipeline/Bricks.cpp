@@ -127,7 +127,7 @@ GaussianParameters fitBrick(const openvdb::GridBase::ConstPtr& grid, const std::
     const auto scaled = [share](std::size_t count, std::size_t least) {
         return std::max(least, std::size_t(std::llround(double(count) * share)));
     };
-    one.voxelBatch = scaled(settings.voxelBatch, 1024);
+    one.voxelBatch = scaled(settings.batchFor(settings.gaussians), 1024);
     one.slicePixels = scaled(settings.slicePixels, 256);
     one.heldOutVoxels = scaled(settings.heldOutVoxels, 1024);
     one.meanRateSide = brick.volume.dim().asVec3d().length() / std::sqrt(3.0);

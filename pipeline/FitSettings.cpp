@@ -2,6 +2,7 @@
 
 #include "pipeline/Error.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace gvr {
@@ -20,7 +21,6 @@ std::string FitSettings::validate() const {
         !std::isfinite(gradientSeedShare + uniformSeedShare)) {
         return "`gradient_share` and `uniform_share` must be >= 0 and not both 0";
     }
-    if (voxelBatch == 0 && schedule != SliceSchedule::SlicesOnly) return "`batch` must be positive";
     if (refreshEvery == 0) return "`refresh_every` must be positive";
     if (rebinEvery == 0) return "`rebin_every` must be positive";
     if (rowStride < 1 || rowStride > 64) return "`row_stride` must lie in [1, 64]";
@@ -40,6 +40,12 @@ std::string FitSettings::validate() const {
     }
     if (heldOutVoxels == 0 || logEvery == 0) return "`held_out` and `log_every` must be positive";
     return "";
+}
+
+std::size_t FitSettings::batchFor(std::size_t count) const {
+    if (voxelBatch > 0) return voxelBatch;
+    const double sized = std::min(kBatchPerGaussian * double(count), double(kMaxVoxelBatch));
+    return std::max(kLeastVoxelBatch, std::size_t(sized));
 }
 
 void applyAblation(Ablation ablation, FitSettings& settings) {

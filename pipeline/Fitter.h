@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <optional>
+#include <string>
 
 namespace gvr {
 
@@ -37,6 +38,7 @@ struct FitReport {
     std::size_t skippedSteps = 0;
     std::size_t pruned = 0;
     std::size_t respawned = 0;
+    std::size_t added = 0;           ///< Gaussians added where the byte budget had room (FitSettings::roomInBudget)
     double voxelSamples = 0.0;       ///< voxels the voxel loss evaluated, over all iterations
     double setupSeconds = 0.0;       ///< before the first iteration: held-out voxels, blocks, seeds
     double adamSeconds = 0.0;        ///< seconds of the iterations, before the amplitude solve
@@ -45,6 +47,7 @@ struct FitReport {
     /// kept fewer (FitSettings::minSamplesPerGaussian); else 0.
     std::size_t requestedGaussians = 0;
     AmplitudeSolveReport amplitudeSolve;
+    std::string amplitudeSolveSkipped;  ///< why the solve did not run, in words; empty if it ran
 };
 
 /// Fits settings.gaussians Gaussians to @a target (index space). Same settings,

@@ -1,5 +1,6 @@
 #include "pipeline/Loss.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -89,6 +90,19 @@ void evaluateRecorded(const GaussianField& field, const float x[3], const std::u
     }
 }
 
+/// The field at @a x into @a value, and each Gaussian's part into @a contributions:
+/// from the bins if given, else from the BVH.
+void evaluateAt(const GaussianField& field, const float x[3], const BlockBins* bins, std::vector<std::uint32_t>& hits,
+                std::vector<Contribution>& contributions, float* value) {
+    if (bins) {
+        const std::vector<std::uint32_t>& near = bins->gaussiansNear(x);
+        evaluateRecorded(field, x, near.data(), near.size(), true, value, contributions);
+    } else {
+        field.bvh().query(x, hits);
+        evaluateRecorded(field, x, hits.data(), hits.size(), false, value, contributions);
+    }
+}
+
 /// Sum of w_s |f(x_s) - t_s|^2 over points [begin, end), point by point.
 double pointsSquaredError(const GaussianField& field, const SampleSet& samples, std::size_t begin,
                           std::size_t end, double scale, GradientChunks* gradients, std::size_t chunk,
@@ -99,14 +113,7 @@ double pointsSquaredError(const GaussianField& field, const SampleSet& samples, 
     float value[3], upstream[3];
     double sum = 0.0;
     for (std::size_t s = begin; s < end; ++s) {
-        const float* x = samples.points[s].data();
-        if (bins) {
-            const std::vector<std::uint32_t>& near = bins->gaussiansNear(x);
-            evaluateRecorded(field, x, near.data(), near.size(), true, value, contributions);
-        } else {
-            field.bvh().query(x, hits);
-            evaluateRecorded(field, x, hits.data(), hits.size(), false, value, contributions);
-        }
+        evaluateAt(field, samples.points[s].data(), bins, hits, contributions, value);
         float squared = 0.0f;
         for (int ch = 0; ch < channels; ++ch) {
             const float residual = value[ch] - samples.targets[s * channels + ch];
@@ -123,6 +130,21 @@ double pointsSquaredError(const GaussianField& field, const SampleSet& samples, 
 }
 
 }  // namespace
+
+std::vector<float> residualsAt(const GaussianField& field, const SampleSet& samples, const BlockBins* bins) {
+    const int channels = field.channels();
+    std::vector<float> out(samples.size() * channels);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size()), [&](const tbb::blocked_range<std::size_t>& range) {
+        std::vector<std::uint32_t> hits;
+        std::vector<Contribution> contributions;
+        float value[3];
+        for (std::size_t s = range.begin(); s < range.end(); ++s) {
+            evaluateAt(field, samples.points[s].data(), bins, hits, contributions, value);
+            for (int c = 0; c < channels; ++c) out[s * channels + c] = samples.targets[s * channels + c] - value[c];
+        }
+    });
+    return out;
+}
 
 double weightedSquaredError(const GaussianField& field, const SampleSet& samples, double scale,
                             GradientChunks* gradients, const BlockBins* bins) {

@@ -69,4 +69,7 @@ private:
 double weightedSquaredError(const GaussianField& field, const SampleSet& samples, double scale,
                             GradientChunks* gradients = nullptr, const BlockBins* bins = nullptr);
 
+/// Target minus field at each sample, channels per point; from the bins if given.
+std::vector<float> residualsAt(const GaussianField& field, const SampleSet& samples, const BlockBins* bins = nullptr);
+
 }  // namespace gvr

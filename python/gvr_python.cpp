@@ -286,31 +286,42 @@ FitObserver pythonObserver(const std::optional<py::function>& progress, std::opt
 }
 
 /// A whole fit, or with @a bricks a bricked one in this process (as `gvr fit --bricks`).
-GaussianAsset fitLoaded(const IngestResult& loaded, const std::string& name, const BudgetedFitOptions& options,
-                        std::size_t bricks, int halo, const std::optional<py::function>& progress) {
-    if (bricks == 0) return fitToBudget(loaded.grid, name, options, pythonObserver(progress, {}), loaded.labels.get()).asset;
+BudgetedFitResult fitLoaded(const IngestResult& loaded, const std::string& name, const BudgetedFitOptions& options,
+                            std::size_t bricks, int halo, const std::optional<py::function>& progress) {
+    if (bricks == 0) return fitToBudget(loaded.grid, name, options, pythonObserver(progress, {}), loaded.labels.get());
     const VolumeTarget target(loaded.grid, name);
     const BrickObservers observers = [&progress](std::size_t brick) { return pythonObserver(progress, brick); };
-    return fitAllBricks(SoloTeam(), loaded.grid, target, name, options, {bricks, halo}, observers).result.asset;
+    return fitAllBricks(SoloTeam(), loaded.grid, target, name, options, {bricks, halo}, observers).result;
 }
 
-GaussianAsset fit(const std::variant<Volume, std::string>& input, double ratio, double seconds, std::size_t gaussians,
+GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<double> ratio,
+                  std::optional<double> seconds, std::size_t gaussians,
                   std::size_t iterations, std::uint64_t seed, const std::string& ablation, const std::string& labels,
-                  std::size_t bricks, int halo, const std::optional<py::function>& progress) {
+                  std::size_t bricks, int halo, const std::optional<py::function>& progress, double minSamples) {
+    // Each pair names one thing twice: say so, rather than let one of them win.
+    if (ratio && gaussians > 0) throw InputError("`gaussians`", "cannot be combined with `ratio`: both set the count");
+    if (seconds && iterations > 0) throw InputError("`iterations`", "cannot be combined with `seconds`: both end the fit");
     BudgetedFitOptions options;
+    options.settings.minSamplesPerGaussian = minSamples;
     options.labels = labels;
-    options.ratio = ratio;
+    options.ratio = ratio.value_or(options.ratio);
     options.gaussians = gaussians;
     options.ablation = ablation;
     options.settings.seed = seed;
     options.settings.iterations = iterations;
-    options.settings.seconds = iterations > 0 ? 0.0 : seconds;
+    options.settings.seconds = iterations > 0 ? 0.0 : seconds.value_or(kDefaultFitSeconds);
     try {
         py::gil_scoped_release release;
         const auto* path = std::get_if<std::string>(&input);
         const Volume volume = path ? Volume{} : std::get<Volume>(input);
         const IngestResult loaded = path ? loadOrIngest(*path, IngestOptions{}) : IngestResult{volume.grid, volume.labels, {}};
-        return fitLoaded(loaded, path ? *path : "volume", options, bricks, halo, progress);
+        BudgetedFitResult result = fitLoaded(loaded, path ? *path : "volume", options, bricks, halo, progress);
+        const std::string note = undertrainedNote(result, options.settings, "min_samples=");
+        if (!note.empty()) {
+            py::gil_scoped_acquire acquire;
+            if (PyErr_WarnEx(PyExc_UserWarning, note.c_str(), 1) != 0) throw py::error_already_set();
+        }
+        return std::move(result.asset);
     } catch (const PythonErrorPending&) {
         throw py::error_already_set();
     }
@@ -546,11 +557,15 @@ PYBIND11_MODULE(gvr, m) {
              "The asset with only these structures of a fit by label (ids or names, comma-separated; empty: "
              "all), less those in hide, as gvr render --show and --hide select them");
 
-    m.def("fit", &fit, "volume"_a, "ratio"_a = 10.0, "seconds"_a = 60.0, "gaussians"_a = 0, "iterations"_a = 0,
-          "seed"_a = 1, "ablation"_a = "full", "labels"_a = "", "bricks"_a = 0, "halo"_a = kDefaultBrickHalo,
-          "progress"_a = py::none(),
-          "Fit Gaussians to a Volume or a file (anything gvr ingest reads), as `gvr fit` does: as many as fit in the raw bytes / ratio (or exactly "
-          "`gaussians`), within `seconds` (or exactly `iterations`, reproducible byte for byte). `progress` "
+    // min_samples comes last, so that positional calls written before it still mean what they did.
+    m.def("fit", &fit, "volume"_a, "ratio"_a = py::none(), "seconds"_a = py::none(), "gaussians"_a = 0,
+          "iterations"_a = 0, "seed"_a = 1, "ablation"_a = "full", "labels"_a = "", "bricks"_a = 0,
+          "halo"_a = kDefaultBrickHalo, "progress"_a = py::none(), "min_samples"_a = 0.0,
+          "Fit Gaussians to a Volume or a file (anything gvr ingest reads), as `gvr fit` does: as many as fit in the raw bytes / ratio "
+          "(default 10; or exactly `gaussians`, not both), within `seconds` (default 300; or exactly `iterations`, "
+          "reproducible byte for byte, not both). When the "
+          "time gives each Gaussian fewer than 1000 voxel samples, a UserWarning says so, with the time that "
+          "would; min_samples=N instead trades Gaussians for training (fewer, so a higher ratio). `progress` "
           "is called with a dict after each iteration. Ctrl-C stops the fit with KeyboardInterrupt. labels: fit "
           "by structure (all, or ids and names) from the volume's labels, as `gvr fit --labels`. bricks: fit in "
           "that many bricks of whole 8^3 leaves (each seeing `halo` voxels around it) and merge them, as `gvr fit "

@@ -12,8 +12,10 @@ OrthoCamera makeCamera(const View& view, const std::array<openvdb::Vec3d, 8>& co
         throw InputError("image size", "must be between 1x1 and " + std::to_string(kMaxImageSide) + "x" +
                                            std::to_string(kMaxImageSide) + " pixels");
     }
-    if (!std::isfinite(view.azimuthDeg) || !std::isfinite(view.elevationDeg)) {
-        throw InputError("`azimuth`/`elevation`", "angles must be finite numbers of degrees");
+    // Beyond a bound, an angle is no longer a view a user means (6e307 degrees
+    // overflowed in radians to a null direction, an internal error).
+    if (!(std::abs(view.azimuthDeg) <= kMaxAngleDeg) || !(std::abs(view.elevationDeg) <= kMaxAngleDeg)) {
+        throw InputError("`azimuth`/`elevation`", "angles must be finite numbers of degrees, at most 1e6 either way");
     }
     const double az = view.azimuthDeg * M_PI / 180.0, el = view.elevationDeg * M_PI / 180.0;
     OrthoCamera camera;

@@ -30,13 +30,17 @@ struct OrthoCamera {
     }
 };
 
+/// The largest angle a camera takes either way, in degrees (2,778 turns).
+constexpr double kMaxAngleDeg = 1e6;
+
 /// The largest image side a camera takes, in pixels: the command line and Python
 /// check sizes against it before any work.
 constexpr int kMaxImageSide = 8192;
 
 /// A camera of @a width x @a height pixels that sees all of the world box whose
 /// corners are @a corners from @a view, with a 2 % margin on its tighter axis.
-/// @throw InputError when a size is outside 1..kMaxImageSide or an angle is not finite.
+/// @throw InputError when a size is outside 1..kMaxImageSide or an angle is not
+/// finite or beyond kMaxAngleDeg.
 OrthoCamera makeCamera(const View& view, const std::array<openvdb::Vec3d, 8>& corners, int width, int height);
 
 /// The eight world corners of the voxel cells of @a box (index -0.5 to max + 0.5).

@@ -50,7 +50,10 @@ TEST(BenchTable, RowsRoundTripThroughCsvAndJson) {
     std::ifstream in(dir.path("out/results.json"));
     const nlohmann::json json = nlohmann::json::parse(in);
     ASSERT_EQ(json["rows"].size(), 2u);
-    EXPECT_EQ(json["rows"][0]["psnr"], "inf");
+    // JSON has no infinity: null, and the column named as infinite.
+    EXPECT_TRUE(json["rows"][0]["psnr"].is_null());
+    EXPECT_EQ(json["rows"][0]["infinite"], nlohmann::json::array({"psnr"}));
+    EXPECT_EQ(json["rows"][1]["infinite"], nlohmann::json::array({"psnr"}));
     EXPECT_EQ(json["rows"][0]["bytes"], 123456.0);
     EXPECT_TRUE(json["rows"][0]["fg_psnr"].is_null());
     EXPECT_EQ(json["rows"][0]["views"][1], "runs/a/view_0001.png");

@@ -29,6 +29,11 @@ TEST(BlockGrid, TrainableVoxelsAreTheBoxsVoxelsLessTheExcluded) {
     const BlockGrid grid(box, excluded);
     EXPECT_EQ(grid.trainableVoxels(), box.volume() - 2) << "a repeat changes nothing";
     EXPECT_THROW(BlockGrid(box, {Coord(100, 0, 0)}), std::invalid_argument);
+    EXPECT_FALSE(grid.trainable(Coord(0, 0, 9)));
+    EXPECT_FALSE(grid.trainable(Coord(20, 7, 16)));
+    EXPECT_FALSE(grid.trainable(Coord(21, 0, 9))) << "outside the box";
+    EXPECT_TRUE(grid.trainable(Coord(1, 0, 9)));
+    EXPECT_TRUE(grid.trainable(Coord(-3, 0, 9)));
     std::uint64_t sum = 0;
     std::int32_t mask[kBlockVoxels];
     for (std::uint32_t b = 0; b < grid.blockCount(); ++b) {

@@ -40,6 +40,17 @@ TEST(Camera, TheFrontViewLooksAtTheFaceWithThePatientsRightOnTheImagesLeft) {
     expectNear(makeCamera({90.0, 0.0}, box(), 64, 64).direction, {-1, 0, 0}, "from the right");
 }
 
+TEST(Camera, HugeFiniteAnglesAreRefusedAsBadInput) {
+    // Before, 6e307 degrees overflowed to an infinite number of radians: "Normalizing
+    // null 3-vector", an internal error.
+    for (const double angle : {6e307, -1.7e308, 1e6 + 1}) {
+        EXPECT_THROW(makeCamera({angle, 0.0}, box(), 32, 32), InputError) << angle;
+        EXPECT_THROW(makeCamera({0.0, angle}, box(), 32, 32), InputError) << angle;
+    }
+    expectNear(makeCamera({1e6, 0.0}, box(), 32, 32).direction,
+               makeCamera({std::fmod(1e6, 360.0), 0.0}, box(), 32, 32).direction, "2,777 turns and 280 degrees");
+}
+
 TEST(Camera, AxesAreOrthonormalAndElevationLiftsTheCameraTowardsSuperior) {
     for (const double azimuth : {-170.0, -45.0, 0.0, 30.0, 123.0, 400.0}) {
         for (const double elevation : {-89.0, -20.0, 0.0, 35.0, 90.0}) {

@@ -6,6 +6,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -15,6 +16,18 @@
 
 namespace gvr {
 namespace {
+
+/// The gantry-tilted CT of the shared data, ingested into @a dir: a real scan of
+/// 7 M voxels whose fits take seconds.
+/// `gvr fit` of the shear CT, ingested into @a dir, into ct.gvr with @a flags.
+std::string shearCtFit(const test::TempDir& dir, const std::string& flags) {
+    const std::string grid = dir.path("ct.vdb");
+    const test::CommandResult run =
+        test::runGvr("ingest -q '" + test::sharedData("ct-gantry-tilt-shear/shear.nii.gz") + "' -o '" + grid + "'", dir);
+    EXPECT_EQ(run.exitCode, 0) << run.err;
+    EXPECT_TRUE(std::filesystem::exists(grid));
+    return "fit -q '" + grid + "' -o '" + dir.path("ct.gvr") + "' " + flags;
+}
 
 TEST(Cli, HelpOnEveryCommand) {
     test::TempDir dir;
@@ -254,16 +267,85 @@ TEST(Cli, FitForATimeStopsOnTimeWithinTheRatio) {
 TEST(Cli, TheTimeBudgetCoversTheFitTheSolveAndTheMeasurement) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
-    const std::string grid = dir.path("ct.vdb");
-    ASSERT_EQ(test::runGvr("ingest -q '" + test::sharedData("ct-gantry-tilt-shear/shear.nii.gz") + "' -o '" + grid + "'", dir).exitCode, 0);
-    const test::CommandResult run =
-        test::runGvr("fit -q '" + grid + "' -o '" + dir.path("ct.gvr") + "' --ratio 20 --time 4 --json", dir);
+    const test::CommandResult run = test::runGvr(shearCtFit(dir, "--ratio 20 --time 4 --json"), dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
-    const nlohmann::json phases = nlohmann::json::parse(run.out)["phase_seconds"];
+    const nlohmann::json result = nlohmann::json::parse(run.out);
+    const nlohmann::json& phases = result["phase_seconds"];
     const double afterLoading = phases["total"].get<double>() - phases["load"].get<double>();
     // Not a speed test: before, the measurement alone came on top of the budget.
     EXPECT_LT(afterLoading, 4.0 * 1.25 + 0.5) << phases.dump();
     EXPECT_GT(phases["measure"].get<double>(), 0.0);
+    // 10 % of 4 s holds no three dense passes of this CT: the solve says it was
+    // skipped, where it reported 0 iterations and PSNRs of "inf".
+    const nlohmann::json& solve = result["amplitude_solve"];
+    ASSERT_TRUE(solve["skipped"].is_string()) << solve.dump();
+    EXPECT_NE(solve["skipped"].get<std::string>().find("holds fewer than the 3 dense passes"), std::string::npos);
+    EXPECT_TRUE(solve["psnr_before_db"].is_null());
+    EXPECT_TRUE(solve["psnr_after_db"].is_null());
+}
+
+TEST(Cli, ABudgetShorterThanTheVolumesFixedCostsSaysSoOnOneLine) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    // The dense measurement of this CT alone outlasts a tenth of a second.
+    const test::CommandResult run = test::runGvr(shearCtFit(dir, "--ratio 20 --time 0.1"), dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const std::size_t start = run.err.find("gvr: warning: the fit took ");
+    ASSERT_NE(start, std::string::npos) << run.err;
+    const std::string line = run.err.substr(start, run.err.find('\n', start) - start);
+    EXPECT_NE(line.find(" s after reading, over --time 0.1: on this volume the set-up alone takes "), std::string::npos)
+        << run.err;
+    EXPECT_NE(line.find(" s and the final measurement "), std::string::npos) << run.err;
+}
+
+TEST(Cli, AShortFitKeepsTheRatiosCountAndSaysOnOneLineWhatTimeWouldTrainIt) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    // 6 s, so that the sanitizers' build also gets past its set-up into the iterations
+    // whose time the note scales; 8:1, whose 135,000 Gaussians 6 s leaves at 240
+    // samples each on an idle 2-core machine (20:1 got 1,100, trained).
+    const std::string fit = shearCtFit(dir, "--ratio 8 --time 6 --json");
+    const test::CommandResult kept = test::runGvr(fit, dir);
+    ASSERT_EQ(kept.exitCode, 0) << kept.err;
+    const nlohmann::json result = nlohmann::json::parse(kept.out);
+    // Before, the time chose the count: the chest at 20:1 for 120 s wrote 135:1. Now
+    // the count is the ratio's and the file within its bytes.
+    EXPECT_EQ(result["gaussians_allowed_by_ratio"].get<std::size_t>(), 0u);
+    EXPECT_GE(result["ratio_vs_raw"].get<double>(), 8.0 * 0.999);
+    ASSERT_TRUE(result["undertrained"].is_string());
+    const std::size_t start = kept.err.find("gvr: warning: undertrained: 6 s gave each of the ");
+    ASSERT_NE(start, std::string::npos) << kept.err;
+    const std::string line = kept.err.substr(start, kept.err.find('\n', start) - start);
+    EXPECT_NE(line.find(" s would give each 1000 (--min-samples 1000 "), std::string::npos) << kept.err;
+
+    const test::CommandResult traded = test::runGvr(fit + " --min-samples 1000000", dir);
+    ASSERT_EQ(traded.exitCode, 0) << traded.err;
+    const nlohmann::json fewer = nlohmann::json::parse(traded.out);
+    // The count the ratio allows, which the default fit started from: it then added
+    // where the file had room, and the writer dropped any that no longer fitted.
+    // The two headers differ by the digits of min_samples (and hold the path of this
+    // temporary folder), which can cost the traded fit's allowance one Gaussian.
+    const std::size_t started = result["gaussians"].get<std::size_t>() +
+                                result["dropped_to_fit_budget"].get<std::size_t>() -
+                                result["added_to_fill_budget"].get<std::size_t>();
+    const std::size_t allowed = fewer["gaussians_allowed_by_ratio"].get<std::size_t>();
+    EXPECT_GE(started, allowed);
+    EXPECT_LE(started, allowed + 1);
+    EXPECT_GT(fewer["ratio_vs_raw"].get<double>(), 2.0 * result["ratio_vs_raw"].get<double>());
+}
+
+TEST(Cli, AFewStepsFillTheRoomThatBarelyMovedSeedsLeaveInTheFile) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    // Iterations, not seconds, so that both fill points come however slow the build.
+    const test::CommandResult run = test::runGvr(shearCtFit(dir, "--ratio 20 --iterations 10 --json"), dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const nlohmann::json result = nlohmann::json::parse(run.out);
+    // Seeds code smaller than the size model expects: 22.2:1 (3 s) before the fit
+    // filled the room they leave.
+    EXPECT_GT(result["added_to_fill_budget"].get<std::size_t>(), 0u);
+    EXPECT_GE(result["ratio_vs_raw"].get<double>(), 20.0 * 0.999);
+    EXPECT_LE(result["ratio_vs_raw"].get<double>(), 20.0 * 1.05);
 }
 
 TEST(Cli, BadAssetEncodingAndSolveFlagsAreRefusedWithoutOutput) {
@@ -317,6 +399,25 @@ TEST(Cli, OutputsNeverReplaceInputsOrSpecialFiles) {
     EXPECT_EQ(test::readBytes(grid), before) << "an input was overwritten";
     EXPECT_TRUE(std::filesystem::is_fifo(fifo)) << "the FIFO was replaced by a file";
     EXPECT_TRUE(std::filesystem::is_empty(dir.path("out"))) << "a refused command left a file";
+}
+
+TEST(Cli, EvalsDifferenceImageNeverReplacesAnInput) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    const std::string reference = dir.path("a.png"), copy = dir.path("b.png");
+    ASSERT_EQ(test::runGvr("render -q '" + grid + "' -o '" + reference + "' --size 32x32", dir).exitCode, 0);
+    std::filesystem::copy_file(reference, copy);
+    const std::string before = test::readBytes(reference);
+    for (const std::string& target : {reference, copy}) {
+        // Before, --difference alone of eval's outputs went unchecked: exit 0, the reference replaced.
+        const test::CommandResult run =
+            test::runGvr("eval '" + reference + "' '" + copy + "' --difference '" + target + "'", dir);
+        EXPECT_EQ(run.exitCode, 2) << run.err;
+        EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
+        EXPECT_NE(run.err.find("--difference " + target + ": is also an input"), std::string::npos) << run.err;
+    }
+    EXPECT_EQ(test::readBytes(reference), before);
+    EXPECT_EQ(test::readBytes(copy), before);
 }
 
 TEST(Cli, NoOutputIsAFileThatAnInputReads) {

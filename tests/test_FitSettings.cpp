@@ -55,13 +55,8 @@ TEST(FitSettings, SeedSharesMustNotBothBeZeroOrInfinite) {
     EXPECT_TRUE(mentions(settings.validate(), "`gradient_share`"));
 }
 
-TEST(FitSettings, ZeroBatchOrSlicePixelsOnlyWhereUnused) {
+TEST(FitSettings, ZeroSlicePixelsOnlyWhereUnused) {
     FitSettings settings = valid();
-    settings.voxelBatch = 0;
-    EXPECT_TRUE(mentions(settings.validate(), "`batch` must be positive"));
-    settings.schedule = SliceSchedule::SlicesOnly;
-    EXPECT_EQ(settings.validate(), "");
-    settings = valid();
     settings.slicePixels = 0;
     EXPECT_TRUE(mentions(settings.validate(), "`slice_pixels`"));
     settings.schedule = SliceSchedule::None;
@@ -187,6 +182,21 @@ TEST(FitSettings, TheSlicePassWaitsForOnePercentOfItsMaximumWeight) {
     EXPECT_FALSE(slicePassRuns(settings, 1.0));
     settings.schedule = SliceSchedule::SlicesOnly;
     EXPECT_TRUE(slicePassRuns(settings, 0.0));
+}
+
+TEST(FitSettings, TheDefaultBatchGrowsWithTheCountFromItsLeast) {
+    FitSettings settings = valid();
+    settings.voxelBatch = 0;
+    EXPECT_EQ(settings.batchFor(1000), kLeastVoxelBatch);
+    EXPECT_EQ(settings.batchFor(480000), std::size_t(kBatchPerGaussian * 480000));
+    EXPECT_EQ(settings.batchFor(std::size_t(1) << 40), kMaxVoxelBatch);  // never past what validate() allows
+    settings.voxelBatch = 4096;  // a batch asked for is kept whatever the count
+    EXPECT_EQ(settings.batchFor(480000), 4096u);
+    EXPECT_EQ(settings.validate(), "");
+}
+
+TEST(FitSettings, TheRatioIsKeptUnlessTheUserTradesGaussiansForTraining) {
+    EXPECT_EQ(FitSettings{}.minSamplesPerGaussian, 0.0);
 }
 
 }  // namespace

@@ -35,6 +35,16 @@ TEST(Compress, KeepsTheAssetWithinTheRatioBudget) {
     EXPECT_LE(assetFileBytes(result.asset), result.maxBytes);
 }
 
+TEST(Compress, TheCodedFileIsTheAssetWithinItsBudget) {
+    BudgetedFitOptions options = iterationOptions(20);
+    options.ratio = 10.0;
+    const BudgetedFitResult result = fitToBudget(blobGrid(), "blobs", options);
+    EXPECT_LE(result.file.size(), result.maxBytes);
+    const GaussianAsset decoded = decodeAsset(result.file, "blobs.gvr");
+    ASSERT_EQ(decoded.params.count(), result.asset.params.count());
+    EXPECT_EQ(decoded.params.values, quantisedCopy(result.asset.params, result.asset.encoding).values);
+}
+
 TEST(Compress, StopsAtTheIterationAfterTheCancelFlagIsSet) {
     std::atomic<bool> cancel{false};
     BudgetedFitOptions options = iterationOptions(1000);
@@ -73,6 +83,52 @@ TEST(Compress, RefusesLabelsWithoutALabelGrid) {
     BudgetedFitOptions options = iterationOptions(5);
     options.labels = "all";
     EXPECT_THROW(fitToBudget(blobGrid(), "blobs", options), InputError);
+}
+
+TEST(Compress, ATimeBudgetKeepsEveryGaussianTheRatioAllows) {
+    const openvdb::GridBase::Ptr grid = blobGrid();
+    BudgetedFitOptions options;
+    options.ratio = 10.0;
+    options.settings.seconds = 0.5;  // far too short to train them: the count stays all the same
+    const BudgetedFitResult result = fitToBudget(grid, "blobs", options);
+    EXPECT_EQ(result.fit.requestedGaussians, 0u);
+    const double bytes = double(assetFileBytes(result.asset));
+    EXPECT_LE(bytes, double(result.maxBytes));
+    EXPECT_GE(bytes, 0.95 * double(result.maxBytes));
+}
+
+BudgetedFitResult fitOf(std::size_t gaussians, double samples) {
+    BudgetedFitResult result;
+    result.asset.params = GaussianParameters(gaussians, 1);
+    result.fit.iterations = 10;
+    result.fit.voxelSamples = samples;
+    result.fit.setupSeconds = 1.0;
+    result.fit.adamSeconds = 11.0;  // 10 s of iterations
+    return result;
+}
+
+TEST(Compress, AnUndertrainedFitSaysSoWithTheTimeThatWouldTrainIt) {
+    FitSettings settings;
+    settings.seconds = 12.0;
+    // 100 samples each: ten times the iterations' 10 s more, 12 + 90 = 102 s, shown as 110.
+    const std::string note = undertrainedNote(fitOf(1000, 100000.0), settings, "--min-samples");
+    EXPECT_NE(note.find("each of the 1000 Gaussians about 100 voxel samples"), std::string::npos) << note;
+    EXPECT_NE(note.find("about 110 s would give each 1000"), std::string::npos) << note;
+    EXPECT_NE(note.find("(--min-samples 1000 "), std::string::npos) << note;
+    EXPECT_EQ(note.find('\n'), std::string::npos);
+    EXPECT_NE(undertrainedNote(fitOf(1000, 100000.0), settings, "min_samples=").find("(min_samples=1000 "),
+              std::string::npos);
+
+    EXPECT_EQ(undertrainedNote(fitOf(1000, 2e6), settings, "--min-samples"), "");  // 2000 each: trained
+    BudgetedFitResult seeded = fitOf(1000, 0.0);
+    seeded.fit.iterations = 0;  // a loaded machine's set-up can outlast a short budget
+    seeded.fit.setupSeconds = 14.0;
+    EXPECT_EQ(undertrainedNote(seeded, settings, "--min-samples"),
+              "undertrained: the 12.0 s budget ended before the first iteration, the set-up alone taking 14.0 s; "
+              "the 1000 Gaussians are as seeded");
+    settings.seconds = 0.0;  // an iteration budget: the user chose the work, not the time
+    settings.iterations = 10;
+    EXPECT_EQ(undertrainedNote(fitOf(1000, 100000.0), settings, "--min-samples"), "");
 }
 
 }  // namespace

@@ -65,6 +65,34 @@ TEST(Fitter, TheAmplitudeSolveRunsOnTheStoredGeometry) {
     EXPECT_LT(report.amplitudeSolve.mseAfter, report.amplitudeSolve.mseBefore);
 }
 
+TEST(Fitter, ASkippedAmplitudeSolveSaysWhy) {
+    const VolumeTarget target(test::makeGrid({32, 24, 24}, blob), "blobs");
+    FitReport report;
+    fitGaussians(target, quickSettings(60, 20), {}, &report);
+    EXPECT_EQ(report.amplitudeSolveSkipped, "");
+
+    FitSettings none = quickSettings(60, 20);
+    none.amplitudeSolveIterations = 0;
+    fitGaussians(target, none, {}, &report);
+    EXPECT_EQ(report.amplitudeSolveSkipped, "no solve iterations were asked for");
+    EXPECT_EQ(report.amplitudeSolve.iterations, 0u);
+
+    FitSettings noShare = quickSettings(60, 0);
+    noShare.seconds = 0.2;
+    noShare.amplitudeSolveShare = 0.0;  // no time for even one dense pass
+    fitGaussians(target, noShare, {}, &report);
+    EXPECT_NE(report.amplitudeSolveSkipped.find("its share of the time budget, 0 s, holds fewer than the 3 dense passes"),
+              std::string::npos) << report.amplitudeSolveSkipped;
+
+    // A set-up that outlasts the budget, as on a loaded machine, leaves none for the solve.
+    FitSettings spent = quickSettings(60, 0);
+    spent.seconds = 1e-6;
+    fitGaussians(target, spent, {}, &report);
+    EXPECT_EQ(report.iterations, 0u);
+    EXPECT_EQ(report.amplitudeSolveSkipped, "the time budget was spent before it");
+    EXPECT_EQ(report.amplitudeSolve.seconds, 0.0);
+}
+
 TEST(Fitter, TheObserverHearsFromEveryPassOfTheAmplitudeSolve) {
     const VolumeTarget target(test::makeGrid({32, 24, 24}, blob), "blobs");
     const FitSettings settings = quickSettings(60, 20);
@@ -147,6 +175,33 @@ TEST(Fitter, ATimeBudgetTooShortForTheCountFitsFewerGaussians) {
     const GaussianParameters asked = fitGaussians(target, settings, {}, &report);
     EXPECT_EQ(report.requestedGaussians, 0u);
     EXPECT_EQ(asked.count(), 2000u);
+}
+
+TEST(Fitter, RoomLeftInTheByteBudgetIsFilledWithGaussiansWhereTheResidualIsLargest) {
+    const VolumeTarget target(test::makeGrid({48, 48, 48}, [](int i, int j, int k) { return float(i + j + k) + blob(i, j, k); }),
+                              "blobs on a ramp");
+    FitSettings settings = quickSettings(2000, 100);
+    settings.pruneEvery = 0;  // counts then change only by the fill
+    settings.amplitudeSolveIterations = 0;
+    std::vector<std::size_t> asked;
+    settings.roomInBudget = [&](const GaussianParameters& params) {
+        asked.push_back(params.count());
+        return params.count() < 2500 ? 2500 - params.count() : std::size_t(0);
+    };
+    FitReport report;
+    const GaussianParameters fitted = fitGaussians(target, settings, {}, &report);
+    EXPECT_EQ(asked.size(), 2u);  // once at each fill point
+    EXPECT_EQ(fitted.count(), 2500u);
+    EXPECT_EQ(report.added, 500u);
+    EXPECT_TRUE(fitted.allFinite());
+
+    // Each added Gaussian starts at a voxel whose residual it holds: the fit is no
+    // worse for them than the same fit without room.
+    settings.roomInBudget = {};
+    const GaussianParameters without = fitGaussians(target, settings);
+    EXPECT_EQ(without.count(), 2000u);
+    EXPECT_GT(measureFieldAccuracy(GaussianField(fitted, 3.0f), target).psnr,
+              measureFieldAccuracy(GaussianField(without, 3.0f), target).psnr);
 }
 
 TEST(Fitter, ATimeBudgetThatCanTrainTheAllowanceGrowsPastTheProbe) {

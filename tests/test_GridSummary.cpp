@@ -1,6 +1,7 @@
 // What `gvr info` says about a grid: sizes, value range, metadata and affine, in
 // JSON and as text, checked on small grids whose answers are known by hand.
 
+#include "io/AssetExport.h"
 #include "io/DenseVolume.h"
 #include "io/GridSummary.h"
 #include "tests/TestHelpers.h"
@@ -29,6 +30,16 @@ openvdb::FloatGrid::Ptr twoVoxelGrid() {
     grid->insertMeta("count", openvdb::Int32Metadata(7));
     grid->insertMeta("offset", openvdb::Vec3DMetadata(openvdb::Vec3d(1.0, 2.0, 3.0)));
     return grid;
+}
+
+TEST(GridSummary, ADccExportsSpacingIsGivenInMillimetresNotItsMetres) {
+    openvdb::FloatGrid::Ptr grid = twoVoxelGrid();
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(worldFromSpacing(openvdb::Vec3d(0.5e-3, 2e-3, 3e-3))));
+    grid->insertMeta("gvr_units", openvdb::StringMetadata(kDccUnits));
+    const GridSummary s = summarizeGrid(*grid);
+    EXPECT_DOUBLE_EQ(s.spacingMm.x(), 0.5);  // it printed "0.0005 x 0.002 x 0.003 mm"
+    EXPECT_DOUBLE_EQ(s.spacingMm.z(), 3.0);
+    EXPECT_NE(toText(s).find("spacing:       0.5 x 2 x 3 mm"), std::string::npos) << toText(s);
 }
 
 TEST(GridSummary, SizesRangeAndPlacementOfASmallGrid) {

@@ -34,7 +34,7 @@ TEST(Pruning, NegligibleGaussiansGoAndSitesTakeTheirPlaces) {
                                             {{7.f, 8.f, 9.f}, {0.9f, 0.f, 0.f}}};
     const PruneResult result = pruneAndRespawn(params, adam, 0.01, sites);
     EXPECT_EQ(result.removed, 2u);
-    EXPECT_EQ(result.respawned, 2u) << "no more than were removed";
+    EXPECT_EQ(result.respawned, 2u) << "no more than were negligible";
     ASSERT_EQ(params.count(), 4u);
     // Survivors first, in their order (x = 0 and 20); a negative colour is not negligible.
     EXPECT_EQ(params.at(kMeans, 0)[0], 0.0f);
@@ -70,6 +70,22 @@ TEST(Pruning, AdamMomentsFollowTheSurvivorsAndStartAtZeroForNewcomers) {
     EXPECT_LT(params.values[kColours][1], before[1]);
     EXPECT_GT(params.values[kColours][2], before[2]);
     EXPECT_EQ(params.values[kColours][3], before[3]);
+}
+
+TEST(Pruning, WithFewerSitesThanNegligibleGaussiansTheWeakestMoveAndTheCountStays) {
+    GaussianParameters params = fourGaussians({0.004f, 1.0f, 0.0002f, 0.001f});
+    Adam adam(4, 1);
+    EXPECT_EQ(negligibleCount(params, 0.01), 3u);
+    const PruneResult result = pruneAndRespawn(params, adam, 0.01, {{{5.f, 5.f, 5.f}, {0.4f, 0.f, 0.f}},
+                                                                    {{6.f, 6.f, 6.f}, {0.2f, 0.f, 0.f}}});
+    EXPECT_EQ(result.removed, 2u);
+    EXPECT_EQ(result.respawned, 2u);
+    ASSERT_EQ(params.count(), 4u);
+    // Peaks 0.0001 (x = 20) and 0.0005 (x = 30) go; 0.002 (x = 0) stays, before 0.5 (x = 10).
+    EXPECT_EQ(params.at(kMeans, 0)[0], 0.0f);
+    EXPECT_EQ(params.at(kMeans, 1)[0], 10.0f);
+    EXPECT_EQ(params.at(kMeans, 2)[0], 5.0f);
+    EXPECT_EQ(params.at(kMeans, 3)[0], 6.0f);
 }
 
 TEST(Pruning, NothingBelowTheThresholdChangesNothing) {

@@ -258,6 +258,42 @@ TEST(NiftiReader, AppliesSlopeInterceptAndShearedSform) {
     EXPECT_EQ(volume.niftiCodes->sform, 1);
 }
 
+/// A one-file NIfTI-2 of 2 x 2 x 1 uint8 voxels, laid out field by field as the
+/// standard gives it (nifticlib's own writer left its header out here).
+std::string niftiTwoBytes(const std::vector<std::uint8_t>& voxels) {
+    std::string bytes(544, '\0');  // the 540-byte header and an empty extension flag
+    const auto put = [&](std::size_t offset, auto value) { std::memcpy(&bytes[offset], &value, sizeof value); };
+    put(0, std::int32_t(540));
+    std::memcpy(&bytes[4], "n+2\0\r\n\032\n", 8);
+    put(12, std::int16_t(NIFTI_TYPE_UINT8));
+    put(14, std::int16_t(8));
+    const std::int64_t dim[8] = {3, 2, 2, 1, 1, 1, 1, 1};
+    for (int d = 0; d < 8; ++d) put(16 + 8 * d, dim[d]);
+    for (int d = 0; d < 8; ++d) put(104 + 8 * d, 1.0);
+    put(168, std::int64_t(544));  // vox_offset
+    put(176, 2.0);                // scl_slope
+    put(184, -10.0);              // scl_inter
+    put(348, std::int32_t(1));    // sform_code
+    const double rows[3][4] = {{0.5, 0, 0, -100}, {0, 0.5, 0, 0}, {0, 0, 2.5, 0}};
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 4; ++c) put(400 + 32 * r + 8 * c, rows[r][c]);
+    }
+    return bytes + std::string(voxels.begin(), voxels.end());
+}
+
+TEST(NiftiReader, ReadsNiftiTwo) {
+    // Its vox_offset is an int64, which was read as a double: "vox_offset 2.68772e-321
+    // is not a usable data offset".
+    test::TempDir dir;
+    test::writeBytes(dir.path("two.nii"), niftiTwoBytes({0, 1, 100, 255}));
+    const DenseVolume volume = readNifti(dir.path("two.nii"), {});
+    EXPECT_EQ(volume.type, SampleType::UInt8);
+    EXPECT_DOUBLE_EQ(volume.slope, 2.0);
+    EXPECT_DOUBLE_EQ(volume.intercept, -10);
+    EXPECT_EQ(volume.data<std::uint8_t>()[3], 255);
+    expectNear(worldOf(volume, {1, 1, 0}), {-99.5, 0.5, 0.0});
+}
+
 TEST(NiftiReader, SelectsAVolumeOfA4DSeries) {
     test::TempDir dir;
     std::vector<float> values(2 * 1 * 1 * 3);

@@ -209,7 +209,7 @@ EvalResult evaluate(const std::string& referencePath, const std::string& testPat
 
 nlohmann::json evalResultJson(const EvalResult& e) {
     nlohmann::json out = {{"mse", e.mse}, {"psnr", jsonNumber(e.psnr)},
-                          {"fg_mse", e.foregroundMse}, {"fg_psnr", e.foregroundVoxels ? jsonNumber(e.foregroundPsnr) : nullptr},
+                          {"fg_mse", e.foregroundVoxels ? nlohmann::json(e.foregroundMse) : nullptr}, {"fg_psnr", e.foregroundVoxels ? jsonNumber(e.foregroundPsnr) : nullptr},
                           {"fg_voxels", e.foregroundVoxels}, {"fg_rule", e.foregroundRule},
                           {"ssim", e.ssim}, {"ms_ssim", e.msSsim.value},
                           {"ms_ssim_scales", e.msSsim.scales}, {"peak", e.peak},

@@ -4,7 +4,10 @@
 #include "pipeline/Error.h"
 #include "pipeline/LabelBudget.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 namespace gvr {
 
@@ -52,6 +55,14 @@ GaussianAsset assetSkeleton(const VolumeTarget& target, const FitSettings& setti
     asset.fitSettings = settingsJson(settings, options.ablation);
     asset.encoding = options.encoding;
     return asset;
+}
+
+std::function<std::size_t(const GaussianParameters&)> roomInBytes(const GaussianAsset& skeleton, std::uint64_t maxBytes) {
+    return [skeleton, maxBytes](const GaussianParameters& params) {
+        GaussianAsset now = skeleton;
+        now.params = params;
+        return assetRoom(now, std::uint64_t(0.99 * double(maxBytes)));
+    };
 }
 
 std::size_t budgetedGaussians(const GaussianAsset& asset, const BudgetedFitOptions& options, std::uint64_t& maxBytes) {
@@ -104,6 +115,9 @@ void fitByLabel(const openvdb::GridBase& image, const openvdb::Int32Grid& labels
         total.seconds += s.report.seconds;
         total.skippedSteps += s.report.skippedSteps;
         total.pruned += s.report.pruned;
+        total.voxelSamples += s.report.voxelSamples;
+        total.setupSeconds += s.report.setupSeconds;
+        total.adamSeconds += s.report.adamSeconds;
         total.respawned += s.report.respawned;
         // Per-structure errors cover overlapping boxes: only the work adds up.
         total.amplitudeSolve.iterations += s.report.amplitudeSolve.iterations;
@@ -123,6 +137,35 @@ FitObserver cancellable(const FitObserver& observer, const std::atomic<bool>* ca
 
 }  // namespace
 
+double samplesPerGaussian(const BudgetedFitResult& result) {
+    const std::size_t count = result.asset.params.count();
+    return count ? result.fit.voxelSamples / double(count) : 0.0;
+}
+
+std::string undertrainedNote(const BudgetedFitResult& result, const FitSettings& settings, const std::string& tradeOption) {
+    const std::size_t count = result.asset.params.count();
+    const FitReport& fit = result.fit;
+    if (!(settings.seconds > 0.0) || count == 0) return "";
+    std::ostringstream note;
+    if (fit.iterations == 0) {  // no iteration to time: only the set-up's cost is known
+        note << std::fixed << std::setprecision(1) << "undertrained: the " << settings.seconds
+             << " s budget ended before the first iteration, the set-up alone taking " << fit.setupSeconds
+             << " s; the " << count << " Gaussians are as seeded";
+        return note.str();
+    }
+    const double perGaussian = samplesPerGaussian(result);
+    if (perGaussian >= kTrainedSamplesPerGaussian) return "";
+    // Only the iterations' time grows with the samples; set-up, solve and measurement stay.
+    const double iterationSeconds = std::max(fit.adamSeconds - fit.setupSeconds, 0.0);
+    const double needed = settings.seconds + iterationSeconds * (kTrainedSamplesPerGaussian / std::max(perGaussian, 1.0) - 1.0);
+    note << "undertrained: " << std::llround(settings.seconds) << " s gave each of the " << count
+         << " Gaussians about " << std::llround(perGaussian) << " voxel samples; about "
+         << std::llround(std::ceil(needed / 10.0) * 10.0) << " s would give each "
+         << std::llround(kTrainedSamplesPerGaussian) << " (" << tradeOption << (!tradeOption.empty() && tradeOption.back() == '=' ? "" : " ")
+         << std::llround(kTrainedSamplesPerGaussian) << " fits fewer Gaussians in this time instead, above the ratio)";
+    return note.str();
+}
+
 FitSettings checkedSettings(const BudgetedFitOptions& options) {
     FitSettings settings = options.settings;
     applyAblation(ablationFromName(options.ablation), settings);
@@ -138,22 +181,17 @@ BudgetedFitResult fitToBudget(const openvdb::GridBase::Ptr& grid, const std::str
     return fitToBudget(VolumeTarget(grid, name), name, options, observer, labels);
 }
 
-BudgetedFitResult fitToBudget(const VolumeTarget& target, const std::string& name, const BudgetedFitOptions& options,
-                        const FitObserver& userObserver, const openvdb::Int32Grid* labels) {
-    FitSettings settings = checkedSettings(options);
-    if (options.cancel && options.cancel->load()) throw Cancelled(name);
-    const FitObserver observer = cancellable(userObserver, options.cancel, name);
-    if (!options.labels.empty() && !labels) throw InputError(name, "holds no label grid; ingest the image with `labels=LABELS`, or give the label volume");
+namespace {
 
-    const openvdb::GridBase& grid = target.grid();
-    BudgetedFitResult result;
-    result.asset = assetSkeleton(target, settings, options, name);
-    if (target.activeVoxelCount() == 0) return result;
+/// The Gaussians of the fit into result.asset, not yet coded.
+void fitGaussiansInto(const VolumeTarget& target, const BudgetedFitOptions& options, FitSettings settings,
+                      const FitObserver& observer, const openvdb::Int32Grid* labels, BudgetedFitResult& result) {
+    if (target.activeVoxelCount() == 0) return;
     if (labels && !options.labels.empty()) {
         // Structures are stored together, over ranges and a budget that no single
         // structure knows, so their fits skip the solve on the stored geometry.
-        fitByLabel(grid, *labels, settings, options, observer, result);
-        return result;
+        fitByLabel(target.grid(), *labels, settings, options, observer, result);
+        return;
     }
     settings.gaussians = budgetedGaussians(result.asset, options, result.maxBytes);
     // The last amplitude solve makes up for what the file does to the geometry: its
@@ -165,8 +203,27 @@ BudgetedFitResult fitToBudget(const VolumeTarget& target, const std::string& nam
         result.dropped = fitAssetInto(stored, result.maxBytes);
         return quantisedCopy(stored.params, options.encoding);
     };
+    if (result.maxBytes > 0) settings.roomInBudget = roomInBytes(result.asset, result.maxBytes);
     result.asset.params = fitGaussians(target, settings, observer, &result.fit);
-    result.dropped += fitAssetInto(result.asset, result.maxBytes);
+}
+
+}  // namespace
+
+BudgetedFitResult fitToBudget(const VolumeTarget& target, const std::string& name, const BudgetedFitOptions& options,
+                        const FitObserver& userObserver, const openvdb::Int32Grid* labels) {
+    const FitSettings settings = checkedSettings(options);
+    if (options.cancel && options.cancel->load()) throw Cancelled(name);
+    const FitObserver observer = cancellable(userObserver, options.cancel, name);
+    if (!options.labels.empty() && !labels) throw InputError(name, "holds no label grid; ingest the image with `labels=LABELS`, or give the label volume");
+
+    BudgetedFitResult result;
+    result.asset = assetSkeleton(target, settings, options, name);
+    fitGaussiansInto(target, options, settings, observer, labels, result);
+    // Coded once, for the caller to write: the fit's time budget keeps room for this
+    // coding, timed by its checks of the room in the file (FitSettings::roomInBudget).
+    const std::size_t fitted = result.asset.params.count();
+    result.file = encodeAssetWithin(result.asset, result.maxBytes);
+    result.dropped += fitted - result.asset.params.count();
     return result;
 }
 

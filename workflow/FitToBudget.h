@@ -10,10 +10,19 @@
 #include <openvdb/openvdb.h>
 
 #include <atomic>
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace gvr {
+
+/// The time budget `gvr fit` and Python's `gvr.fit` take when none is given.
+constexpr double kDefaultFitSeconds = 300.0;
+
+/// Voxel samples a Gaussian below which a fit is reported as undertrained: at a
+/// fixed time, quality peaked at about 1,200 on `ch2` (docs/benchmarks.md, "Quality
+/// per second: what was tried").
+constexpr double kTrainedSamplesPerGaussian = 1000.0;
 
 struct BudgetedFitOptions {
     /// Against the source's raw bytes (VolumeMetadata::rawSourceBytes); the count
@@ -34,12 +43,22 @@ struct BudgetedFitOptions {
 };
 
 struct BudgetedFitResult {
-    GaussianAsset asset;          ///< within the byte budget: writeAsset() it as it is
+    GaussianAsset asset;          ///< within the byte budget, in storage order
+    std::string file;             ///< the asset coded: writeAssetBytes() it
     FitReport fit;                ///< summed over the structures of a labelled fit
     std::uint64_t maxBytes = 0;   ///< the byte budget; 0 when a count was asked for
     std::size_t dropped = 0;      ///< Gaussians dropped so that the file fits the budget
     std::vector<StructureFit> structures;  ///< one per structure of a labelled fit
 };
+
+/// The voxel samples the fit gave each Gaussian of the asset, on average (0 for none).
+double samplesPerGaussian(const BudgetedFitResult& result);
+
+/// When a time budget gave the fit's Gaussians fewer than kTrainedSamplesPerGaussian
+/// voxel samples each: one line saying so, with the budget that would have, and
+/// @a tradeOption, the option that trades Gaussians for training ("--min-samples",
+/// or "min_samples=" where the value follows without a space). Else empty.
+std::string undertrainedNote(const BudgetedFitResult& result, const FitSettings& settings, const std::string& tradeOption);
 
 /// The fit settings fitToBudget() uses: the ablation applied, and no ceiling on the
 /// count when an exact count was asked for. Cheap: callers check options with it
@@ -56,6 +75,11 @@ GaussianAsset assetSkeleton(const VolumeTarget& target, const FitSettings& setti
 /// fits the ratio's byte budget, which goes to @a maxBytes (0 for an exact count).
 /// @throw InputError for a ratio below 1 or too high for one Gaussian.
 std::size_t budgetedGaussians(const GaussianAsset& asset, const BudgetedFitOptions& options, std::uint64_t& maxBytes);
+
+/// FitSettings::roomInBudget for Gaussians stored with @a skeleton in @a maxBytes:
+/// what 99 % of it still holds, since the training after the last fill makes the
+/// Gaussians code a little larger and the writer drops the weakest that no longer fit.
+std::function<std::size_t(const GaussianParameters&)> roomInBytes(const GaussianAsset& skeleton, std::uint64_t maxBytes);
 
 /// Fits @a grid (an ingested volume, or any float or Vec3s grid) and returns the
 /// asset. @a name names the volume in errors and, for a grid that gvr did not

@@ -11,6 +11,7 @@ import subprocess
 import sys
 import threading
 import time
+import warnings
 
 import nibabel
 import numpy as np
@@ -115,6 +116,15 @@ def test_a_bricked_fit_from_python_is_gvr_fit_bricks_byte_for_byte(work, ch2_vdb
         gvr.fit(ch2_vdb, iterations=1, bricks=2, halo=-1)
     with pytest.raises(gvr.Error, match="bricks: 100000 bricks of whole 8\\^3 leaves do not fit"):
         gvr.fit(ch2_vdb, iterations=1, bricks=100000)
+
+
+def test_fit_refuses_two_arguments_that_say_one_thing(ch2_vdb):
+    # Before, one of each pair silently won.
+    with pytest.raises(gvr.Error, match="gaussians: cannot be combined with ratio: both set the count"):
+        gvr.fit(ch2_vdb, ratio=10, gaussians=100, iterations=1)
+    with pytest.raises(gvr.Error, match="iterations: cannot be combined with seconds: both end the fit"):
+        gvr.fit(ch2_vdb, seconds=5, iterations=1)
+    assert gvr.fit(ch2_vdb, gaussians=100, iterations=1).count == 100
 
 
 @pytest.mark.parametrize("option", [None, ("supersample", 1.0), ("classify", "segments")])
@@ -255,6 +265,20 @@ def test_a_progress_callback_sees_the_fit_and_its_exception_stops_it(ch2_vdb):
     assert seen == [1, 2, 3]
     assert setting_up and setting_up[-1] == 1.0
     assert time.monotonic() - start < 120
+
+
+def test_a_short_fit_keeps_the_ratio_and_warns_that_it_is_undertrained(ch2_vdb):
+    volume = gvr.ingest(ch2_vdb)
+    # 8 s, since a loaded machine's set-up of ch2 alone took 4.6 s (2 s then ran no iteration).
+    with pytest.warns(UserWarning, match=r"undertrained: 8 s gave each of the \d+ Gaussians .*\(min_samples=1000 "):
+        kept = gvr.fit(volume, ratio=10, seconds=8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the pacing estimates; it may or may not leave them undertrained
+        traded = gvr.fit(volume, ratio=10, seconds=8, min_samples=100000)
+    # The default keeps the count the ratio allows; min_samples trades it for training.
+    # (10:1, since a traded fit starts from a probe of 16,384 Gaussians and, on a slow
+    # machine, may keep it: at 40:1 the ratio allows only 23k.)
+    assert traded.count < kept.count / 2
 
 
 def test_ctrl_c_stops_a_fit_with_keyboard_interrupt(work, ch2_vdb, cli_asset):
