@@ -11,6 +11,7 @@ build=build-asan
 skip=Bricks.SeamsOfRealMriAreWithinOneDecibelOfAWholeVolumeFit
 skip+=:Cli.IngestStreamsARawVolumeInLessMemoryThanHalfItsSamples
 skip+=:Cli.TheTimeBudgetCoversTheFitTheSolveAndTheMeasurement
+skip+=:Cli.AShortFitKeepsTheRatiosCountAndSaysOnOneLineWhatTimeWouldTrainIt
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DGVR_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DGVR_TESTS_SKIP="$skip" > /dev/null
 # Only what the tests and fuzzers run: the benchmark examples gain nothing from sanitizers.
@@ -28,8 +29,10 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$(pwd)/.ci/
 # but not the seam test's nine fits of a real MRI (minutes in release). The streamed-
 # ingest memory test measures the release binary's peak: ASan's shadow memory and
 # quarantine add 120 MiB or more to it (379 MiB against a 256 MiB limit, measured).
-# The time-budget test needs release speed: at -O1 under ASan the set-up and the
-# closing measurement alone take longer than its 4 s budget (20.4 s in all, measured).
+# The two time-budget tests need release speed: at -O1 under ASan the set-up and the
+# closing measurement alone take longer than the first's 4 s budget (20.4 s in all,
+# measured), and the second failed there, its 6 s ending before the iterations whose time its
+# note scales.
 # The man page and the completion are release artefacts that this build does not make.
 ctest --test-dir "$build" --output-on-failure -j 2 \
   -E "^(export_clients_blender_pyopenvdb_nibabel|blender_silhouettes|deps_audit_catches_missing_packages|example_minimal|bad_input_sweep|mpi_bricks|man_and_completion)$"
