@@ -12,6 +12,7 @@ import math
 import os
 import re
 import sys
+import tempfile
 
 try:
     import matplotlib
@@ -573,11 +574,17 @@ def make_plots(results_dir, rows, sections):
 
 
 def write_atomically(path, write):
-    """Readers never see a half-written file, and a failed write leaves the old one intact."""
-    temporary = f"{path}.tmp{os.getpid()}"
+    """Readers never see a half-written file, and a failed write leaves the old one intact.
+    The temporary's name cannot be foreseen (mkstemp), so no link planted beside the
+    output can redirect the write."""
+    folder, name = os.path.split(path)
+    descriptor, temporary = tempfile.mkstemp(prefix=f".{name}.", dir=folder or ".")
     try:
-        with open(temporary, "wb") as file:
+        with os.fdopen(descriptor, "wb") as file:
             write(file)
+        umask = os.umask(0)  # mkstemp's 0600, made what open() would have given
+        os.umask(umask)
+        os.chmod(temporary, 0o666 & ~umask)
         os.replace(temporary, path)
     finally:
         if os.path.exists(temporary):

@@ -14,23 +14,39 @@ namespace gvr {
 /// @throw InputError naming the flag and the path otherwise
 void checkOutputPath(const std::string& flag, const std::string& output, const std::vector<std::string>& inputs);
 
-/// Calls @a write with a temporary path beside @a path, then renames it over @a path.
-/// If @a write throws, the temporary file is removed and @a path is left untouched;
-/// after removeTemporariesOnSignals(), a terminating signal does the same. SIGKILL
-/// can leave a hidden ".tmpPID-name" file beside @a path, which the next write of
-/// @a path removes once process PID is gone.
+/// Calls @a write with a temporary path, then renames it over @a path. The
+/// temporary lies in a folder that mkdtemp made beside @a path (".gvr-PID-XXXXXX",
+/// mode 0700), so that no one can plant a link or a FIFO where it is written. If
+/// @a write throws, the folder is removed and @a path is left untouched; after
+/// removeTemporariesOnSignals(), a terminating signal does the same. SIGKILL can
+/// leave the folder behind, which the next write into the same folder removes once
+/// process PID is gone.
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write);
 
 /// Writes several files all or none: each @a writes[k] writes @a paths[k] (through
-/// writeAtomically or not) under a hidden temporary name beside it; only when all
-/// have succeeded are they renamed into place. A failure removes the temporaries
-/// and leaves every earlier file as it was.
+/// writeAtomically or not) at a temporary path as above; only when all have
+/// succeeded are they renamed into place. A failure, a rename's included, removes
+/// the temporaries and leaves every earlier file as it was.
 void writeAllOrNone(const std::vector<std::string>& paths,
                     const std::vector<std::function<void(const std::string&)>>& writes);
 
+/// While it lives, a terminating signal (after removeTemporariesOnSignals()) removes
+/// the file at @a path: for a file written in place, such as a log that can be
+/// watched as it grows, which a killed command must not leave half written.
+class RemovedOnSignal {
+public:
+    explicit RemovedOnSignal(const std::string& path);
+    RemovedOnSignal(const RemovedOnSignal&) = delete;
+    RemovedOnSignal& operator=(const RemovedOnSignal&) = delete;
+    ~RemovedOnSignal();
+
+private:
+    int mSlot;
+};
+
 /// For programs such as the gvr command: from now on every signal that would end
 /// the process (SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE, ...) removes the
-/// temporary of a write in progress, then ends the process by the same signal;
+/// temporaries of the writes in progress and the files RemovedOnSignal names, then ends the process by the same signal;
 /// SIGXFSZ is ignored, so that a write past ulimit -f fails like a full disk
 /// instead of killing the process. Opt-in, since a library must leave its host's
 /// signals alone (Python's Ctrl-C, for one).

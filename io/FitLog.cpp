@@ -12,6 +12,7 @@ FitLog::FitLog(const std::string& path, double secondsBefore) : mPath(path), mSe
     if (path.empty()) return;
     mOut.open(path);
     if (!mOut) throw InputError(path, "cannot write the fit log");
+    mUnfinished = std::make_unique<RemovedOnSignal>(path);
     mOut << "iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib,gradient_share\n";
 }
 
@@ -33,7 +34,10 @@ void FitLog::record(const FitProgress& p) {
 void FitLog::finish() {
     if (!mOut.is_open()) return;
     mOut.close();
-    if (mOut) return;
+    if (mOut) {
+        mUnfinished.reset();
+        return;
+    }
     std::error_code ignored;
     std::filesystem::remove(mPath, ignored);
     throw InputError(mPath, "cannot write the fit log (disk full?)");

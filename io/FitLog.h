@@ -2,9 +2,11 @@
 /// @brief The CSV of a fit's error against run time (`gvr fit --log`).
 #pragma once
 
+#include "io/AtomicFile.h"
 #include "pipeline/Fitter.h"
 
 #include <fstream>
+#include <memory>
 #include <string>
 
 namespace gvr {
@@ -12,7 +14,8 @@ namespace gvr {
 /// One row per held-out evaluation: a header row and numbers only, so that any CSV
 /// reader takes it as it is. Its columns are described in the README; seconds count
 /// from the start of the command, reading the input included. Written as the fit
-/// goes, so that it can be watched; a fit that fails leaves none (see finish()).
+/// goes, so that it can be watched; a fit that fails, or is stopped by a signal,
+/// leaves none (see finish()).
 class FitLog {
 public:
     /// An empty @a path logs nothing. @a secondsBefore: the command's time before the fit.
@@ -35,6 +38,7 @@ private:
     std::string mPath;
     double mSecondsBefore;
     std::ofstream mOut;
+    std::unique_ptr<RemovedOnSignal> mUnfinished;  // until finish() keeps it
 };
 
 }  // namespace gvr

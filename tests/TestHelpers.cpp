@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -22,6 +23,24 @@ TempDir::TempDir() {
 TempDir::~TempDir() {
     std::error_code ignored;
     std::filesystem::remove_all(mRoot, ignored);
+}
+
+namespace {
+constexpr const char* kDeathTestDirVariable = "GVR_DEATH_TEST_DIR";
+}
+
+DeathTestDir::DeathTestDir() {
+    if (const char* parents = std::getenv(kDeathTestDirVariable)) {
+        mRoot = parents;
+        return;
+    }
+    mOwned = std::make_unique<TempDir>();
+    mRoot = mOwned->root();
+    setenv(kDeathTestDirVariable, mRoot.c_str(), 1);
+}
+
+DeathTestDir::~DeathTestDir() {
+    if (mOwned) unsetenv(kDeathTestDirVariable);
 }
 
 std::string sharedData(const std::string& relative) {

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +40,24 @@ public:
     const std::filesystem::path& root() const { return mRoot; }
 
 private:
+    std::filesystem::path mRoot;
+};
+
+/// A TempDir that the children of death tests share. In gtest's "threadsafe" style
+/// a child runs its test again from the start: with a TempDir of its own it would
+/// write into another folder, and the parent would check one the child never touched.
+class DeathTestDir {
+public:
+    DeathTestDir();
+    ~DeathTestDir();
+    DeathTestDir(const DeathTestDir&) = delete;
+    DeathTestDir& operator=(const DeathTestDir&) = delete;
+
+    std::string path(const std::string& name) const { return (mRoot / name).string(); }
+    const std::filesystem::path& root() const { return mRoot; }
+
+private:
+    std::unique_ptr<TempDir> mOwned;  // in the parent only
     std::filesystem::path mRoot;
 };
 

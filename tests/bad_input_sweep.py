@@ -407,7 +407,7 @@ def run_case(gvr, work, c):
     if LIBRARY_SPELLING.search(run.stderr):  # the library's `key`, which gvr must say as --key
         return f"a setting in the library's spelling: {run.stderr.strip()[-300:]}"
     left = [name for name in c.outputs if (folder / name).exists()]
-    if left or [p for p in folder.iterdir() if p.name.startswith(".tmp")]:
+    if left or [p for p in folder.iterdir() if p.name.startswith(".gvr-")]:
         return f"left an output behind: {left}"
     return None
 

@@ -11,6 +11,8 @@
 #include "tests/TestHelpers.h"
 
 #include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <cstring>
@@ -22,13 +24,18 @@ namespace {
 
 constexpr int kRefused = 3;  // the child's exit code when the writer threw InputError
 
-/// Files in @a dir whose names start with ".tmp": what an interrupted write leaves.
-std::vector<std::string> temporaries(const test::TempDir& dir) {
+/// Entries in @a dir whose names start with ".gvr-": what an interrupted write leaves.
+std::vector<std::string> temporaries(const test::DeathTestDir& dir) {
     std::vector<std::string> found;
     for (const auto& entry : std::filesystem::directory_iterator(dir.root())) {
-        if (entry.path().filename().string().rfind(".tmp", 0) == 0) found.push_back(entry.path().string());
+        if (entry.path().filename().string().rfind(".gvr-", 0) == 0) found.push_back(entry.path().string());
     }
     return found;
+}
+
+/// A writer of @a text at the path it is given.
+std::function<void(const std::string&)> writeText(const std::string& text) {
+    return [text](const std::string& path) { std::ofstream(path) << text; };
 }
 
 /// In a child: limits files to 64 KiB, runs @a write, and exits kRefused if it
@@ -55,7 +62,7 @@ protected:
         EXPECT_EQ(test::readBytes(mExisting), "the previous output");
         EXPECT_TRUE(temporaries(mDir).empty()) << temporaries(mDir).front();
     }
-    test::TempDir mDir;
+    test::DeathTestDir mDir;
     const std::string mExisting = mDir.path("out.vdb");
 };
 
@@ -100,9 +107,6 @@ TEST_F(AtomicFile, SeveralOutputsAreWrittenAllOrNone) {
     // user's older file, was deleted: both files were lost.
     const std::string second = mDir.path("out.nii.gz");
     test::writeBytes(second, "the previous NIfTI");
-    const auto writeText = [](const std::string& text) {
-        return [text](const std::string& path) { std::ofstream(path) << text; };
-    };
     const auto fail = [](const std::string&) { throw InputError("out.nii.gz", "cannot write (disk full?)"); };
     EXPECT_THROW(writeAllOrNone({mExisting, second}, {writeText("new grid"), fail}), InputError);
     expectExistingOutputIntact();
@@ -111,6 +115,100 @@ TEST_F(AtomicFile, SeveralOutputsAreWrittenAllOrNone) {
     EXPECT_EQ(test::readBytes(mExisting), "new grid");
     EXPECT_EQ(test::readBytes(second), "new NIfTI");
     EXPECT_TRUE(temporaries(mDir).empty());
+}
+
+TEST_F(AtomicFile, TheTemporaryLiesInAFolderThatOnlyThisWriteMade) {
+    // The temporary's name was ".tmp<pid>-out.vdb" beside the output: a link planted
+    // at it sent the write into the link's target.
+    const std::string victim = mDir.path("victim.txt");
+    test::writeBytes(victim, "a user's file");
+    std::filesystem::create_symlink(victim, mDir.path(".tmp" + std::to_string(getpid()) + "-out.vdb"));
+    std::string temporary;
+    writeAtomically(mExisting, [&](const std::string& path) {
+        temporary = path;
+        std::ofstream(path) << "the new output";
+    });
+    EXPECT_EQ(test::readBytes(mExisting), "the new output");
+    EXPECT_EQ(test::readBytes(victim), "a user's file");
+    const std::filesystem::path folder = std::filesystem::path(temporary).parent_path();
+    EXPECT_EQ(folder.parent_path(), std::filesystem::path(mExisting).parent_path());
+    EXPECT_EQ(folder.filename().string().rfind(".gvr-" + std::to_string(getpid()) + "-", 0), 0u) << temporary;
+    EXPECT_EQ(std::filesystem::path(temporary).filename(), "out.vdb");  // writers choose a format by extension
+    EXPECT_TRUE(temporaries(mDir).empty());
+}
+
+TEST_F(AtomicFile, OnlyStagingFoldersOfGoneProcessesAreCleared) {
+    namespace fs = std::filesystem;
+    const auto folder = [&](const std::string& name, fs::perms perms) {
+        fs::create_directory(mDir.path(name));
+        test::writeBytes(mDir.path(name) + "/out.vdb", "staged");
+        fs::permissions(mDir.path(name), perms);
+        return mDir.path(name);
+    };
+    const std::string stale = folder(".gvr-999999999-Ab3xYz", fs::perms::owner_all);  // no pid runs that high
+    const std::string live = folder(".gvr-1-Ab3xYz", fs::perms::owner_all);           // init runs
+    // Inputs that only look like temporaries: an earlier gvr's name, and a shared folder.
+    const std::string lookalike = mDir.path(".tmp999999999-all-x.nii.gz");
+    test::writeBytes(lookalike, "an input");
+    const std::string shared = folder(".gvr-999999999-Cd4xYz", fs::perms::owner_all | fs::perms::group_read);
+    writeAtomically(mExisting, writeText("new"));
+    EXPECT_FALSE(fs::exists(stale));
+    EXPECT_TRUE(fs::exists(live));
+    EXPECT_TRUE(fs::exists(lookalike));
+    EXPECT_TRUE(fs::exists(shared));
+}
+
+TEST_F(AtomicFile, ARenameThatFailsGivesTheOutputsAlreadyRenamedTheirOldFiles) {
+    // The first output was renamed over the user's older file, then the second
+    // rename failed: exit 2, with the first already replaced.
+    const std::string second = mDir.path("out.nii.gz");
+    const auto stageThenBlockTheRename = [&](const std::string& path) {
+        std::ofstream(path) << "new NIfTI";
+        std::filesystem::create_directories(second + "/in the way");  // rename(2) refuses a full folder
+    };
+    EXPECT_THROW(writeAllOrNone({mExisting, second}, {writeText("new grid"), stageThenBlockTheRename}), InputError);
+    expectExistingOutputIntact();
+    const std::string fresh = mDir.path("fresh.vdb");  // no older file: the rename is undone by removing it
+    std::filesystem::remove_all(second);
+    EXPECT_THROW(writeAllOrNone({fresh, second}, {writeText("new grid"), stageThenBlockTheRename}), InputError);
+    EXPECT_FALSE(std::filesystem::exists(fresh));
+    EXPECT_TRUE(temporaries(mDir).empty());
+}
+
+TEST_F(AtomicFile, ASignalWhileTheSecondOutputIsWrittenLeavesNoStagedFile) {
+    // The first output, staged and complete, was left behind (50 MB in the probe).
+    const std::string second = mDir.path("out.nii.gz");
+    const auto writeBothThenGetKilled = [&] {
+        removeTemporariesOnSignals();
+        const auto halfThenKilled = [](const std::string& path) {
+            writeAtomically(path, [](const std::string& temporary) {  // a writer that stages on its own
+                std::ofstream(temporary) << "half of a NIfTI";
+                std::raise(SIGTERM);
+            });
+        };
+        writeAllOrNone({mExisting, second}, {writeText("new grid"), halfThenKilled});
+    };
+    EXPECT_EXIT(writeBothThenGetKilled(), ::testing::KilledBySignal(SIGTERM), "");
+    expectExistingOutputIntact();
+    EXPECT_FALSE(std::filesystem::exists(second));
+}
+
+TEST_F(AtomicFile, WhatSigkillLeavesIsClearedByTheNextWriteIntoTheFolder) {
+    // A nested writer's temporary, named after the staged file and the dead pid,
+    // matched no later write's name and stayed.
+    const auto writeBothThenGetKilled = [&] {
+        const auto halfThenKilled = [](const std::string& path) {
+            writeAtomically(path, [](const std::string& temporary) {
+                std::ofstream(temporary) << "half of a NIfTI";
+                std::raise(SIGKILL);
+            });
+        };
+        writeAllOrNone({mExisting, mDir.path("out.nii.gz")}, {writeText("new grid"), halfThenKilled});
+    };
+    EXPECT_EXIT(writeBothThenGetKilled(), ::testing::KilledBySignal(SIGKILL), "");
+    EXPECT_FALSE(temporaries(mDir).empty());
+    writeAtomically(mDir.path("other.vdb"), writeText("another output"));
+    expectExistingOutputIntact();
 }
 
 }  // namespace

@@ -484,9 +484,12 @@ TEST(Cli, AFailedFitLeavesNoLogAndStaleTemporariesAreCleared) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
     // A temporary of a process that no longer runs (pid 999999999 never does), and one of a live process.
-    const std::string stale = dir.path(".tmp999999999-a.gvr"), live = dir.path(".tmp1-a.gvr");
-    test::writeBytes(stale, "left by SIGKILL");
-    test::writeBytes(live, "being written by pid 1");
+    const std::string stale = dir.path(".gvr-999999999-Ab3xYz"), live = dir.path(".gvr-1-Ab3xYz");
+    for (const std::string& folder : {stale, live}) {
+        std::filesystem::create_directory(folder);
+        std::filesystem::permissions(folder, std::filesystem::perms::owner_all);
+        test::writeBytes(folder + "/a.gvr", "left by SIGKILL, or being written by pid 1");
+    }
     const test::CommandResult ok =
         test::runGvr("fit -q '" + grid + "' -o '" + dir.path("a.gvr") + "' --gaussians 40 --iterations 20 --log '" +
                          dir.path("a.csv") + "'",

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <csignal>
 #include <filesystem>
 #include <limits>
 
@@ -46,6 +47,21 @@ TEST(FitLog, AFitThatNeverFinishesLeavesNoLog) {
         log.record(evaluated(10, 30.0));
         EXPECT_TRUE(std::filesystem::exists(path));  // watchable while the fit runs
     }
+    EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+TEST(FitLog, ASignalRemovesAnUnfinishedLog) {
+    // SIGTERM during a fit left a partial log with exit 143.
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    test::DeathTestDir dir;
+    const std::string path = dir.path("fit.csv");
+    const auto logThenGetKilled = [&] {
+        removeTemporariesOnSignals();
+        FitLog log(path, 0.0);
+        log.record(evaluated(10, 31.25));
+        std::raise(SIGTERM);
+    };
+    EXPECT_EXIT(logThenGetKilled(), ::testing::KilledBySignal(SIGTERM), "");
     EXPECT_FALSE(std::filesystem::exists(path));
 }
 
