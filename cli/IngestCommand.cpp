@@ -74,8 +74,7 @@ void runIngest(const IngestFlags& flags) {
         labelTable = labelTableOf(*result.labels);
         grids.push_back(result.labels);
     }
-    const std::optional<VolumeMetadata> metadata = readVolumeMetadata(*result.grid);
-    const NiftiStorage storage = niftiStorageLike(metadata.value_or(VolumeMetadata{}), flags.float32 || !metadata);
+    const NiftiStorage storage = ingestedNiftiStorage(*result.grid, flags.float32);
     const std::vector<WrittenVolume> written =
         writeVolumeOutputs(flags.outputs, grids, volumeBox(*result.grid), storage);
     const GridSummary summary = summarizeGrid(*result.grid);

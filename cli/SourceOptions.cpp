@@ -87,23 +87,12 @@ IngestOptions toIngestOptions(const SourceFlags& flags) {
     } else if (!flags.rawType.empty()) {
         throw InputError("--raw-type", "needs --raw-dims as well");
     }
-    if (flags.threshold && !std::isfinite(*flags.threshold)) {
-        throw InputError("--threshold", "must be a finite number");
-    }
     options.build.threshold = flags.threshold;
-    if (flags.thresholdAbove) {
-        if (!std::isfinite(*flags.thresholdAbove)) throw InputError("--threshold-above", "must be a finite number");
-        if (flags.threshold && *flags.thresholdAbove <= *flags.threshold) {
-            throw InputError("--threshold-above", "must lie above --threshold, or nothing stays active");
-        }
-    }
     options.build.thresholdAbove = flags.thresholdAbove;
     options.build.flip = flippedAxes(flags.flip);
     options.build.nanTo = flags.nanTo;
-    if (flags.nanTo && !std::isfinite(*flags.nanTo)) {
-        throw InputError("--nan-to", "must be a finite number");
-    }
     options.build.modality = flags.modality;
+    options.build.validate();
     return options;
 }
 

@@ -506,6 +506,7 @@ openvdb::GridBase::Ptr buildTyped(const DenseVolume& layout, std::int64_t slabSl
 
 openvdb::GridBase::Ptr buildFromSlabs(const DenseVolume& layout, std::int64_t slabSlices, const ReadSlab& readSlab,
                                       const GridBuildSettings& settings, const ProgressFn& progress) {
+    settings.validate();
     if (layout.channels != 1 && layout.channels != 3) {
         throw InputError(settings.sourceFile, "has " + std::to_string(layout.channels) +
                                                   " channels; gvr handles grey (1) or RGB (3)");
@@ -524,6 +525,20 @@ std::int64_t slabSlicesFor(const SliceSource& source, std::uint64_t slabBytes) {
 }
 
 }  // namespace
+
+void GridBuildSettings::validate() const {
+    if (threshold && !std::isfinite(*threshold)) throw InputError("`threshold`", "must be a finite number");
+    if (thresholdAbove) {
+        if (!std::isfinite(*thresholdAbove)) throw InputError("`threshold_above`", "must be a finite number");
+        if (threshold && *thresholdAbove <= *threshold) {
+            throw InputError("`threshold_above`", "must lie above `threshold`, or nothing stays active");
+        }
+    }
+    // A double such as 1e39 arrives here as an infinite float.
+    if (nanTo && !std::isfinite(*nanTo)) {
+        throw InputError("`nan_to`", "must be a finite number, of float32's range (at most 3.4e38 in magnitude)");
+    }
+}
 
 openvdb::GridBase::Ptr buildGrid(const DenseVolume& volume, const GridBuildSettings& settings,
                                  const ProgressFn& progress) {

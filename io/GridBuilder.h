@@ -39,6 +39,11 @@ struct GridBuildSettings {
     /// A streamed build reads about this many bytes of samples at a time (at least
     /// one leaf's 8 slices).
     std::uint64_t slabBytes = 64u << 20;
+
+    /// Checks the values a user gives, the same for every front end: finite
+    /// thresholds, the upper above the lower, and a finite float for nanTo.
+    /// @throw InputError naming the setting (`threshold`, `threshold_above`, `nan_to`)
+    void validate() const;
 };
 
 /// Builds a float grid named "density" (grey) or a Vec3s grid named "color" (RGB)
@@ -46,7 +51,7 @@ struct GridBuildSettings {
 /// attached. Inactive voxels hold the background: the mean of the deactivated
 /// voxels (the minimum, or black, when none are).
 /// @throw InputError naming the source file for NaN/Inf samples without nanTo, or
-///        for a degenerate orientation matrix.
+///        for a degenerate orientation matrix; as validate() for bad settings.
 openvdb::GridBase::Ptr buildGrid(const DenseVolume& volume, const GridBuildSettings& settings,
                                  const ProgressFn& progress = {});
 

@@ -2,8 +2,10 @@
 
 #include "io/AtomicFile.h"
 #include "io/GridFile.h"
+#include "io/InputFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/LowerCase.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <filesystem>
 
@@ -31,11 +33,17 @@ VolumeFileFormat volumeFileFormat(const std::string& path) {
     throw InputError(path, "unknown output extension: use .vdb (OpenVDB), .nii or .nii.gz (NIfTI)");
 }
 
+NiftiStorage ingestedNiftiStorage(const openvdb::GridBase& grid, bool float32) {
+    const std::optional<VolumeMetadata> metadata = readVolumeMetadata(grid);
+    return niftiStorageLike(metadata.value_or(VolumeMetadata{}), float32 || !metadata);
+}
+
 void checkVolumeOutputs(const std::string& flag, const std::vector<std::string>& outputs,
                         const std::vector<std::string>& inputs) {
     if (outputs.empty()) throw InputError(flag, "an output file is required");
     bool seen[2] = {false, false};
     for (const std::string& output : outputs) {
+        requireNoNulByte(output);  // before its extension, which a NUL byte hides
         const int format = int(volumeFileFormat(output));
         if (seen[format]) {
             throw InputError(flag, "two outputs of the same format (" + output +

@@ -32,6 +32,11 @@ struct WrittenVolume {
     std::uint64_t clampedSamples = 0;  ///< NIfTI: samples clamped into its datatype
 };
 
+/// How `gvr ingest` stores @a grid (an ingested volume) as NIfTI: in the source's
+/// sample type and scaling, or float32 when @a float32 asks for it or the grid
+/// records no source.
+NiftiStorage ingestedNiftiStorage(const openvdb::GridBase& grid, bool float32);
+
 /// Writes each of @a outputs: all of @a grids as OpenVDB, or the first of them over
 /// @a box as NIfTI stored as @a storage says. If one write fails, the files already
 /// written are removed before the error goes on.

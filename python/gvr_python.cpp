@@ -6,11 +6,12 @@
 #include "io/AssetFile.h"
 #include "io/ComparisonInput.h"
 #include "io/GridBuilder.h"
-#include "io/GridFile.h"
 #include "io/Ingest.h"
 #include "io/LabelGrid.h"
+#include "io/VolumeOutputs.h"
 #include "pipeline/AssetProbe.h"
 #include "pipeline/Error.h"
+#include "pipeline/FloatVolume.h"
 #include "pipeline/SettingNames.h"
 #include "pipeline/WorldGaussians.h"
 #include "render/Camera.h"
@@ -167,14 +168,15 @@ Volume volumeFromNumpy(const py::array& array, std::optional<std::array<double, 
                        const std::optional<py::array>& affine, std::optional<double> threshold,
                        const std::string& modality, std::optional<float> nanTo, const std::string& sourceType) {
     if (spacing && affine) throw InputError("spacing", "give spacing or affine, not both");
-    DenseVolume dense = denseFromArray(array);
-    if (spacing) dense.worldFromIndex = worldFromSpacing({(*spacing)[0], (*spacing)[1], (*spacing)[2]});
-    if (affine) dense.worldFromIndex = matrixFromAffine(*affine);
-    if (!modality.empty()) dense.modality = modality;
     GridBuildSettings settings;
     settings.sourceFile = "array";
     settings.threshold = threshold;
     settings.nanTo = nanTo;
+    settings.validate();  // before the array is copied
+    DenseVolume dense = denseFromArray(array);
+    if (spacing) dense.worldFromIndex = worldFromSpacing({(*spacing)[0], (*spacing)[1], (*spacing)[2]});
+    if (affine) dense.worldFromIndex = matrixFromAffine(*affine);
+    if (!modality.empty()) dense.modality = modality;
     const std::optional<SampleType> declared =
         sourceType.empty() ? std::nullopt : std::optional<SampleType>(sampleTypeFromName(sourceType, "source_type"));
     py::gil_scoped_release release;
@@ -251,6 +253,7 @@ Volume ingestPath(const std::string& path, std::optional<double> threshold,
     options.resampleLabels = resampleLabels;
     options.build.threshold = threshold;
     options.build.nanTo = nanTo;
+    options.build.validate();  // before the file is read
     options.read.volumeIndex = volumeIndex;
     if (spacing) options.read.spacingMm = openvdb::Vec3d((*spacing)[0], (*spacing)[1], (*spacing)[2]);
     py::gil_scoped_release release;
@@ -513,10 +516,15 @@ PYBIND11_MODULE(gvr, m) {
                  return v.labels ? labelNamesOf(labelTableOf(*v.labels)) : std::map<int, std::string>{};
              }, "Structure names by label id (empty without labels)")
         .def("save", [](const Volume& v, const std::string& path) {
+                 checkVolumeOutputs("path", {path}, {});
                  openvdb::GridCPtrVec grids{v.grid};
                  if (v.labels) grids.push_back(v.labels);
-                 writeGridFile(path, grids);
-             }, "path"_a, "Write the grid, and its labels, as a .vdb file (atomically), as gvr ingest writes it");
+                 const NiftiStorage storage = ingestedNiftiStorage(*v.grid, false);
+                 py::gil_scoped_release release;
+                 writeVolumeOutputs({path}, grids, volumeBox(*v.grid), storage);
+             }, "path"_a,
+             "Write the volume (atomically) in the format its extension names, as `gvr ingest -o` does: .vdb "
+             "with its labels, or .nii/.nii.gz in the source's sample type; any other extension raises gvr.Error");
 
     m.def("ingest", &ingestPath, "path"_a, "threshold"_a = py::none(), "spacing"_a = py::none(),
           "nan_to"_a = py::none(), "volume"_a = 0, "labels"_a = "", "label_names"_a = "", "resample_labels"_a = false,

@@ -3,6 +3,7 @@
 
 #include "cli/SourceOptions.h"
 
+#include "cli/Diagnostics.h"
 #include "pipeline/Error.h"
 #include "tests/ParseFlags.h"
 #include "tests/TestHelpers.h"
@@ -19,7 +20,7 @@ namespace gvr {
 namespace {
 
 std::string refusal(const SourceFlags& flags) {
-    return test::errorMessageOf<InputError>([&] { toIngestOptions(flags); });
+    return inCommandLineTerms(test::errorMessageOf<InputError>([&] { toIngestOptions(flags); }));
 }
 
 TEST(SourceOptions, NoFlagsReadTheFileAsItSays) {
@@ -122,7 +123,7 @@ TEST(SourceOptions, BadValuesAreRefusedNamingTheFlag) {
 
     SourceFlags nanTo;
     nanTo.nanTo = std::numeric_limits<float>::infinity();
-    EXPECT_EQ(refusal(nanTo), "--nan-to: must be a finite number");
+    EXPECT_EQ(refusal(nanTo), "--nan-to: must be a finite number, of float32's range (at most 3.4e38 in magnitude)");
 }
 
 }  // namespace

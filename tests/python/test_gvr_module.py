@@ -4,6 +4,7 @@ Run by ctest (tests/CMakeLists.txt) as
     GVR_EXECUTABLE=build/cli/gvr PYTHONPATH=build/python /usr/bin/python3 -m pytest tests/python
 """
 import json
+import math
 import os
 import resource
 import signal
@@ -317,6 +318,27 @@ def test_errors_name_python_arguments_not_command_line_flags(ch2_vdb):
     with pytest.raises(gvr.Error) as error:
         gvr.fit(ch2_vdb, ratio=0.5)
     assert str(error.value).startswith("ratio: ")
+
+
+def test_volume_save_writes_the_format_its_extension_names(work):
+    # Volume.save("x.nii.gz") once wrote a .vdb under that name.
+    values = np.arange(4 * 5 * 6, dtype=np.int16).reshape(4, 5, 6) - 60
+    volume = gvr.Volume.from_numpy(values, threshold=-1000.0)
+    volume.save(str(work / "v.nii.gz"))
+    assert (work / "v.nii.gz").read_bytes()[:2] == b"\x1f\x8b"  # gzip, as NIfTI .gz is
+    assert np.array_equal(gvr.ingest(str(work / "v.nii.gz"), threshold=-1000.0).to_numpy(), values)
+    with pytest.raises(gvr.Error, match="unknown output extension"):
+        volume.save(str(work / "v.raw"))
+    assert not (work / "v.raw").exists()
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf, 1e39, 3.5e38])
+def test_nan_to_is_refused_where_the_command_line_refuses_it(ch2_vdb, bad):
+    # They were accepted, and a fit of the grid saved an asset that could not be read back.
+    with pytest.raises(gvr.Error, match="nan_to"):
+        gvr.Volume.from_numpy(np.zeros((4, 4, 4), dtype=np.float32), nan_to=bad)
+    with pytest.raises(gvr.Error, match="nan_to"):
+        gvr.ingest(str(ch2_vdb), nan_to=bad)
 
 
 def test_a_path_with_a_nul_byte_is_refused_not_cut_short(work, ch2_vdb):
