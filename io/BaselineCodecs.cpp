@@ -1,5 +1,6 @@
 #include "io/BaselineCodecs.h"
 
+#include "io/DenseCopy.h"
 #include "io/GridBuilder.h"
 #include "io/GridFile.h"
 #include "io/ZfpStream.h"
@@ -243,10 +244,11 @@ FloatVolume readStream(const BaselineSettings& settings, const FloatVolume& samp
         }
         case BaselineMethod::VdbBlosc:
         case BaselineMethod::VdbHalf:
-            return sampleGrid(*chooseVolumeGrid(*readGridFile(streamPath), streamPath), box);
+            return denseCopy(*chooseVolumeGrid(*readGridFile(streamPath), streamPath), box, streamPath, "decode");
         case BaselineMethod::Downsample: {
             const openvdb::GridBase::Ptr coarse = chooseVolumeGrid(*readGridFile(streamPath), streamPath);
-            return resampleTrilinear(sampleGrid(*coarse, volumeBox(*coarse)), samples.dims, samples.worldFromIndex);
+            return resampleTrilinear(denseCopy(*coarse, volumeBox(*coarse), streamPath, "decode"), samples.dims,
+                                     samples.worldFromIndex);
         }
     }
     throw std::logic_error("unknown baseline method");
@@ -322,7 +324,7 @@ BaselineResult runBaseline(const openvdb::GridBase& source, const BaselineSettin
     }
     const openvdb::CoordBBox box = volumeBox(source);
     if (box.empty()) throw InputError(culprit, "has no voxels to compress");
-    const FloatVolume samples = sampleGrid(source, box);
+    const FloatVolume samples = denseCopy(source, box, culprit, "compress");
     BaselineResult result;
     result.voxels = samples.voxelCount();
     result.channels = samples.channels;

@@ -2,6 +2,7 @@
 
 #include "io/AssetExport.h"
 #include "io/AssetFile.h"
+#include "io/DenseCopy.h"
 
 #include "io/Readers.h"
 #include "pipeline/Error.h"
@@ -63,12 +64,12 @@ ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions
     // A Gaussian asset is compared as what it exports onto its source grid.
     const openvdb::GridBase::Ptr grid = isAssetFile(path) ? exportAsset(readAsset(path), ExportSettings{}).grids.front()
                                                           : loadOrIngest(path, options).grid;
-    return comparisonInputOf(grid);
+    return comparisonInputOf(grid, path);
 }
 
-ComparisonInput comparisonInputOf(openvdb::GridBase::ConstPtr grid) {
+ComparisonInput comparisonInputOf(openvdb::GridBase::ConstPtr grid, const std::string& name) {
     ComparisonInput input;
-    input.volume = sampleGrid(*grid, volumeBox(*grid));
+    input.volume = denseCopy(*grid, volumeBox(*grid), name, "compare");
     const auto metadata = readVolumeMetadata(*grid);
     input.dataRange = metadata ? metadata->valueMax - metadata->valueMin : sampleRange(input.volume);
     input.grid = std::move(grid);

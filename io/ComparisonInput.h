@@ -23,8 +23,9 @@ struct ComparisonInput {
 /// @throw InputError naming @a path when it cannot be read.
 ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions& options);
 
-/// A grid in memory (float, double or Vec3s), over the voxels it stands for.
-/// @throw InputError for any other value type.
-ComparisonInput comparisonInputOf(openvdb::GridBase::ConstPtr grid);
+/// A grid in memory (float, double or Vec3s), over the voxels it stands for;
+/// @a name names it in errors.
+/// @throw InputError for any other value type, or when the voxels do not fit in memory.
+ComparisonInput comparisonInputOf(openvdb::GridBase::ConstPtr grid, const std::string& name);
 
 }  // namespace gvr

@@ -2,6 +2,7 @@
 
 #include "io/AtomicFile.h"
 #include "io/InputFile.h"
+#include "io/MemoryBudget.h"
 #include "io/VdbLengths.h"
 #include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"
@@ -77,6 +78,27 @@ void checkTransforms(const openvdb::GridPtrVec& grids, const std::string& path) 
     }
 }
 
+/// gvr's metadata sizes what readers allocate (volumeBox), so it is input like a
+/// header: dimensions in range, one or three channels, and a positive finite spacing.
+void checkVolumeMetadata(const openvdb::GridPtrVec& grids, const std::string& path) {
+    for (const auto& grid : grids) {
+        const std::optional<VolumeMetadata> metadata = readVolumeMetadata(*grid);
+        if (!metadata) continue;
+        const std::string where = path + " (grid '" + grid->getName() + "', gvr_dims metadata)";
+        checkDimensions(where, {metadata->dims.x(), metadata->dims.y(), metadata->dims.z()});
+        if (metadata->channels != 1 && metadata->channels != 3) {
+            throw InputError(path, "grid '" + grid->getName() + "' has gvr_channels " +
+                                       std::to_string(metadata->channels) + "; gvr writes 1 or 3");
+        }
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!(metadata->spacingMm[axis] > 0.0) || !std::isfinite(metadata->spacingMm[axis])) {
+                throw InputError(path, "grid '" + grid->getName() + "' has a gvr_spacing_mm that is not a "
+                                                                    "positive finite size");
+            }
+        }
+    }
+}
+
 /// io::File with delayed loading: each leaf's voxels are read from a memory map of
 /// the file when first touched.
 openvdb::GridPtrVecPtr mappedGrids(const std::string& path) {
@@ -116,6 +138,7 @@ openvdb::GridPtrVecPtr readGrids(const std::string& path, Voxels voxels) {
         throw InputError(path, "corrupt VDB file: a length in it asks for more memory than there is");
     }
     checkTransforms(*grids, path);
+    checkVolumeMetadata(*grids, path);
     return grids;
 }
 

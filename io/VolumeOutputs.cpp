@@ -1,6 +1,7 @@
 #include "io/VolumeOutputs.h"
 
 #include "io/AtomicFile.h"
+#include "io/DenseCopy.h"
 #include "io/GridFile.h"
 #include "io/InputFile.h"
 #include "pipeline/Error.h"
@@ -13,15 +14,16 @@ namespace gvr {
 
 namespace {
 
-WrittenVolume writeOne(const std::string& path, const openvdb::GridCPtrVec& grids, const openvdb::CoordBBox& box,
-                       const NiftiStorage& storage) {
+/// Writes @a path's file at @a staging.
+WrittenVolume writeOne(const std::string& path, const std::string& staging, const openvdb::GridCPtrVec& grids,
+                       const openvdb::CoordBBox& box, const NiftiStorage& storage) {
     WrittenVolume written{path, volumeFileFormat(path)};
     if (written.format == VolumeFileFormat::Vdb) {
-        writeGridFile(path, grids);
+        writeGridFile(staging, grids);
     } else {
-        written.clampedSamples = writeNifti(path, sampleGrid(*grids.front(), box), storage);
+        written.clampedSamples = writeNifti(staging, denseCopy(*grids.front(), box, path, "write NIfTI"), storage);
     }
-    written.fileBytes = std::filesystem::file_size(path);
+    written.fileBytes = std::filesystem::file_size(staging);
     return written;
 }
 
@@ -63,9 +65,7 @@ std::vector<WrittenVolume> writeVolumeOutputs(const std::vector<std::string>& ou
     std::vector<std::function<void(const std::string&)>> writes;
     for (const std::string& path : outputs) {
         writes.push_back([&, path](const std::string& staging) {
-            WrittenVolume one = writeOne(staging, grids, box, storage);
-            one.path = path;
-            written.push_back(one);
+            written.push_back(writeOne(path, staging, grids, box, storage));
         });
     }
     writeAllOrNone(outputs, writes);

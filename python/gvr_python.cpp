@@ -5,6 +5,7 @@
 #include "io/AssetExport.h"
 #include "io/AssetFile.h"
 #include "io/ComparisonInput.h"
+#include "io/DenseCopy.h"
 #include "io/GridBuilder.h"
 #include "io/Ingest.h"
 #include "io/LabelGrid.h"
@@ -198,7 +199,7 @@ py::array volumeToNumpy(const Volume& volume) {
     auto samples = std::make_unique<FloatVolume>();
     {
         py::gil_scoped_release release;
-        *samples = sampleGrid(*volume.grid, boxOf(volume));
+        *samples = denseCopy(*volume.grid, boxOf(volume), "volume", "copy to NumPy");
     }
     const FloatVolume& v = *samples;
     const py::ssize_t c = v.channels, item = sizeof(float);
@@ -452,9 +453,9 @@ using Comparable = std::variant<GaussianAsset, Volume, std::string>;
 
 ComparisonInput comparisonInput(const Comparable& input) {
     if (const auto* asset = std::get_if<GaussianAsset>(&input)) {
-        return comparisonInputOf(exportAsset(*asset, ExportSettings{}).grids.front());
+        return comparisonInputOf(exportAsset(*asset, ExportSettings{}).grids.front(), "asset");
     }
-    if (const auto* volume = std::get_if<Volume>(&input)) return comparisonInputOf(volume->grid);
+    if (const auto* volume = std::get_if<Volume>(&input)) return comparisonInputOf(volume->grid, "volume");
     return loadComparisonInput(std::get<std::string>(input), IngestOptions{});
 }
 

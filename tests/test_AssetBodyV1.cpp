@@ -3,6 +3,8 @@
 
 #include "io/AssetBodyV1.h"
 
+#include "tests/TestHelpers.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -26,7 +26,7 @@ void writeGreyImage(const std::string& path, int width, int height, OIIO::TypeDe
 TEST(ComparisonInput, AnIngestedGridKeepsItsBoxAndRecordedRange) {
     const openvdb::GridBase::Ptr grid =
         test::makeGrid({4, 3, 2}, [](int i, int j, int k) { return float(1 + i + 10 * j + 100 * k); });
-    const ComparisonInput input = comparisonInputOf(grid);
+    const ComparisonInput input = comparisonInputOf(grid, "grid");
     EXPECT_FALSE(input.isImage);
     EXPECT_EQ(input.grid.get(), grid.get());
     EXPECT_EQ(input.volume.dims, openvdb::Coord(4, 3, 2));
@@ -40,7 +40,7 @@ TEST(ComparisonInput, AGridWithoutIngestMetadataUsesItsActiveBoxAndSampleRange) 
     const openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
     grid->tree().setValue(openvdb::Coord(5, 5, 5), 2.0f);
     grid->tree().setValue(openvdb::Coord(6, 5, 5), 10.0f);
-    const ComparisonInput input = comparisonInputOf(grid);
+    const ComparisonInput input = comparisonInputOf(grid, "grid");
     EXPECT_EQ(input.volume.dims, openvdb::Coord(2, 1, 1));
     ASSERT_EQ(input.volume.values.size(), 2u);
     EXPECT_EQ(input.volume.values[0], 2.0f);
@@ -51,7 +51,7 @@ TEST(ComparisonInput, AGridWithoutIngestMetadataUsesItsActiveBoxAndSampleRange) 
 TEST(ComparisonInput, AnIntegerGridIsRefused) {
     const openvdb::Int32Grid::Ptr grid = openvdb::Int32Grid::create(0);
     grid->tree().setValue(openvdb::Coord(0, 0, 0), 3);
-    EXPECT_THROW(comparisonInputOf(grid), InputError);
+    EXPECT_THROW(comparisonInputOf(grid, "grid"), InputError);
 }
 
 TEST(ComparisonInput, AnImageIsReadInTheZeroToOneScale) {

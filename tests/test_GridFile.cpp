@@ -9,7 +9,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
+#include <functional>
 #include <type_traits>
 #include <filesystem>
 
@@ -292,6 +294,30 @@ TEST(GridFile, GridTypesAndVersionsTheChecksCannotWalkAreRefused) {
     std::memcpy(&bytes[8], &version, sizeof version);
     test::writeBytes(dir.path("old.vdb"), bytes);
     expectRefused(dir.path("old.vdb"), "VDB format version 221");
+}
+
+// gvr eval of a grid whose gvr_dims claimed 2e9^3 voxels ended in exit 1, "cannot
+// create std::vector larger than max_size()": metadata sizes what readers allocate.
+TEST(GridFile, AbsurdVolumeMetadataIsRefusedLikeAHeader) {
+    test::TempDir dir;
+    const auto refusedWith = [&](const std::function<void(VolumeMetadata&)>& spoil, const std::string& message) {
+        openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create();
+        grid->setName("density");
+        grid->tree().setValue(openvdb::Coord(1, 2, 3), 1.0f);
+        VolumeMetadata metadata;
+        metadata.sourceType = "uint8";
+        metadata.dims = openvdb::Vec3i(4, 4, 4);
+        spoil(metadata);
+        writeVolumeMetadata(metadata, *grid);
+        openvdb::io::File(dir.path("m.vdb")).write({grid});
+        expectRefused(dir.path("m.vdb"), message);
+    };
+    refusedWith([](VolumeMetadata& m) { m.dims = openvdb::Vec3i(2000000000, 2000000000, 2000000000); },
+                "gvr_dims metadata): dimensions 2000000000x2000000000x2000000000 are out of range");
+    refusedWith([](VolumeMetadata& m) { m.dims = openvdb::Vec3i(4, 0, 4); }, "dimensions 4x0x4 are out of range");
+    refusedWith([](VolumeMetadata& m) { m.channels = 7; }, "has gvr_channels 7; gvr writes 1 or 3");
+    refusedWith([](VolumeMetadata& m) { m.spacingMm = openvdb::Vec3d(1.0, std::nan(""), 1.0); },
+                "gvr_spacing_mm that is not a positive finite size");
 }
 
 // Found by fuzz_vdb: an integer grid named "density" was chosen as the volume, and
