@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <sstream>
 
 namespace gvr {
 
@@ -125,6 +126,14 @@ Lattice sourceLattice(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims) {
 Lattice resizedLattice(const Mat4d& worldFromIndex, const openvdb::Vec3i& dims, double voxelSizeMm) {
     if (!(voxelSizeMm > 0.0) || !std::isfinite(voxelSizeMm)) {
         throw InputError("`voxel_size`", "must be a positive number of mm");
+    }
+    // Larger, the volume is one voxel all the same; far larger (1e300 mm), the
+    // transform's determinant overflows and no reader takes the file.
+    const double longest = voxelSizeForResolution(worldFromIndex, dims, 1);
+    if (voxelSizeMm > longest) {
+        std::ostringstream message;
+        message << voxelSizeMm << " mm is larger than the volume's longest extent, " << longest << " mm";
+        throw InputError("`voxel_size`", message.str());
     }
     Mat4d sourceFromResized = Mat4d::identity();
     Coord size;

@@ -25,8 +25,8 @@ Lattice sourceLattice(const openvdb::math::Mat4d& worldFromIndex, const openvdb:
 /// The source's extent (its voxel cells, edge to edge) covered by voxels of
 /// @a voxelSizeMm along each of the source's index axes, starting at its corner.
 /// Axes keep their direction, so oblique and sheared volumes stay aligned.
-/// @throw InputError when the voxel size is not positive or would need more than
-///        2^31 voxels along an axis.
+/// @throw InputError when the voxel size is not positive, exceeds the source's
+///        longest extent, or would need more than 2^31 voxels along an axis.
 Lattice resizedLattice(const openvdb::math::Mat4d& worldFromIndex, const openvdb::Vec3i& dims,
                        double voxelSizeMm);
 

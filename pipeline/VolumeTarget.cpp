@@ -6,6 +6,7 @@
 #include "pipeline/Trilinear.h"
 #include "pipeline/VolumeMetadata.h"
 
+#include <cfloat>
 #include <cmath>
 #include <sstream>
 #include <type_traits>
@@ -129,6 +130,15 @@ VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& 
     // Grey: background to the top of the range spans 0..1. RGB: the luminance range
     // does, so all three channels share one scale.
     const double top = mFloat ? range.max - background[0] : range.max - range.min;
+    // An asset keeps its mapping in float range: a wider span (values at float's
+    // limits, +-3.4e38) would be written and then refused by every reader.
+    const bool finiteRange = std::isfinite(range.min) && std::isfinite(range.max);
+    if (finiteRange && (std::abs(top) > double(FLT_MAX) || range.max - range.min > double(FLT_MAX))) {
+        std::ostringstream span;
+        span << range.min << " to " << range.max;
+        throw InputError(name, "values span " + span.str() +
+                                   ", wider than float32 can hold (3.4e38); rescale the volume to fit it");
+    }
     mMapping.scale = top > 0.0 && std::isfinite(top) ? top : 1.0;
     for (int c = 0; c < 3; ++c) mMapping.offset[c] = mChannels == 1 ? background[0] : background[c];
     mPeak = std::isfinite(range.max - range.min) && range.max > range.min

@@ -1,6 +1,7 @@
 // Sampling the Gaussian field into a sparse grid: exact against point evaluation,
 // sparse where nothing reaches, seamless across leaves at any resolution.
 
+#include "pipeline/Error.h"
 #include "pipeline/FieldToGrid.h"
 #include "pipeline/FloatVolume.h"
 #include "tests/TestHelpers.h"
@@ -103,6 +104,10 @@ TEST(FieldToGrid, ResizedLatticeCoversTheSourceExtent) {
     EXPECT_NEAR(voxelSizeForResolution(worldFromIndex, dims, 100), 28 * 2.5 / 100, 1e-12);
     EXPECT_THROW(resizedLattice(worldFromIndex, dims, 0.0), std::exception);
     EXPECT_THROW(resizedLattice(worldFromIndex, dims, 1e-6), std::exception);  // absurd size
+    // 1e300 mm made a transform whose determinant overflowed: a file no reader takes.
+    EXPECT_EQ(resizedLattice(worldFromIndex, dims, 28 * 2.5).box.dim(), Coord(1, 1, 1));
+    EXPECT_EQ(test::errorMessageOf<InputError>([&] { resizedLattice(worldFromIndex, dims, 1e300); }),
+              "`voxel_size`: 1e+300 mm is larger than the volume's longest extent, 70 mm");
 }
 
 /// Central second difference along x at a voxel, or NaN where a neighbour is missing.
