@@ -2,6 +2,7 @@
 
 #include "io/AtomicFile.h"
 #include "io/Figures.h"
+#include "io/JsonText.h"
 #include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
@@ -194,7 +195,7 @@ void writeResultsJson(const std::string& path, const std::string& manifestPath, 
         typed["infinite"] = infinite;
         out["rows"].push_back(typed);
     }
-    writeText(path, out.dump(1) + "\n");
+    writeText(path, jsonText(out, 1) + "\n");
 }
 
 void writeResultsCsv(const std::string& path, const std::vector<BenchRow>& rows) {

@@ -6,6 +6,7 @@
 #include "bench/ChildProcess.h"
 #include "bench/ExternalCodec.h"
 #include "io/AtomicFile.h"
+#include "io/JsonText.h"
 #include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
@@ -85,7 +86,7 @@ std::size_t skippedRows(const std::vector<BenchRow>& rows) {
 void writeJsonFile(const std::string& path, const nlohmann::json& document) {
     writeAtomically(path, [&](const std::string& temporary) {
         std::ofstream out(temporary);
-        out << document.dump(2) << "\n";
+        out << jsonText(document, 2) << "\n";
         if (!out.flush()) throw InputError(path, "cannot write");
     });
 }

@@ -9,6 +9,7 @@
 #include "io/BaselineCodecs.h"
 #include "io/GridFile.h"
 #include "io/GridSummary.h"
+#include "io/JsonText.h"
 #include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
@@ -57,7 +58,7 @@ std::string parameterText(const BaselineFlags& flags, const BaselineResult& r) {
 
 void printResult(const BaselineFlags& flags, const BaselineResult& r) {
     if (flags.json) {
-        std::cout << toJson(flags, r).dump(2) << "\n";
+        std::cout << jsonText(toJson(flags, r), 2) << "\n";
         return;
     }
     const std::string parameter = parameterText(flags, r);

@@ -6,6 +6,7 @@
 #include "cli/Commands.h"
 #include "cli/Diagnostics.h"
 #include "io/Figures.h"
+#include "io/JsonText.h"
 #include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
@@ -60,7 +61,7 @@ void printSummary(const BenchFlags& flags, const BenchSummary& summary) {
                                 {"report", folder + "/report.md"},
                                 {"plots", folder + "/plots"}};
     if (flags.json) {
-        std::cout << out.dump(2) << "\n";
+        std::cout << jsonText(out, 2) << "\n";
         return;
     }
     std::cout << summary.rows.size() << " rows (" << summary.failed << " failed, " << summary.skipped << " skipped)\n"

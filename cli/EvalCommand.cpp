@@ -4,6 +4,7 @@
 #include "cli/SourceOptions.h"
 #include "io/AtomicFile.h"
 #include "io/Figures.h"
+#include "io/JsonText.h"
 #include "workflow/Evaluate.h"
 
 #include <iomanip>
@@ -25,7 +26,7 @@ void printEvaluation(const EvalFlags& flags, const EvalResult& e) {
         nlohmann::json out = evalResultJson(e);
         out["reference"] = flags.reference;
         out["test"] = flags.test;
-        std::cout << out.dump(2) << "\n";
+        std::cout << jsonText(out, 2) << "\n";
         return;
     }
     std::cout << std::setprecision(6) << "reference: " << flags.reference << "\ntest:      " << flags.test << "\n"

@@ -7,6 +7,7 @@
 #include "io/AssetExport.h"
 #include "io/AssetFile.h"
 #include "io/GridSummary.h"
+#include "io/JsonText.h"
 #include "io/TransferFunctionFile.h"
 #include "pipeline/Error.h"
 #include "workflow/RenderInput.h"
@@ -81,13 +82,12 @@ void runExport(const ExportFlags& flags) {
     if (flags.json) {
         nlohmann::json grids = nlohmann::json::array();
         for (const auto& grid : result.grids) grids.push_back(toJson(summarizeGrid(*grid)));
-        std::cout << nlohmann::json({{"outputs", toJson(written, storage)},
-                                     {"dims", {dims.x(), dims.y(), dims.z()}},
-                                     {"threshold", result.threshold},
-                                     {"seconds", seconds},
-                                     {"grids", grids}})
-                         .dump(2)
-                  << "\n";
+        const nlohmann::json report{{"outputs", toJson(written, storage)},
+                                    {"dims", {dims.x(), dims.y(), dims.z()}},
+                                    {"threshold", result.threshold},
+                                    {"seconds", seconds},
+                                    {"grids", grids}};
+        std::cout << jsonText(report, 2) << "\n";
         return;
     }
     printWritten(written, storage);

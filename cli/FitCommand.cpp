@@ -9,6 +9,7 @@
 #include "io/FitLog.h"
 #include "io/GridFile.h"
 #include "io/GridSummary.h"
+#include "io/JsonText.h"
 #include "io/LabelGrid.h"
 #include "pipeline/Error.h"
 #include "pipeline/FieldAccuracy.h"
@@ -187,7 +188,7 @@ void report(const FitFlags& flags, const BudgetedFitResult& result, double peak,
             out["seam_fg_psnr_db"] = jsonNumber(error.markedForegroundPsnr);
             out["interior_fg_psnr_db"] = jsonNumber(error.unmarkedForegroundPsnr);
         }
-        std::cout << out.dump(2) << "\n";
+        std::cout << jsonText(out, 2) << "\n";
         return;
     }
     std::cout << "wrote " << flags.output << ": " << asset.params.count() << " Gaussians, "
@@ -239,10 +240,10 @@ void writePart(const FitFlags& flags, const IngestResult& loaded, const VolumeTa
     writeAsset(flags.output, part);
     const BrickRun run = brickRunOf(part, flags.output);
     if (flags.json) {
-        std::cout << nlohmann::json{{"output", flags.output}, {"brick", index}, {"of", flags.bricks.count},
+        const nlohmann::json report{{"output", flags.output}, {"brick", index}, {"of", flags.bricks.count},
                                     {"gaussians", part.params.count()}, {"iterations", run.iterations},
-                                    {"seconds", run.seconds}, {"peak_rss_mib", peakRssMiB()}}.dump(2)
-                  << "\n";
+                                    {"seconds", run.seconds}, {"peak_rss_mib", peakRssMiB()}};
+        std::cout << jsonText(report, 2) << "\n";
         return;
     }
     std::cout << "wrote " << flags.output << ": brick " << index << " of " << flags.bricks.count << ", "

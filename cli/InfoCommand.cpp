@@ -6,6 +6,7 @@
 #include "io/AssetFile.h"
 #include "io/GridFile.h"
 #include "io/GridSummary.h"
+#include "io/JsonText.h"
 
 #include <filesystem>
 #include <iostream>
@@ -57,7 +58,7 @@ void printAssetInfo(const InfoFlags& flags) {
                                        {"source_file", source.sourceFile},
                                        {"source_dims", {source.dims.x(), source.dims.y(), source.dims.z()}},
                                        {"fit", asset.fitSettings}};
-        std::cout << report.dump(2) << "\n";
+        std::cout << jsonText(report, 2) << "\n";
         return;
     }
     std::cout << flags.input << ": gvr Gaussian asset (format version " << asset.formatVersion << ")\n"
@@ -70,7 +71,7 @@ void printAssetInfo(const InfoFlags& flags) {
               << "  source:       " << source.sourceFile << ", " << source.dims.x() << " x "
               << source.dims.y() << " x " << source.dims.z() << " voxels\n"
               << "  cutoff:       " << asset.cutoffSigmas << " standard deviations\n"
-              << "  fit settings: " << asset.fitSettings.dump() << "\n";
+              << "  fit settings: " << jsonText(asset.fitSettings) << "\n";
 }
 
 void runInfo(const InfoFlags& flags) {
@@ -97,7 +98,7 @@ void runInfo(const InfoFlags& flags) {
                                  {"grids", nlohmann::json::array()},
                                  {"warnings", warnings}};
         for (const GridSummary& summary : summaries) report["grids"].push_back(toJson(summary));
-        std::cout << report.dump(2) << "\n";
+        std::cout << jsonText(report, 2) << "\n";
         return;
     }
     std::cout << flags.input << ": " << formatBytes(bytes) << " on disk, "

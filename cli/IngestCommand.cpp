@@ -7,6 +7,7 @@
 #include "cli/VolumeOutputOptions.h"
 #include "io/Figures.h"
 #include "io/GridSummary.h"
+#include "io/JsonText.h"
 #include "io/LabelGrid.h"
 #include "pipeline/Error.h"
 #include "pipeline/ProcessMemory.h"
@@ -89,7 +90,7 @@ void runIngest(const IngestFlags& flags) {
             for (const auto& [id, name] : labelTable.names) names[std::to_string(id)] = name;
             report["labels"] = names;
         }
-        std::cout << report.dump(2) << "\n";
+        std::cout << jsonText(report, 2) << "\n";
     } else {
         printWritten(written, storage);
         std::cout << "in " << std::fixed << std::setprecision(1) << seconds << " s, peak memory "

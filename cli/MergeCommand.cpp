@@ -4,6 +4,7 @@
 #include "io/AssetFile.h"
 #include "io/AtomicFile.h"
 #include "io/GridSummary.h"
+#include "io/JsonText.h"
 #include "workflow/BrickedFit.h"
 
 #include <filesystem>
@@ -28,10 +29,10 @@ void runMerge(const MergeFlags& flags) {
     writeAsset(flags.output, asset);
     const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
     if (flags.json) {
-        std::cout << nlohmann::json{{"output", flags.output}, {"parts", flags.parts.size()},
+        const nlohmann::json report{{"output", flags.output}, {"parts", flags.parts.size()},
                                     {"gaussians", asset.params.count()}, {"file_bytes", fileBytes},
-                                    {"dropped_to_fit_budget", dropped}}.dump(2)
-                  << "\n";
+                                    {"dropped_to_fit_budget", dropped}};
+        std::cout << jsonText(report, 2) << "\n";
         return;
     }
     std::cout << "wrote " << flags.output << ": " << asset.params.count() << " Gaussians from " << flags.parts.size()

@@ -2,6 +2,7 @@
 
 #include "cli/Commands.h"
 #include "io/AssetFile.h"
+#include "io/JsonText.h"
 #include "pipeline/AssetProbe.h"
 #include "pipeline/Error.h"
 
@@ -71,7 +72,7 @@ void runProbe(const ProbeFlags& flags) {
                         {"gaussians", sample.gaussians}});
     }
     if (flags.json) {
-        std::cout << nlohmann::json{{"asset", flags.input}, {"points", rows}}.dump(2) << "\n";
+        std::cout << jsonText({{"asset", flags.input}, {"points", rows}}, 2) << "\n";
         return;
     }
     for (const auto& row : rows) {

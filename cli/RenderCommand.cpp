@@ -8,6 +8,7 @@
 #include "io/AtomicFile.h"
 #include "io/FramePath.h"
 #include "io/ImageFile.h"
+#include "io/JsonText.h"
 #include "io/LabelStyleFile.h"
 #include "io/TransferFunctionFile.h"
 #include "pipeline/Error.h"
@@ -80,7 +81,7 @@ nlohmann::json settingsJson(const RenderFlags& flags) {
 void writeStats(const std::string& path, const nlohmann::json& report) {
     writeAtomically(path, [&](const std::string& temporary) {
         std::ofstream out(temporary);
-        out << report.dump(2) << "\n";
+        out << jsonText(report, 2) << "\n";
         if (!out) throw InputError(path, "cannot write the statistics");
     });
 }
@@ -156,7 +157,7 @@ void runRender(RenderFlags& flags) {
                                    {"first_frame_ms", firstFrameMs}, {"frames", stats}};
     if (!flags.statsPath.empty()) writeStats(flags.statsPath, report);
     if (flags.json) {
-        std::cout << report.dump(2) << "\n";
+        std::cout << jsonText(report, 2) << "\n";
         return;
     }
     std::cout << "set up: " << setup.text() << "; first frame after " << std::fixed << std::setprecision(1)

@@ -7,6 +7,7 @@
 #include "cli/SdlWindow.h"
 #include "cli/SourceOptions.h"
 #include "io/ImageFile.h"
+#include "io/JsonText.h"
 #include "pipeline/Error.h"
 #include "pipeline/LabelStyle.h"
 #include "render/TransferPresets.h"
@@ -322,7 +323,7 @@ void runView(const ViewFlags& flags) {
     if (!flags.json) return;
     nlohmann::json summary = viewer.summary();
     summary["setup_seconds"] = setup.json();
-    std::cout << summary.dump(2) << "\n";
+    std::cout << jsonText(summary, 2) << "\n";
 }
 
 }  // namespace

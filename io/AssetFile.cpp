@@ -5,6 +5,7 @@
 #include "io/AtomicFile.h"
 #include "io/ByteOrder.h"
 #include "io/InputFile.h"
+#include "io/JsonText.h"
 #include "io/MemoryBudget.h"
 #include "pipeline/Error.h"
 #include "pipeline/GaussianKernel.h"
@@ -124,7 +125,7 @@ std::string headerJson(const GaussianAsset& asset, const nlohmann::json& quantis
         {"source", sourceJson(asset.source)},
         {"fit", asset.fitSettings}};
     if (!asset.labels.empty()) header["labels"] = labelGroupsJson(asset);
-    return header.dump();
+    return jsonText(header);
 }
 
 GaussianParameters permuted(const GaussianParameters& params, const std::vector<std::size_t>& order) {

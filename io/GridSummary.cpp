@@ -1,6 +1,7 @@
 #include "io/GridSummary.h"
 
 #include "io/AssetExport.h"
+#include "io/JsonText.h"
 
 #include <cmath>
 #include <iomanip>
@@ -141,7 +142,7 @@ std::string toText(const GridSummary& s) {
     out << "\n  memory:        " << formatBytes(s.memoryBytes) << "\n";
     if (!s.metadata.empty()) out << "  metadata:\n";
     for (const auto& [key, value] : s.metadata.items()) {
-        out << "    " << key << " = " << (value.is_string() ? value.get<std::string>() : value.dump()) << "\n";
+        out << "    " << key << " = " << (value.is_string() ? value.get<std::string>() : jsonText(value)) << "\n";
     }
     return out.str();
 }

@@ -1,6 +1,7 @@
 #include "io/LabelGrid.h"
 
 #include "io/InputFile.h"
+#include "io/JsonText.h"
 #include "pipeline/Error.h"
 #include "pipeline/SampleType.h"
 #include "pipeline/VolumeMetadata.h"
@@ -73,7 +74,7 @@ std::int32_t nearestLabel(const std::vector<std::int32_t>& labels, const std::ar
 void storeNames(openvdb::GridBase& grid, const std::set<int>& present, const LabelTable& names) {
     nlohmann::json table = nlohmann::json::object();
     for (int id : present) table[std::to_string(id)] = names.nameOf(id);
-    grid.insertMeta(kNamesKey, openvdb::StringMetadata(table.dump()));
+    grid.insertMeta(kNamesKey, openvdb::StringMetadata(jsonText(table)));
 }
 
 }  // namespace
@@ -85,6 +86,8 @@ LabelTable readLabelNames(const std::string& path) {
     LabelTable table;
     std::string line;
     for (int number = 1; std::getline(in, line); ++number) {
+        // The names go into the grid's and the asset's JSON, which holds UTF-8 only.
+        if (!isUtf8(line)) throw InputError(path, "line " + std::to_string(number) + " is not UTF-8 text");
         line = line.substr(0, line.find('#'));
         std::istringstream fields(line);
         std::string id, name;

@@ -2,6 +2,7 @@
 
 #include "io/AtomicFile.h"
 #include "io/InputFile.h"
+#include "io/JsonText.h"
 #include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
@@ -46,7 +47,7 @@ void writeTransferFunction(const std::string& path, const TransferFunction& tf) 
     for (const TransferPoint& p : tf.points()) points.push_back({p.value, p.rgba[0], p.rgba[1], p.rgba[2], p.rgba[3]});
     writeAtomically(path, [&](const std::string& temporary) {
         std::ofstream out(temporary);
-        out << nlohmann::json{{"points", points}}.dump() << "\n";
+        out << jsonText({{"points", points}}) << "\n";
         if (!out.flush()) throw InputError(path, "cannot write the transfer function");
     });
 }

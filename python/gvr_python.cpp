@@ -8,6 +8,7 @@
 #include "io/DenseCopy.h"
 #include "io/GridBuilder.h"
 #include "io/Ingest.h"
+#include "io/JsonText.h"
 #include "io/LabelGrid.h"
 #include "io/VolumeOutputs.h"
 #include "pipeline/AssetProbe.h"
@@ -463,8 +464,8 @@ py::object evaluatePair(const Comparable& reference, const Comparable& test, Eva
     std::string json;
     {
         py::gil_scoped_release release;
-        json = evalResultJson(evaluate(comparisonInput(reference), comparisonInput(test), options, "reference", "test"))
-                   .dump();
+        json = jsonText(
+            evalResultJson(evaluate(comparisonInput(reference), comparisonInput(test), options, "reference", "test")));
     }
     return py::module_::import("json").attr("loads")(json);
 }

@@ -182,6 +182,20 @@ TEST(Cli, IngestStreamsARawVolumeInLessMemoryThanHalfItsSamples) {
     EXPECT_LT(report["peak_rss_mib"].get<double>(), 256.0) << "MiB of peak memory for 512 MiB of samples";
 }
 
+TEST(Cli, FileNamesThatAreNotUtf8StayInTheJsonReports) {
+    // A Linux file name may hold any byte but '/' and NUL: "x\xff.vdb" made every
+    // --json report an internal error (invalid UTF-8), after the output was written.
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    const std::string latin1 = dir.path("sch\xe4" "del.vdb");
+    const test::CommandResult ingest = test::runGvr("ingest -q '" + grid + "' -o '" + latin1 + "' --json", dir);
+    ASSERT_EQ(ingest.exitCode, 0) << ingest.err;
+    EXPECT_EQ(nlohmann::json::parse(ingest.out)["outputs"][0]["path"], dir.path("sch\xef\xbf\xbd" "del.vdb"));
+    const test::CommandResult info = test::runGvr("info '" + latin1 + "' --json", dir);
+    ASSERT_EQ(info.exitCode, 0) << info.err;
+    EXPECT_NO_THROW(nlohmann::json::parse(info.out));
+}
+
 TEST(Cli, IngestThenInfoAsJson) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;

@@ -53,6 +53,10 @@ TEST(LabelGrid, NameListsThatAreNotIdNameLinesAreRefusedNamingTheLine) {
     EXPECT_EQ(errorFor("# nothing\n\n0 Background\n"), path + ": names no label");
     // An id past int32 would otherwise wrap onto another structure's id.
     EXPECT_EQ(errorFor("1 A\n4294967297 B\n"), path + ": line 2 names label 4294967297, beyond the 32-bit labels gvr keeps");
+    // Latin-1 names were an internal error (invalid UTF-8) when the grid's JSON was written.
+    EXPECT_EQ(errorFor("1 Thalamus\n2 Hippocampe_\xe9\n"), path + ": line 2 is not UTF-8 text");
+    test::writeBytes(path, "1 Thalamus\n2 Hippocampe_\xc3\xa9\n");
+    EXPECT_EQ(readLabelNames(path).names.at(2), "Hippocampe_\xc3\xa9");
     EXPECT_EQ(test::errorMessageOf<InputError>([&] { readLabelNames(dir.path("missing.txt")); }),
               dir.path("missing.txt") + ": no such file");
 }
