@@ -71,6 +71,21 @@ public:
 
     int channels() const { return mChannels; }
 
+    /// Whether the grid's float32 can change a value: 32-bit integers that the
+    /// mapping keeps integers (slope 1, an integral intercept), beyond 2^24.
+    bool mayRound() const {
+        return std::is_integral_v<T> && sizeof(T) == 4 && mSlope == 1.0 && mIntercept == std::floor(mIntercept);
+    }
+
+    /// True when float32 changes a sample of @a voxel (16777217 becomes 16777216).
+    bool rounds(std::size_t voxel) const {
+        for (int c = 0; c < mChannels; ++c) {
+            const double exact = mSlope * double(mData[voxel * mChannels + c]) + mIntercept;
+            if (double(float(exact)) != exact) return true;
+        }
+        return false;
+    }
+
 private:
     /// 8- and 16-bit samples take their physical value from a table of every
     /// stored value: ingest converts each sample several times.
@@ -113,6 +128,19 @@ Range scanRange(const Values& values, std::size_t voxelCount, bool replacesNonFi
             return range;
         },
         [](const Range& a, const Range& b) { return a.merged(b); });
+}
+
+/// Voxels of a slab whose integers float32 rounds (PhysicalValues::rounds).
+template <typename Values>
+std::uint64_t countRounded(const Values& values, std::size_t voxelCount) {
+    if (!values.mayRound()) return 0;
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, voxelCount), std::uint64_t(0),
+        [&](const tbb::blocked_range<std::size_t>& voxels, std::uint64_t rounded) {
+            for (std::size_t v = voxels.begin(); v != voxels.end(); ++v) rounded += values.rounds(v) ? 1 : 0;
+            return rounded;
+        },
+        std::plus<>());
 }
 
 struct ChannelSum {
@@ -325,6 +353,7 @@ public:
     }
 
     const Range& range() const { return mRange; }
+    std::uint64_t roundedVoxels() const { return mRounded; }
     /// With only a cut from above, the darkest voxels are the subject, not its
     /// background; so they are when they are few (minimumIsNoBackground).
     double finalCut() const {
@@ -415,6 +444,7 @@ private:
         const PhysicalValues<T> values(slab, mSettings.nanTo);
         const bool replacesNonFinite = mSettings.nanTo.has_value();
         if (!mSettings.threshold) mRange = mRange.merged(scanRange(values, slab.voxelCount(), replacesNonFinite));
+        mRounded += countRounded(values, slab.voxelCount());
         SlabRecord record{first, count, finalCut(), {}};
         const SlabTally tally = addSlabLeaves(*mGrid, values, slab, first, record.cut, cutAbove(), replacesNonFinite, mCounter);
         if (mSettings.threshold) mRange = mRange.merged(tally.range);
@@ -449,12 +479,13 @@ private:
     openvdb::Vec3d mBackground{0.0};
     ProgressCounter mCounter;
     Range mRange;
+    std::uint64_t mRounded = 0;
     std::vector<SlabRecord> mRecords;
 };
 
 void describeGrid(const DenseVolume& layout, const GridBuildSettings& settings, const Range& range,
                   const openvdb::Vec3d& background, const std::optional<std::pair<double, std::uint64_t>>& padding,
-                  openvdb::GridBase& grid) {
+                  std::uint64_t roundedVoxels, openvdb::GridBase& grid) {
     if (layout.channels == 1) {
         grid.setName("density");
         grid.setGridClass(openvdb::GRID_FOG_VOLUME);  // what Blender and Houdini expect of density
@@ -479,6 +510,7 @@ void describeGrid(const DenseVolume& layout, const GridBuildSettings& settings, 
         metadata.padding = padding->first;
         metadata.paddingVoxels = padding->second;
     }
+    metadata.roundedVoxels = roundedVoxels;
     metadata.storedSlope = layout.slope;
     metadata.storedIntercept = layout.intercept;
     metadata.niftiCodes = layout.niftiCodes;
@@ -500,7 +532,7 @@ openvdb::GridBase::Ptr buildTyped(const DenseVolume& layout, std::int64_t slabSl
     const GridBuildSettings chosen = withDefaultThreshold(layout, settings);
     SlabBuild<T, GridT> build(layout, chosen, progress);
     typename GridT::Ptr grid = build.run(slabSlices, readSlab);
-    describeGrid(layout, chosen, build.range(), build.background(), build.padding(), *grid);
+    describeGrid(layout, chosen, build.range(), build.background(), build.padding(), build.roundedVoxels(), *grid);
     return grid;
 }
 

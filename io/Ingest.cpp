@@ -50,6 +50,16 @@ std::optional<std::string> lungWarning(const openvdb::GridBase& grid) {
     return text.str();
 }
 
+/// Integers that the float grid rounded change a label atlas or a count volume
+/// with no error: worth saying how many.
+std::optional<std::string> roundingWarning(const openvdb::GridBase& grid) {
+    const std::optional<VolumeMetadata> metadata = readVolumeMetadata(grid);
+    if (!metadata || metadata->roundedVoxels == 0) return std::nullopt;
+    return std::to_string(metadata->roundedVoxels) + " voxels hold " + metadata->sourceType +
+           " integers beyond 2^24, which the float32 grid rounds (16777217 becomes 16777216); "
+           "their exports differ from the source by the same rounding";
+}
+
 }  // namespace
 
 IngestResult ingest(const std::string& input, IngestOptions options) {
@@ -59,6 +69,7 @@ IngestResult ingest(const std::string& input, IngestOptions options) {
     try {
         IngestResult result = buildImageGrid(input, options, decodedBytes);
         if (const auto warning = lungWarning(*result.grid)) result.warnings.push_back(*warning);
+        if (const auto warning = roundingWarning(*result.grid)) result.warnings.push_back(*warning);
         if (!options.labels.empty()) {
             result.labels = readLabels(options, *result.grid);
             if (result.labels->activeVoxelCount() == 0) {

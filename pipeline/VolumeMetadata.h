@@ -38,6 +38,9 @@ struct VolumeMetadata {
     std::uint64_t paddingVoxels = 0;
     std::optional<double> threshold;   ///< voxels at or below it were deactivated
     std::optional<double> thresholdAbove;  ///< and those at or above this (bright backgrounds)
+    /// Voxels whose 32-bit integers the float grid rounded: beyond 2^24, 16777217
+    /// becomes 16777216 (a label atlas or a count volume is then changed).
+    std::uint64_t roundedVoxels = 0;
     /// How the source stored its samples: physical = storedSlope * stored + storedIntercept.
     double storedSlope = 1.0;
     double storedIntercept = 0.0;

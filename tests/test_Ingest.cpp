@@ -12,9 +12,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -53,6 +55,52 @@ TEST(Ingest, ARawVolumeBecomesAGridWithItsValuesAndItsSource) {
     EXPECT_EQ(metadata->sourceFile, path);
     EXPECT_EQ(metadata->dims, openvdb::Vec3i(4, 3, 2));
     EXPECT_FALSE(result.labels);
+}
+
+/// Ingests @a values (a 2 x 2 x 2 raw volume of @a type) and checks every voxel:
+/// kept exactly, or counted among the rounded ones, in the metadata and a warning.
+template <typename T>
+void expectIntegersKeptOrTheRoundedCounted(SampleType type, const std::vector<T>& values) {
+    SCOPED_TRACE(sampleTypeName(type));
+    test::TempDir dir;
+    const std::string path = dir.path("counts.raw");
+    test::writeBytes(path, test::rawBytes(values));
+    IngestOptions options;
+    options.read.raw = RawLayout{{2, 2, 2}, type, 1, hostIsBigEndian(), 0};
+    const IngestResult result = ingest(path, options);
+    std::uint64_t changed = 0;
+    for (int n = 0; n < 8; ++n) {
+        const double stored = double(valueAt(*result.grid, openvdb::Coord(n % 2, (n / 2) % 2, n / 4)));
+        changed += stored == double(values[n]) ? 0 : 1;
+        EXPECT_EQ(stored, double(float(values[n]))) << values[n];  // at worst the nearest float
+    }
+    EXPECT_EQ(readVolumeMetadata(*result.grid)->roundedVoxels, changed);
+    const bool warned = !result.warnings.empty() &&
+                        result.warnings.back().find(" integers beyond 2^24, which the float32 grid rounds") != std::string::npos;
+    EXPECT_EQ(warned, changed > 0);
+    if (sizeof(T) <= 2) EXPECT_EQ(changed, 0u);
+}
+
+/// The type's lowest and highest values, those next to them, 0, 1, 2^24 and 2^24 + 1
+/// where the type holds them.
+template <typename T>
+std::vector<T> edgesOf() {
+    using Limits = std::numeric_limits<T>;
+    const auto clamp = [](long long v) { return T(std::clamp<long long>(v, Limits::min(), Limits::max())); };
+    return {Limits::min(), T(Limits::min() + 1), T(0), T(1), clamp(1 << 24), clamp((1 << 24) + 1),
+            T(Limits::max() - 1), Limits::max()};
+}
+
+TEST(Ingest, IntegersOfEveryTypeAreKeptOrTheVoxelsFloatRoundsAreCountedAndWarned) {
+    // 16777217 became 16777216 with exit 0 and no word: a label atlas was changed.
+    expectIntegersKeptOrTheRoundedCounted(SampleType::UInt8, edgesOf<std::uint8_t>());
+    expectIntegersKeptOrTheRoundedCounted(SampleType::Int8, edgesOf<std::int8_t>());
+    expectIntegersKeptOrTheRoundedCounted(SampleType::UInt16, edgesOf<std::uint16_t>());
+    expectIntegersKeptOrTheRoundedCounted(SampleType::Int16, edgesOf<std::int16_t>());
+    expectIntegersKeptOrTheRoundedCounted(SampleType::UInt32, edgesOf<std::uint32_t>());
+    expectIntegersKeptOrTheRoundedCounted(SampleType::Int32, edgesOf<std::int32_t>());
+    expectIntegersKeptOrTheRoundedCounted<std::uint32_t>(SampleType::UInt32,
+                                                         {4000000001u, 4000000000u, 16777217u, 3, 4, 5, 6, 7});
 }
 
 TEST(Ingest, LabelsArePlacedOnTheImageAndAWarningSaysWhenTheyMissIt) {
