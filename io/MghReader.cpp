@@ -100,12 +100,15 @@ DenseVolume readMgh(const std::string& path, const ReadOptions& options) {
     DenseVolume volume;
     for (auto& d : volume.dims) d = cursor.int32();
     const std::int32_t frames = cursor.int32();
+    if (frames < 1) {
+        throw InputError(path, "corrupt MGH header: nframes is " + std::to_string(frames) + "; a volume has at least one");
+    }
     volume.type = sampleTypeOf(cursor.int32(), path);
     cursor.int32();  // degrees of freedom: unused
     const bool goodRas = cursor.int16() > 0;
     volume.worldFromIndex = worldFromIndexOf(cursor, volume, goodRas);
     volume.modality = "MR";
-    if (options.volumeIndex < 0 || options.volumeIndex >= std::max(frames, 1)) {
+    if (options.volumeIndex < 0 || options.volumeIndex >= frames) {
         throw InputError(path, "`volume=" + std::to_string(options.volumeIndex) + "`" +
                                    " is out of range: the file holds " + std::to_string(frames) +
                                    " frame(s)");

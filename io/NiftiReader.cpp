@@ -24,6 +24,7 @@ struct RawHeader {
     int size = 0;           // 348 (NIfTI-1) or 540 (NIfTI-2)
     bool swap = false;      // written in the other byte order
     double voxOffset = 0.0;
+    std::int64_t dimensions = 0;  // dim[0], as written
     double pixdim[3] = {1.0, 1.0, 1.0};  // as written: nifticlib turns 0 and NaN into 1
 };
 
@@ -51,6 +52,7 @@ RawHeader readRawHeader(const std::string& path) {
         // NIfTI-1 writes vox_offset as a float, NIfTI-2 as an int64.
         header.voxOffset = size == 348 ? double(fieldAt<float>(bytes, 108, swap))
                                        : double(fieldAt<std::int64_t>(bytes, 168, swap));
+        header.dimensions = size == 348 ? fieldAt<std::int16_t>(bytes, 40, swap) : fieldAt<std::int64_t>(bytes, 16, swap);
         for (int axis = 0; axis < 3; ++axis) {
             header.pixdim[axis] = size == 348 ? double(fieldAt<float>(bytes, 80 + 4 * axis, swap))
                                               : fieldAt<double>(bytes, 112 + 8 * axis, swap);
@@ -170,6 +172,11 @@ openvdb::math::Mat4d worldFromIndexOf(const std::string& path, const nifti_image
 
 DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
     const RawHeader header = readRawHeader(path);
+    // nifticlib reads a dim[0] of 0 as a volume all the same, of sizes no header gave.
+    if (header.dimensions < 1 || header.dimensions > 7) {
+        throw InputError(path, "corrupt NIfTI header: dim[0] is " + std::to_string(header.dimensions) +
+                                   "; it counts the dimensions, 1 to 7");
+    }
     checkExtensionCount(path, header);
     nifti_set_debug_level(0);
     NiftiImagePtr image(nifti_image_read(path.c_str(), /*read_data=*/0));

@@ -222,6 +222,16 @@ TEST(MghReader, PlainAndGzippedGiveFreeSurferGeometry) {
     }
 }
 
+TEST(MghReader, AHeaderOfNoFrameIsRefused) {
+    // nframes = 0 was read as one frame.
+    test::TempDir dir;
+    std::string bytes = mghBytes();
+    bytes.replace(16, 4, std::string(4, '\0'));  // nframes, after version and the three dims
+    test::writeBytes(dir.path("v.mgh"), bytes);
+    EXPECT_EQ(test::errorMessageOf<InputError>([&] { readMgh(dir.path("v.mgh"), {}); }),
+              dir.path("v.mgh") + ": corrupt MGH header: nframes is 0; a volume has at least one");
+}
+
 /// Writes a NIfTI-1 file through nifticlib itself, so the reader meets real output.
 void writeNifti(const std::string& path, const std::vector<std::int64_t>& dims, int datatype,
                 const void* data, double slope, double inter, bool shear) {
@@ -292,6 +302,21 @@ TEST(NiftiReader, ReadsNiftiTwo) {
     EXPECT_DOUBLE_EQ(volume.intercept, -10);
     EXPECT_EQ(volume.data<std::uint8_t>()[3], 255);
     expectNear(worldOf(volume, {1, 1, 0}), {-99.5, 0.5, 0.0});
+}
+
+TEST(NiftiReader, ADimensionCountOutsideOneToSevenIsRefused) {
+    // dim[0] = 0 was read as a volume of the sizes after it.
+    test::TempDir dir;
+    const std::uint8_t values[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+    writeNifti(dir.path("v.nii"), {2, 2, 2}, DT_UINT8, values, 1.0, 0.0, false);
+    std::string bytes = test::readBytes(dir.path("v.nii"));
+    for (const std::int16_t dimensions : {0, 8, -3}) {
+        std::memcpy(&bytes[40], &dimensions, sizeof dimensions);  // the host's order, as nifticlib wrote it
+        test::writeBytes(dir.path("bad.nii"), bytes);
+        EXPECT_EQ(test::errorMessageOf<InputError>([&] { readNifti(dir.path("bad.nii"), {}); }),
+                  dir.path("bad.nii") + ": corrupt NIfTI header: dim[0] is " + std::to_string(dimensions) +
+                      "; it counts the dimensions, 1 to 7");
+    }
 }
 
 TEST(NiftiReader, SelectsAVolumeOfA4DSeries) {
