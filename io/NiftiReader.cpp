@@ -172,8 +172,9 @@ openvdb::math::Mat4d worldFromIndexOf(const std::string& path, const nifti_image
 
 DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
     const RawHeader header = readRawHeader(path);
-    // nifticlib reads a dim[0] of 0 as a volume all the same, of sizes no header gave.
-    if (header.dimensions < 1 || header.dimensions > 7) {
+    // nifticlib reads a dim[0] of 0 as a volume all the same, of sizes no header gave
+    // (one above 7 it refuses itself).
+    if (header.dimensions < 1) {
         throw InputError(path, "corrupt NIfTI header: dim[0] is " + std::to_string(header.dimensions) +
                                    "; it counts the dimensions, 1 to 7");
     }
