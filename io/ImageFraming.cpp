@@ -1,6 +1,7 @@
 #include "io/ImageFraming.h"
 
 #include "io/ByteOrder.h"
+#include "io/TiffFraming.h"
 #include "pipeline/Error.h"
 
 #include <zlib.h>
@@ -102,6 +103,8 @@ void checkImageFraming(const std::string& file) {
         checkJpegEnd(file, readBytes(in, size - tail, tail));
     } else if (head.compare(0, 2, "BM") == 0) {
         checkBmpHeader(file, readBytes(in, 0, std::min<std::streamoff>(size, 34)), size);
+    } else if (isTiffSignature(head)) {
+        checkTiffFraming(file, in, std::uint64_t(size));
     }
 }
 

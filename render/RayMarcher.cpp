@@ -31,9 +31,8 @@ void marchGrid(const GridT& grid, const RenderVolume& volume, const Classifier& 
     const Vec3d indexDirection = indexFromWorld.transform3x3(camera.direction);
     const double indexPerMm = indexDirection.length();
     const Vec3d unitDirection = indexDirection / indexPerMm;
-    const double stepMm = settings.stepVoxels * volume.voxelMm();
-    const double step = stepMm * indexPerMm;  // in index-space length along the ray
-    const double lengthRatio = settings.stepVoxels;
+    const double lengthRatio = std::max(settings.stepVoxels, volume.finestStepVoxels(camera.direction));
+    const double step = lengthRatio * volume.voxelMm() * indexPerMm;  // in index-space length along the ray
     // Inactive space holds the background: skip it only where the classification
     // makes the background transparent, as shear-warp does.
     const bool skipEmpty = classifier.transferFunction()(volume.backgroundKey())[3] == 0.0f;

@@ -347,6 +347,12 @@ double RenderVolume::voxelMm() const {
     return std::min({spacing[0], spacing[1], spacing[2]});
 }
 
+double RenderVolume::finestStepVoxels(const openvdb::Vec3d& direction) const {
+    const openvdb::Vec3d indexPerMm = mWorldFromIndex.inverse().transform3x3(direction.unit());
+    const double facesPerMm = std::abs(indexPerMm[0]) + std::abs(indexPerMm[1]) + std::abs(indexPerMm[2]);
+    return 1.0 / (kMostSamplesPerVoxelCrossed * facesPerMm * voxelMm());
+}
+
 GaussianRenderVolume::GaussianRenderVolume(const GaussianParameters& params, float cutoffSigmas,
                                            const Mat4d& worldFromIndex, const openvdb::Vec3i& dims,
                                            const ValueMapping& mapping, double valueMax, double foregroundAbove,

@@ -33,6 +33,12 @@ public:
     virtual std::size_t gaussiansReaching() const { return 0; }
 };
 
+/// The most samples a ray takes for each voxel it crosses, whatever spacing is asked:
+/// enough for the finest a user may ask (0.05 voxels) of equal voxels. Past it, very
+/// unequal voxels were sampled at their shortest edge along every axis: a ray along a
+/// 1 mm edge of 1e-6 x 1 x 1 mm voxels took a million samples a voxel.
+constexpr double kMostSamplesPerVoxelCrossed = 32.0;
+
 class RenderVolume {
 public:
     virtual ~RenderVolume() = default;
@@ -63,6 +69,10 @@ public:
     const openvdb::CoordBBox& box() const { return mBox; }  ///< the volume's voxels, index space
     /// The shortest voxel edge in mm: one voxel of slice spacing and of opacity.
     double voxelMm() const;
+    /// The finest step, in voxels (voxelMm()), worth taking along @a direction: a line
+    /// along it crosses a voxel face every so often (more often across short edges),
+    /// and meets kMostSamplesPerVoxelCrossed samples between two at this step.
+    double finestStepVoxels(const openvdb::Vec3d& direction) const;
     /// What RGB data divide by to become colours in [0, 1]: the brightest channel value.
     double valueMax() const { return mValueMax; }
 

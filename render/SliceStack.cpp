@@ -203,8 +203,20 @@ AxisSamples slicesOffPlanes(double lo, double hi, double step, const VoxelRow& r
     return {std::max(1, int(last - first) + 1), phase + first * step, step};
 }
 
+/// The finest slice spacing, in voxels, of a stack through a volume @a depthMm deep
+/// along its normal: no ray crosses more voxels than the volume's dimensions add up
+/// to, so a stack holds at most kMostSamplesPerVoxelCrossed slices for each. Only
+/// very unequal voxels reach it: 12^3 voxels of 1e-6 x 1 x 1 mm stacked along a 1 mm
+/// edge took 12 million slices of 1e-6 mm (7 GB) to show 12 voxels.
+double finestSliceVoxels(const RenderVolume& volume, double depthMm) {
+    const Coord dims = volume.box().dim();
+    const double crossed = double(dims.x()) + double(dims.y()) + double(dims.z());
+    return depthMm / (kMostSamplesPerVoxelCrossed * crossed * volume.voxelMm());
+}
+
 /// The lattice of slices perpendicular to @a direction that covers the volume,
-/// @a sliceSpacingVoxels apart (a voxel is the volume's smallest voxel edge) and
+/// @a sliceSpacingVoxels apart (a voxel is the volume's smallest voxel edge), or
+/// as far apart as the volume's finest spacing along it when that is further, and
 /// about @a sampleMm across (at voxelRate when @a fine): on the voxel centres
 /// nearby for a stack of values, whose bilinear resampling is then the trilinear
 /// field. Not for classified samples: there resampling blends colours classified
@@ -217,13 +229,14 @@ StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& directio
     g.normal = direction.unit();
     g.e1 = helperAxis(g.normal).cross(g.normal).unit();
     g.e2 = g.normal.cross(g.e1).unit();
-    g.sliceMm = volume.voxelMm() * sliceSpacingVoxels;
     Vec3d lo(1e300), hi(-1e300);
     for (const Vec3d& corner : worldCorners(volume.worldFromIndex(), volume.box())) {
         const Vec3d p(corner.dot(g.e1), corner.dot(g.e2), corner.dot(g.normal));
         lo = openvdb::math::minComponent(lo, p);
         hi = openvdb::math::maxComponent(hi, p);
     }
+    g.sliceVoxels = std::max(sliceSpacingVoxels, finestSliceVoxels(volume, hi[2] - lo[2]));
+    g.sliceMm = volume.voxelMm() * g.sliceVoxels;
     const AxisSamples across = samplesAlong(volume, g.e1, lo[0], hi[0], sampleMm, keepsValues, fine);
     const AxisSamples down = samplesAlong(volume, g.e2, lo[1], hi[1], sampleMm, keepsValues, fine);
     const std::optional<VoxelRow> planes = voxelRowAlong(volume, g.normal);
@@ -666,7 +679,7 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     const RenderVolume& volume = *layers.front().volume;
     const Classifier& classifier = layers.front().classifier;
     if (mContent != StackContent::classified) {
-        mLevels = std::make_unique<ValueLevels>(classifier.transferFunction(), sliceSpacingVoxels);
+        mLevels = std::make_unique<ValueLevels>(classifier.transferFunction(), mGeometry.sliceVoxels);
     }
     // Pre-integration takes one value a sample.
     if (mContent == StackContent::values) mClassification = segments.classification;
@@ -709,7 +722,7 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
         buildSlices(
             mGeometry, slabs, StackSample{}, counter, cancel,
             [&](const Coord& origin, int firstSlice, Slab<StackSample>& slab) {
-                storeClassified(layers, sources, sliceSpacingVoxels, cells, origin, firstSlice, slab);
+                storeClassified(layers, sources, mGeometry.sliceVoxels, cells, origin, firstSlice, slab);
             },
             [&](int firstSlice, int count, const Slab<StackSample>& slab) {
                 tbb::parallel_for(0, count, [&](int k) {

@@ -40,6 +40,10 @@ struct StackGeometry {
     openvdb::Vec3d origin;          ///< world position of sample (0, 0) of slice 0, the front
     openvdb::Vec2d sampleMm{1.0, 1.0};  ///< between samples along e1 and along e2
     double sliceMm = 1.0;               ///< between slices
+    /// sliceMm in voxels (RenderVolume::voxelMm): the spacing asked, or when that is
+    /// coarser, the finest that can show more (kMostSamplesPerVoxelCrossed slices for
+    /// each voxel a ray can cross).
+    double sliceVoxels = 1.0;
     int width = 0, height = 0, slices = 0;
     /// The volume's extent along e2, in rows of samples (fractional): its faces,
     /// when e2 runs along one of its axes. Nothing lies beyond them, though the

@@ -6,8 +6,10 @@
 #include "io/Ingest.h"
 #include "io/MemoryBudget.h"
 #include "pipeline/Error.h"
+#include "pipeline/VolumeMetadata.h"
 #include "tests/TestHelpers.h"
 
+#include <OpenImageIO/imageio.h>
 #include <nifti2_io.h>
 #include <sys/resource.h>
 #include <zlib.h>
@@ -345,7 +347,14 @@ TEST(BadInput, ATiffWhoseStripsClaimMoreRowsThanTheFileHoldsCostsNoMemory) {
     // What the fuzzer found: 10x12 pixels, but RowsPerStrip 1728053260, and
     // OpenImageIO sizes its strip buffer by the latter.
     const std::string file = std::string(GVR_TEST_DATA) + "/rows-per-strip-bomb.tif";
-    expectMentions(ingestError(file), "10x12 pixels in strips of 1728053260 rows cannot come from a file of 413 bytes");
+    expectMentions(ingestError(file), "truncated TIFF: page 2's directory at byte 196892 runs past the end");
+    // Its one page alone (no pointer to a second) is refused for its strips.
+    test::TempDir dir;
+    std::string onePage = test::readBytes(file);
+    onePage.replace(8 + 2 + 9 * 12, 4, std::string(4, '\0'));  // after the header, the count and 9 entries
+    test::writeBytes(dir.path("one-page.tif"), onePage);
+    expectMentions(ingestError(dir.path("one-page.tif")),
+                   "10x12 pixels in strips of 1728053260 rows cannot come from a file of 413 bytes");
 }
 
 TEST(BadInput, RawFileShorterThanItsDimensions) {
@@ -417,6 +426,34 @@ TEST(BadInput, CompressedOrCutBmpSlicesAreRefusedBeforeDecoding) {
     expectMentions(ingestError(stack), stack + "/0.bmp: unsupported BMP: 24 bits a pixel with compression 2");
     test::writeBytes(stack + "/0.bmp", bmp(0).substr(0, 200));
     expectMentions(ingestError(stack), stack + "/0.bmp: truncated BMP: its pixels need 438 bytes, the file has 200");
+}
+
+/// A TIFF of @a pages pages of 64 x 64 noisy grey pixels, as OpenImageIO writes it.
+void writeMultiPageTiff(const std::string& path, int pages) {
+    auto output = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(output);
+    const std::vector<OIIO::ImageSpec> specs(std::size_t(pages), OIIO::ImageSpec(64, 64, 1, OIIO::TypeDesc::UINT8));
+    ASSERT_TRUE(output->open(path, pages, specs.data()));
+    for (int page = 0; page < pages; ++page) {
+        if (page > 0) ASSERT_TRUE(output->open(path, specs[std::size_t(page)], OIIO::ImageOutput::AppendSubimage));
+        std::vector<std::uint8_t> pixels(64 * 64);
+        for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = std::uint8_t((i * 2654435761u + page) >> 13);
+        ASSERT_TRUE(output->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+    }
+    output->close();
+}
+
+// libtiff ends the page chain quietly at a directory past the end of the file, so
+// OpenImageIO read a cut 5-page TIFF as 2 or 3 pages with no error.
+TEST(BadInput, AMultiPageTiffCutShortIsRefused) {
+    test::TempDir dir;
+    writeMultiPageTiff(dir.path("whole.tif"), 5);
+    EXPECT_EQ(readVolumeMetadata(*ingest(dir.path("whole.tif"), {}).grid)->dims[2], 5);
+    const std::size_t size = std::filesystem::file_size(dir.path("whole.tif"));
+    for (const double kept : {0.3, 0.5, 0.7, 0.99}) {
+        test::copyTruncated(dir.path("whole.tif"), dir.path("cut.tif"), std::size_t(kept * double(size)));
+        expectMentions(ingestError(dir.path("cut.tif")), dir.path("cut.tif") + ": truncated TIFF: page ");
+    }
 }
 
 TEST(BadInput, TruncatedJpegSlice) {

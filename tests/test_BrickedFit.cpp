@@ -155,6 +155,12 @@ TEST(BrickedFit, MergeRefusesMissingRepeatedAndForeignParts) {
     const BrickPlan other = planBrickedFit(target, "blobs", options, {2, 4});
     EXPECT_NE(refusal({first, fitBrickPart(grid, "blobs", other, 1, 0.0)}, {"p0", "seed7"}).find("seed7: is a brick of another fit"),
               std::string::npos);
+    // The cutoff is the asset's, not a setting the fit records: parts of two once merged under the first's.
+    options.settings.seed = BudgetedFitOptions().settings.seed;
+    options.settings.cutoffSigmas = 4.0f;
+    const BrickPlan wider = planBrickedFit(target, "blobs", options, {2, 4});
+    EXPECT_NE(refusal({first, fitBrickPart(grid, "blobs", wider, 1, 0.0)}, {"p0", "cutoff4"}).find("cutoff4: is a brick of another fit"),
+              std::string::npos);
     // Parts of fits at other ratios once merged without a word.
     BudgetedFitOptions tenToOne = twoBrickOptions(0, 5), twentyToOne = twoBrickOptions(0, 5);
     tenToOne.ratio = 10.0;

@@ -351,5 +351,21 @@ TEST(GridRenderVolume, KeepsTheGridsSpacingAndBox) {
     EXPECT_DOUBLE_EQ(volume.worldFromIndex()[1][1], 1.0);
 }
 
+GridRenderVolume rampOn(const openvdb::Vec3d& spacingMm) {
+    return GridRenderVolume(test::makeGrid({4, 4, 4}, [](int i, int j, int k) { return float(i + j + k + 1); }, spacingMm));
+}
+
+TEST(RenderVolume, TheFinestStepMeetsThirtyTwoSamplesAVoxelCrossed) {
+    // Equal voxels: a face every voxel along an axis, sqrt(3) of them a voxel along the diagonal.
+    const GridRenderVolume equal = rampOn(openvdb::Vec3d(2.0));
+    EXPECT_DOUBLE_EQ(equal.finestStepVoxels(openvdb::Vec3d(0, 3, 0)), 1.0 / 32.0);
+    EXPECT_NEAR(equal.finestStepVoxels(openvdb::Vec3d(1, 1, 1)), 1.0 / (32.0 * std::sqrt(3.0)), 1e-12);
+    EXPECT_LT(equal.finestStepVoxels(openvdb::Vec3d(1, 1, 1)), 0.05);  // the finest a user may ask
+    // 1e-6 x 1 x 1 mm: along a 1 mm edge, 1/32 mm is 31250 of the shortest edges.
+    const GridRenderVolume thin = rampOn(openvdb::Vec3d(1e-6, 1.0, 1.0));
+    EXPECT_NEAR(thin.finestStepVoxels(openvdb::Vec3d(0, 1, 0)), 31250.0, 1e-6);
+    EXPECT_NEAR(thin.finestStepVoxels(openvdb::Vec3d(1, 0, 0)), 1.0 / 32.0, 1e-12);
+}
+
 }  // namespace
 }  // namespace gvr

@@ -571,5 +571,39 @@ TEST(ShearWarp, RaysStopAtTheVolumesFacesAcrossTheSlicesRowsToo) {
     }
 }
 
+/// A blob in 12^3 voxels of @a spacingMm, on a transparent surround.
+GridRenderVolume blobOn(const openvdb::Vec3d& spacingMm) {
+    return GridRenderVolume(test::makeGrid({12, 12, 12}, [](int i, int j, int k) {
+        const double r2 = (i - 5.5) * (i - 5.5) + (j - 5.5) * (j - 5.5) + (k - 5.5) * (k - 5.5);
+        return float(800.0 * std::exp(-r2 / 12.0));
+    }, spacingMm));
+}
+
+// Stacks and rays once sampled every axis at the shortest voxel edge: with 1e6 x 1 x 1
+// mm voxels a render ran past a minute, and with 1e-6 x 1 x 1 it ran out of memory.
+// Seen along x, both volumes show a 12 x 12 mm face; from elsewhere one side is far
+// thinner than a pixel, and the images need only be valid.
+TEST(ShearWarp, VeryUnequalVoxelsRenderAsTheRayMarcherSeesThem) {
+    const Classifier classifier = rampClassifier(800.0, 0.01f);
+    for (const double xMm : {1e6, 1e-6}) {
+        const GridRenderVolume volume = blobOn(openvdb::Vec3d(xMm, 1.0, 1.0));
+        const OrthoCamera alongX = cameraFor(volume, 90, 0, 48);
+        const Framebuffer reference = rayMarch(volume, classifier, alongX, RayMarchSettings{});
+        EXPECT_GT(test::opacitySum(reference), 10.0) << xMm;  // not empty
+        for (const StackOrientation orientation : {StackOrientation::axes, StackOrientation::view}) {
+            const Framebuffer image = ShearWarpRenderer(volume, classifier, stacksAcross(orientation)).render(alongX);
+            EXPECT_GE(imagePsnr(middleOf(image), middleOf(reference)), 35.0) << xMm << " mm along x";
+        }
+        for (const View view : {View{0, 0}, View{30, 20}}) {
+            const OrthoCamera camera = cameraFor(volume, view.azimuthDeg, view.elevationDeg, 48);
+            const std::string what = std::to_string(xMm) + " mm along x, azimuth " + std::to_string(view.azimuthDeg);
+            expectAValidImage(rayMarch(volume, classifier, camera, RayMarchSettings{}), what);
+            for (const StackOrientation orientation : {StackOrientation::axes, StackOrientation::view}) {
+                expectAValidImage(ShearWarpRenderer(volume, classifier, stacksAcross(orientation)).render(camera), what);
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace gvr

@@ -6,6 +6,8 @@
 
 #include "pipeline/Error.h"
 #include "pipeline/Luminance.h"
+#include "render/Camera.h"
+#include "render/ShearWarp.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -163,6 +165,24 @@ TEST(SliceStack, StronglyAnisotropicVoxelsAreSampledNoCoarserThanEachAxisOwn) {
         EXPECT_DOUBLE_EQ(g.sampleMm[1 - xAxis], c.zStep) << c.askedMm;
         EXPECT_TRUE(g.samplesOnVoxels) << c.askedMm;
     }
+}
+
+// Slices once lay a shortest voxel edge apart along every normal: 12^3 voxels of
+// 1e-6 x 1 x 1 mm stacked along a 1 mm edge took 12 million of them.
+TEST(SliceStack, VeryUnequalVoxelsTakeNoMoreSlicesThanRaysCanCross) {
+    const int mostSlices = 32 * (12 + 12 + 12) + 2;
+    for (const openvdb::Vec3d spacing : {openvdb::Vec3d(1e-6, 1.0, 1.0), openvdb::Vec3d(1e6, 1.0, 1.0)}) {
+        const GridRenderVolume volume(test::makeGrid({12, 12, 12}, hollowBallAt, spacing));
+        for (const openvdb::Vec3d normal : {openvdb::Vec3d(1, 0, 0), openvdb::Vec3d(0, 1, 0), openvdb::Vec3d(1, 1, 1)}) {
+            const OrthoCamera camera = makeCamera({30, 20}, worldCorners(volume.worldFromIndex(), volume.box()), 64, 64);
+            const SliceStack stack(volume, shellClassifier(), normal, 1.0, ShearWarpSettings{}.sampleMmFor(camera, volume));
+            EXPECT_LE(stack.geometry().slices, mostSlices) << spacing << " along " << normal;
+        }
+    }
+    // Equal voxels keep the spacing asked, down to the finest a user may ask, along a diagonal too.
+    const SliceStack fine(hollowBall(), shellClassifier(), openvdb::Vec3d(1, 1, 1), 0.05, 1.0);
+    EXPECT_DOUBLE_EQ(fine.geometry().sliceVoxels, 0.05);
+    EXPECT_DOUBLE_EQ(fine.geometry().sliceMm, 0.05);
 }
 
 // A coarse first image must come quickly: a preview keeps to the spacing asked.

@@ -101,7 +101,7 @@ nlohmann::json planRecord(const GaussianAsset& part) {
 /// Refuses @a part when it belongs to another fit than @a first.
 void checkSameFit(const GaussianAsset& first, const GaussianAsset& part, const std::string& name) {
     if (sharedRecord(part) != sharedRecord(first) || planRecord(part) != planRecord(first) ||
-        part.params.channels != first.params.channels ||
+        part.params.channels != first.params.channels || part.cutoffSigmas != first.cutoffSigmas ||
         part.worldFromIndex != first.worldFromIndex || part.source.dims != first.source.dims ||
         part.mapping.scale != first.mapping.scale || part.mapping.offset != first.mapping.offset) {
         throw InputError(name, "is a brick of another fit (other volume, settings, ratio or brick count) than the first part");
