@@ -2,6 +2,8 @@
 // evaluation, as thin calls into the library the command line uses. Errors in the
 // user's input raise gvr.Error (a ValueError) with the command line's one-line message.
 
+#include "python/CallsInFlight.h"
+
 #include "io/AssetExport.h"
 #include "io/AssetFile.h"
 #include "io/ComparisonInput.h"
@@ -181,7 +183,7 @@ Volume volumeFromNumpy(const py::array& array, std::optional<std::array<double, 
     if (!modality.empty()) dense.modality = modality;
     const std::optional<SampleType> declared =
         sourceType.empty() ? std::nullopt : std::optional<SampleType>(sampleTypeFromName(sourceType, "source_type"));
-    py::gil_scoped_release release;
+    const WithoutGil released;
     openvdb::GridBase::Ptr grid = buildGrid(dense, settings);
     if (declared) {  // the ratio's raw size is the source file's, not the array's
         VolumeMetadata metadata = *readVolumeMetadata(*grid);
@@ -199,7 +201,7 @@ openvdb::CoordBBox boxOf(const Volume& volume) { return volumeBox(*volume.grid);
 py::array volumeToNumpy(const Volume& volume) {
     auto samples = std::make_unique<FloatVolume>();
     {
-        py::gil_scoped_release release;
+        const WithoutGil released;
         *samples = denseCopy(*volume.grid, boxOf(volume), "volume", "copy to NumPy");
     }
     const FloatVolume& v = *samples;
@@ -258,7 +260,7 @@ Volume ingestPath(const std::string& path, std::optional<double> threshold,
     options.build.validate();  // before the file is read
     options.read.volumeIndex = volumeIndex;
     if (spacing) options.read.spacingMm = openvdb::Vec3d((*spacing)[0], (*spacing)[1], (*spacing)[2]);
-    py::gil_scoped_release release;
+    const WithoutGil released;
     const IngestResult result = loadOrIngest(path, options);
     return {result.grid, result.labels};
 }
@@ -267,9 +269,10 @@ std::map<int, std::string> labelNamesOf(const LabelTable& table) { return {table
 
 // ---- fit ----
 
-/// The fit's progress as a dict for @a progress, and Ctrl-C, from the fitting thread.
+/// The fit's progress as a dict for @a progress, Ctrl-C, and interpreter exit, from the fitting thread.
 FitObserver pythonObserver(const std::optional<py::function>& progress, std::optional<std::size_t> brick) {
     return [&progress, brick](const FitProgress& p) {
+        if (CallsInFlight::instance().stopping()) throw InterpreterExiting();
         py::gil_scoped_acquire gil;
         if (PyErr_CheckSignals() != 0) throw PythonErrorPending{};  // Ctrl-C
         if (!progress) return;
@@ -316,7 +319,7 @@ GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<
     options.settings.iterations = iterations;
     options.settings.seconds = iterations > 0 ? 0.0 : seconds.value_or(kDefaultFitSeconds);
     try {
-        py::gil_scoped_release release;
+        const WithoutGil released;
         const auto* path = std::get_if<std::string>(&input);
         const Volume volume = path ? Volume{} : std::get<Volume>(input);
         const IngestResult loaded = path ? loadOrIngest(*path, IngestOptions{}) : IngestResult{volume.grid, volume.labels, {}};
@@ -345,7 +348,7 @@ Volume exportVolume(const GaussianAsset& asset, const std::optional<std::variant
         settings.lattice = volume ? latticeOf(*volume->grid, "like") : latticeLike(std::get<std::string>(*like));
     }
     if (voxelSize) settings.lattice = resizedLattice(asset.worldFromIndex, asset.source.dims, *voxelSize);
-    py::gil_scoped_release release;
+    const WithoutGil released;
     return {exportAsset(asset, settings).grids.front()};
 }
 
@@ -438,7 +441,7 @@ py::array render(const Renderable& what, double azimuth, double elevation, std::
     if (const std::string problem = settings.validate(); !problem.empty()) throw InputError("render", problem);
     Framebuffer image;
     {
-        py::gil_scoped_release release;
+        const WithoutGil released;
         const std::unique_ptr<RenderVolume> volume = renderVolumeOf(what, settings.minimumFootprintVoxels());
         const OrthoCamera camera =
             makeCamera({azimuth, elevation}, worldCorners(volume->worldFromIndex(), volume->box()), width, height);
@@ -463,7 +466,7 @@ ComparisonInput comparisonInput(const Comparable& input) {
 py::object evaluatePair(const Comparable& reference, const Comparable& test, EvalOptions options) {
     std::string json;
     {
-        py::gil_scoped_release release;
+        const WithoutGil released;
         json = jsonText(
             evalResultJson(evaluate(comparisonInput(reference), comparisonInput(test), options, "reference", "test")));
     }
@@ -480,11 +483,14 @@ PYBIND11_MODULE(gvr, m) {
     m.doc() = "gvr: medical volumes as compact sets of 3D Gaussians, rendered with shear-warp";
     m.attr("__version__") = GVR_VERSION;
     static py::exception<InputError> error(m, "Error", PyExc_ValueError);
+    py::module_::import("atexit").attr("register")(py::cpp_function([] { CallsInFlight::instance().stopAndWait(); }));
     py::register_exception_translator([](std::exception_ptr thrown) {
         try {
             if (thrown) std::rethrow_exception(thrown);
         } catch (const InputError& e) {
             error(inPythonTerms(e.what()).c_str());
+        } catch (const InterpreterExiting& e) {
+            PyErr_SetString(PyExc_SystemExit, e.what());  // which a thread ends on without a traceback
         }
     });
 
@@ -522,7 +528,7 @@ PYBIND11_MODULE(gvr, m) {
                  openvdb::GridCPtrVec grids{v.grid};
                  if (v.labels) grids.push_back(v.labels);
                  const NiftiStorage storage = ingestedNiftiStorage(*v.grid, false);
-                 py::gil_scoped_release release;
+                 const WithoutGil released;
                  writeVolumeOutputs({path}, grids, volumeBox(*v.grid), storage);
              }, "path"_a,
              "Write the volume (atomically) in the format its extension names, as `gvr ingest -o` does: .vdb "

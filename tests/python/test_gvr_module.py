@@ -295,6 +295,43 @@ def test_ctrl_c_stops_a_fit_with_keyboard_interrupt(work, ch2_vdb, cli_asset):
     assert time.monotonic() - start < 60
 
 
+EXIT_WHILE_A_DAEMON_THREAD_WORKS = """
+import os, signal, sys, threading, time
+import gvr
+volume, asset = gvr.ingest(sys.argv[1]), gvr.Asset.load(sys.argv[2])
+calls = {
+    "fit": lambda: gvr.fit(volume, ratio=40, seconds=600),
+    "export": lambda: asset.export(),
+    "evaluate": lambda: gvr.evaluate(volume, asset),
+    "render": lambda: gvr.render(asset, size=(256, 256)),
+}
+def work():
+    while True:
+        calls[sys.argv[3]]()
+threading.Thread(target=work, daemon=True).start()
+time.sleep(2)
+if sys.argv[4] == "ctrl-c":
+    os.kill(os.getpid(), signal.SIGINT)
+"""
+
+
+@pytest.mark.parametrize("call, ending", [("fit", "end"), ("fit", "ctrl-c"), ("export", "end"),
+                                          ("evaluate", "end"), ("render", "end")])
+def test_the_interpreter_exits_cleanly_while_a_daemon_thread_works(work, ch2_vdb, cli_asset, call, ending):
+    # At exit Python cuts off a daemon thread that asks for the GIL back: in C++,
+    # that aborted the interpreter (a fit segfaulted or aborted at every exit).
+    start = time.monotonic()
+    done = subprocess.run([sys.executable, "-c", EXIT_WHILE_A_DAEMON_THREAD_WORKS, ch2_vdb, cli_asset, call, ending],
+                          capture_output=True, text=True, timeout=120)
+    if ending == "ctrl-c":
+        assert done.returncode in (-signal.SIGINT, 128 + signal.SIGINT), done.stderr
+        assert "KeyboardInterrupt" in done.stderr
+    else:
+        assert done.returncode == 0, done.stderr
+        assert done.stderr == ""  # the stopped call ends its thread without a traceback
+    assert time.monotonic() - start < 60
+
+
 @pytest.mark.parametrize("array, problem", [
     (np.zeros((4, 4, 4), dtype=np.complex64), "dtype complex64 is not supported"),
     (np.zeros((4, 4), dtype=np.float32), "shape (4, 4) is neither"),
