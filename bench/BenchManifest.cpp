@@ -7,9 +7,11 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -36,6 +38,26 @@ bool isFitMethod(const std::string& method) {
 
 namespace {
 
+/// A parser callback that records in @a duplicate the first key an object holds
+/// twice: the JSON parser keeps the last silently, so a manifest would run what its
+/// writer did not mean. (TOML refuses duplicate keys itself.)
+json::parser_callback_t duplicateKeyFinder(std::string& duplicate) {
+    auto keysByDepth = std::make_shared<std::vector<std::set<std::string>>>();
+    return [keysByDepth, &duplicate](int depth, json::parse_event_t event, json& parsed) {
+        if (event == json::parse_event_t::object_start) {
+            keysByDepth->resize(std::size_t(depth) + 1);
+            keysByDepth->back().clear();
+        } else if (event == json::parse_event_t::key) {
+            const std::size_t object = std::size_t(depth) - 1;  // a key lies one level below its object's start
+            const std::string name = parsed.get<std::string>();
+            if (object < keysByDepth->size() && !(*keysByDepth)[object].insert(name).second && duplicate.empty()) {
+                duplicate = name;
+            }
+        }
+        return true;
+    };
+}
+
 /// TOML manifests become the same JSON document, so there is one reader of keys.
 json parseDocument(const std::string& path) {
     requireRegularFile(path);
@@ -54,8 +76,10 @@ json parseDocument(const std::string& path) {
                                        std::string(error.description()));
         }
     }
-    const json document = json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
+    std::string duplicate;
+    const json document = json::parse(text.str(), duplicateKeyFinder(duplicate), /*allow_exceptions=*/false);
     if (document.is_discarded()) throw InputError(path, "not valid JSON (TOML manifests must end in .toml)");
+    if (!duplicate.empty()) throw InputError(path, "the key '" + duplicate + "' appears twice in one object");
     return document;
 }
 
@@ -65,6 +89,13 @@ std::string nameFromPath(const std::string& path) {
     if (name.extension() == ".gz") name = name.stem();
     return name.stem().string();
 }
+
+constexpr std::size_t kLongestName = 64;
+constexpr const char* kNameCharacters = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._+-";
+
+/// The largest side of the bench's views: views to compare, each ray-marched again
+/// as the reference at every ratio (8192 x 8192 views ran for hours).
+constexpr int kLargestViewSide = 2048;
 
 class ManifestReader {
 public:
@@ -116,6 +147,7 @@ public:
         for (const json& item : value) {
             const double r = positive(item, where);
             if (r <= 1.0) fail(where, "a target ratio must be above 1");
+            if (std::find(out.begin(), out.end(), r) != out.end()) fail(where, "lists " + ratioText(r) + " twice");
             out.push_back(r);
         }
         return out;
@@ -134,7 +166,7 @@ public:
     RenderPlan render(const json& value) const {
         onlyKeys(value, "render", {"size", "views", "elevation", "tf"});
         RenderPlan plan;
-        if (value.contains("size")) plan.size = text(value["size"], "render.size");
+        if (value.contains("size")) plan.size = viewSize(text(value["size"], "render.size"));
         if (value.contains("views")) plan.views = int(wholeNumber(value["views"], "render.views"));
         if (value.contains("elevation")) {
             if (!value["elevation"].is_number()) fail("render.elevation", "must be a number of degrees");
@@ -146,6 +178,18 @@ public:
         }
         if (plan.views > 360) fail("render.views", "at most 360");
         return plan;
+    }
+
+    std::string viewSize(const std::string& size) const {
+        int width = 0, height = 0;
+        char x = 0;
+        std::istringstream in(size);
+        if (!(in >> width >> x >> height) || x != 'x' || !(in >> std::ws).eof() || width < 1 || height < 1 ||
+            width > kLargestViewSide || height > kLargestViewSide) {
+            fail("render.size", "'" + size + "' is not WIDTHxHEIGHT of 1 to " + std::to_string(kLargestViewSide) +
+                                    " pixels each, e.g. 256x256");
+        }
+        return size;
     }
 
     std::vector<std::string> methods(const json& value, const std::vector<ExternalCodec>& codecs) const {
@@ -206,10 +250,14 @@ public:
         return codec;
     }
 
-    /// Names become folders, CSV cells and plot names.
+    /// Names become folders, CSV cells and plot names: ".." once made a row write
+    /// beside the results, and a name with a '/' let one row's folder hold another's.
     void checkName(const std::string& name, const std::string& where) const {
-        if (name.empty() || name.find_first_of("/\\,\"\n|") != std::string::npos) {
-            fail(where, "a name must be non-empty, without / \\ , \" | or newlines");
+        const bool safe = !name.empty() && name.size() <= kLongestName && name.front() != '.' &&
+                          name.find_first_not_of(kNameCharacters) == std::string::npos;
+        if (!safe) {
+            fail(where, "'" + name + "' is not a name: up to " + std::to_string(kLongestName) +
+                            " letters, digits, '.', '_', '+' or '-', not starting with '.'");
         }
     }
 
@@ -310,9 +358,11 @@ const ExternalCodec* BenchManifest::codec(const std::string& method) const {
 
 std::string ratioText(std::optional<double> ratio) {
     if (!ratio) return "";
-    std::ostringstream out;
-    out << *ratio;
-    return out.str();
+    // The shortest text that reads back as the same number: with six digits, 8 and
+    // 8.0000001 were one row.
+    char text[32];
+    const auto written = std::to_chars(text, text + sizeof text, *ratio);
+    return std::string(text, written.ptr);
 }
 
 }  // namespace gvr

@@ -69,8 +69,9 @@ public:
 
     void run(const std::vector<BenchUnit>& units) {
         std::string failure;
+        const bool pending = hasPendingRows(units);
         try {
-            if (hasPendingRows(units)) prepare();
+            if (pending) prepare();
         } catch (const StepFailure& error) {
             failure = error.what();
         }
@@ -88,7 +89,7 @@ public:
             }
         }
         std::error_code ignored;
-        fs::remove_all(mWork + "/raw", ignored);  // as large as the volume in float32, and rewritten each run
+        if (pending) fs::remove_all(mWork + "/raw", ignored);  // as large as the volume in float32, and rewritten each run
     }
 
 private:
@@ -127,6 +128,7 @@ private:
 
     /// The source as a grid, its size in bytes, and ray-marched views of it.
     void prepare() {
+        refuseLinksBelow(mContext.folder, mWork + "/raw");
         fs::create_directories(mWork);
         const std::string log = mWork + "/log.txt";
         mSource = mWork + "/source.vdb";
@@ -185,6 +187,7 @@ private:
         const std::string folder = mContext.folder + "/runs/" + mVolume.name + "/" +
                                    (unit.ratio ? "r" + ratioText(unit.ratio) + "/" : std::string()) + method;
         try {
+            refuseLinksBelow(mContext.folder, folder);
             fs::remove_all(folder);  // leftovers of a killed attempt
             fs::create_directories(folder);
             const ExternalCodec* codec = mContext.manifest->codec(method);

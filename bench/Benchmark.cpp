@@ -142,14 +142,6 @@ nlohmann::json mergedCodecs(const std::vector<std::string>& folders) {
     return merged;
 }
 
-/// The manifest a results folder was run from, as its results.json records it.
-std::string recordedManifest(const fs::path& folder) {
-    std::ifstream in(folder / "results.json");
-    const nlohmann::json document = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-    if (document.is_discarded() || !document.contains("manifest") || !document["manifest"].is_string()) return "";
-    return document["manifest"];
-}
-
 /// @a row with its file references made relative to @a to instead of @a from.
 BenchRow movedRow(BenchRow row, const fs::path& from, const fs::path& to) {
     const auto moved = [&](const std::string& p) { return (from / p).lexically_relative(to).string(); };
@@ -166,10 +158,37 @@ BenchRow movedRow(BenchRow row, const fs::path& from, const fs::path& to) {
 /// the start, so that a long run's report can be drawn at any time.
 std::string writeReportScript(const std::string& folder) {
     const std::string script = folder + "/bench_report.py";
-    std::ofstream out(script);
-    out << reinterpret_cast<const char*>(kBenchReportScript);
-    if (!out.flush()) throw InputError(script, "cannot write the report script");
+    writeAtomically(script, [&](const std::string& temporary) {
+        std::ofstream out(temporary);
+        out << reinterpret_cast<const char*>(kBenchReportScript);
+        if (!out.flush()) throw InputError(script, "cannot write the report script");
+    });
     return script;
+}
+
+/// gvr's own methods and the codecs the manifest declares: a resumed row of any other
+/// did not come from this manifest.
+std::vector<std::string> knownMethods(const BenchManifest& manifest) {
+    std::vector<std::string> known = benchMethods();
+    for (const ExternalCodec& codec : manifest.codecs) known.push_back(codec.name);
+    return known;
+}
+
+/// Shards of two manifests would make one report of two benchmarks.
+void checkOneManifest(const std::vector<std::string>& folders) {
+    ManifestRecord first;
+    std::string firstFolder;
+    for (const std::string& folder : folders) {
+        const ManifestRecord record = recordedManifest((fs::path(folder) / "results.json").string());
+        if (record.digest.empty()) continue;  // written before digests were recorded
+        if (first.digest.empty()) {
+            first = record;
+            firstFolder = folder;
+        } else if (record.digest != first.digest) {
+            throw InputError(folder, "holds the results of another manifest (" + record.path + ") than " + firstFolder +
+                                         " (" + first.path + "); merge the shards of one manifest");
+        }
+    }
 }
 
 }  // namespace
@@ -188,7 +207,8 @@ BenchSummary runBenchmark(const BenchOptions& options) {
     const BenchManifest manifest = readBenchManifest(options.manifest);
     BenchSummary summary;
     summary.folder = fs::absolute(options.folder).lexically_normal().string();
-    ResultsTable table(summary.folder, fs::absolute(options.manifest).string(), options.resume, options.retryFailed);
+    ResultsTable table(summary.folder, fs::absolute(options.manifest).string(), options.resume, options.retryFailed,
+                       knownMethods(manifest));
     const std::vector<std::vector<BenchUnit>> groups =
         groupByVolume(benchUnits(manifest, options.shard, options.shards));
     writeReportScript(summary.folder);
@@ -224,11 +244,12 @@ BenchSummary mergeBenchResults(const std::vector<std::string>& folders, const st
     if (fs::exists(out / "results.csv")) throw InputError(out.string(), "already holds results; merge into a new folder");
     BenchSummary summary;
     summary.folder = out.string();
+    checkOneManifest(folders);
     std::set<std::string> keys;
-    std::string manifest;
+    ManifestRecord manifest;
     for (const std::string& dir : folders) {
         const fs::path from = fs::absolute(dir).lexically_normal();
-        if (manifest.empty()) manifest = recordedManifest(from);
+        if (manifest.path.empty()) manifest = recordedManifest((from / "results.json").string());
         for (const BenchRow& row : readResultsCsv((from / "results.csv").string())) {
             if (!keys.insert(row.key()).second) {
                 ++summary.duplicates;

@@ -181,10 +181,76 @@ TEST(BenchManifest, CodecMistakesAreNamed) {
                   .find("codecs.gvr: is a built-in method's name"),
               std::string::npos);
     EXPECT_NE(manifestError(write(dir, "g.json", R"({"codecs": {"a|b": {}}, "volumes": [{"input": "a.nii"}]})"))
-                  .find("a name must be non-empty"),
+                  .find("codecs.a|b: 'a|b' is not a name"),
               std::string::npos);
     EXPECT_NE(manifestError(manifest("h.json", "{" + commands + R"(, "param": [1, 2], "timeout": -1})")).find("codecs.c.timeout"),
               std::string::npos);
+}
+
+// Names become folders: ".." once made a row write beside the results folder, a '/'
+// let one row's folder hold another's, and 300 characters failed with "File name too long".
+TEST(BenchManifest, NamesThatWouldBePathsAreRefused) {
+    test::TempDir dir;
+    const auto volumeNamed = [&](const std::string& name) {
+        return manifestError(write(dir, "v.json", R"({"volumes": [{"name": ")" + name + R"(", "input": "a.nii"}]})"));
+    };
+    for (const std::string name : {std::string("."), std::string(".."), std::string("a/b"), std::string(".hidden"),
+                                   std::string(300, 'x'), std::string("two words"), std::string("")}) {
+        EXPECT_NE(volumeNamed(name).find("volumes[0].name: '" + name + "' is not a name"), std::string::npos) << name;
+    }
+    EXPECT_EQ(volumeNamed("ct-head_2.5+x"), "");
+    EXPECT_EQ(volumeNamed(std::string(64, 'x')), "");
+    EXPECT_NE(manifestError(write(dir, "c.json", R"({"codecs": {"../up": {}}, "volumes": [{"input": "a.nii"}]})"))
+                  .find("codecs.../up: '../up' is not a name"),
+              std::string::npos);
+}
+
+// The JSON parser keeps a repeated key's last value without a word.
+TEST(BenchManifest, AKeyTwiceInOneObjectIsRefused) {
+    test::TempDir dir;
+    EXPECT_NE(manifestError(write(dir, "a.json", R"({"ratios": [10], "ratios": [20], "volumes": [{"input": "a.nii"}]})"))
+                  .find("the key 'ratios' appears twice in one object"),
+              std::string::npos);
+    EXPECT_NE(manifestError(write(dir, "b.json", R"({"volumes": [{"input": "a.nii", "fit": {"seconds": 1, "seconds": 2}}]})"))
+                  .find("the key 'seconds' appears twice"),
+              std::string::npos);
+    // The same key in sibling objects, and in an object and its parent, is no repeat.
+    EXPECT_EQ(manifestError(write(dir, "c.json", R"({"fit": {"seconds": 1}, "volumes": [{"name": "a", "input": "a.nii",
+               "fit": {"seconds": 2}}, {"name": "b", "input": "b.nii", "fit": {"seconds": 3}}]})")),
+              "");
+}
+
+// With six digits, 8 and 8.0000001 were one row; the same ratio twice is a mistake.
+TEST(BenchManifest, RatiosKeepRowsOfTheirOwnAndAreNotRepeated) {
+    test::TempDir dir;
+    const BenchManifest manifest =
+        readBenchManifest(write(dir, "a.json", R"({"ratios": [8, 8.0000001, 7.5], "methods": ["gvr"], "volumes": [{"input": "a.nii"}]})"));
+    std::set<std::string> texts;
+    for (const BenchUnit& unit : benchUnits(manifest)) texts.insert(ratioText(unit.ratio));
+    EXPECT_EQ(texts, (std::set<std::string>{"8", "8.0000001", "7.5"}));
+    EXPECT_NE(manifestError(write(dir, "b.json", R"({"ratios": [8, 8.0], "volumes": [{"input": "a.nii"}]})"))
+                  .find("ratios: lists 8 twice"),
+              std::string::npos);
+}
+
+TEST(BenchManifest, ViewSizesBeyondWhatTheBenchComparesAreRefused) {
+    test::TempDir dir;
+    const auto sized = [&](const std::string& size) {
+        return manifestError(write(dir, "s.json", R"({"render": {"size": ")" + size + R"("}, "volumes": [{"input": "a.nii"}]})"));
+    };
+    for (const char* size : {"100000x100000", "4096x16", "0x16", "16", "16x16x16", "wide"}) {
+        EXPECT_NE(sized(size).find("render.size: '" + std::string(size) + "' is not WIDTHxHEIGHT of 1 to 2048"),
+                  std::string::npos)
+            << size;
+    }
+    EXPECT_EQ(sized("2048x2048"), "");
+}
+
+TEST(BenchManifest, AManifestThatIsNotUtf8IsRefusedInOneLine) {
+    test::TempDir dir;
+    const std::string message =
+        manifestError(write(dir, "a.json", "{\"volumes\": [{\"name\": \"ch\xff\xfe\", \"input\": \"a.nii\"}]}"));
+    EXPECT_NE(message.find("not valid JSON"), std::string::npos) << message;
 }
 
 TEST(BenchManifest, TheExampleManifestsRead) {

@@ -98,3 +98,134 @@ TEST(BenchTable, ForeignCsvIsRefused) {
     std::ofstream(dir.path("results.csv")) << "a,b,c\n1,2,3\n";
     EXPECT_THROW(readResultsCsv(dir.path("results.csv")), InputError);
 }
+
+namespace {
+
+std::string tableError(const std::string& folder, const std::vector<std::string>& knownMethods = {}) {
+    return test::errorMessageOf<InputError>(
+        [&] { ResultsTable(folder, "m.json", /*resume=*/true, /*retryFailed=*/false, knownMethods); });
+}
+
+/// A results folder of one measured row, its table closed.
+std::string folderOfOneRow(const test::TempDir& dir, const std::string& name) {
+    ResultsTable table(dir.path(name), "m.json", false);
+    BenchRow ok = sampleRow("gvr");
+    ok.set("status", "ok");
+    table.append(ok);
+    return dir.path(name);
+}
+
+void appendLine(const std::string& folder, const std::string& line) {
+    std::ofstream(folder + "/results.csv", std::ios::app) << line << "\n";
+}
+
+std::string csvLineOf(const BenchRow& row) {
+    std::string line;
+    for (const std::string& column : benchColumns()) line += (line.empty() ? "" : ",") + row.get(column);
+    return line;
+}
+
+}  // namespace
+
+// A results folder is input: what no run writes is refused in one line on resume.
+TEST(BenchTable, ResumeRefusesWhatTheBenchDidNotWrite) {
+    test::TempDir dir;
+    BenchRow row = sampleRow("A1");
+    row.set("message", "");
+    row.set("status", "running");
+    const std::string running = folderOfOneRow(dir, "running");
+    appendLine(running, csvLineOf(row));
+    EXPECT_NE(tableError(running).find("row 2 (ct head|10|A1) has status 'running', which the bench never writes"),
+              std::string::npos);
+
+    row.set("status", "ok");
+    row.set("bytes", "many");
+    const std::string words = folderOfOneRow(dir, "words");
+    appendLine(words, csvLineOf(row));
+    EXPECT_NE(tableError(words).find("row 2 (ct head|10|A1): bytes is 'many', not a number"), std::string::npos);
+
+    row.set("bytes", "");
+    const std::string sizeless = folderOfOneRow(dir, "sizeless");
+    appendLine(sizeless, csvLineOf(row));
+    EXPECT_NE(tableError(sizeless).find("row 2 (ct head|10|A1) is measured but has no size in bytes"), std::string::npos);
+
+    const std::string twice = folderOfOneRow(dir, "twice");
+    const std::string written = test::readBytes(twice + "/results.csv");
+    appendLine(twice, written.substr(written.find('\n') + 1, written.size() - written.find('\n') - 2));
+    EXPECT_NE(tableError(twice).find("row 2 repeats row 1 (ct head|10|gvr)"), std::string::npos);
+
+    const std::string foreign = folderOfOneRow(dir, "foreign");
+    EXPECT_NE(tableError(foreign, {"A1", "zfp-rate"}).find("is of method 'gvr', which neither gvr nor the manifest's"),
+              std::string::npos);
+    EXPECT_EQ(tableError(foreign, {"gvr"}), "");
+}
+
+TEST(BenchTable, LinksAndFoldersInPlaceOfTheBenchsFilesAreRefused) {
+    test::TempDir dir;
+    std::ofstream(dir.path("notes.txt")) << "a user's notes";
+    const std::string linked = folderOfOneRow(dir, "linked");
+    std::filesystem::remove(linked + "/results.json");
+    std::filesystem::create_symlink(dir.path("notes.txt"), linked + "/results.json");
+    EXPECT_NE(tableError(linked).find("linked/results.json: is a symbolic link"), std::string::npos);
+    EXPECT_EQ(test::readBytes(dir.path("notes.txt")), "a user's notes");
+
+    const std::string script = folderOfOneRow(dir, "script");
+    std::filesystem::create_symlink(dir.path("notes.txt"), script + "/bench_report.py");
+    EXPECT_NE(tableError(script).find("script/bench_report.py: is a symbolic link"), std::string::npos);
+
+    const std::string csv = folderOfOneRow(dir, "csv");
+    std::filesystem::rename(csv + "/results.csv", dir.path("elsewhere.csv"));
+    std::filesystem::create_symlink(dir.path("elsewhere.csv"), csv + "/results.csv");
+    EXPECT_NE(tableError(csv).find("is a symbolic link"), std::string::npos);
+
+    const std::string folder = folderOfOneRow(dir, "folder");
+    std::filesystem::remove(folder + "/results.json");
+    std::filesystem::create_directory(folder + "/results.json");
+    EXPECT_NE(tableError(folder).find("folder/results.json: is not a regular file as the bench writes it"),
+              std::string::npos);
+
+    std::filesystem::create_directories(dir.path("runs-elsewhere"));
+    std::filesystem::create_directories(dir.path("below/runs"));
+    std::filesystem::create_symlink(dir.path("runs-elsewhere"), dir.path("below/runs/ch2"));
+    EXPECT_NE(test::errorMessageOf<InputError>(
+                  [&] { refuseLinksBelow(dir.path("below"), dir.path("below/runs/ch2/r10/gvr")); })
+                  .find("below/runs/ch2: is a symbolic link"),
+              std::string::npos);
+    EXPECT_NO_THROW(refuseLinksBelow(dir.path("below"), dir.path("below/runs/other/r10/gvr")));
+}
+
+TEST(BenchTable, AResultsCsvLargerThanABenchWritesIsRefusedUnread) {
+    test::TempDir dir;
+    const std::string folder = folderOfOneRow(dir, "huge");
+    std::filesystem::resize_file(folder + "/results.csv", std::uintmax_t(1) << 32);  // sparse: no disk used
+    EXPECT_NE(tableError(folder).find("results.csv: is 4294967296 bytes, more than a bench writes (64 MiB at most)"),
+              std::string::npos);
+}
+
+// Two benches appending to one results.csv wrote each row twice.
+TEST(BenchTable, OneBenchAtATimeHoldsAFolder) {
+    test::TempDir dir;
+    const std::string folder = folderOfOneRow(dir, "busy");
+    {
+        ResultsTable first(folder, "m.json", /*resume=*/true);
+        EXPECT_NE(tableError(folder).find("busy: is in use by another gvr bench"), std::string::npos);
+    }
+    EXPECT_EQ(tableError(folder), "");
+}
+
+TEST(BenchTable, TheManifestsDigestTellsManifestsApartWhereverTheyLie) {
+    test::TempDir dir;
+    std::ofstream(dir.path("a.json")) << R"({"volumes": [{"input": "a.nii"}]})";
+    std::ofstream(dir.path("b.json")) << R"({"volumes": [{"input": "b.nii"}]})";
+    std::filesystem::create_directory(dir.path("moved"));
+    std::filesystem::copy(dir.path("a.json"), dir.path("moved/a.json"));
+    EXPECT_EQ(manifestRecordOf(dir.path("a.json")).digest, manifestRecordOf(dir.path("moved/a.json")).digest);
+    EXPECT_NE(manifestRecordOf(dir.path("a.json")).digest, manifestRecordOf(dir.path("b.json")).digest);
+    EXPECT_EQ(manifestRecordOf(dir.path("a.json")).digest.size(), 8u);
+    {
+        ResultsTable table(dir.path("out"), dir.path("a.json"), false);
+    }
+    const ManifestRecord recorded = recordedManifest(dir.path("out/results.json"));
+    EXPECT_EQ(recorded.path, dir.path("a.json"));
+    EXPECT_EQ(recorded.digest, manifestRecordOf(dir.path("a.json")).digest);
+}

@@ -84,3 +84,20 @@ TEST(Benchmark, RefusesBadOptionsBeforeAnyWork) {
 }
 
 }  // namespace
+
+// Shards of two manifests once merged into one report of two benchmarks.
+TEST(Benchmark, MergeRefusesShardsOfDifferentManifests) {
+    test::TempDir dir;
+    std::ofstream(dir.path("a.json")) << R"({"volumes": [{"input": "a.nii"}]})";
+    std::ofstream(dir.path("b.json")) << R"({"volumes": [{"input": "b.nii"}]})";
+    for (const char* shard : {"a", "b"}) {
+        ResultsTable table(dir.path(std::string("shard-") + shard), dir.path(std::string(shard) + ".json"), false);
+    }
+    const std::string message = test::errorMessageOf<InputError>(
+        [&] { mergeBenchResults({dir.path("shard-a"), dir.path("shard-b")}, dir.path("merged")); });
+    EXPECT_NE(message.find("shard-b: holds the results of another manifest (" + dir.path("b.json") + ")"),
+              std::string::npos)
+        << message;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("merged")));
+}
+

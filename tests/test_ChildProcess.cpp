@@ -7,9 +7,13 @@
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <thread>
 
 using namespace gvr;
@@ -82,6 +86,43 @@ TEST(ChildProcess, ATimeLimitKillsTheChildAndItsChildren) {
     EXPECT_FALSE(quick.timedOut);
     EXPECT_TRUE(quick.ok());
     EXPECT_EQ(quick.output, "done\n");
+}
+
+// A codec that left a background process held the row to its time limit, through
+// the output it inherited, and left the process running.
+TEST(ChildProcess, ARunEndsWithTheChildAndTakesWhatItLeftRunningWithIt) {
+    test::TempDir dir;
+    const auto start = std::chrono::steady_clock::now();
+    const ChildResult result = runChild({"/bin/sh", "-c", "sleep 30 & echo $!"}, dir.path("log"), 20.0);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+    EXPECT_FALSE(result.timedOut);
+    EXPECT_TRUE(result.ok());
+    const std::string daemon = result.output.substr(0, result.output.find('\n'));
+    ASSERT_FALSE(daemon.empty());
+    for (int tries = 0; tries < 200 && !ended(daemon); ++tries) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    EXPECT_TRUE(ended(daemon)) << "process " << daemon << " outlived the run";
+}
+
+TEST(ChildProcess, TheChildGetsNoDescriptorButItsOwnThree) {
+    test::TempDir dir;
+    const int open = ::open(dir.path("log").c_str(), O_WRONLY | O_CREAT, 0644);  // not close-on-exec
+    ASSERT_GE(open, 0);
+    ASSERT_EQ(dup2(open, 57), 57);
+    const ChildResult result = runChild({"/bin/sh", "-c", "ls /proc/$$/fd; cat"}, dir.path("log"), 10.0);
+    close(57);
+    close(open);
+    EXPECT_TRUE(result.ok());
+    EXPECT_FALSE(result.timedOut) << "cat read this process's standard input";
+    std::istringstream lines(result.output);
+    for (std::string fd; std::getline(lines, fd);) EXPECT_LE(std::stoi(fd), 2) << "inherited descriptor " << fd;
+}
+
+// A codec that flooded its output grew gvr to gigabytes.
+TEST(ChildProcess, WhatIsKeptOfTheOutputIsCapped) {
+    test::TempDir dir;
+    const ChildResult result = runChild({"/bin/sh", "-c", "head -c 50000000 /dev/zero"}, dir.path("log"), 60.0);
+    EXPECT_TRUE(result.ok());
+    EXPECT_EQ(result.output.size(), std::size_t(16) << 20);
 }
 
 }  // namespace
