@@ -16,7 +16,7 @@ CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DGVR_SANITIZE=ON -DCMAKE_B
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DGVR_TESTS_SKIP="$skip" > /dev/null
 # Only what the tests and fuzzers run: the benchmark examples gain nothing from sanitizers.
 cmake --build "$build" -j 2 --target gvr gvr_tests \
-  fuzz_nifti fuzz_metaimage fuzz_mgh fuzz_raw fuzz_dicom fuzz_image fuzz_asset fuzz_tf fuzz_labelstyle fuzz_manifest fuzz_vdb
+  fuzz_nifti fuzz_metaimage fuzz_mgh fuzz_raw fuzz_dicom fuzz_image fuzz_asset fuzz_tf fuzz_labelstyle fuzz_manifest fuzz_results fuzz_vdb
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=0
 export LSAN_OPTIONS=suppressions=$(pwd)/.ci/lsan-suppressions.txt:print_suppressions=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$(pwd)/.ci/ubsan-suppressions.txt
@@ -41,7 +41,7 @@ seeds=$build/fuzz-seeds
 rm -rf "$seeds" "$build/fuzz-corpus"
 /usr/bin/python3 tests/fuzz/make_seeds.py "$build/cli/gvr" ../shared/data "$seeds"
 mkdir -p "$build/fuzz-findings"
-for target in nifti metaimage mgh raw dicom image vdb asset tf labelstyle manifest; do
+for target in nifti metaimage mgh raw dicom image vdb asset tf labelstyle manifest results; do
   corpus=$build/fuzz-corpus/$target
   mkdir -p "$corpus"
   cp "$seeds/$target"/* "$corpus"/

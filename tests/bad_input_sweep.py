@@ -95,6 +95,64 @@ def truncated_files(work, shared, seeds):
             case("truncated file", f"{label} slice cut at {keep} bytes", ["ingest", folder, "-o", "out.vdb"], [target])
 
 
+def truncated_tiff_pages(work):
+    """A multi-page TIFF cut short: libtiff ends its page chain quietly at the cut."""
+    from PIL import Image
+    rng = numpy.random.default_rng(5)
+    pages = [Image.fromarray(rng.integers(0, 255, (48, 40), dtype=numpy.uint8)) for _ in range(5)]
+    whole = work / "pages.tif"
+    pages[0].save(whole, save_all=True, append_images=pages[1:])
+    size = whole.stat().st_size
+    for f in fractions(8):
+        target = cut(whole, work / f"cut-tiff-{f:.3f}" / whole.name, int(size * f))
+        case("truncated file", f"5-page TIFF cut at {f:.0%}", ["ingest", target, "-o", "out.vdb"], [target])
+
+
+def bench_inputs(work, gvr, grid):
+    """A manifest and a results folder are inputs: names that would be paths, repeated
+    keys, views too large, bytes that are not UTF-8, and rows no bench wrote."""
+    manifests = {
+        "a volume named ..": {"volumes": [{"name": "..", "input": str(grid)}]},
+        "a volume named a/b": {"volumes": [{"name": "a/b", "input": str(grid)}]},
+        "a codec named ../x": {"codecs": {"../x": {}}, "volumes": [{"input": str(grid)}]},
+        "a volume name of 300 characters": {"volumes": [{"name": "x" * 300, "input": str(grid)}]},
+        "render size 100000x100000": {"render": {"size": "100000x100000"}, "volumes": [{"input": str(grid)}]},
+        "the ratio 8 twice": {"ratios": [8, 8.0], "volumes": [{"input": str(grid)}]},
+    }
+    for label, manifest in manifests.items():
+        target = work / f"bench-{len(cases)}.json"
+        target.write_text(json.dumps(manifest))
+        case("bench input", f"manifest with {label}", ["bench", target, "-o", "bench-out"], [target], ["bench-out"])
+    repeated = work / "bench-repeated-key.json"
+    repeated.write_text('{"ratios": [10], "ratios": [20], "volumes": [{"input": "%s"}]}' % grid)
+    not_utf8 = work / "bench-not-utf8.json"
+    not_utf8.write_bytes(b'{"volumes": [{"name": "ch\xff", "input": "%s"}]}' % str(grid).encode())
+    for label, target in [("a key twice", repeated), ("bytes that are not UTF-8", not_utf8)]:
+        case("bench input", f"manifest with {label}", ["bench", target, "-o", "bench-out"], [target], ["bench-out"])
+    manifest = work / "bench-resumed.json"
+    manifest.write_text(json.dumps({"methods": ["vdb-half"], "render": {"size": "16x16", "views": 1},
+                                    "volumes": [{"name": "grid", "input": str(grid)}]}))
+    real = work / "results-real"
+    subprocess.run([gvr, "bench", str(manifest), "-o", str(real)], check=True, capture_output=True)
+    header = (real / "results.csv").read_text().splitlines(keepends=True)[0]
+    for label, row in [("a row still running", "grid,,vdb-half,running,,10"),
+                       ("a measured row whose bytes are words", "grid,,vdb-half,ok,,many"),
+                       ("a row of a method no one named", "grid,,secret,ok,,10")]:
+        folder = work / f"results-{len(cases)}"
+        folder.mkdir()
+        (folder / "results.csv").write_text(header + row + "," * (header.count(",") - row.count(",")) + "\n")
+        case("bench input", f"--resume of a results folder with {label}",
+             ["bench", manifest, "-o", folder, "--resume"], [manifest, folder / "results.csv"], ())
+    linked = work / "results-linked"
+    linked.mkdir()
+    (linked / "results.csv").write_text(header)
+    notes = work / "notes.txt"
+    notes.write_text("a user's notes")
+    (linked / "bench_report.py").symlink_to(notes)
+    case("bench input", "--resume of a results folder whose report script links to a user's file",
+         ["bench", manifest, "-o", linked, "--resume"], [manifest, notes], ())
+
+
 def corrupt_compressed(work, shared, seeds):
     sources = {
         "nii.gz": shared / "mri-colin27-aal/ch2.nii.gz",
@@ -330,6 +388,13 @@ def legitimate_extremes(work, grid, asset):
         for tf in ["mri", "ct-bone"]:
             case("legitimate extremes", f"render float data of scale {scale:g} with --tf {tf}",
                  ["render", target, "-o", "out.png", "--tf", tf], [target], ["out.png"], may_succeed=True)
+    for label, spacing in [("1e6 x 1 x 1 mm", [1e6, 1, 1]), ("1e-6 x 1 x 1 mm", [1e-6, 1, 1])]:
+        values = (rng.random((12, 12, 12)) * 1000).astype(numpy.float32)
+        target = work / f"voxels-{spacing[0]:g}.nii"
+        nibabel.save(nibabel.Nifti1Image(values, numpy.diag(spacing + [1])), target)
+        for renderer in ["shear-warp", "raymarch"]:
+            case("legitimate extremes", f"render {renderer} of 12^3 voxels of {label}",
+                 ["render", target, "-o", "out.png", "--renderer", renderer], [target], ["out.png"], may_succeed=True)
     for label, points in [("points at +-1e308", [[-1e308, 0, 0, 0, 0], [1e308, 1, 1, 1, 1]]),
                           ("points 1e-300 apart", [[0, 0, 0, 0, 0], [1e-300, 1, 1, 1, 1]])]:
         tf = work / f"tf-{label.replace(' ', '-')}.json"
@@ -419,6 +484,7 @@ def body(gvr, shared, scratch):
     (work / "runs").mkdir()
     grid, asset = gvr_files(work, gvr, seeds)
     truncated_files(work, shared, seeds)
+    truncated_tiff_pages(work)
     corrupt_compressed(work, shared, seeds)
     absurd_headers(work, seeds)
     bad_values(work)
@@ -429,6 +495,7 @@ def body(gvr, shared, scratch):
     outputs_and_flags(work, grid, asset)
     legitimate_extremes(work, grid, asset)
     inputs_kept(work, grid, asset)
+    bench_inputs(work, gvr, grid)
     tally = collections.OrderedDict()
     seconds = []
     for c in cases:

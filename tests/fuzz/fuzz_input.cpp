@@ -2,11 +2,12 @@
 // names the format. Each input is written to a file, or to a file in a folder,
 // and read the way `gvr ingest` (or, for assets, `gvr info`) reads a user's file;
 // the JSON inputs as render (a transfer function, then its value levels), render
-// --label-style and bench read theirs.
+// --label-style and bench read theirs, and a results folder as bench --resume does.
 // The contract under test: any bytes give a grid, an asset or an InputError.
 // Any other exception, a crash, a leak or undefined behaviour is a finding.
 
 #include "bench/BenchManifest.h"
+#include "bench/BenchTable.h"
 #include "io/AssetFile.h"
 #include "io/GridFile.h"
 #include "io/Ingest.h"
@@ -52,6 +53,7 @@ Format format() {
     if (name == "tf") return {"tf.json", false};
     if (name == "labelstyle") return {"style.json", false};
     if (name == "manifest") return {"manifest.json", false};
+    if (name == "results") return {"results/results.csv", false};
     std::abort();
 }
 
@@ -111,6 +113,11 @@ void readAsUserInput(const fs::path& path, const Format& format, const std::uint
         gvr::benchUnits(gvr::readBenchManifest(input));
         return;
     }
+    if (name == "results") {
+        const gvr::ResultsTable table(path.parent_path().string(), (scratchFolder() / "manifest.json").string(),
+                                      /*resume=*/true, /*retryFailed=*/size > 0 && data[0] % 2 == 1);
+        return;
+    }
     gvr::IngestOptions options;
     if (std::string(GVR_FUZZ_FORMAT) == "raw") options.read = rawOptions(data, size);
     gvr::ingest(input, options);
@@ -133,6 +140,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         std::string bytes(reinterpret_cast<const char*>(data), size);
         const auto crc = std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(data), uInt(size)));
         bytes.append(reinterpret_cast<const char*>(&crc), sizeof crc);
+        writeFile(path, reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+    } else if (std::string(GVR_FUZZ_FORMAT) == "results" && size > 0 && data[0] % 4 != 0) {
+        // Most inputs are rows under the header a bench writes, so that the fuzzer
+        // reaches the rows' checks; the rest are whole files, headers included.
+        std::string header;
+        for (const std::string& column : gvr::benchColumns()) header += (header.empty() ? "" : ",") + column;
+        const std::string bytes = header + "\n" + std::string(reinterpret_cast<const char*>(data) + 1, size - 1);
         writeFile(path, reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
     } else {
         writeFile(path, data, size);

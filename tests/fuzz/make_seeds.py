@@ -107,12 +107,19 @@ def write_json_inputs(folders, examples):
         json.dumps({"Hippocampus_L": {"color": [1, 0, 0], "opacity": 0.5}, "17": {"opacity": 0}}))
     for manifest in sorted(examples.glob("bench-*.json")):
         shutil.copy(manifest, folders["manifest"] / manifest.name)
+    # The results target puts the header before its input when the first byte is not
+    # a multiple of 4: these are rows (measured, failed, quoted), each after such a byte.
+    rows = ["ch2,10,gvr,ok,,17204,40.1,160.4,0.8,31.2,29.5,0.91,0.95,33.1,0.93,12.5,0.3,410,25,,runs/ch2/r10/gvr/fit.csv,"
+            "runs/ch2/r10/gvr/view_0000.png,work/ch2/truth_0000.png",
+            'ct-head,20,zfp-rate,failed,"ingest: cannot read, ""x""",,,,,,,,,,,,,,,,,,']
+    for index, row in enumerate(rows):
+        (folders["results"] / f"rows-{index}.csv").write_bytes(b"\x01" + (row + "\n").encode())
 
 
 def main():
     gvr, shared, out = sys.argv[1], pathlib.Path(sys.argv[2]), pathlib.Path(sys.argv[3])
     folders = {name: out / name for name in ["nifti", "metaimage", "mgh", "raw", "dicom", "image", "vdb", "asset",
-                                               "tf", "labelstyle", "manifest"]}
+                                               "tf", "labelstyle", "manifest", "results"]}
     for folder in folders.values():
         folder.mkdir(parents=True, exist_ok=True)
     write_nifti(folders["nifti"])
