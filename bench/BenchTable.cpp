@@ -286,18 +286,27 @@ void refuseLinksBelow(const std::string& folder, const std::string& path) {
 
 namespace {
 
-/// A folder resumed with another manifest would mix two benchmarks' rows in one report.
-void checkSameManifest(const std::string& folder, const std::string& resultsJson, const std::string& manifestPath) {
-    const std::string earlier = recordedManifest(resultsJson).path;
-    if (earlier.empty()) return;  // rebuilt from the CSV
+/// A folder resumed with another manifest would mix two benchmarks' rows in one
+/// report, and so would one whose manifest was edited since: the rows were run with
+/// its old budgets. Folders written before digests were kept are judged by path.
+void checkSameManifest(const std::string& folder, const std::string& resultsJson, const ManifestRecord& manifest) {
+    const ManifestRecord earlier = recordedManifest(resultsJson);
+    if (earlier.path.empty()) return;  // rebuilt from the CSV
+    if (!earlier.digest.empty() && earlier.digest != manifest.digest) {
+        throw InputError(folder, "holds the results of " + earlier.path + " as it was (CRC-32 " + earlier.digest +
+                                     "), not of " + manifest.path + " as it is (" + manifest.digest +
+                                     "); resume with that manifest, or run the edited one into another folder");
+    }
     std::error_code error;
-    if (earlier == manifestPath || fs::equivalent(earlier, manifestPath, error)) return;
-    throw InputError(folder, "holds the results of " + earlier + "; resume it with that manifest, or choose another folder");
+    if (!earlier.digest.empty() || earlier.path == manifest.path || fs::equivalent(earlier.path, manifest.path, error)) {
+        return;
+    }
+    throw InputError(folder, "holds the results of " + earlier.path + "; resume it with that manifest, or choose another folder");
 }
 
 /// What a bench leaves in its results folder: each is a file or folder it made, never a link.
 const std::vector<std::string>& ownEntries() {
-    static const std::vector<std::string> entries = {"results.csv", "results.json", "codecs.json", "codecs.log",
+    static const std::vector<std::string> entries = {"results.csv", "results.json", "codecs.json", "codecs.log", "run.json",
                                                      "bench_report.py", "report.md", "report.log", "plots", "runs", "work"};
     return entries;
 }
@@ -361,7 +370,7 @@ void ResultsTable::load(bool resume, bool retryFailed, const std::vector<std::st
     if (exists && !resume) {
         throw InputError(mFolder, "already holds results; pass --resume to carry on, or choose another folder");
     }
-    if (exists) checkSameManifest(mFolder, jsonPath(), mManifest.path);
+    if (exists) checkSameManifest(mFolder, jsonPath(), mManifest);
     if (!exists) {
         writeResultsCsv(csvPath(), {});
     } else {

@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
+
 #include <algorithm>
 #include <atomic>
 #include <filesystem>
@@ -128,6 +130,48 @@ void recordCodecs(const BenchManifest& manifest, const std::string& folder,
     writeJsonFile(folder + "/codecs.json", record);
 }
 
+/// The processor's model as /proc/cpuinfo names it, or "unknown".
+std::string processorModel() {
+    std::ifstream in("/proc/cpuinfo");
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos) {
+            return line.substr(line.find_first_not_of(" \t", line.find(':') + 1));
+        }
+    }
+    return "unknown";
+}
+
+/// run.json: what a report needs to read its times (the machine, its load, the jobs)
+/// and its fits (each volume's budget). A merge keeps each shard's.
+void recordRun(const BenchManifest& manifest, const BenchOptions& options, const std::string& folder) {
+    double load[1] = {0.0};
+    nlohmann::json budgets = nlohmann::json::object();
+    for (const BenchVolume& volume : manifest.volumes) {
+        budgets[volume.name] = {{"seconds", volume.fit.iterations ? nlohmann::json(nullptr) : nlohmann::json(volume.fit.seconds)},
+                                {"iterations", volume.fit.iterations ? nlohmann::json(*volume.fit.iterations) : nlohmann::json(nullptr)},
+                                {"args", volume.fit.args}};
+    }
+    const nlohmann::json run = {
+        {"machine", {{"cpu", processorModel()}, {"cores", std::thread::hardware_concurrency()},
+                     {"load_average_1min", getloadavg(load, 1) == 1 ? nlohmann::json(load[0]) : nlohmann::json(nullptr)}}},
+        {"jobs", options.jobs},
+        {"shard", std::to_string(options.shard) + "/" + std::to_string(options.shards)},
+        {"fit", budgets}};
+    writeJsonFile(folder + "/run.json", {{"runs", nlohmann::json::array({run})}});
+}
+
+/// The runs recorded in @a folders, in order.
+nlohmann::json mergedRuns(const std::vector<std::string>& folders) {
+    nlohmann::json runs = nlohmann::json::array();
+    for (const std::string& dir : folders) {
+        std::ifstream in(fs::path(dir) / "run.json");
+        const nlohmann::json record = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+        if (record.is_discarded() || !record.is_object() || !record.contains("runs") || !record["runs"].is_array()) continue;
+        for (const nlohmann::json& run : record["runs"]) runs.push_back(run);
+    }
+    return {{"runs", runs}};
+}
+
 /// The codecs recorded in @a folders, the first record of each name kept.
 nlohmann::json mergedCodecs(const std::vector<std::string>& folders) {
     nlohmann::json merged = nlohmann::json::object();
@@ -213,6 +257,7 @@ BenchSummary runBenchmark(const BenchOptions& options) {
         groupByVolume(benchUnits(manifest, options.shard, options.shards));
     writeReportScript(summary.folder);
     recordCodecs(manifest, summary.folder, options.onWarning);
+    recordRun(manifest, options, summary.folder);
 
     const std::size_t pending = pendingRuns(manifest, groups, table);
     std::atomic<std::size_t> done{0};
@@ -262,6 +307,7 @@ BenchSummary mergeBenchResults(const std::vector<std::string>& folders, const st
     writeResultsCsv((out / "results.csv").string(), summary.rows);
     writeResultsJson((out / "results.json").string(), manifest, summary.rows);
     writeJsonFile((out / "codecs.json").string(), mergedCodecs(folders));
+    writeJsonFile((out / "run.json").string(), mergedRuns(folders));
     summary.reportOutput = writeBenchReport(summary.folder);
     summary.failed = failedRows(summary.rows);
     summary.skipped = skippedRows(summary.rows);

@@ -41,7 +41,9 @@ struct BenchSummary {
 };
 
 /// Runs the manifest's pending units and writes the report. The codecs the
-/// manifest runs are recorded in codecs.json (commands, programs, versions).
+/// manifest runs are recorded in codecs.json (commands, programs, versions), and
+/// the run in run.json (the machine, its load at the start, jobs, each volume's
+/// fit budget).
 /// @throw InputError for a bad manifest, shard, job count or folder, or a failed report.
 BenchSummary runBenchmark(const BenchOptions& options);
 

@@ -68,6 +68,16 @@ def load_results(results_dir):
     return str(data.get("manifest", "")), rows
 
 
+def load_runs(results_dir):
+    """run.json's runs (one per shard): the machine, its load, the jobs and the fit budgets; [] when absent."""
+    try:
+        with open(os.path.join(results_dir, "run.json"), encoding="utf-8") as file:
+            runs = json.load(file).get("runs")
+    except (OSError, ValueError, AttributeError):
+        return []
+    return [run for run in runs if isinstance(run, dict)] if isinstance(runs, list) else []
+
+
 def load_codecs(results_dir):
     """codecs.json: each external codec's commands, programs and version; {} when absent or unreadable."""
     try:
@@ -144,8 +154,26 @@ def fmt_ratio(ratio):
     return f"{ratio:g}"
 
 
-def section_title(volume, ratio):
-    return f"{volume} at {fmt_ratio(ratio)}:1" if ratio is not None else f"{volume} (ratio-independent)"
+def achieved_ratio(members):
+    """gvr's ratio against the raw source in a section: what the section was measured at,
+    since ZFP and the codecs match gvr's bytes."""
+    gvr = members.get("gvr")
+    achieved = number(gvr.get("ratio_raw")) if gvr is not None and is_ok(gvr) else None
+    return achieved if achieved is not None and math.isfinite(achieved) else None
+
+
+def ratio_label(target, achieved):
+    """'42.1:1 (target 10:1)': where a section was measured, with what was asked beside it.
+    (Labelled by the target alone, an MRI row "at 10:1" had been measured at 42:1.)"""
+    if achieved is None:
+        return f"target {fmt_ratio(target)}:1"
+    return f"{achieved:.1f}:1 (target {fmt_ratio(target)}:1)"
+
+
+def section_title(volume, ratio, members):
+    if ratio is None:
+        return f"{volume} (ratio-independent)"
+    return f"{volume} at {ratio_label(ratio, achieved_ratio(members))}"
 
 
 def safe_name(text):
@@ -301,7 +329,7 @@ def method_sections(sections, plots):
     for volume in dict.fromkeys(v for v, _, _ in sections):
         out += [f"### {volume}\n", link_line([("rate–distortion", plots.get((volume, "rd")))])]
         for ratio, members in ((r, m) for v, r, m in sections if v == volume):
-            out += [f"#### {section_title(volume, ratio)}\n",
+            out += [f"#### {section_title(volume, ratio, members)}\n",
                     link_line([("PSNR vs time", plots.get((volume, ratio, "time"))),
                                ("contact sheet", plots.get((volume, ratio, "sheet")))]),
                     method_table(members)]
@@ -319,27 +347,28 @@ def ablation_table(sections):
             comparable = method != "gvr" and gvr is not None and is_ok(gvr) and is_ok(row)
             delta = fmt(psnr_gap(row, gvr), 2, signed=True) if comparable else DASH
             body.append([volume, ratio_cell(ratio), method] + measured_cells(row, ABLATION_COLUMNS) + [delta])
-    return md_table(["Volume", "Ratio", "Method"] + [c[0] for c in ABLATION_COLUMNS] + ["ΔPSNR vs gvr dB"], body)
+    return md_table(["Volume", "Target ratio", "Method"] + [c[0] for c in ABLATION_COLUMNS] + ["ΔPSNR vs gvr dB"], body)
 
 
 def crossover(points):
-    """The lowest ratio from which gvr beats the codec at every measured ratio above it."""
+    """The label of the lowest ratio from which gvr beats the codec at every measured ratio
+    above it; points are (ratio, label, gap), the ratio gvr's achieved one where known."""
     lowest = None
-    for ratio, gap in sorted(points, reverse=True):
+    for _, label, gap in sorted(points, reverse=True):
         if gap is None or gap <= 0:
             break
-        lowest = ratio
+        lowest = label
     return lowest
 
 
 def crossover_verdict(points):
-    wins = [ratio for ratio, gap in sorted(points) if gap is not None and gap > 0]
+    wins = [label for _, label, gap in sorted(points) if gap is not None and gap > 0]
     lowest = crossover(points)
     if lowest is not None:
-        return f"from {fmt_ratio(lowest)}:1"
+        return f"from {lowest}"
     if not wins:
         return "none"
-    return "at " + english_list([f"{fmt_ratio(r)}:1" for r in wins]) + " only"
+    return "at " + english_list(wins) + " only"
 
 
 def codec_cell(row):
@@ -365,15 +394,17 @@ def crossover_table(sections):
         gvr = members.get("gvr")
         if ratio is None or gvr is None or not is_ok(gvr):
             continue
+        achieved = achieved_ratio(members)
         for codec in competitors(members):
             if is_ok(members[codec]):
-                points.setdefault((volume, codec), []).append((ratio, psnr_gap(gvr, members[codec])))
+                point = (achieved if achieved is not None else ratio, ratio_label(ratio, achieved), psnr_gap(gvr, members[codec]))
+                points.setdefault((volume, codec), []).append(point)
     body = [[volume, LABELS.get(codec, codec),
-             ", ".join(f"{fmt_ratio(r)}:1 {fmt(g, 2, signed=True)}" for r, g in sorted(pts)), crossover_verdict(pts)]
+             ", ".join(f"{label} {fmt(g, 2, signed=True)}" for _, label, g in sorted(pts)), crossover_verdict(pts)]
             for (volume, codec), pts in points.items()]
     if not body:
         return "_gvr and a codec were not both run at any ratio._\n"
-    return md_table(["Volume", "Codec", "gvr PSNR minus the codec's, dB, by target ratio", "gvr wins"], body)
+    return md_table(["Volume", "Codec", "gvr PSNR minus the codec's, dB, at gvr's ratio", "gvr wins"], body)
 
 
 def codecs_table(codecs):
@@ -386,22 +417,51 @@ def codecs_table(codecs):
 
 
 def verdict_list(sections):
-    verdicts = [verdict for v, r, m in sections for verdict in section_verdicts(section_title(v, r), m)]
+    verdicts = [verdict for v, r, m in sections for verdict in section_verdicts(section_title(v, r, m), m)]
     return "".join(f"- {verdict}\n" for verdict in verdicts) or "_No comparisons possible._\n"
 
 
 def rows_with_status(rows, status):
     body = [[row.get("volume"), ratio_cell(number(row.get("ratio"))), method_of(row), row.get("message") or DASH]
             for row in rows if row.get("status") == status]
-    return md_table(["Volume", "Ratio", "Method", "Message"], body)
+    return md_table(["Volume", "Target ratio", "Method", "Message"], body)
 
 
-def render_report(manifest, rows, sections, plots, codecs):
+def budget_text(budget):
+    if not isinstance(budget, dict):
+        return DASH
+    iterations, seconds = number(budget.get("iterations")), number(budget.get("seconds"))
+    text = f"{int(iterations)} iterations" if iterations is not None else f"{seconds:g} s" if seconds is not None else DASH
+    args = [str(a) for a in budget.get("args") or []]
+    return text + (f" (`{' '.join(args)}`)" if args else "")
+
+
+def run_lines(runs):
+    """Where the times were measured: the machine, its load and the jobs of each run, and the
+    fit budget of each volume (the same in every shard of one manifest)."""
+    if not runs:
+        return ["Machine and fit budgets: not recorded (run.json missing).\n"]
+    lines = []
+    for run in runs:
+        machine = run.get("machine") if isinstance(run.get("machine"), dict) else {}
+        load = number(machine.get("load_average_1min"))
+        lines.append(f"- Shard {run.get('shard', DASH)}: {machine.get('cpu', 'unknown CPU')}, "
+                     f"{machine.get('cores', DASH)} cores, load average {fmt(load, 2)} at the start; "
+                     f"{run.get('jobs', DASH)} volume(s) at a time.")
+    budgets = runs[0].get("fit") if isinstance(runs[0].get("fit"), dict) else {}
+    if budgets:
+        lines.append("- Fit budget: " + "; ".join(f"{volume} {budget_text(b)}" for volume, b in budgets.items()) + ".")
+    return ["\n".join(lines) + "\n"]
+
+
+def render_report(manifest, rows, sections, plots, codecs, runs):
     ok = sum(1 for row in rows if is_ok(row))
     skipped = sum(1 for row in rows if row.get("status") == "skipped")
     return "\n".join(
         ["# gvr benchmark report\n", f"Manifest: `{manifest or DASH}`  ",
-         f"Rows: {ok} ok, {len(rows) - ok - skipped} failed, {skipped} skipped.\n",
+         f"Rows: {ok} ok, {len(rows) - ok - skipped} failed, {skipped} skipped. Sections are named by gvr's "
+         "ratio against the raw source, with the target the manifest asked beside it.\n",
+         *run_lines(runs),
          "## Table 1 – gvr per dataset\n", dataset_table(sections),
          "## Table 2 – all methods\n", *method_sections(sections, plots),
          "## Table 3 – ablations\n", ablation_table(sections),
@@ -412,8 +472,8 @@ def render_report(manifest, rows, sections, plots, codecs):
          "links in Table 2).\n",
          rate_distortion_table(sections),
          "### Crossover\n",
-         "Where gvr wins: from the lowest target ratio at which gvr's PSNR beats the codec's at that ratio and "
-         "at every higher one measured; \"none\" where it wins at no ratio.\n",
+         "Where gvr wins: from the lowest ratio (gvr's, against the raw source) at which gvr's PSNR beats the "
+         "codec's at that ratio and at every higher one measured; \"none\" where it wins at no ratio.\n",
          crossover_table(sections),
          "## Codecs\n", codecs_table(codecs),
          "## Verdicts\n", verdict_list(sections),
@@ -446,11 +506,12 @@ def total_seconds(row):
 
 def finish_axes(ax, xlabel, title):
     ax.set(xscale="log", xlabel=xlabel, ylabel="PSNR (dB)", title=title)
-    # plain numbers, plus 2 and 5 between decades when there is room: a short span can otherwise
-    # end up with a single label
+    # plain numbers: every tick on a span within a decade (which may hold no decade tick at
+    # all, and had no numbers), 2 and 5 between decades on up to three
     def minor_label(x, _):
         low, high = ax.get_xlim()
-        return f"{x:g}" if f"{x:.0e}"[0] in "25" and math.log10(high / low) <= 3 else ""
+        decades = math.log10(high / low)
+        return f"{x:g}" if decades <= 1 or (f"{x:.0e}"[0] in "25" and decades <= 3) else ""
     ax.xaxis.set_major_formatter(ticker.FormatStrFormatter("%g"))
     ax.xaxis.set_minor_formatter(ticker.FuncFormatter(minor_label))
     ax.grid(True, which="both", alpha=0.3)
@@ -565,7 +626,7 @@ def make_plots(results_dir, rows, sections):
         plots[volume, "rd"] = save_plot(plots_dir, f"{safe_name(volume)}_rate_distortion.png",
                                         lambda: rate_distortion_figure(volume, rows, colours))
     for volume, ratio, members in sections:
-        title = section_title(volume, ratio)
+        title = section_title(volume, ratio, members)
         plots[volume, ratio, "time"] = save_plot(plots_dir, plot_name(volume, ratio, "psnr_vs_time"),
                                                  lambda: psnr_vs_time_figure(results_dir, title, members, colours))
         plots[volume, ratio, "sheet"] = save_plot(plots_dir, plot_name(volume, ratio, "contact_sheet"),
@@ -603,7 +664,7 @@ def main(argv):
         return 1
     sections = group_sections(rows)
     plots = make_plots(results_dir, rows, sections) if plt else {}
-    report = render_report(manifest, rows, sections, plots, load_codecs(results_dir))
+    report = render_report(manifest, rows, sections, plots, load_codecs(results_dir), load_runs(results_dir))
     write_atomically(os.path.join(results_dir, "report.md"), lambda file: file.write(report.encode("utf-8")))
     if plt is None:
         print(f"bench_report: plots skipped: matplotlib unavailable ({PLOTS_UNAVAILABLE})", file=sys.stderr)

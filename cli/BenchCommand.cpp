@@ -5,6 +5,7 @@
 #include "bench/ChildProcess.h"
 #include "cli/Commands.h"
 #include "cli/Diagnostics.h"
+#include "io/AtomicFile.h"
 #include "io/Figures.h"
 #include "io/JsonText.h"
 #include "pipeline/Error.h"
@@ -41,11 +42,12 @@ std::pair<int, int> parseShard(const std::string& text) {
 
 std::string describeRow(const BenchRow& row) {
     std::ostringstream text;
-    text << row.get("volume") << (row.get("ratio").empty() ? "" : " at " + row.get("ratio") + ":1") << ", "
-         << row.get("method") << ": ";
+    // By the ratio reached, with the target beside it: the two can differ several times over.
+    text << row.get("volume") << ", " << row.get("method")
+         << (row.get("ratio").empty() ? "" : " (target " + row.get("ratio") + ":1)") << ": ";
     if (row.get("status") == "skipped") return text.str() + "skipped: " + row.get("message");
     if (row.get("status") != "ok") return text.str() + "FAILED: " + row.get("message");
-    text << formatDb(row.number("psnr").value_or(NAN)) << " dB, " << std::fixed << std::setprecision(2)
+    text << formatDb(row.number("psnr").value_or(NAN)) << " dB at " << std::fixed << std::setprecision(2)
          << row.number("ratio_raw").value_or(NAN) << ":1 vs raw, render " << formatDb(row.number("render_psnr").value_or(NAN))
          << " dB, compress " << std::setprecision(1) << row.number("compress_s").value_or(NAN) << " s";
     return text.str();
@@ -85,6 +87,11 @@ void runBench(const BenchFlags& flags) {
             diagnostics() << "[" << done << "/" << pending << "] " << describeRow(row) << std::endl;
         };
     }
+    // A long run is often stopped by hand: the line says that nothing is lost.
+    const SaidOnSignal howToCarryOn("gvr bench: stopped; the runs that ended are kept in " + flags.output +
+                                    "/results.csv; carry on with: gvr bench " + flags.manifest + " -o " + flags.output +
+                                    " --resume",
+                                    diagnosticsFd());
     const BenchSummary summary = runBenchmark(options);
     diagnostics() << summary.reportOutput;
     printSummary(flags, summary);

@@ -23,10 +23,11 @@ source = sys.argv[1] if len(sys.argv) > 1 else "/usr/share/mricron/templates/ch2
 out = sys.argv[2] if len(sys.argv) > 2 else "out"
 os.makedirs(out, exist_ok=True)
 
-# 1. A volume from nibabel. Arrays are indexed [i, j, k] as nibabel gives them, and
-#    the affine places them in millimetres; values keep their units (HU stays HU).
+# 1. A volume from nibabel: its scaling applied, its affine placing it in millimetres,
+#    and the type the file stores kept for the ratio; values keep their units (HU stays HU).
+#    (Volume.from_numpy takes any array, indexed [i, j, k] as nibabel gives them.)
 image = nibabel.load(source)
-volume = gvr.Volume.from_numpy(np.asarray(image.dataobj), affine=image.affine)
+volume = gvr.Volume.from_nibabel(image)
 print(f"{source}: {volume.shape} voxels, {volume.metadata['source_type']}")
 
 

@@ -64,7 +64,16 @@ void releaseSlot(int slot) {
     gSlots[slot].used = 0;
 }
 
+/// SaidOnSignal's line, in plain bytes for the handler's write().
+char gFarewell[4096];
+volatile std::sig_atomic_t gFarewellBytes = 0;
+volatile std::sig_atomic_t gFarewellFd = STDERR_FILENO;
+
 extern "C" void removeTemporariesAndExit(int signal) {
+    if (gFarewellBytes > 0) {
+        const ssize_t ignored = write(gFarewellFd, gFarewell, std::size_t(gFarewellBytes));
+        (void)ignored;  // nothing else to do on a failed write in a handler
+    }
     for (const SignalSlot& slot : gSlots) {
         if (slot.used && !slot.folder) unlink(slot.path);
     }
@@ -219,6 +228,16 @@ void writeAllOrNone(const std::vector<std::string>& paths,
     }
     renameAllIntoPlace(staged, paths, folders);
 }
+
+SaidOnSignal::SaidOnSignal(const std::string& line, int fd) {
+    const std::string text = line.substr(0, sizeof gFarewell - 1) + "\n";
+    gFarewellBytes = 0;
+    gFarewellFd = fd;
+    std::memcpy(gFarewell, text.data(), text.size());
+    gFarewellBytes = std::sig_atomic_t(text.size());
+}
+
+SaidOnSignal::~SaidOnSignal() { gFarewellBytes = 0; }
 
 void removeTemporariesOnSignals() {
     static std::once_flag installed;

@@ -44,6 +44,18 @@ private:
     int mSlot;
 };
 
+/// While it lives, a terminating signal (after removeTemporariesOnSignals()) writes
+/// @a line to descriptor @a fd (stderr, or wherever the program's messages go)
+/// before the process ends: what a user stopping a long command needs to know, such
+/// as how to carry on. The latest one alive is said.
+class SaidOnSignal {
+public:
+    SaidOnSignal(const std::string& line, int fd);
+    SaidOnSignal(const SaidOnSignal&) = delete;
+    SaidOnSignal& operator=(const SaidOnSignal&) = delete;
+    ~SaidOnSignal();
+};
+
 /// For programs such as the gvr command: from now on every signal that would end
 /// the process (SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE, ...) removes the
 /// temporaries of the writes in progress and the files RemovedOnSignal names, then ends the process by the same signal;

@@ -31,6 +31,7 @@
 #include <pybind11/stl.h>
 
 #include <filesystem>
+#include <iomanip>
 #include <map>
 #include <sstream>
 #include <memory>
@@ -157,9 +158,18 @@ DenseVolume denseFromArray(const py::array& given) {
     return volume;
 }
 
+/// @a given as a numpy array: lists and tuples (of lists) too, as numpy.asarray makes them.
+py::array asArray(const py::object& given, const std::string& name) {
+    try {
+        return py::module_::import("numpy").attr("asarray")(given);
+    } catch (py::error_already_set&) {
+        throw InputError(name, "is neither an array nor a sequence numpy can make one of");
+    }
+}
+
 /// nibabel's 4x4 affine (world = A (i, j, k, 1)^T) as OpenVDB's row-vector matrix.
-openvdb::math::Mat4d matrixFromAffine(const py::array& affine) {
-    const auto a = py::array_t<double, py::array::forcecast>::ensure(affine);
+openvdb::math::Mat4d matrixFromAffine(const py::object& affine) {
+    const auto a = py::array_t<double, py::array::forcecast>::ensure(asArray(affine, "affine"));
     if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) throw InputError("affine", "must be a 4x4 array");
     const auto m = a.unchecked<2>();
     double rows[3][4];
@@ -168,10 +178,21 @@ openvdb::math::Mat4d matrixFromAffine(const py::array& affine) {
     return worldFromIndexRows(rows);
 }
 
-Volume volumeFromNumpy(const py::array& array, std::optional<std::array<double, 3>> spacing,
-                       const std::optional<py::array>& affine, std::optional<double> threshold,
+/// A float64 array says nothing of the type its file stored, and a fit's ratio then
+/// counts 8 bytes a voxel: 2.84:1 against an int16 file, asked for 10:1.
+void warnOfAGuessedSourceType(const py::array& array) {
+    if (array.dtype().kind() != 'f' || array.dtype().itemsize() != 8) return;
+    const char* note = "the array is float64, so a fit's ratio counts 8 bytes a voxel; pass source_type= the file's "
+                       "type (for nibabel, str(img.get_data_dtype())), or use Volume.from_nibabel(img)";
+    if (PyErr_WarnEx(PyExc_UserWarning, note, 2) != 0) throw py::error_already_set();
+}
+
+Volume volumeFromNumpy(const py::object& samples, std::optional<std::array<double, 3>> spacing,
+                       const std::optional<py::object>& affine, std::optional<double> threshold,
                        const std::string& modality, std::optional<float> nanTo, const std::string& sourceType) {
     if (spacing && affine) throw InputError("spacing", "give spacing or affine, not both");
+    const py::array array = asArray(samples, "array");
+    if (sourceType.empty()) warnOfAGuessedSourceType(array);
     GridBuildSettings settings;
     settings.sourceFile = "array";
     settings.threshold = threshold;
@@ -191,6 +212,27 @@ Volume volumeFromNumpy(const py::array& array, std::optional<std::array<double, 
         writeVolumeMetadata(metadata, *grid);
     }
     return {grid};
+}
+
+/// A nibabel image, with what its header says: the stored type (for the ratio), the
+/// affine, and the scaling, which np.asarray(img.dataobj) applies. RGB images come
+/// as a last axis of 3.
+Volume volumeFromNibabel(const py::object& image, std::optional<double> threshold, const std::string& modality,
+                         std::optional<float> nanTo) {
+    for (const char* needed : {"dataobj", "affine", "get_data_dtype"}) {
+        if (!py::hasattr(image, needed)) {
+            throw InputError("image", "is not a nibabel image (it has no " + std::string(needed) + ")");
+        }
+    }
+    const py::module_ numpy = py::module_::import("numpy");
+    py::object samples = numpy.attr("asarray")(image.attr("dataobj"));
+    py::dtype stored = py::dtype::from_args(image.attr("get_data_dtype")());
+    if (py::hasattr(stored, "fields") && !stored.attr("fields").is_none()) {  // RGB24: fields R, G and B
+        samples = py::module_::import("numpy.lib.recfunctions").attr("structured_to_unstructured")(samples);
+        stored = py::dtype::from_args(py::list(stored.attr("fields").attr("values")())[0].cast<py::tuple>()[0]);
+    }
+    const std::string sourceType = py::str(stored.attr("name"));
+    return volumeFromNumpy(samples, std::nullopt, py::object(image.attr("affine")), threshold, modality, nanTo, sourceType);
 }
 
 // ---- numpy out ----
@@ -324,7 +366,11 @@ GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<
         const Volume volume = path ? Volume{} : std::get<Volume>(input);
         const IngestResult loaded = path ? loadOrIngest(*path, IngestOptions{}) : IngestResult{volume.grid, volume.labels, {}};
         BudgetedFitResult result = fitLoaded(loaded, path ? *path : "volume", options, bricks, halo, progress);
-        const std::string note = undertrainedNote(result, options.settings, "min_samples=");
+        std::string note = undertrainedNote(result, options.settings, "min_samples=");
+        if (loaded.grid->activeVoxelCount() == 0) {  // as `gvr fit` warns: an empty asset is rarely what was meant
+            note = "the volume has no active voxels (every voxel at or below its threshold), so the asset holds "
+                   "no Gaussians";
+        }
         if (!note.empty()) {
             py::gil_scoped_acquire acquire;
             if (PyErr_WarnEx(PyExc_UserWarning, note.c_str(), 1) != 0) throw py::error_already_set();
@@ -345,6 +391,11 @@ Volume exportVolume(const GaussianAsset& asset, const std::optional<std::variant
     ExportSettings settings;
     if (like) {
         const auto* volume = std::get_if<Volume>(&*like);
+        if (!volume && !std::filesystem::exists(std::get<std::string>(*like))) {
+            // asset.export('x.nii.gz') once said only "no such file": the first argument is like=.
+            throw InputError("like", "'" + std::get<std::string>(*like) + "' does not exist: like= names the volume whose "
+                             "voxels to export onto; to write the export, call asset.export().save(path)");
+        }
         settings.lattice = volume ? latticeOf(*volume->grid, "like") : latticeLike(std::get<std::string>(*like));
     }
     if (voxelSize) settings.lattice = resizedLattice(asset.worldFromIndex, asset.source.dims, *voxelSize);
@@ -352,8 +403,8 @@ Volume exportVolume(const GaussianAsset& asset, const std::optional<std::variant
     return {exportAsset(asset, settings).grids.front()};
 }
 
-py::array probe(const GaussianAsset& asset, const py::array& points) {
-    const auto p = py::array_t<double, py::array::forcecast>::ensure(points);
+py::array probe(const GaussianAsset& asset, const py::object& points) {
+    const auto p = py::array_t<double, py::array::forcecast>::ensure(asArray(points, "points"));
     if (!p || p.ndim() != 2 || p.shape(1) != 3) throw InputError("points", "must be an (n, 3) array of voxel indices");
     const auto in = p.unchecked<2>();
     AssetProbe field(asset);
@@ -394,9 +445,15 @@ std::string reprOf(const Volume& volume) {
     return out.str() + ">";
 }
 
+double ratioOf(const GaussianAsset& asset) {
+    return double(asset.source.rawSourceBytes()) / double(assetFileBytes(asset));
+}
+
 std::string reprOf(const GaussianAsset& asset) {
     std::ostringstream out;
-    out << "<gvr.Asset " << asset.params.count() << " Gaussians, " << (asset.params.channels == 3 ? "RGB" : "grey")
+    out << "<gvr.Asset " << asset.params.count() << " Gaussians, " << assetFileBytes(asset) << " bytes ("
+        << std::fixed << std::setprecision(1) << ratioOf(asset) << ":1 against the raw source), "
+        << (asset.params.channels == 3 ? "RGB" : "grey")
         << ", source " << asset.source.dims.x() << "x" << asset.source.dims.y() << "x" << asset.source.dims.z()
         << sourceName(asset.source);
     if (!asset.labelTable.names.empty()) out << ", " << asset.labelTable.names.size() << " structures";
@@ -507,7 +564,14 @@ PYBIND11_MODULE(gvr, m) {
                     "copied once, in their own type; NaN or Inf raises gvr.Error unless nan_to replaces them. "
                     "source_type ('uint8', 'int16', ...) names the type the source file stored: a fit's ratio "
                     "is against metadata['raw_bytes'], voxels x channels x its size (default: the array's "
-                    "type, so np.asarray(img.dataobj) of a scaled uint8 NIfTI, float64, would count 8 bytes)")
+                    "type, so np.asarray(img.dataobj) of a scaled uint8 NIfTI, float64, would count 8 bytes, and a "
+                    "float64 array without source_type gives a UserWarning). Lists and tuples are taken as numpy "
+                    "takes them.")
+        .def_static("from_nibabel", &volumeFromNibabel, "image"_a, "threshold"_a = py::none(), "modality"_a = "",
+                    "nan_to"_a = py::none(),
+                    "A volume from a nibabel image, as from_numpy(np.asarray(image.dataobj), affine=image.affine, "
+                    "source_type=str(image.get_data_dtype())) would make it: its scaling applied, and a fit's ratio "
+                    "counted against the type the file stores. RGB images get a last axis of 3.")
         .def("to_numpy", &volumeToNumpy,
              "The samples as float32 in physical units, shape (x, y, z) or (x, y, z, 3), inactive voxels "
              "at the background value; the array owns them (no further copy).")
@@ -546,6 +610,10 @@ PYBIND11_MODULE(gvr, m) {
              "Write the asset (atomically), in storage order")
         .def("__repr__", [](const GaussianAsset& a) { return reprOf(a); })
         .def_property_readonly("count", [](const GaussianAsset& a) { return a.params.count(); })
+        .def_property_readonly("bytes", &assetFileBytes, "The size of its .gvr file in bytes, as save() writes it")
+        .def_property_readonly("ratio", &ratioOf,
+                               "The source's raw bytes (metadata['raw_bytes'] of the volume it was fitted to) over "
+                               "bytes; for its PSNR, gvr.evaluate(volume, asset)['psnr']")
         .def_property_readonly("means", [](const GaussianAsset& a) { return gaussianArray(a, &WorldGaussian::mean, 3); },
                                "(count, 3) centres in world mm (the source's scanner space, RAS); read-only")
         .def_property_readonly("scales", [](const GaussianAsset& a) { return gaussianArray(a, &WorldGaussian::scale, 3); },

@@ -229,3 +229,21 @@ TEST(BenchTable, TheManifestsDigestTellsManifestsApartWhereverTheyLie) {
     EXPECT_EQ(recorded.path, dir.path("a.json"));
     EXPECT_EQ(recorded.digest, manifestRecordOf(dir.path("a.json")).digest);
 }
+
+// Resumed after the manifest was edited in place, a folder once kept rows run with its old budgets.
+TEST(BenchTable, ResumeFollowsTheManifestsTextNotItsPath) {
+    test::TempDir dir;
+    std::ofstream(dir.path("m.json")) << R"({"fit": {"seconds": 60}, "volumes": [{"input": "a.nii"}]})";
+    {
+        ResultsTable table(dir.path("out"), dir.path("m.json"), false);
+    }
+    std::filesystem::create_directory(dir.path("moved"));
+    std::filesystem::copy(dir.path("m.json"), dir.path("moved/m.json"));
+    EXPECT_NO_THROW(ResultsTable(dir.path("out"), dir.path("moved/m.json"), /*resume=*/true));
+    std::ofstream(dir.path("m.json")) << R"({"fit": {"seconds": 600}, "volumes": [{"input": "a.nii"}]})";
+    const std::string message =
+        test::errorMessageOf<InputError>([&] { ResultsTable(dir.path("out"), dir.path("m.json"), /*resume=*/true); });
+    EXPECT_NE(message.find("out: holds the results of " + dir.path("moved/m.json") + " as it was (CRC-32 "), std::string::npos)
+        << message;
+}
+

@@ -55,11 +55,11 @@ std::size_t rowsIn(const std::string& resultsCsv) {
     return std::size_t(std::count(std::istreambuf_iterator<char>(in), {}, '\n'));
 }
 
-pid_t startBench(const std::string& manifest, const std::string& out) {
+pid_t startBench(const std::string& manifest, const std::string& out, const std::string& errors = "/dev/null") {
     const pid_t pid = fork();
     if (pid == 0) {
         freopen("/dev/null", "w", stdout);
-        freopen("/dev/null", "w", stderr);
+        freopen(errors.c_str(), "w", stderr);
         execl(GVR_EXECUTABLE, GVR_EXECUTABLE, "bench", manifest.c_str(), "-o", out.c_str(), "-q", (char*)nullptr);
         _exit(127);
     }
@@ -142,6 +142,25 @@ TEST_F(CliBench, KillNineThenResumeGivesTheSameTable) {
     const test::CommandResult resumed = runGvr("bench '" + manifest + "' -o '" + out + "' --resume -q", *dir);
     ASSERT_EQ(resumed.exitCode, 0) << resumed.err;
     EXPECT_EQ(outcome(csv), outcome(dir->path("complete/results.csv")));
+}
+
+// Ctrl-C once ended a bench without a word.
+TEST_F(CliBench, CtrlCSaysHowToCarryOn) {
+    const std::string out = dir->path("interrupted"), csv = out + "/results.csv", errors = dir->path("interrupted.err");
+    const pid_t pid = startBench(manifest, out, errors);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(3);
+    while (rowsIn(csv) < 2 && std::chrono::steady_clock::now() < deadline) {  // header + 1 row
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    kill(pid, SIGINT);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << "status " << status;
+    const std::string said = test::readBytes(errors);
+    EXPECT_NE(said.find("gvr bench: stopped; the runs that ended are kept in " + csv + "; carry on with: gvr bench " +
+                        manifest + " -o " + out + " --resume\n"),
+              std::string::npos)
+        << said;
 }
 
 TEST_F(CliBench, ShardsMergeIntoTheWhole) {
@@ -249,7 +268,7 @@ TEST(CliBenchCodecs, ACodecMatchesGvrsBytesAndEveryFaultyCodecFailsOnlyItsOwnRow
         EXPECT_EQ(rows[method].get("status"), "failed");
         EXPECT_NE(rows[method].get("message").find(method + ": "), std::string::npos) << rows[method].get("message");
         EXPECT_NE(rows[method].get("message").find(message), std::string::npos) << rows[method].get("message");
-        EXPECT_NE(run.err.find("blobs at 8:1, " + method + ": FAILED: "), std::string::npos) << "names the row";
+        EXPECT_NE(run.err.find("blobs, " + method + " (target 8:1): FAILED: "), std::string::npos) << "names the row";
         for (const char* column : {"bytes", "psnr", "render_psnr"}) EXPECT_EQ(rows[method].get(column), "") << column;
     }
     EXPECT_EQ(rows["missing"].get("status"), "skipped");

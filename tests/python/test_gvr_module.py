@@ -399,16 +399,65 @@ def test_the_ratio_refers_to_the_declared_source_type():
     # nibabel's np.asarray(img.dataobj) of a scaled uint8 file is float64: 8 bytes a voxel
     # unless the source's own type is declared.
     samples = np.asarray(nibabel.load(CH2).dataobj).astype(np.float64)
-    assert gvr.Volume.from_numpy(samples).metadata["raw_bytes"] == samples.size * 8
-    declared = gvr.Volume.from_numpy(samples, source_type="uint8")
+    with pytest.warns(UserWarning, match="the array is float64, so a fit's ratio counts 8 bytes a voxel"):
+        assert gvr.Volume.from_numpy(samples).metadata["raw_bytes"] == samples.size * 8
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # declared: nothing to warn of
+        declared = gvr.Volume.from_numpy(samples, source_type="uint8")
     assert declared.metadata["raw_bytes"] == samples.size == gvr.ingest(CH2).metadata["raw_bytes"]
+
+
+def test_a_nibabel_image_is_taken_with_its_stored_type_affine_and_scaling(work):
+    # Scaled int16, as scanners write CT: np.asarray(dataobj) is float64, and the file stores 2 bytes a voxel.
+    stored = (np.arange(6 * 5 * 4).reshape(6, 5, 4) * 10 - 1024).astype(np.int16)
+    image = nibabel.Nifti1Image(stored, np.diag([0.5, 0.6, 2.0, 1.0]))
+    image.header.set_slope_inter(0.5, -10)
+    path = str(work / "scaled.nii")
+    nibabel.save(image, path)
+    loaded = nibabel.load(path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        volume = gvr.Volume.from_nibabel(loaded, threshold=-1e9)
+    assert volume.metadata["source_type"] == "int16" and volume.metadata["raw_bytes"] == stored.size * 2
+    np.testing.assert_allclose(volume.affine, loaded.affine, atol=1e-6)
+    np.testing.assert_allclose(volume.to_numpy(), loaded.get_fdata(), atol=1e-3)
+    rgb = np.zeros((4, 3, 2), dtype=[("R", "u1"), ("G", "u1"), ("B", "u1")])
+    rgb["G"] = 200
+    colour = gvr.Volume.from_nibabel(nibabel.Nifti1Image(rgb, np.eye(4)))
+    assert colour.to_numpy().shape == (4, 3, 2, 3) and colour.metadata["source_type"] == "uint8"
+    with pytest.raises(gvr.Error, match="image: is not a nibabel image"):
+        gvr.Volume.from_nibabel(stored)
+
+
+def test_lists_are_taken_as_numpy_takes_them(cli_asset):
+    nested = [[[float(i + j + k) for k in range(4)] for j in range(4)] for i in range(4)]
+    with pytest.warns(UserWarning, match="float64"):  # Python floats are float64
+        volume = gvr.Volume.from_numpy(nested, affine=[[2, 0, 0, 0], [0, 2, 0, 0], [0, 0, 2, 0], [0, 0, 0, 1]])
+    assert volume.shape == (4, 4, 4) and volume.affine[0][0] == 2
+    asset = gvr.Asset.load(cli_asset)
+    assert asset.probe([[45, 60, 40]]).shape == (1, 1)
+    with pytest.raises(gvr.Error, match="points: must be an \\(n, 3\\) array"):
+        asset.probe([0, 0, 0])
+
+
+def test_export_says_what_its_first_argument_is(cli_asset, work):
+    with pytest.raises(gvr.Error, match="like: 'x.nii.gz' does not exist: like= names the volume"):
+        gvr.Asset.load(cli_asset).export("x.nii.gz")
+
+
+def test_an_empty_volume_fits_with_a_warning():
+    empty = gvr.Volume.from_numpy(np.zeros((8, 8, 8), dtype=np.uint8))
+    with pytest.warns(UserWarning, match="no active voxels"):
+        assert gvr.fit(empty, gaussians=10, iterations=2).count == 0
 
 
 def test_version_and_reprs(cli_asset, ch2_vdb):
     assert gvr.__version__ == run("-V").split()[1]
     assert repr(gvr.ingest(CH2)).startswith("<gvr.Volume 181x217x181 uint8, 1x1x1 mm, from ch2.nii.gz")
     asset = gvr.Asset.load(cli_asset)
-    assert repr(asset).startswith(f"<gvr.Asset {asset.count} Gaussians, grey")
+    assert repr(asset).startswith(f"<gvr.Asset {asset.count} Gaussians, {asset.bytes} bytes (")
+    assert asset.bytes == os.path.getsize(cli_asset)
+    assert asset.ratio == pytest.approx(gvr.ingest(CH2).metadata["raw_bytes"] / asset.bytes)
     assert gvr.fit(ch2_vdb, gaussians=300, iterations=3).count == 300  # a path, as render and evaluate take
 
 
