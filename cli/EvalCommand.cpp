@@ -29,7 +29,8 @@ void printEvaluation(const EvalFlags& flags, const EvalResult& e) {
         std::cout << jsonText(out, 2) << "\n";
         return;
     }
-    std::cout << std::setprecision(6) << "reference: " << flags.reference << "\ntest:      " << flags.test << "\n"
+    std::cout << std::setprecision(6) << "reference: " << flags.reference
+              << (e.referenceReadAs.empty() ? "" : " (" + e.referenceReadAs + ")") << "\ntest:      " << flags.test << "\n"
               << "  MSE      " << e.mse << " (physical units squared)\n"
               << "  PSNR     " << formatDb(e.psnr) << " dB, peak " << e.peak
               << (flags.options.peak ? " (--peak)" : " (the reference's data range)") << "\n"

@@ -147,6 +147,14 @@ void reportBricks(const TeamFitResult& bricked, const FieldAccuracy& error) {
     std::cout << "  merge:           " << std::setprecision(4) << bricked.mergeSeconds << " s\n";
 }
 
+/// What the ingested grid holds in place of the voxels its threshold dropped.
+std::string thresholdNote(const VolumeMetadata& source) {
+    if (!source.threshold) return "";
+    std::ostringstream note;
+    note << " (voxels at or below " << *source.threshold << " at its background)";
+    return note.str();
+}
+
 void report(const FitFlags& flags, const BudgetedFitResult& result, double peak, const FieldAccuracy& error,
             const TeamFitResult* bricked, const PhaseTimes& phases) {
     const GaussianAsset& asset = result.asset;
@@ -216,9 +224,11 @@ void report(const FitFlags& flags, const BudgetedFitResult& result, double peak,
                   << formatDb(psnrFromMse(fit.amplitudeSolve.mseAfter, peak)) << " dB (geometry as stored, amplitudes not yet rounded)";
     }
     std::cout << "\n"
-              << "  PSNR (as saved): " << formatDb(error.psnr) << " dB whole volume, "
-              << formatDb(error.foregroundPsnr) << " dB foreground (" << error.foregroundVoxels
-              << " voxels above the ingest threshold); peak = " << peak << " (normalised data range)\n"
+              << "  PSNR (as saved): " << formatDb(error.psnr) << " dB against the ingested grid"
+              << thresholdNote(asset.source)
+              << ", " << formatDb(error.foregroundPsnr) << " dB over its " << error.foregroundVoxels
+              << " active voxels; peak " << peak << ", its data range in the fit's units; "
+                 "gvr eval SOURCE ASSET compares with the source as read\n"
               << "  peak memory:     " << std::setprecision(5) << peakRssMiB() << " MiB\n"
               << "  wall time:       " << phases.text() << "\n";
     for (const nlohmann::json& st : structuresJson(asset, result.structures)) {

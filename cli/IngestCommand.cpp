@@ -11,10 +11,12 @@
 #include "io/LabelGrid.h"
 #include "pipeline/Error.h"
 #include "pipeline/ProcessMemory.h"
+#include "pipeline/VolumeMetadata.h"
 
 #include <chrono>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 namespace gvr {
 
@@ -47,6 +49,22 @@ void refuseLabelsWithoutVdb(const IngestFlags& flags) {
     throw InputError("--labels", "the labels are stored beside the image in a .vdb: add -o OUT.vdb");
 }
 
+/// A NIfTI reads as a copy of the source: say so when it holds the thresholded grid
+/// instead (a chest CT's 21.7 M voxels of air and padding became -986.5 HU).
+void warnOfAThresholdedCopy(const IngestFlags& flags, const openvdb::GridBase& grid, std::vector<std::string>& warnings) {
+    const auto metadata = readVolumeMetadata(grid);
+    const std::uint64_t dropped = volumeBox(grid).volume() - grid.activeVoxelCount();
+    if (!metadata || (!metadata->threshold && !metadata->thresholdAbove) || dropped == 0) return;
+    for (const std::string& output : flags.outputs) {
+        if (volumeFileFormat(output) == VolumeFileFormat::Vdb) continue;
+        std::ostringstream warning;
+        warning << output << " holds the ingested grid, not a copy of the source: its " << dropped
+                << " voxels outside the threshold hold the grid's background " << metadata->background
+                << "; a `threshold` below the data's minimum (" << metadata->valueMin << ") keeps every value";
+        warnings.push_back(warning.str());
+    }
+}
+
 void runIngest(const IngestFlags& flags) {
     rejectRemovedFormat(flags.removedFormat);
     checkVolumeOutputs("-o", flags.outputs, {flags.input, flags.labels, flags.labelNames});
@@ -65,6 +83,7 @@ void runIngest(const IngestFlags& flags) {
         result = ingest(flags.input, options);
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    warnOfAThresholdedCopy(flags, *result.grid, result.warnings);
     sayWarnings(result.warnings);
     if (result.grid->activeVoxelCount() == 0) {
         diagnostics() << "gvr: warning: no voxel is above the threshold; the grid is empty\n";

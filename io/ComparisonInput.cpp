@@ -3,9 +3,12 @@
 #include "io/AssetExport.h"
 #include "io/AssetFile.h"
 #include "io/DenseCopy.h"
+#include "io/GridBuilder.h"
+#include "io/GridFile.h"
 
 #include "io/Readers.h"
 #include "pipeline/Error.h"
+#include "pipeline/Luminance.h"
 #include "pipeline/VolumeMetadata.h"
 
 #include <OpenImageIO/imageio.h>
@@ -13,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 
 namespace gvr {
 
@@ -51,6 +55,56 @@ double sampleRange(const FloatVolume& volume) {
     return double(*hi) - double(*lo);
 }
 
+std::string formatNumber(double value) {
+    std::ostringstream text;
+    text << value;
+    return text.str();
+}
+
+/// A voxel's key: its value, or its luminance for RGB.
+double keyAt(const FloatVolume& volume, std::size_t n) {
+    const float* v = volume.values.data() + n * std::size_t(volume.channels);
+    return volume.channels >= 3 ? luminance(v) : double(v[0]);
+}
+
+/// The voxels at the format's padding value left out, the foreground set to what
+/// ingest would keep, and the data range taken over the voxels kept.
+void setApartPaddingAndBackground(ComparisonInput& input, const VolumeMetadata& metadata) {
+    const FloatVolume& volume = input.volume;
+    const std::size_t voxels = volume.voxelCount();
+    const double cut = metadata.modality == "CT" && volume.channels == 1 ? kCtDefaultThreshold : metadata.valueMin;
+    input.volume.foreground.assign(voxels, 0);
+    if (metadata.markedPadding) input.excluded.assign(voxels, 0);
+    double lo = INFINITY, hi = -INFINITY;
+    for (std::size_t n = 0; n < voxels; ++n) {
+        const double key = keyAt(volume, n);
+        if (metadata.markedPadding && key == *metadata.markedPadding) {
+            input.excluded[n] = 1;
+            ++input.excludedVoxels;
+            continue;
+        }
+        input.volume.foreground[n] = key > cut;
+        lo = std::min(lo, key);
+        hi = std::max(hi, key);
+    }
+    input.dataRange = lo <= hi ? hi - lo : 0.0;
+    input.foregroundRule = "the voxels ingest keeps (above " + formatNumber(cut) + ")";
+}
+
+/// A source as read: every voxel, but those its format marks as no data.
+ComparisonInput sourceAsRead(const std::string& path, IngestOptions options) {
+    options.build.keepEveryVoxel = true;
+    ComparisonInput input = comparisonInputOf(ingest(path, options).grid, path);
+    const VolumeMetadata metadata = *readVolumeMetadata(*input.grid);
+    setApartPaddingAndBackground(input, metadata);
+    input.readAs = "the source as read, every voxel";
+    if (metadata.markedPadding) {
+        input.readAs += "; " + std::to_string(input.excludedVoxels) + " voxels at " + formatNumber(*metadata.markedPadding) +
+                        ", which the file marks as padding (no data), left out";
+    }
+    return input;
+}
+
 }  // namespace
 
 ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions& options) {
@@ -59,12 +113,24 @@ ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions
         input.volume = readImage(*image, path);
         input.isImage = true;
         input.dataRange = sampleRange(input.volume);
+        input.readAs = "a 2D image";
         return input;
     }
-    // A Gaussian asset is compared as what it exports onto its source grid.
-    const openvdb::GridBase::Ptr grid = isAssetFile(path) ? exportAsset(readAsset(path), ExportSettings{}).grids.front()
-                                                          : loadOrIngest(path, options).grid;
-    return comparisonInputOf(grid, path);
+    if (isAssetFile(path)) {  // compared as what it exports onto its source grid
+        input = comparisonInputOf(exportAsset(readAsset(path), ExportSettings{}).grids.front(), path);
+        input.readAs = "the asset exported onto its source's voxels";
+        return input;
+    }
+    if (isVdbFile(path)) {
+        input = comparisonInputOf(loadOrIngest(path, options).grid, path);
+        const auto metadata = readVolumeMetadata(*input.grid);
+        input.readAs = metadata && metadata->threshold
+                           ? "the grid as stored: voxels at or below its threshold " + formatNumber(*metadata->threshold) +
+                                 " hold its background " + formatNumber(metadata->background)
+                           : "the grid as stored";
+        return input;
+    }
+    return sourceAsRead(path, options);
 }
 
 ComparisonInput comparisonInputOf(openvdb::GridBase::ConstPtr grid, const std::string& name) {

@@ -1,7 +1,7 @@
 /// @file ComparisonInput.h
 /// @brief What `gvr eval` compares: a volume (a .vdb, a Gaussian asset as exported
-/// onto its source grid, or anything ingest reads) or a single 2D image, as dense
-/// float samples.
+/// onto its source grid, or anything ingest reads, as it reads it: every voxel) or a
+/// single 2D image, as dense float samples.
 #pragma once
 
 #include "io/Ingest.h"
@@ -18,8 +18,21 @@ struct ComparisonInput {
     bool isImage = false;  ///< a single 2D image (PNG, EXR, ...), depth 1, every channel kept
     /// The grid the samples came from (null for an image): what labels are placed on.
     openvdb::GridBase::ConstPtr grid;
+    /// What volume.foreground holds, in words.
+    std::string foregroundRule = "the reference's active voxels";
+    /// One flag per voxel (1 = left out of every measure), or empty: the voxels of a
+    /// source read as it is that hold the value its format marks as no data.
+    std::vector<std::uint8_t> excluded;
+    std::size_t excludedVoxels = 0;
+    std::string readAs;  ///< how the samples were read, in words
 };
 
+/// A source file (anything ingest reads but a .vdb) is read as it is, every voxel
+/// active, so that what an ingest threshold drops counts: against the chest's
+/// thresholded grid a fit scored 35.47 dB, against the DICOM as decoded 14.25. Only
+/// the voxels its format marks as no data (DICOM's Pixel Padding Value) are left out;
+/// its foreground is what ingest would keep (above -950 HU for a CT, above the
+/// minimum else), and its data range that of the voxels kept.
 /// @throw InputError naming @a path when it cannot be read.
 ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions& options);
 

@@ -30,6 +30,9 @@ struct DenseVolume {
     openvdb::math::Mat4d worldFromIndex = openvdb::math::Mat4d::identity();
     std::string modality = "unknown";
     std::optional<NiftiCodes> niftiCodes;  ///< a NIfTI source's space codes and units
+    /// The physical value that the format marks as no data (DICOM's Pixel Padding
+    /// Value: the scanner's out-of-field voxels), when it marks one.
+    std::optional<double> markedPadding;
     std::vector<std::string> warnings;  ///< things the user should know, one line each
 
     std::uint64_t voxelCount() const {

@@ -4,6 +4,7 @@
 // normal and to check that the series is consistent; only then are slices
 // decoded, a slab at a time, in parallel.
 
+#include "io/ByteOrder.h"
 #include "io/DicomStructure.h"
 #include "io/MemoryBudget.h"
 #include "io/Readers.h"
@@ -22,6 +23,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 
 namespace gvr {
@@ -47,6 +49,7 @@ struct SeriesHeader {
     double columnSpacing = 1, rowSpacing = 1;  // mm between columns, between rows
     std::string modality = "unknown";
     std::string seriesUid;
+    std::optional<std::int64_t> paddingStored;  ///< Pixel Padding Value, as stored
     std::vector<SliceHeader> slices;
 };
 
@@ -57,6 +60,20 @@ std::string stringElement(const gdcm::DataSet& dataSet, const gdcm::Tag& tag) {
     std::string text(value->GetPointer(), value->GetLength());
     const auto end = text.find_last_not_of(std::string(" \0", 2));
     return end == std::string::npos ? "" : text.substr(0, end + 1);
+}
+
+/// Pixel Padding Value (0028,0120): the stored value of the voxels outside the
+/// scanner's field of view (-2000 in the chest, -3024 HU once rescaled). Its VR is
+/// US or SS, as the pixels are unsigned or signed.
+std::optional<std::int64_t> paddingValueOf(const gdcm::File& dicom, const gdcm::PixelFormat& format) {
+    const gdcm::Tag tag(0x0028, 0x0120);
+    const gdcm::DataSet& dataSet = dicom.GetDataSet();
+    if (!dataSet.FindDataElement(tag)) return std::nullopt;
+    const gdcm::ByteValue* value = dataSet.GetDataElement(tag).GetByteValue();
+    if (!value || value->GetLength() != 2) return std::nullopt;
+    const bool bigEndian = dicom.GetHeader().GetDataSetTransferSyntax().GetSwapCode() == gdcm::SwapCode::BigEndian;
+    const std::uint16_t stored = loadWord<std::uint16_t>(value->GetPointer(), bigEndian);
+    return format.GetPixelRepresentation() == 1 ? std::int64_t(std::int16_t(stored)) : std::int64_t(stored);
 }
 
 SampleType sampleTypeOf(const gdcm::PixelFormat& format, const std::string& file) {
@@ -161,6 +178,7 @@ SliceHeader readSliceHeader(const std::string& file, SeriesHeader& series, bool 
         series.seriesUid = uid;
         const std::string modality = stringElement(dataSet, gdcm::Tag(0x0008, 0x0060));
         if (!modality.empty()) series.modality = modality;
+        series.paddingStored = paddingValueOf(dicom, format);
     } else if (dims[0] != series.columns || dims[1] != series.rows) {
         throw InputError(file, "slice is " + std::to_string(dims[0]) + "x" +
                                    std::to_string(dims[1]) + " but the series is " +
@@ -371,6 +389,8 @@ std::unique_ptr<SliceSource> openDicomSeries(const std::string& folder, const Re
     if (!perSliceRescale) {
         layout.slope = series.slices.front().slope;
         layout.intercept = series.slices.front().intercept;
+        // Slices rescaled alike share one physical padding value; others have none.
+        if (series.paddingStored) layout.markedPadding = layout.slope * double(*series.paddingStored) + layout.intercept;
     }
     return std::make_unique<DicomSeries>(std::move(layout), folder, std::move(series), perSliceRescale);
 }

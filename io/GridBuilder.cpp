@@ -357,10 +357,14 @@ public:
     /// With only a cut from above, the darkest voxels are the subject, not its
     /// background; so they are when they are few (minimumIsNoBackground).
     double finalCut() const {
+        if (mSettings.keepEveryVoxel) return -std::numeric_limits<double>::infinity();
         if (mSettings.threshold) return *mSettings.threshold;
         return mSettings.thresholdAbove || mMinimumKept ? -std::numeric_limits<double>::infinity() : mRange.min;
     }
-    double cutAbove() const { return mSettings.thresholdAbove.value_or(std::numeric_limits<double>::infinity()); }
+    double cutAbove() const {
+        if (mSettings.keepEveryVoxel) return std::numeric_limits<double>::infinity();
+        return mSettings.thresholdAbove.value_or(std::numeric_limits<double>::infinity());
+    }
 
     /// What inactive voxels stand for, and what samplers meet beyond the volume's
     /// faces (known once run() has built the grid).
@@ -511,6 +515,7 @@ void describeGrid(const DenseVolume& layout, const GridBuildSettings& settings, 
         metadata.paddingVoxels = padding->second;
     }
     metadata.roundedVoxels = roundedVoxels;
+    metadata.markedPadding = layout.markedPadding;
     metadata.storedSlope = layout.slope;
     metadata.storedIntercept = layout.intercept;
     metadata.niftiCodes = layout.niftiCodes;
@@ -521,7 +526,9 @@ void describeGrid(const DenseVolume& layout, const GridBuildSettings& settings, 
 /// keeps its lungs (about -890 HU); other data keep everything above their minimum.
 GridBuildSettings withDefaultThreshold(const DenseVolume& layout, GridBuildSettings settings) {
     const std::string modality = settings.modality.empty() ? layout.modality : settings.modality;
-    if (!settings.threshold && layout.channels == 1 && modality == "CT") settings.threshold = kCtDefaultThreshold;
+    if (!settings.threshold && !settings.keepEveryVoxel && layout.channels == 1 && modality == "CT") {
+        settings.threshold = kCtDefaultThreshold;
+    }
     return settings;
 }
 

@@ -36,6 +36,9 @@ struct GridBuildSettings {
     /// Value that replaces NaN and Inf samples. Unset: such samples are an error.
     std::optional<float> nanTo;
     std::string modality;  ///< overrides what the file says, when not empty
+    /// Every voxel active, whatever the thresholds: the source as read, for
+    /// comparisons that must count what a threshold would lose.
+    bool keepEveryVoxel = false;
     /// A streamed build reads about this many bytes of samples at a time (at least
     /// one leaf's 8 slices).
     std::uint64_t slabBytes = 64u << 20;

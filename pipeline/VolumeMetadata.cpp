@@ -59,6 +59,7 @@ void writeVolumeMetadata(const VolumeMetadata& m, openvdb::GridBase& grid) {
         grid.insertMeta("gvr_padding_value", openvdb::DoubleMetadata(*m.padding));
         grid.insertMeta("gvr_padding_voxels", openvdb::Int64Metadata(std::int64_t(m.paddingVoxels)));
     }
+    if (m.markedPadding) grid.insertMeta("gvr_marked_padding", openvdb::DoubleMetadata(*m.markedPadding));
     if (m.roundedVoxels > 0) grid.insertMeta("gvr_rounded_voxels", openvdb::Int64Metadata(std::int64_t(m.roundedVoxels)));
     grid.insertMeta("gvr_stored_slope", openvdb::DoubleMetadata(m.storedSlope));
     grid.insertMeta("gvr_stored_intercept", openvdb::DoubleMetadata(m.storedIntercept));
@@ -90,6 +91,7 @@ std::optional<VolumeMetadata> readVolumeMetadata(const openvdb::GridBase& grid) 
     m.thresholdAbove = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_threshold_above");
     m.padding = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_padding_value");
     m.paddingVoxels = std::uint64_t(findMeta<openvdb::Int64Metadata, std::int64_t>(grid, "gvr_padding_voxels").value_or(0));
+    m.markedPadding = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_marked_padding");
     m.roundedVoxels = std::uint64_t(findMeta<openvdb::Int64Metadata, std::int64_t>(grid, "gvr_rounded_voxels").value_or(0));
     m.storedSlope = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_stored_slope").value_or(1.0);
     m.storedIntercept = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_stored_intercept").value_or(0.0);

@@ -36,6 +36,9 @@ struct VolumeMetadata {
     /// outside the reconstruction circle (inactive too, but not averaged into background).
     std::optional<double> padding;
     std::uint64_t paddingVoxels = 0;
+    /// The value the source format marks as no data (DICOM's Pixel Padding Value),
+    /// which comparisons with the source as read leave out.
+    std::optional<double> markedPadding;
     std::optional<double> threshold;   ///< voxels at or below it were deactivated
     std::optional<double> thresholdAbove;  ///< and those at or above this (bright backgrounds)
     /// Voxels whose 32-bit integers the float grid rounded: beyond 2^24, 16777217

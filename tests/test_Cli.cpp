@@ -145,6 +145,26 @@ TEST(Cli, ChestCtKeepsItsLungsByDefaultAndAThresholdThatDeletesThemIsWarnedAbout
     EXPECT_NEAR(metadata["gvr_background"].get<double>(), -1000.0, 30.0);
 }
 
+// A NIfTI reads as a copy of the source: the chest's 21.7 M voxels of air and padding
+// became the grid's background in one without a word.
+TEST(Cli, ANiftiOfAThresholdedGridSaysSo) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string chest = test::sharedData("ct-chest-ricord-512");
+    const test::CommandResult thresholded = test::runGvr("ingest -q '" + chest + "' -o '" + dir.path("a.nii.gz") + "'", dir);
+    ASSERT_EQ(thresholded.exitCode, 0) << thresholded.err;
+    EXPECT_NE(thresholded.err.find("gvr: warning: " + dir.path("a.nii.gz") +
+                                   " holds the ingested grid, not a copy of the source: its 21669383 voxels outside the "
+                                   "threshold hold the grid's background -986.5"),
+              std::string::npos)
+        << thresholded.err;
+    EXPECT_NE(thresholded.err.find("a --threshold below the data's minimum (-3024) keeps every value"), std::string::npos);
+    const test::CommandResult faithful =
+        test::runGvr("ingest -q '" + chest + "' -o '" + dir.path("b.nii.gz") + "' --threshold -5000", dir);
+    ASSERT_EQ(faithful.exitCode, 0) << faithful.err;
+    EXPECT_EQ(faithful.err.find("warning"), std::string::npos) << faithful.err;
+}
+
 TEST(Cli, UnknownFlagsAndBadSpacingAreUsageErrors) {
     test::TempDir dir;
     for (const char* bad : {"--flip x", "--flip i,q", "--threshold 10 --threshold-above 5"}) {

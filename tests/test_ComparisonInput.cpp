@@ -2,13 +2,17 @@
 // single images in OpenImageIO's 0..1 scale, refused when they hold NaN or Inf.
 
 #include "io/ComparisonInput.h"
+#include "io/GridFile.h"
 #include "pipeline/Error.h"
+#include "pipeline/VolumeMetadata.h"
 #include "tests/TestHelpers.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <vector>
 
@@ -83,6 +87,60 @@ TEST(ComparisonInput, AMissingFileIsNamed) {
     const std::string path = dir.path("none.vdb");
     const std::string message = test::errorMessageOf<InputError>([&] { loadComparisonInput(path, {}); });
     EXPECT_NE(message.find(path), std::string::npos) << message;
+}
+
+/// A DICOM series of the chest's first @a slices slices (padding -2000 stored, -3024 HU).
+std::string chestSlices(const test::TempDir& dir, int slices) {
+    const std::string folder = dir.path("chest");
+    std::filesystem::create_directory(folder);
+    for (int s = 1; s <= slices; ++s) {
+        const std::string name = "1-" + std::string(s < 10 ? "00" : "0") + std::to_string(s) + ".dcm";
+        std::filesystem::copy(test::sharedData("ct-chest-ricord-512/" + name), folder + "/" + name);
+    }
+    return folder;
+}
+
+// Compared with its thresholded grid, the chest's fit scored 35.47 dB; with the
+// DICOM as decoded, 14.25 (30.9 over the body's range).
+TEST(ComparisonInput, ASourceIsReadAsItIsWithOnlyItsMarkedPaddingLeftOut) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string folder = chestSlices(dir, 3);
+    const ComparisonInput asRead = loadComparisonInput(folder, IngestOptions{});
+    const IngestResult ingested = ingest(folder, IngestOptions{});
+    const auto metadata = readVolumeMetadata(*ingested.grid);
+    ASSERT_TRUE(metadata && metadata->markedPadding);
+    EXPECT_EQ(*metadata->markedPadding, -3024.0);  // the stored -2000, rescaled by the intercept -1024
+    ASSERT_GT(asRead.excludedVoxels, 0u);
+    std::size_t air = 0, foreground = 0;
+    float lowest = INFINITY, highest = -INFINITY;
+    for (std::size_t n = 0; n < asRead.volume.voxelCount(); ++n) {
+        const float value = asRead.volume.values[n];
+        if (!asRead.excluded[n]) lowest = std::min(lowest, value), highest = std::max(highest, value);
+        EXPECT_EQ(asRead.excluded[n] == 1, value == -3024.0f) << n;
+        EXPECT_NE(value, float(metadata->background)) << "voxel " << n << " holds the grid's background";
+        air += !asRead.excluded[n] && value <= -950.0f;
+        foreground += asRead.volume.foreground[n];
+    }
+    EXPECT_GT(air, 0u);  // air the threshold drops, kept as it is
+    EXPECT_EQ(foreground, ingested.grid->activeVoxelCount());  // what ingest keeps
+    EXPECT_EQ(asRead.foregroundRule, "the voxels ingest keeps (above -950)");
+    EXPECT_EQ(asRead.dataRange, double(highest) - double(lowest));  // over the voxels kept
+    EXPECT_GT(lowest, -3024.0f);
+    EXPECT_NE(asRead.readAs.find(std::to_string(asRead.excludedVoxels) + " voxels at -3024, which the file marks as padding"),
+              std::string::npos)
+        << asRead.readAs;
+}
+
+TEST(ComparisonInput, AGridIsComparedAsStoredAndSaysWhatItsThresholdLeft) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string folder = chestSlices(dir, 2);
+    writeGridFile(dir.path("chest.vdb"), {ingest(folder, IngestOptions{}).grid});
+    const ComparisonInput stored = loadComparisonInput(dir.path("chest.vdb"), IngestOptions{});
+    EXPECT_TRUE(stored.excluded.empty());
+    EXPECT_EQ(stored.readAs.rfind("the grid as stored: voxels at or below its threshold -950 hold its background ", 0), 0u)
+        << stored.readAs;
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -76,6 +77,30 @@ std::string refusal(const Call& call) {
         return error.what();
     }
     return "";
+}
+
+// Voxels a source's format marks as no data count in no measure: a fit's air beside
+// the chest's -3024 HU padding once weighed more than its body.
+TEST(Evaluate, TheVoxelsLeftOutCountInNoMeasure) {
+    ComparisonInput reference = ramp(0.0f);
+    ComparisonInput test = ramp(0.0f);
+    reference.excluded.assign(reference.volume.voxelCount(), 0);
+    for (std::size_t n = 0; n < reference.excluded.size(); n += 3) {
+        reference.excluded[n] = 1;
+        test.volume.values[n] += 5000.0f;  // wrong only where nothing is known
+    }
+    reference.excludedVoxels = std::size_t(std::count(reference.excluded.begin(), reference.excluded.end(), 1));
+    reference.readAs = "the source as read";
+    const EvalResult e = evaluate(reference, test, EvalOptions(), "ref", "test");
+    EXPECT_EQ(e.mse, 0.0);
+    EXPECT_TRUE(std::isinf(e.psnr));
+    EXPECT_NEAR(e.ssim, 1.0, 1e-9);
+    EXPECT_EQ(e.excludedVoxels, reference.excludedVoxels);
+    EXPECT_EQ(evalResultJson(e)["reference_read_as"], "the source as read");
+    EXPECT_EQ(evalResultJson(e)["excluded_voxels"], reference.excludedVoxels);
+    // Elsewhere, every voxel counts.
+    test.volume.values[1] += 10.0f;
+    EXPECT_GT(evaluate(reference, test, EvalOptions(), "ref", "test").mse, 0.0);
 }
 
 TEST(Evaluate, RefusesMismatchesAndAConstantReferenceNamingTheCulprit) {

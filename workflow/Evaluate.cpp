@@ -45,7 +45,8 @@ void matchGeometry(const std::string& testPath, bool resample, const ComparisonI
 }
 
 /// The voxels that count as foreground, and how they were chosen.
-std::vector<std::uint8_t> foregroundMask(const EvalOptions& options, const FloatVolume& ref, std::string& rule) {
+std::vector<std::uint8_t> foregroundMask(const EvalOptions& options, const ComparisonInput& reference, std::string& rule) {
+    const FloatVolume& ref = reference.volume;
     std::vector<std::uint8_t> mask(ref.voxelCount(), 0);
     if (!options.mask.empty()) {
         const ComparisonInput m = loadComparisonInput(options.mask, options.ingest);
@@ -57,7 +58,7 @@ std::vector<std::uint8_t> foregroundMask(const EvalOptions& options, const Float
         return mask;
     }
     if (!options.threshold && !ref.foreground.empty()) {
-        rule = "the reference's active voxels";
+        rule = reference.foregroundRule;
         return ref.foreground;
     }
     const auto key = [&](std::size_t n) {
@@ -137,6 +138,31 @@ void checkDifferenceRequest(const EvalOptions& options, const ComparisonInput& r
     }
 }
 
+/// The voxels every measure counts (1 = counted), or empty for all.
+std::vector<std::uint8_t> keptVoxels(const ComparisonInput& reference) {
+    if (reference.excluded.empty()) return {};
+    std::vector<std::uint8_t> kept(reference.excluded.size());
+    for (std::size_t n = 0; n < kept.size(); ++n) kept[n] = !reference.excluded[n];
+    return kept;
+}
+
+/// SSIM has no mask: the voxels left out get one value in both volumes, the lowest
+/// the reference keeps, so they agree and no step to the padding shows in a window.
+std::pair<FloatVolume, FloatVolume> withExcludedAlike(const ComparisonInput& reference, const FloatVolume& test) {
+    FloatVolume a = reference.volume, b = test;
+    float lowest = INFINITY;
+    for (std::size_t n = 0; n < reference.excluded.size(); ++n) {
+        if (!reference.excluded[n]) lowest = std::min(lowest, *std::min_element(a.values.begin() + n * a.channels,
+                                                                                 a.values.begin() + (n + 1) * a.channels));
+    }
+    for (std::size_t n = 0; n < reference.excluded.size(); ++n) {
+        if (!reference.excluded[n]) continue;
+        std::fill_n(a.values.begin() + n * a.channels, a.channels, lowest);
+        std::fill_n(b.values.begin() + n * b.channels, b.channels, lowest);
+    }
+    return {std::move(a), std::move(b)};
+}
+
 /// The comparison itself; @a labels (may be null) only with options.labels.
 EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const EvalOptions& options,
                    const openvdb::Int32Grid* labels, const std::string& referenceName, const std::string& testName) {
@@ -149,16 +175,30 @@ EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const
         throw InputError(options.peak ? "`peak`" : referenceName,
                          options.peak ? "must be a positive number" : "has no data range (a constant volume); give `peak`");
     }
-    const std::vector<std::uint8_t> mask = foregroundMask(options, reference.volume, e.foregroundRule);
+    std::vector<std::uint8_t> mask = foregroundMask(options, reference, e.foregroundRule);
+    const std::vector<std::uint8_t> kept = keptVoxels(reference);
+    if (!kept.empty()) {
+        for (std::size_t n = 0; n < mask.size(); ++n) mask[n] &= kept[n];
+    }
+    e.excludedVoxels = reference.excludedVoxels;
+    e.referenceReadAs = reference.readAs;
     e.foregroundVoxels = std::size_t(std::count(mask.begin(), mask.end(), 1));
-    e.mse = meanSquaredError(reference.volume, test.volume);
+    e.mse = meanSquaredError(reference.volume, test.volume, kept);
     e.psnr = psnrFromMse(e.mse, e.peak);
     e.foregroundMse = meanSquaredError(reference.volume, test.volume, mask);
     e.foregroundPsnr = e.foregroundVoxels > 0 ? psnrFromMse(e.foregroundMse, e.peak) : NAN;
     SsimSettings ssimSettings;
     ssimSettings.dataRange = e.peak;
-    e.ssim = ssim(reference.volume, test.volume, ssimSettings);
-    e.msSsim = msSsim(reference.volume, test.volume, ssimSettings);
+    const auto measureSsim = [&](const FloatVolume& a, const FloatVolume& b) {
+        e.ssim = ssim(a, b, ssimSettings);
+        e.msSsim = msSsim(a, b, ssimSettings);
+    };
+    if (reference.excluded.empty()) {
+        measureSsim(reference.volume, test.volume);
+    } else {  // copies, only where there is something to set apart
+        const auto [a, b] = withExcludedAlike(reference, test.volume);
+        measureSsim(a, b);
+    }
     if (labels) evaluateStructures(options, *labels, reference.volume, test.volume, e);
     if (renderings) e.rendering = renderingQuality(reference.volume, test.volume);
     if (!options.differenceImage.empty()) {
@@ -213,6 +253,7 @@ nlohmann::json evalResultJson(const EvalResult& e) {
                           {"fg_voxels", e.foregroundVoxels}, {"fg_rule", e.foregroundRule},
                           {"ssim", e.ssim}, {"ms_ssim", e.msSsim.value},
                           {"ms_ssim_scales", e.msSsim.scales}, {"peak", e.peak},
+                          {"reference_read_as", e.referenceReadAs}, {"excluded_voxels", e.excludedVoxels},
                           {"seconds", e.seconds}};
     if (e.rendering) {
         out["rendering"] = {{"psnr", jsonNumber(e.rendering->psnr)},

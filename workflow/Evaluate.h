@@ -52,6 +52,10 @@ struct EvalResult {
     std::size_t foregroundVoxels = 0;
     MsSsim msSsim;
     std::string foregroundRule;  ///< how the foreground was chosen, in words
+    std::string referenceReadAs;  ///< how the reference was read (ComparisonInput::readAs)
+    /// Reference voxels left out of MSE and PSNR, and given the same value in both
+    /// volumes for SSIM: those its format marks as no data.
+    std::size_t excludedVoxels = 0;
     std::vector<StructureQuality> structures;
     LabelTable labelTable;
 };
