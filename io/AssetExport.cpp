@@ -8,11 +8,14 @@
 #include "pipeline/ThresholdCut.h"
 #include "pipeline/VolumeBorder.h"
 
+#include <openvdb/tools/Morphology.h>
 #include <openvdb/tools/Prune.h>
 
 #include <algorithm>
 #include <cmath>
 #include <type_traits>
+#include <utility>
+#include <vector>
 
 namespace gvr {
 
@@ -37,6 +40,34 @@ openvdb::FloatGrid::Ptr derivedDensity(const openvdb::Vec3SGrid& colour, const o
         accessor.setValueOnly(voxel.getCoord(), value);
     }
     return density;
+}
+
+/// Blender and Houdini interpolate colour and density alike: where a structure ends,
+/// the colour fell to the inactive voxels' black as the density fell to zero, so
+/// the light emitted (their product) fell twice as fast, and thin bone came out 27 %
+/// darker in Blender than in gvr render. The colour reaches one voxel further, each
+/// new voxel the mean colour of its active neighbours, where the density stays zero.
+void extendColourOneVoxel(openvdb::Vec3SGrid& colour) {
+    openvdb::MaskGrid reach(false);
+    reach.topologyUnion(colour);
+    openvdb::tools::dilateActiveValues(reach.tree(), 1, openvdb::tools::NN_FACE_EDGE_VERTEX);
+    const auto original = colour.getConstAccessor();
+    std::vector<std::pair<openvdb::Coord, openvdb::Vec3s>> added;
+    for (auto voxel = reach.cbeginValueOn(); voxel; ++voxel) {
+        const openvdb::Coord at = voxel.getCoord();
+        if (original.isValueOn(at)) continue;
+        openvdb::Vec3s sum(0.0f);
+        int count = 0;
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const openvdb::Coord next = at.offsetBy(dx, dy, dz);
+                    if (original.isValueOn(next)) sum += original.getValue(next), ++count;
+                }
+        if (count > 0) added.emplace_back(at, sum / float(count));
+    }
+    auto colours = colour.getAccessor();
+    for (const auto& [at, rgb] : added) colours.setValueOn(at, rgb);
 }
 
 /// The DCC tools' grids on @a values' active voxels: density (the opacity of the
@@ -71,6 +102,7 @@ openvdb::GridPtrVec dccGrids(const GridT& values, const DccStyle& style, GridNam
     }
     openvdb::tools::pruneInactive(density->tree());
     openvdb::tools::pruneInactive(colour->tree());
+    extendColourOneVoxel(*colour);
     openvdb::math::Transform::Ptr metres = values.transform().copy();
     metres->postScale(1e-3);  // Blender and Houdini take one unit as one metre
     density->setTransform(metres);
@@ -89,6 +121,19 @@ void describe(openvdb::GridBase& grid, const GaussianAsset& asset, const ExportR
     metadata.thresholdAbove = result.thresholdAbove;
     writeVolumeMetadata(metadata, grid);
     grid.insertMeta("gvr_exported_from", openvdb::StringMetadata(assetPath));
+}
+
+/// What a DCC user needs to set up a material by hand: a naive import showed
+/// nothing, since density 0..1 a voxel is far too thin per metre, and a 0.36 m
+/// chest was a speck in a scene built for 2 m objects.
+void describeForDcc(openvdb::GridBase& grid, const Lattice& lattice) {
+    const openvdb::Vec3d spacingM = axisSpacing(lattice.worldFromIndex) * 1e-3;
+    const openvdb::Vec3d extentM = spacingM * lattice.box.dim().asVec3d();
+    const double voxelM = std::min({spacingM[0], spacingM[1], spacingM[2]});
+    grid.insertMeta("gvr_units", openvdb::StringMetadata(kDccUnits));
+    // Extinction per metre = -ln(1 - density) * this; about density * this where thin.
+    grid.insertMeta("gvr_density_scale", openvdb::DoubleMetadata(1.0 / voxelM));
+    grid.insertMeta("gvr_object_size_m", openvdb::DoubleMetadata(std::max({extentM[0], extentM[1], extentM[2]})));
 }
 
 }  // namespace
@@ -131,7 +176,7 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     for (auto& grid : result.grids) {
         if (grid->getName() == "density") grid->setGridClass(openvdb::GRID_FOG_VOLUME);
         describe(*grid, asset, result, settings.assetPath);
-        if (settings.dcc) grid->insertMeta("gvr_units", openvdb::StringMetadata(kDccUnits));
+        if (settings.dcc) describeForDcc(*grid, result.lattice);
     }
     return result;
 }

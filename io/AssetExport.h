@@ -21,7 +21,8 @@ enum class GridNaming { Blender, Houdini };
 /// luminance for RGB), colour in 0..1 (the transfer function's for grey data, the
 /// data's times colourScale for RGB), and the world in metres.
 /// The gvr_units metadata of a DCC export's grids, whose world unit is the metre
-/// where gvr's is the millimetre.
+/// where gvr's is the millimetre. They also carry gvr_density_scale (per metre: the
+/// extinction is -ln(1 - density) times it) and gvr_object_size_m (the longest side).
 inline constexpr const char* kDccUnits = "metres; density and colour 0..1";
 
 struct DccStyle {

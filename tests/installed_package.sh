@@ -20,4 +20,6 @@ for output in minimal.gvr minimal.vdb minimal.png; do
   test -s "$work/$output" || { echo "installed_package: no $output" >&2; exit 1; }
 done
 "$work/prefix/bin/gvr" info "$work/minimal.gvr" > /dev/null
+# Blender's script for `gvr export --dcc`, where the docs say it is.
+test -s "$work/prefix/share/gvr/blender/render.py" || { echo "installed_package: no share/gvr/blender/render.py" >&2; exit 1; }
 echo "installed_package: built and ran examples/minimal.cpp against $work/prefix"

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nifti2_io.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace gvr {
@@ -79,6 +80,13 @@ TEST(AssetExport, DccStyleGivesOpacityAndColourInMetres) {
     }
     EXPECT_GT(checked, 0u);
     EXPECT_LT(density->activeVoxelCount(), physical.grids[0]->activeVoxelCount());  // values below -500 are transparent
+    // What a material needs, for a user who sets it up by hand.
+    const openvdb::Vec3d spacingM = axisSpacing(asset.worldFromIndex) * 1e-3;
+    const openvdb::Vec3d extentM = spacingM * openvdb::Vec3d(asset.source.dims);
+    for (const auto& grid : result.grids) {
+        EXPECT_DOUBLE_EQ(grid->metaValue<double>("gvr_density_scale"), 1.0 / std::min({spacingM[0], spacingM[1], spacingM[2]}));
+        EXPECT_DOUBLE_EQ(grid->metaValue<double>("gvr_object_size_m"), std::max({extentM[0], extentM[1], extentM[2]}));
+    }
 }
 
 /// A cryosection in miniature: bright paper everywhere, a dark specimen in the middle.
