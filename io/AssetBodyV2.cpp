@@ -3,6 +3,7 @@
 #include "io/ByteOrder.h"
 #include "io/Quantisation.h"
 #include "pipeline/GaussianKernel.h"
+#include "pipeline/MortonCode.h"
 
 #include <tbb/parallel_for.h>
 #include <zstd.h>
@@ -17,27 +18,6 @@ namespace gvr {
 namespace {
 
 constexpr int kMaxMeanBits = 21;  // three axes interleave into one 63-bit Morton code
-
-/// Spreads the low 21 bits of @a v two bits apart, for interleaving.
-std::uint64_t spreadBits(std::uint64_t v) {
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffULL;
-    v = (v | v << 16) & 0x1f0000ff0000ffULL;
-    v = (v | v << 8) & 0x100f00f00f00f00fULL;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-    v = (v | v << 2) & 0x1249249249249249ULL;
-    return v;
-}
-
-std::uint64_t compactBits(std::uint64_t v) {
-    v &= 0x1249249249249249ULL;
-    v = (v ^ (v >> 2)) & 0x10c30c30c30c30c3ULL;
-    v = (v ^ (v >> 4)) & 0x100f00f00f00f00fULL;
-    v = (v ^ (v >> 8)) & 0x1f0000ff0000ffULL;
-    v = (v ^ (v >> 16)) & 0x1f00000000ffffULL;
-    v = (v ^ (v >> 32)) & 0x1fffff;
-    return v;
-}
 
 /// Integers of one attribute component, with their width in bits.
 struct Stream {

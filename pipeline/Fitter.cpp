@@ -5,6 +5,7 @@
 #include "pipeline/Error.h"
 #include "pipeline/FieldAccuracy.h"
 #include "pipeline/Loss.h"
+#include "pipeline/MortonCode.h"
 #include "pipeline/ProcessMemory.h"
 #include "pipeline/Pruning.h"
 #include "pipeline/SliceSampler.h"
@@ -66,16 +67,6 @@ SampleSet sliceSampleSet(const VolumeTarget& target, std::size_t pixels, std::ui
 std::vector<openvdb::Coord> heldOutVoxels(const VolumeTarget& target, std::size_t count, std::uint64_t seed) {
     count = std::min<std::size_t>(count, std::size_t(target.box().volume() / 10));
     return drawUniformVoxels(target.box(), count, seed);
-}
-
-/// Interleaves the bits of x, y and z (21 each): a Morton code.
-std::uint64_t mortonCode(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-    std::uint64_t code = 0;
-    for (int bit = 0; bit < 21; ++bit) {
-        code |= (std::uint64_t(x >> bit & 1u) << (3 * bit)) | (std::uint64_t(y >> bit & 1u) << (3 * bit + 1)) |
-                (std::uint64_t(z >> bit & 1u) << (3 * bit + 2));
-    }
-    return code;
 }
 
 /// The Gaussians in Morton order of their means (to the voxel), ties in index order:
