@@ -3,6 +3,7 @@
 /// time: what export (onto grids) and the renderer (onto slice stacks) share.
 #pragma once
 
+#include "pipeline/Block.h"
 #include "pipeline/GaussianField.h"
 
 #include <openvdb/openvdb.h>
@@ -34,10 +35,6 @@ Lattice resizedLattice(const openvdb::math::Mat4d& worldFromIndex, const openvdb
 double voxelSizeForResolution(const openvdb::math::Mat4d& worldFromIndex, const openvdb::Vec3i& dims,
                               int samples);
 
-/// Blocks are 8^3 voxels, aligned like OpenVDB leaf nodes, with the same voxel order.
-constexpr int kBlockDim = 8;
-constexpr int kBlockVoxels = kBlockDim * kBlockDim * kBlockDim;
-
 /// Origins of every block that overlaps @a box, in z, y, x order.
 std::vector<openvdb::Coord> blockOrigins(const openvdb::CoordBBox& box);
 
@@ -45,11 +42,6 @@ std::vector<openvdb::Coord> blockOrigins(const openvdb::CoordBBox& box);
 /// lies inside @a cells.
 bool allVoxelsInside(const openvdb::CoordBBox& voxels, const openvdb::math::Mat4d& cellsFromVoxels,
                      const openvdb::BBoxd& cells);
-
-/// Offset of @a ijk inside its block: z fastest, as openvdb::tree::LeafNode numbers voxels.
-inline int blockOffset(const openvdb::Coord& ijk) {
-    return ((ijk.x() & (kBlockDim - 1)) * kBlockDim + (ijk.y() & (kBlockDim - 1))) * kBlockDim + (ijk.z() & (kBlockDim - 1));
-}
 
 /// One Gaussian's q = (x - mean)^T Sigma^-1 (x - mean) over one block, as a quadratic
 /// in r, a position relative to the block's origin: q = h + 2 gLin.r + r^T G r. The

@@ -75,8 +75,8 @@ std::uint64_t activeVoxelsIn(const TreeT& tree, const openvdb::CoordBBox& region
 
 /// The active flags of one leaf-sized block of @a tree.
 template <typename TreeT>
-std::bitset<512> blockActiveOf(const TreeT& tree, const openvdb::Coord& origin) {
-    std::bitset<512> active;
+std::bitset<kBlockVoxels> blockActiveOf(const TreeT& tree, const openvdb::Coord& origin) {
+    std::bitset<kBlockVoxels> active;
     if (const auto* leaf = tree.probeConstLeaf(origin)) {
         for (auto on = leaf->getValueMask().beginOn(); on; ++on) active.set(on.pos());
     } else if (tree.isValueOn(origin)) {  // an active tile covers the whole block
@@ -196,8 +196,8 @@ void VolumeTarget::blockValues(const openvdb::Coord& origin, float* out) const {
         });
     }
     if (!mTaper) return;
-    for (int offset = 0; offset < 512; ++offset) {
-        const openvdb::Coord ijk = origin.offsetBy(offset >> 6, (offset >> 3) & 7, offset & 7);
+    for (int offset = 0; offset < kBlockVoxels; ++offset) {
+        const openvdb::Coord ijk = blockVoxel(origin, offset);
         applyTaper(ijk, out + offset * mChannels);
     }
 }
@@ -207,7 +207,7 @@ void VolumeTarget::applyTaper(const openvdb::Coord& ijk, float* out) const {
     for (int c = 0; c < mChannels; ++c) out[c] *= weight;
 }
 
-std::bitset<512> VolumeTarget::blockActive(const openvdb::Coord& origin) const {
+std::bitset<kBlockVoxels> VolumeTarget::blockActive(const openvdb::Coord& origin) const {
     return mFloat ? blockActiveOf(mFloat->tree(), origin) : blockActiveOf(mColour->tree(), origin);
 }
 
@@ -268,23 +268,19 @@ float VolumeTarget::gradientMagnitude(const openvdb::Coord& ijk) const {
 }
 
 void VolumeTarget::blockGradientMagnitudes(const openvdb::Coord& origin, float* out) const {
-    constexpr int kDim = 8;
-    float values[kDim * kDim * kDim * 3];
+    float values[kBlockVoxels * 3];
     blockValues(origin, values);
+    const openvdb::CoordBBox block(origin, origin.offsetBy(kBlockDim - 1));
     const auto gradients = [&](const auto& accessor) {
         const auto scalarOf = [&](const float* v) { return mChannels == 1 ? v[0] : float(luminance(v)); };
         const auto scalar = [&](const openvdb::Coord& at) {
-            const openvdb::Coord local = at - origin;
-            if (local.x() >= 0 && local.y() >= 0 && local.z() >= 0 && local.x() < kDim && local.y() < kDim &&
-                local.z() < kDim) {
-                return scalarOf(values + ((local.x() * kDim + local.y()) * kDim + local.z()) * mChannels);
-            }
+            if (block.isInside(at)) return scalarOf(values + blockOffset(at - origin) * mChannels);
             float v[3];
             normalisedValue(accessor, at, v);
             return scalarOf(v);
         };
-        for (int offset = 0; offset < kDim * kDim * kDim; ++offset) {
-            out[offset] = centralGradientMagnitude(origin.offsetBy(offset >> 6, (offset >> 3) & 7, offset & 7), scalar);
+        for (int offset = 0; offset < kBlockVoxels; ++offset) {
+            out[offset] = centralGradientMagnitude(blockVoxel(origin, offset), scalar);
         }
     };
     if (mFloat) {

@@ -2,6 +2,7 @@
 /// @brief The volume a fit approximates, read from an ingested grid in normalised units.
 #pragma once
 
+#include "pipeline/Block.h"
 #include "pipeline/Taper.h"
 #include "pipeline/ValueMapping.h"
 
@@ -43,7 +44,7 @@ public:
     void blockValues(const openvdb::Coord& origin, float* out) const;
     bool isActive(const openvdb::Coord& ijk) const;
     /// isActive() for every voxel of the block at @a origin, at blockOffset().
-    std::bitset<512> blockActive(const openvdb::Coord& origin) const;
+    std::bitset<kBlockVoxels> blockActive(const openvdb::Coord& origin) const;
     /// Trilinear interpolation between voxel centres at index-space point @a x.
     void trilinearAt(const float x[3], float* out) const;
 
