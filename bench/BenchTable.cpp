@@ -58,12 +58,6 @@ std::string csvLine(const BenchRow& row) {
     return line + "\n";
 }
 
-std::string csvHeader() {
-    std::string line;
-    for (const std::string& column : benchColumns()) line += (line.empty() ? "" : ",") + column;
-    return line + "\n";
-}
-
 /// One CSV record (RFC 4180 quoting; cells never hold newlines, set() removes them).
 std::vector<std::string> splitCsv(const std::string& line) {
     std::vector<std::string> cells(1);
@@ -151,6 +145,12 @@ std::vector<std::string> BenchRow::list(const std::string& column) const {
     return items;
 }
 
+std::string resultsCsvHeader() {
+    std::string line;
+    for (const std::string& column : benchColumns()) line += (line.empty() ? "" : ",") + column;
+    return line + "\n";
+}
+
 std::string benchRowKey(const std::string& volume, const std::string& ratio, const std::string& method) {
     return volume + "|" + ratio + "|" + method;
 }
@@ -201,7 +201,7 @@ std::vector<BenchRow> readResultsCsv(const std::string& path, std::size_t* tornB
     text.resize(complete);
     std::istringstream lines(text);
     std::string line;
-    if (!std::getline(lines, line) || line + "\n" != csvHeader()) {
+    if (!std::getline(lines, line) || line + "\n" != resultsCsvHeader()) {
         throw InputError(path, "is not a gvr bench results.csv (its header differs)");
     }
     std::vector<BenchRow> rows;
@@ -267,7 +267,7 @@ void writeResultsJson(const std::string& path, const ManifestRecord& manifest, c
 }
 
 void writeResultsCsv(const std::string& path, const std::vector<BenchRow>& rows) {
-    std::string text = csvHeader();
+    std::string text = resultsCsvHeader();
     for (const BenchRow& row : rows) text += csvLine(row);
     writeText(path, text);
 }

@@ -18,6 +18,9 @@ namespace gvr {
 /// The columns of results.csv, in order (see BenchCommand.cpp for their meaning).
 const std::vector<std::string>& benchColumns();
 
+/// The first line of results.csv: the columns, comma-separated, with its newline.
+std::string resultsCsvHeader();
+
 /// volume|ratio|method: what --resume and --merge match rows by.
 std::string benchRowKey(const std::string& volume, const std::string& ratio, const std::string& method);
 

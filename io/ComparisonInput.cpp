@@ -61,12 +61,6 @@ std::string formatNumber(double value) {
     return text.str();
 }
 
-/// A voxel's key: its value, or its luminance for RGB.
-double keyAt(const FloatVolume& volume, std::size_t n) {
-    const float* v = volume.values.data() + n * std::size_t(volume.channels);
-    return volume.channels >= 3 ? luminance(v) : double(v[0]);
-}
-
 /// The voxels at the format's padding value left out, the foreground set to what
 /// ingest would keep, and the data range taken over the voxels kept.
 void setApartPaddingAndBackground(ComparisonInput& input, const VolumeMetadata& metadata) {
@@ -77,7 +71,7 @@ void setApartPaddingAndBackground(ComparisonInput& input, const VolumeMetadata& 
     if (metadata.markedPadding) input.excluded.assign(voxels, 0);
     double lo = INFINITY, hi = -INFINITY;
     for (std::size_t n = 0; n < voxels; ++n) {
-        const double key = keyAt(volume, n);
+        const double key = sampleKey(volume.values.data() + n * std::size_t(volume.channels), volume.channels);
         if (metadata.markedPadding && key == *metadata.markedPadding) {
             input.excluded[n] = 1;
             ++input.excludedVoxels;

@@ -61,10 +61,7 @@ std::vector<std::uint8_t> foregroundMask(const EvalOptions& options, const Compa
         rule = reference.foregroundRule;
         return ref.foreground;
     }
-    const auto key = [&](std::size_t n) {
-        const float* v = ref.values.data() + n * ref.channels;
-        return ref.channels >= 3 ? luminance(v) : double(v[0]);
-    };
+    const auto key = [&](std::size_t n) { return sampleKey(ref.values.data() + n * ref.channels, ref.channels); };
     double cut = 0.0;
     if (options.threshold) {
         if (std::isnan(*options.threshold)) throw InputError("`threshold`", "must be a number, not NaN");

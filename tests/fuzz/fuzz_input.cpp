@@ -144,9 +144,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     } else if (std::string(GVR_FUZZ_FORMAT) == "results" && size > 0 && data[0] % 4 != 0) {
         // Most inputs are rows under the header a bench writes, so that the fuzzer
         // reaches the rows' checks; the rest are whole files, headers included.
-        std::string header;
-        for (const std::string& column : gvr::benchColumns()) header += (header.empty() ? "" : ",") + column;
-        const std::string bytes = header + "\n" + std::string(reinterpret_cast<const char*>(data) + 1, size - 1);
+        const std::string bytes = gvr::resultsCsvHeader() + std::string(reinterpret_cast<const char*>(data) + 1, size - 1);
         writeFile(path, reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
     } else {
         writeFile(path, data, size);
