@@ -2,7 +2,8 @@
 
 Usage: blender_silhouettes.py GVR_EXECUTABLE SHARED_DATA_DIR WORK_DIR [IMAGE_DIR]
 Runs with Debian's /usr/bin/python3 (numpy, PIL) and /usr/bin/blender (3.4, Cycles
-CPU). For the chest CT (HU, its default ct preset) and ch2 (MRI, mri preset): ingest,
+CPU). For the chest CT (HU, its default ct preset), ch2 (MRI, mri preset) and the
+brainmaps54 cryosection (colour, rgb preset): ingest,
 a small fit, `gvr export --dcc`, then examples/blender/render.py with the framing of
 `gvr info --json` of the export, against `gvr render` of the asset at the same
 azimuth, elevation and size. The silhouettes (alpha at least 0.3) must overlap with
@@ -83,6 +84,17 @@ def compare(gvr, name, source, ingest_flags, fit_flags, export_flags, scratch, s
         side_by_side(blender_png, gvr_png, os.path.join(image_dir, name + "-blender-vs-gvr.png"))
 
 
+def refuses_a_millimetre_export(gvr, scratch):
+    """A plain export (millimetres, physical density) rendered as a fog box filling the frame."""
+    plain, png = os.path.join(scratch, "ch2-plain.vdb"), os.path.join(scratch, "ch2-plain.png")
+    run([gvr, "export", "-q", os.path.join(scratch, "ch2.gvr"), "-o", plain])
+    done = subprocess.run([BLENDER, "-b", "--factory-startup", "--python-exit-code", "1", "-P", SCRIPT, "--",
+                           plain, png, "--size", "16", "--samples", "1"], capture_output=True, text=True)
+    check("render.py refuses an export without --dcc, naming the flag",
+          done.returncode != 0 and "gvr export --dcc" in done.stdout + done.stderr and not os.path.exists(png),
+          f"exit {done.returncode}")
+
+
 def quick_fit(gaussians, iterations):
     return ["--gaussians", gaussians, "--iterations", iterations, "--solve-iterations", "0", "--seed", "1"]
 
@@ -91,6 +103,7 @@ def both_volumes(gvr, shared, scratch):
     image_dir = os.path.abspath(sys.argv[4]) if len(sys.argv) > 4 else None
     ch2 = os.path.join(shared, "mri-colin27-aal", "ch2.nii.gz")
     chest = os.path.join(shared, "ct-chest-ricord-512")
+    brainmaps = os.path.join(shared, "rgb-brainmaps54-cryosection")
     if not image_dir:
         compare(gvr, "ch2", ch2, [], quick_fit("3000", "60"), [], scratch, "64", None)
         compare(gvr, "chest", chest, ["--threshold", "-500"], quick_fit("6000", "40"), ["--resolution", "128"],
@@ -98,6 +111,9 @@ def both_volumes(gvr, shared, scratch):
         # Bone is thin: at 128 voxels across, the export lost a third of its silhouette.
         compare(gvr, "chest-bone", chest, ["--threshold", "-500"], quick_fit("6000", "40"), ["--resolution", "256"],
                 scratch, "64", None, tf=("--tf", "ct-bone"))
+        # Its blue embedding medium once exported as a fog box around the section (alpha 0.68).
+        compare(gvr, "brainmaps54", brainmaps, [], quick_fit("4000", "40"), [], scratch, "64", None)
+        refuses_a_millimetre_export(gvr, scratch)
         return
     minute = ["--ratio", "20", "--time", "60", "--seed", "1"]
     compare(gvr, "ch2", ch2, [], minute, [], scratch, "256", image_dir, samples="64")

@@ -25,6 +25,8 @@ import sys
 import bpy
 from mathutils import Matrix, Vector
 
+MAX_DCC_VOXEL_M = 0.05  # no scanner's voxel is 5 cm; a millimetre export's are 1000 times a DCC one's
+
 
 def arguments():
     parser = argparse.ArgumentParser(prog="render.py", description=__doc__.split("\n\n")[0])
@@ -48,6 +50,11 @@ def import_volume(path):
     names = [grid.name for grid in volume.data.grids]
     if "density" not in names:
         raise SystemExit(f"{path}: no 'density' grid (grids: {names}); export with gvr export --dcc")
+    # A plain export is in millimetres, its density the physical value: a scan
+    # hundreds of metres across, drawn as a fog box around the camera.
+    if voxel_size(volume) > MAX_DCC_VOXEL_M:
+        raise SystemExit(f"{path}: voxels of {voxel_size(volume):g} units, so not a --dcc export (one unit a metre); "
+                         "export with gvr export --dcc")
     return volume
 
 
