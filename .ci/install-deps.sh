@@ -74,6 +74,8 @@ packages=(
   python3-matplotlib
   python3-pytest
   blender
+  # bench/vtk_render.py: VTK's CPU ray caster, what 3D Slicer and ParaView fall back to without a GPU.
+  python3-vtk9
   # gvr view's test drives the window on a virtual display.
   xvfb
   xauth
