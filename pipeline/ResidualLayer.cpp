@@ -1,0 +1,320 @@
+#include "pipeline/ResidualLayer.h"
+
+#include "pipeline/Block.h"
+#include "pipeline/Error.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace gvr {
+
+namespace {
+
+constexpr double kMaxSampleMagnitude = 2147483647.0;  // |k| of an integer domain
+constexpr double kMaxPrediction = 1e15;                // integers stay exact in a double well past this
+
+/// The slices [begin, end) of one slab and the volume's shape.
+struct Slab {
+    int nx, ny, begin, end;
+    std::size_t voxels() const { return std::size_t(nx) * ny * (end - begin); }
+    std::size_t local(int i, int j, int k) const { return (std::size_t(k - begin) * ny + j) * nx + i; }
+};
+
+int slabCount(const openvdb::Coord& dims) { return (dims.z() + kResidualSlabSlices - 1) / kResidualSlabSlices; }
+
+Slab slabOf(const openvdb::Coord& dims, int s) {
+    return {dims.x(), dims.y(), s * kResidualSlabSlices, std::min(dims.z(), (s + 1) * kResidualSlabSlices)};
+}
+
+openvdb::Coord blocksOf(const openvdb::Coord& dims) {
+    return {(dims.x() + kBlockDim - 1) / kBlockDim, (dims.y() + kBlockDim - 1) / kBlockDim,
+            (dims.z() + kBlockDim - 1) / kBlockDim};
+}
+
+std::size_t blockIndex(const openvdb::Coord& blocks, int i, int j, int k, int channels, int c) {
+    const std::size_t block =
+        (std::size_t(k / kBlockDim) * blocks.y() + j / kBlockDim) * blocks.x() + i / kBlockDim;
+    return block * channels + c;
+}
+
+/// Lorenzo's rule: the value at (i, j, k) from the seven voxels before it, each
+/// missing one (before the volume or the slab) taken as zero, which leaves the rule
+/// of the plane or the line there.
+template <typename ValueAt>
+double lorenzo(const Slab& slab, int i, int j, int k, ValueAt at) {
+    const bool x = i > 0, y = j > 0, z = k > slab.begin;
+    double p = 0.0;
+    if (x) p += at(slab.local(i - 1, j, k));
+    if (y) p += at(slab.local(i, j - 1, k));
+    if (z) p += at(slab.local(i, j, k - 1));
+    if (x && y) p -= at(slab.local(i - 1, j - 1, k));
+    if (x && z) p -= at(slab.local(i - 1, j, k - 1));
+    if (y && z) p -= at(slab.local(i, j - 1, k - 1));
+    if (x && y && z) p += at(slab.local(i - 1, j - 1, k - 1));
+    return p;
+}
+
+/// The numbers the encoder and the decoder both compute with.
+class DomainArithmetic {
+public:
+    DomainArithmetic(const ResidualDomain& domain, double bound, double step)
+        : mDomain(domain), mBound(bound), mStep(step), mHalf(std::floor(step / 2.0)) {}
+
+    double toDomain(float value) const {
+        return mDomain.integers ? std::round((double(value) - mDomain.intercept) / mDomain.slope) : double(value);
+    }
+    float toValue(double domainValue) const {
+        return float(mDomain.integers ? mDomain.intercept + mDomain.slope * domainValue : domainValue);
+    }
+    /// The prediction as the quantiser takes it: a whole sample in an integer domain.
+    /// @return false where none is usable (non-finite, or past exact integers).
+    bool usable(double& prediction) const {
+        if (!(std::abs(prediction) <= kMaxPrediction)) return false;
+        if (mDomain.integers) prediction = std::round(prediction);
+        return true;
+    }
+    /// The code of @a target against @a prediction, or kResidualExact when its
+    /// reconstruction would be past the bound from @a value (after rounding to float).
+    std::int32_t code(double target, double prediction, float value) const {
+        const double q = mDomain.integers ? std::floor((target - prediction + mHalf) / mStep)
+                                          : std::round((double(value) - prediction) / mStep);
+        if (!(std::abs(q) <= kMaxResidualCode)) return kResidualExact;
+        const double reconstructed = prediction + q * mStep;
+        if (!(std::abs(double(toValue(reconstructed)) - double(value)) <= mBound)) return kResidualExact;
+        return std::int32_t(q);
+    }
+    /// The decoded domain value of @a code over @a prediction, as the Lorenzo rule reads it.
+    double decoded(double prediction, std::int32_t code) const {
+        const double reconstructed = prediction + double(code) * mStep;
+        return mDomain.integers ? reconstructed : double(toValue(reconstructed));
+    }
+
+private:
+    ResidualDomain mDomain;
+    double mBound, mStep, mHalf;
+};
+
+/// The bits a residual of @a r costs, about: the width of its quantised magnitude.
+int costBits(double r, double step) {
+    const double q = std::min(std::abs(r) / step + 0.5, 1e18);
+    const auto n = std::uint64_t(q);
+    return n == 0 ? 0 : 2 + int(64 - __builtin_clzll(n));
+}
+
+/// One channel of one slab, in the domain: the Gaussians' prediction G, and the
+/// values D that Lorenzo's rule reads (the source's for choosing, the decoded ones for coding).
+struct SlabChannel {
+    std::vector<double> gaussian, values;
+};
+
+/// The prediction of (i, j, k) by @a predictor, from part's G and D.
+double predict(ResidualPredictor predictor, const Slab& slab, const SlabChannel& part, int i, int j, int k) {
+    const std::size_t at = slab.local(i, j, k);
+    switch (predictor) {
+        case ResidualPredictor::gaussians: return part.gaussian[at];
+        case ResidualPredictor::neighbours:
+            return lorenzo(slab, i, j, k, [&](std::size_t n) { return part.values[n]; });
+        case ResidualPredictor::both:
+            return part.gaussian[at] +
+                   lorenzo(slab, i, j, k, [&](std::size_t n) { return part.values[n] - part.gaussian[n]; });
+    }
+    return 0.0;
+}
+
+}  // namespace
+
+double ResidualLayer::step() const {
+    return domain.integers ? 2.0 * std::floor(bound / std::abs(domain.slope)) + 1.0 : 2.0 * bound;
+}
+
+ResidualDomain residualDomainOf(const FloatVolume& source, double slope, double intercept) {
+    ResidualDomain domain{true, slope, intercept};
+    if (!(slope != 0.0) || !std::isfinite(slope) || !std::isfinite(intercept)) return {false, 1.0, 0.0};
+    for (const float value : source.values) {
+        const double k = std::round((double(value) - intercept) / slope);
+        if (!(std::abs(k) <= kMaxSampleMagnitude) || float(intercept + slope * k) != value) return {false, 1.0, 0.0};
+    }
+    return domain;
+}
+
+namespace {
+
+void checkBound(double bound, const ResidualDomain& domain) {
+    if (std::isnan(bound) || bound < 0.0 || std::isinf(bound)) {
+        throw InputError("`max_error`", "must be a finite number of the source's units, at least 0; got " +
+                                            std::to_string(bound));
+    }
+    if (bound == 0.0 && !domain.integers) {
+        throw InputError("`max_error`", "0 asks for a lossless copy, which float data has no path to "
+                                        "(its values are not whole stored samples); give a bound above 0");
+    }
+}
+
+void checkSameShape(const FloatVolume& a, const FloatVolume& b) {
+    if (a.dims != b.dims || a.channels != b.channels || a.values.size() != b.values.size()) {
+        throw std::invalid_argument("a residual layer needs the source and its prediction on one lattice");
+    }
+}
+
+/// Converts the prediction's values into @a part's G, in the domain (unrounded).
+void fillGaussian(SlabChannel& part, const FloatVolume& prediction, const Slab& slab, int c,
+                  const ResidualDomain& domain) {
+    const std::size_t first = std::size_t(slab.begin) * slab.nx * slab.ny;
+    part.gaussian.resize(slab.voxels());
+    part.values.assign(slab.voxels(), 0.0);
+    for (std::size_t v = 0; v < slab.voxels(); ++v) {
+        const double g = prediction.values[(first + v) * prediction.channels + c];
+        part.gaussian[v] = domain.integers ? (g - domain.intercept) / domain.slope : g;
+    }
+}
+
+/// Each block's predictor for channel @a c of @a slab: the one whose residuals
+/// from the source's own neighbours cost the fewest bits.
+void choosePredictors(ResidualLayer& layer, const FloatVolume& source, const Slab& slab, int c,
+                      SlabChannel& part, const DomainArithmetic& math) {
+    const std::size_t first = std::size_t(slab.begin) * slab.nx * slab.ny;
+    for (std::size_t v = 0; v < slab.voxels(); ++v) {
+        part.values[v] = math.toDomain(source.values[(first + v) * source.channels + c]);
+    }
+    const openvdb::Coord blocks = blocksOf(layer.dims);
+    std::vector<std::array<std::uint64_t, kResidualPredictors>> cost(
+        std::size_t(blocks.x()) * blocks.y() * ((slab.end - slab.begin + kBlockDim - 1) / kBlockDim), {0, 0, 0});
+    const double step = layer.step();
+    for (int k = slab.begin; k < slab.end; ++k) {
+        for (int j = 0; j < slab.ny; ++j) {
+            for (int i = 0; i < slab.nx; ++i) {
+                const double target = part.values[slab.local(i, j, k)];
+                const std::size_t block =
+                    (std::size_t((k - slab.begin) / kBlockDim) * blocks.y() + j / kBlockDim) * blocks.x() + i / kBlockDim;
+                for (int p = 0; p < kResidualPredictors; ++p) {
+                    const double prediction = predict(ResidualPredictor(p), slab, part, i, j, k);
+                    cost[block][p] += std::isfinite(prediction) ? costBits(target - prediction, step) : 64;
+                }
+            }
+        }
+    }
+    const std::size_t firstBlock = std::size_t(slab.begin / kBlockDim) * blocks.x() * blocks.y();
+    for (std::size_t b = 0; b < cost.size(); ++b) {
+        const auto best = std::min_element(cost[b].begin(), cost[b].end()) - cost[b].begin();
+        layer.predictors[(firstBlock + b) * layer.channels + c] = ResidualPredictor(best);
+    }
+}
+
+/// Codes channel @a c of @a slab with the chosen predictors; part.values becomes the decoded values.
+void codeSlab(ResidualLayer& layer, const FloatVolume& source, const Slab& slab, int c, SlabChannel& part,
+              const DomainArithmetic& math, std::vector<double>& exact) {
+    const openvdb::Coord blocks = blocksOf(layer.dims);
+    for (int k = slab.begin; k < slab.end; ++k) {
+        for (int j = 0; j < slab.ny; ++j) {
+            for (int i = 0; i < slab.nx; ++i) {
+                const std::size_t voxel = source.indexOf(i, j, k);
+                const float value = source.values[voxel * source.channels + c];
+                const double target = math.toDomain(value);
+                const auto predictor = layer.predictors[blockIndex(blocks, i, j, k, layer.channels, c)];
+                double prediction = predict(predictor, slab, part, i, j, k);
+                std::int32_t& code = layer.codes[voxel * layer.channels + c];
+                code = math.usable(prediction) ? math.code(target, prediction, value) : kResidualExact;
+                if (code == kResidualExact) exact.push_back(target);
+                part.values[slab.local(i, j, k)] = code == kResidualExact ? target : math.decoded(prediction, code);
+            }
+        }
+    }
+}
+
+}  // namespace
+
+ResidualLayer encodeResidualLayer(const FloatVolume& source, const FloatVolume& prediction, double bound,
+                                  const ResidualDomain& domain) {
+    checkSameShape(source, prediction);
+    checkBound(bound, domain);
+    ResidualLayer layer;
+    layer.bound = bound;
+    layer.domain = domain;
+    layer.dims = source.dims;
+    layer.channels = source.channels;
+    const openvdb::Coord blocks = blocksOf(source.dims);
+    layer.predictors.assign(std::size_t(blocks.x()) * blocks.y() * blocks.z() * source.channels,
+                            ResidualPredictor::gaussians);
+    layer.codes.assign(source.values.size(), 0);
+    const DomainArithmetic math(domain, bound, layer.step());
+    const int slabs = slabCount(source.dims);
+    std::vector<std::vector<double>> exact(std::size_t(slabs) * source.channels);
+    tbb::parallel_for(0, slabs, [&](int s) {
+        const Slab slab = slabOf(source.dims, s);
+        for (int c = 0; c < source.channels; ++c) {
+            SlabChannel part;
+            fillGaussian(part, prediction, slab, c, domain);
+            choosePredictors(layer, source, slab, c, part, math);
+            codeSlab(layer, source, slab, c, part, math, exact[std::size_t(s) * source.channels + c]);
+        }
+    });
+    for (const auto& values : exact) layer.exact.insert(layer.exact.end(), values.begin(), values.end());
+    return layer;
+}
+
+FloatVolume decodeResidualLayer(const ResidualLayer& layer, const FloatVolume& prediction) {
+    if (prediction.dims != layer.dims || prediction.channels != layer.channels ||
+        layer.codes.size() != prediction.values.size()) {
+        throw std::runtime_error("the residual layer is not of the asset's source lattice");
+    }
+    const openvdb::Coord blocks = blocksOf(layer.dims);
+    const DomainArithmetic math(layer.domain, layer.bound, layer.step());
+    const int slabs = slabCount(layer.dims);
+    // Where each slab's exact values begin: they are stored slab by slab.
+    std::vector<std::size_t> firstExact(std::size_t(slabs) + 1, 0);
+    const std::size_t slice = std::size_t(layer.dims.x()) * layer.dims.y() * layer.channels;
+    for (int s = 0; s < slabs; ++s) {
+        const Slab slab = slabOf(layer.dims, s);
+        const auto begin = layer.codes.begin() + std::ptrdiff_t(slice * slab.begin);
+        firstExact[s + 1] = firstExact[s] + std::size_t(std::count(begin, begin + std::ptrdiff_t(slice * (slab.end - slab.begin)),
+                                                                   kResidualExact));
+    }
+    if (firstExact.back() != layer.exact.size()) throw std::runtime_error("the layer's exact values do not match its codes");
+    FloatVolume out(layer.dims, layer.channels);
+    out.worldFromIndex = prediction.worldFromIndex;
+    tbb::parallel_for(0, slabs, [&](int s) {
+        const Slab slab = slabOf(layer.dims, s);
+        std::size_t next = firstExact[s];
+        for (int c = 0; c < layer.channels; ++c) {
+            SlabChannel part;
+            fillGaussian(part, prediction, slab, c, layer.domain);
+            for (int k = slab.begin; k < slab.end; ++k) {
+                for (int j = 0; j < slab.ny; ++j) {
+                    for (int i = 0; i < slab.nx; ++i) {
+                        const std::size_t at = out.indexOf(i, j, k) * layer.channels + c;
+                        const std::int32_t code = layer.codes[at];
+                        double decoded;
+                        if (code == kResidualExact) {
+                            decoded = layer.exact[next++];
+                        } else {
+                            const auto predictor = layer.predictors[blockIndex(blocks, i, j, k, layer.channels, c)];
+                            double prediction = predict(predictor, slab, part, i, j, k);
+                            if (!math.usable(prediction)) throw std::runtime_error("a coded voxel has no prediction");
+                            decoded = math.decoded(prediction, code);
+                        }
+                        part.values[slab.local(i, j, k)] = decoded;
+                        out.values[at] = math.toValue(decoded);
+                    }
+                }
+            }
+        }
+    });
+    return out;
+}
+
+double maxAbsoluteError(const FloatVolume& a, const FloatVolume& b) {
+    checkSameShape(a, b);
+    double worst = 0.0;
+    for (std::size_t n = 0; n < a.values.size(); ++n) {
+        worst = std::max(worst, std::abs(double(a.values[n]) - double(b.values[n])));
+    }
+    return worst;
+}
+
+}  // namespace gvr
