@@ -20,7 +20,7 @@ namespace gvr {
 namespace {
 
 struct ExportFlags {
-    std::string input, like, names = "blender", densityFrom, removedFormat, show, hide, tf;
+    std::string input, like, names = "blender", densityFrom, removedFormat, show, hide, tf, layers = "all";
     std::vector<std::string> outputs;
     std::optional<double> voxelSize, threshold;
     std::optional<int> resolution;
@@ -63,6 +63,12 @@ void runExport(const ExportFlags& flags) {
     const auto start = std::chrono::steady_clock::now();
     const GaussianAsset asset = selectStructures(readAsset(flags.input), flags.show, flags.hide, flags.input);
     ExportSettings settings;
+    settings.gaussiansOnly = flags.layers == "gaussians";
+    const bool bounded = asset.residual && !settings.gaussiansOnly;
+    if (bounded && flags.threshold) {
+        throw InputError("--threshold", "the residual layer keeps every voxel within its bound, so there is "
+                                        "nothing to cut; add --layers gaussians to cut the Gaussians alone");
+    }
     settings.lattice = chosenLattice(flags, asset);
     settings.threshold = flags.threshold;
     settings.naming = flags.names == "houdini" ? GridNaming::Houdini : GridNaming::Blender;
@@ -84,15 +90,20 @@ void runExport(const ExportFlags& flags) {
         for (const auto& grid : result.grids) grids.push_back(toJson(summarizeGrid(*grid)));
         const nlohmann::json report{{"outputs", toJson(written, storage)},
                                     {"dims", {dims.x(), dims.y(), dims.z()}},
-                                    {"threshold", result.threshold},
+                                    {"threshold", bounded ? nlohmann::json() : nlohmann::json(result.threshold)},
+                                    {"max_error", bounded ? nlohmann::json(asset.residual->bound) : nlohmann::json()},
                                     {"seconds", seconds},
                                     {"grids", grids}};
         std::cout << jsonText(report, 2) << "\n";
         return;
     }
     printWritten(written, storage);
-    std::cout << "in " << seconds << " s: " << dims.x() << "x" << dims.y() << "x" << dims.z()
-              << " voxels, inactive at or below " << result.threshold << "\n";
+    std::cout << "in " << seconds << " s: " << dims.x() << "x" << dims.y() << "x" << dims.z() << " voxels, ";
+    if (bounded) {
+        std::cout << "each within " << asset.residual->bound << " of the source (the residual layer)\n";
+    } else {
+        std::cout << "inactive at or below " << result.threshold << "\n";
+    }
     for (const auto& grid : result.grids) std::cout << toText(summarizeGrid(*grid));
 }
 
@@ -131,6 +142,11 @@ void addExportCommand(CLI::App& app) {
                         "With --dcc: transfer function, a preset (ct, ct-bone, mri, rgb) or a JSON file as render "
                         "takes it (default: the preset for the data)")
         ->needs(dcc);
+    command->add_option("--layers", flags->layers,
+                        "all: the Gaussians with the residual layer of fit --max-error, when the asset has one "
+                        "(every voxel within its bound, on the source's grid); gaussians: the Gaussians alone, "
+                        "the preview")
+        ->check(CLI::IsMember({"all", "gaussians"}))->capture_default_str();
     addRemovedFormatOption(*command, flags->removedFormat);
     command->add_flag("--json", flags->json, "Print the result as JSON");
     command->add_flag("-q,--quiet", flags->quiet, "No progress bars");

@@ -4,7 +4,9 @@
 #include "cli/Diagnostics.h"
 #include "cli/ProgressBar.h"
 #include "cli/SourceOptions.h"
+#include "io/AssetFile.h"
 #include "io/AtomicFile.h"
+#include "io/ComparisonInput.h"
 #include "io/Figures.h"
 #include "io/FitLog.h"
 #include "io/GridFile.h"
@@ -16,6 +18,7 @@
 #include "pipeline/GaussianField.h"
 #include "pipeline/LabelBudget.h"
 #include "pipeline/ProcessMemory.h"
+#include "workflow/BoundedLayer.h"
 #include "workflow/FitToBudget.h"
 #include "workflow/MpiTeam.h"
 #include "workflow/PhaseTimes.h"
@@ -47,6 +50,7 @@ struct BrickFlags {
 
 struct FitFlags {
     std::string input, output, logPath, labelVolume, labelNames;
+    std::string maxError;  ///< --max-error as given: empty, a number, or a percentage
     std::size_t threads = 0;
     bool json = false, quiet = false;
     BudgetedFitOptions options;
@@ -155,8 +159,24 @@ std::string thresholdNote(const VolumeMetadata& source) {
     return note.str();
 }
 
+/// The residual layer, as --json reports it.
+nlohmann::json layerJson(const BoundedLayerReport& layer) {
+    return {{"max_error", layer.bound}, {"measured_max_error", layer.maxError},
+            {"domain", layer.integers ? "stored samples" : "values"}, {"exact_voxels", layer.exactVoxels},
+            {"gaussian_bytes", layer.gaussianBytes}, {"layer_bytes", layer.fileBytes - layer.gaussianBytes},
+            {"seconds", layer.seconds}};
+}
+
+void reportLayer(const BoundedLayerReport& layer, std::uint64_t rawBytes) {
+    std::cout << "  residual layer:  every voxel within " << layer.bound << " of the source as read (measured: "
+              << layer.maxError << "), coded in " << (layer.integers ? "its stored samples" : "float values") << ", "
+              << layer.exactVoxels << " voxels stored exactly; " << formatBytes(layer.fileBytes - layer.gaussianBytes)
+              << " in " << std::setprecision(3) << layer.seconds << " s. The Gaussians alone (--layers gaussians): "
+              << std::setprecision(4) << double(rawBytes) / double(layer.gaussianBytes) << ":1\n";
+}
+
 void report(const FitFlags& flags, const BudgetedFitResult& result, double peak, const FieldAccuracy& error,
-            const TeamFitResult* bricked, const PhaseTimes& phases) {
+            const TeamFitResult* bricked, const PhaseTimes& phases, const BoundedLayerReport* layer = nullptr) {
     const GaussianAsset& asset = result.asset;
     const FitReport& fit = result.fit;
     const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
@@ -187,6 +207,7 @@ void report(const FitFlags& flags, const BudgetedFitResult& result, double peak,
                               {"undertrained", undertrained.empty() ? nlohmann::json() : nlohmann::json(undertrained)},
                               {"phase_seconds", phases.json()}};
         if (!result.structures.empty()) out["structures"] = structuresJson(asset, result.structures);
+        out["residual_layer"] = layer ? layerJson(*layer) : nlohmann::json();
         if (bricked) {
             out["bricks"] = bricksJson(bricked->bricks);
             out["merge_seconds"] = bricked->mergeSeconds;
@@ -208,6 +229,7 @@ void report(const FitFlags& flags, const BudgetedFitResult& result, double peak,
               << fit.seconds << " s (set-up " << fit.setupSeconds << " s); " << fit.skippedSteps << " steps skipped (non-finite), "
               << fit.pruned << " Gaussians pruned, " << fit.respawned << " respawned, " << fit.added
               << " added where the file had room\n";
+    if (layer) reportLayer(*layer, rawBytes);
     if (fit.requestedGaussians > 0) {
         std::cout << "  count:           fewer Gaussians than the ratio allows (" << fit.requestedGaussians
                   << "), as --min-samples " << flags.options.settings.minSamplesPerGaussian
@@ -315,10 +337,29 @@ void runBrickedFit(const FitFlags& flags, PhaseTimes& phases) {
     if (team.isRoot()) report(flags, bricked.result, target.peak(), error, &bricked, phases);
 }
 
+/// The fit's file with the residual layer of --max-error, over the source as read.
+std::string boundedFile(const FitFlags& flags, const BudgetedFitResult& result, BoundedLayerReport& layer,
+                        ProgressBar& bar) {
+    const VolumeMetadata& source = result.asset.source;
+    const double bound = parseMaxError(flags.maxError, source.valueMax - source.valueMin);
+    const ComparisonInput asRead = loadComparisonInput(flags.input, toIngestOptions(flags.source));
+    return addErrorBound(result.file, flags.output, asRead.volume, bound, layer, bar.callback());
+}
+
+/// --max-error's text, refused before the fit when it is no bound at all.
+void checkMaxError(const std::string& text) {
+    if (text.empty()) return;
+    const double bound = parseMaxError(text, 1.0);
+    if (!(bound >= 0.0) || !std::isfinite(bound)) {
+        throw InputError("--max-error", "must be a finite number at least 0 (or a percentage of the data range)");
+    }
+}
+
 void runFit(FitFlags& flags) {
     tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                                 flags.threads > 0 ? flags.threads : tbb::this_task_arena::max_concurrency());
     checkedSettings(flags.options);  // bad flags are refused before anything is read
+    checkMaxError(flags.maxError);
     checkOutputPath("-o", flags.output, {flags.input, flags.labelVolume, flags.labelNames});
     if (!flags.logPath.empty()) {
         checkOutputPath("--log", flags.logPath, {flags.input, flags.output, flags.labelVolume, flags.labelNames});
@@ -339,6 +380,13 @@ void runFit(FitFlags& flags) {
         result = fitToBudget(target, flags.input, flags.options, progressObserver(bar, log), loaded.labels.get());
     }
     phases.lap("fit");
+    std::optional<BoundedLayerReport> layer;
+    if (!flags.maxError.empty()) {
+        layer.emplace();
+        ProgressBar bounding("residual layer", !flags.quiet);
+        result.file = boundedFile(flags, result, *layer, bounding);
+        phases.lap("layer");
+    }
     writeAssetBytes(flags.output, result.file);
     log.finish();
     phases.lap("write");
@@ -347,7 +395,7 @@ void runFit(FitFlags& flags) {
     const FieldAccuracy error =
         measureFieldAccuracy(saved, target, measuring.callback(), {}, defaultExportCut(result.asset));
     phases.lap("measure");
-    report(flags, result, target.peak(), error, nullptr, phases);
+    report(flags, result, target.peak(), error, nullptr, phases, layer ? &*layer : nullptr);
 }
 
 void addBrickFlags(CLI::App& command, BrickFlags& flags) {
@@ -438,6 +486,11 @@ void addFitCommand(CLI::App& app) {
                         "Iteration budget; with it the result is reproducible byte for byte")
         ->excludes(time)
         ->each([flags](const std::string&) { flags->options.settings.seconds = 0.0; });
+    auto* maxError = command->add_option("--max-error", flags->maxError,
+                        "Add a residual layer so that every voxel of the export is within E of the source as read: "
+                        "E in the source's units (HU, the stored values), or a percentage of its data range (0.5%). "
+                        "Integer data at E < 1 is kept losslessly. --ratio then sizes the Gaussians, the preview; "
+                        "the layer adds what the bound needs");
     command->add_option("--seed", flags->options.settings.seed, "Random seed")->capture_default_str();
     command->add_option("--ablation", flags->options.ablation, "full, A1, A2, A3, A4 or A5")->capture_default_str();
     auto* log = command->add_option("--log", flags->logPath, "Write error against run time as CSV");
@@ -458,7 +511,8 @@ void addFitCommand(CLI::App& app) {
     command->add_option("--threads", flags->threads, "Worker threads (default: all cores)")->check(CLI::Range(0, 1024));
     command->option_defaults()->group("Bricks (large volumes, MPI, job arrays)");
     addBrickFlags(*command, flags->bricks);
-    command->get_option("--bricks")->excludes(log)->excludes(labels);
+    command->get_option("--bricks")->excludes(log)->excludes(labels)->excludes(maxError);
+    command->get_option("--brick")->excludes(maxError);
     command->get_option("--brick")->excludes(log)->excludes(labels);
     addTuningFlags(*command, flags->options.settings);
     addEncodingFlags(*command, flags->options.encoding);

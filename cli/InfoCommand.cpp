@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
 namespace gvr {
 
@@ -31,6 +32,26 @@ std::uint64_t sizeOnDisk(const std::string& path) {
         }
     }
     return total;
+}
+
+/// The asset's layers: the Gaussians, and the residual layer of fit --max-error.
+nlohmann::json layersJson(const GaussianAsset& asset) {
+    nlohmann::json layers = nlohmann::json::array({{{"name", "gaussians"}}});
+    if (asset.residual) {
+        layers.push_back({{"name", "residual"}, {"max_error", asset.residual->bound},
+                          {"domain", asset.residual->domain.integers ? "stored samples" : "values"},
+                          {"exact_voxels", asset.residual->exactVoxels()}});
+    }
+    return layers;
+}
+
+std::string layersText(const GaussianAsset& asset) {
+    if (!asset.residual) return "the Gaussians";
+    std::ostringstream text;
+    text << "the Gaussians (the preview: export --layers gaussians), and a residual layer: every voxel within "
+         << asset.residual->bound << " of the source on its grid (" << asset.residual->exactVoxels()
+         << " stored exactly)";
+    return text.str();
 }
 
 void printAssetInfo(const InfoFlags& flags) {
@@ -57,7 +78,8 @@ void printAssetInfo(const InfoFlags& flags) {
                                        {"ratio_vs_float32", vsFloat},
                                        {"source_file", source.sourceFile},
                                        {"source_dims", {source.dims.x(), source.dims.y(), source.dims.z()}},
-                                       {"fit", asset.fitSettings}};
+                                       {"fit", asset.fitSettings},
+                                       {"layers", layersJson(asset)}};
         std::cout << jsonText(report, 2) << "\n";
         return;
     }
@@ -71,6 +93,7 @@ void printAssetInfo(const InfoFlags& flags) {
               << "  source:       " << source.sourceFile << ", " << source.dims.x() << " x "
               << source.dims.y() << " x " << source.dims.z() << " voxels\n"
               << "  cutoff:       " << asset.cutoffSigmas << " standard deviations\n"
+              << "  layers:       " << layersText(asset) << "\n"
               << "  fit settings: " << jsonText(asset.fitSettings) << "\n";
 }
 

@@ -2,11 +2,11 @@
 
 #include "io/ByteOrder.h"
 #include "io/Quantisation.h"
+#include "io/ZstdFrame.h"
 #include "pipeline/GaussianKernel.h"
 #include "pipeline/MortonCode.h"
 
 #include <tbb/parallel_for.h>
-#include <zstd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -54,34 +54,18 @@ void unpackQuaternion(std::uint64_t largest, const std::uint64_t rest[3], int bi
 void appendPlanes(const Stream& stream, int level, std::string& body) {
     const std::size_t n = stream.values.size();
     std::string plane(n, '\0');
-    std::string frame;
     for (int shift = 0; shift < stream.bits; shift += 8) {
         for (std::size_t i = 0; i < n; ++i) plane[i] = char((stream.values[i] >> shift) & 0xff);
-        frame.resize(ZSTD_compressBound(n));
-        const std::size_t size = ZSTD_compress(frame.data(), frame.size(), plane.data(), n, level);
-        if (ZSTD_isError(size)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(size));
-        appendLittleEndian(body, std::uint32_t(size));
-        body.append(frame.data(), size);
+        appendZstdFrame(body, plane, level);
     }
 }
 
 /// Reads one stream's planes from @a body at @a cursor, checking every length.
 void readPlanes(std::string_view body, std::size_t& cursor, std::size_t count, Stream& stream) {
     stream.values.assign(count, 0);
-    std::string plane(count, '\0');
     for (int shift = 0; shift < stream.bits; shift += 8) {
-        if (body.size() - cursor < sizeof(std::uint32_t)) throw std::runtime_error("the body ends inside a plane header");
-        const auto length = loadLittleEndian<std::uint32_t>(body.data() + cursor);
-        cursor += sizeof length;
-        if (length > body.size() - cursor) throw std::runtime_error("a plane runs past the end of the body");
-        const char* frame = body.data() + cursor;
-        if (ZSTD_getFrameContentSize(frame, length) != count) {
-            throw std::runtime_error("a plane does not hold one byte per Gaussian");
-        }
-        const std::size_t size = ZSTD_decompress(plane.data(), count, frame, length);
-        if (ZSTD_isError(size) || size != count) throw std::runtime_error("a plane does not decompress");
+        const std::string plane = takeZstdFrame(body, cursor, count, "a plane of one byte per Gaussian");
         for (std::size_t i = 0; i < count; ++i) stream.values[i] |= std::uint64_t(std::uint8_t(plane[i])) << shift;
-        cursor += length;
     }
 }
 

@@ -1,5 +1,6 @@
 #include "io/AssetExport.h"
 
+#include "io/AssetResidual.h"
 #include "io/Ingest.h"
 #include "io/MemoryBudget.h"
 #include "pipeline/Error.h"
@@ -8,11 +9,13 @@
 #include "pipeline/ThresholdCut.h"
 #include "pipeline/VolumeBorder.h"
 
+#include <openvdb/tools/Dense.h>
 #include <openvdb/tools/Morphology.h>
 #include <openvdb/tools/Prune.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -136,7 +139,56 @@ void describeForDcc(openvdb::GridBase& grid, const Lattice& lattice) {
     grid.insertMeta("gvr_object_size_m", openvdb::DoubleMetadata(std::max({extentM[0], extentM[1], extentM[2]})));
 }
 
+/// @a volume as a grid on @a lattice, every voxel active: a bounded reconstruction
+/// holds its bound on every voxel, the background's included.
+openvdb::GridBase::Ptr gridOfEveryVoxel(const FloatVolume& volume, const Lattice& lattice, double background) {
+    const auto placed = [&](auto grid) {
+        grid->setTransform(openvdb::math::Transform::createLinearTransform(lattice.worldFromIndex));
+        return grid;
+    };
+    // A negative tolerance: no value is "equal to the background", so every voxel is set
+    // active. LayoutXYZ is OpenVDB's name for x fastest, as FloatVolume runs.
+    constexpr float kEveryVoxel = -1.0f;
+    if (volume.channels == 1) {
+        auto grid = openvdb::FloatGrid::create(float(background));
+        openvdb::tools::Dense<const float, openvdb::tools::LayoutXYZ> dense(lattice.box, volume.values.data());
+        openvdb::tools::copyFromDense(dense, *grid, kEveryVoxel);
+        grid->setName("density");
+        return placed(grid);
+    }
+    auto grid = openvdb::Vec3SGrid::create(openvdb::Vec3s(float(background)));
+    const auto* rgb = reinterpret_cast<const openvdb::Vec3s*>(volume.values.data());
+    openvdb::tools::Dense<const openvdb::Vec3s, openvdb::tools::LayoutXYZ> dense(lattice.box, rgb);
+    openvdb::tools::copyFromDense(dense, *grid, openvdb::Vec3s(kEveryVoxel));
+    grid->setName("color");
+    return placed(grid);
+}
+
+bool isSourceLattice(const Lattice& lattice, const GaussianAsset& asset) {
+    const Lattice own = sourceLattice(asset.worldFromIndex, asset.source.dims);
+    return lattice.box == own.box && lattice.worldFromIndex == own.worldFromIndex;
+}
+
 }  // namespace
+
+FloatVolume gaussianPrediction(const GaussianAsset& asset, const ProgressFn& progress) {
+    const Lattice lattice = sourceLattice(asset.worldFromIndex, asset.source.dims);
+    const GaussianField field(asset.params, asset.cutoffSigmas);
+    const FieldToGridSettings sampling{asset.mapping, std::nullopt, std::nullopt, lattice.box};
+    const openvdb::GridBase::Ptr grid = fieldToGrid(field, asset.worldFromIndex, lattice, sampling, progress);
+    return sampleGrid(*grid, lattice.box);
+}
+
+FloatVolume boundedReconstruction(const GaussianAsset& asset, const std::string& name, const ProgressFn& progress) {
+    if (!asset.residual) throw std::logic_error("boundedReconstruction needs an asset with a residual layer");
+    FloatVolume reconstruction = decodeResidualLayer(*asset.residual, gaussianPrediction(asset, progress));
+    if (reconstructionChecksum(reconstruction) != asset.residual->reconstructionChecksum) {
+        throw InputError(name, "its residual layer decodes to other values than when it was written (the "
+                               "Gaussians' field differs in the last bits on this machine), so its bound is not "
+                               "known to hold; export with the Gaussians alone, or fit again here");
+    }
+    return reconstruction;
+}
 
 ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& settings, const ProgressFn& progress) {
     if (settings.dcc && settings.densityFrom) {
@@ -154,10 +206,22 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     const openvdb::Coord size = result.lattice.box.dim();
     checkVolumeFitsInMemory(settings.assetPath.empty() ? "asset" : settings.assetPath, {size.x(), size.y(), size.z()},
                             asset.params.channels, sizeof(float), "export");
-    const GaussianField field(asset.params, asset.cutoffSigmas);
-    const FieldToGridSettings sampling{asset.mapping, result.threshold, result.thresholdAbove,
-                                       sourceLattice(asset.worldFromIndex, dims).box};
-    openvdb::GridBase::Ptr values = fieldToGrid(field, asset.worldFromIndex, result.lattice, sampling, progress);
+    const std::string name = settings.assetPath.empty() ? "asset" : settings.assetPath;
+    openvdb::GridBase::Ptr values;
+    if (asset.residual && !settings.gaussiansOnly) {
+        if (!isSourceLattice(result.lattice, asset)) {
+            throw InputError(name, "its residual layer holds its bound on the source's own grid only; export "
+                                   "there, or the Gaussians alone (`layers` gaussians) on another grid");
+        }
+        result.threshold = std::numeric_limits<float>::lowest();  // every voxel is kept
+        result.thresholdAbove.reset();
+        values = gridOfEveryVoxel(boundedReconstruction(asset, name, progress), result.lattice, asset.source.background);
+    } else {
+        const GaussianField field(asset.params, asset.cutoffSigmas);
+        const FieldToGridSettings sampling{asset.mapping, result.threshold, result.thresholdAbove,
+                                           sourceLattice(asset.worldFromIndex, dims).box};
+        values = fieldToGrid(field, asset.worldFromIndex, result.lattice, sampling, progress);
+    }
     if (settings.dcc) {
         if (auto grey = openvdb::GridBase::grid<openvdb::FloatGrid>(values)) {
             result.grids = dccGrids(*grey, *settings.dcc, settings.naming);

@@ -44,6 +44,8 @@ struct ExportSettings {
     std::string assetPath;  ///< recorded in the grids' metadata
     /// Set: the grids in DccStyle (density first, then colour) instead of physical units.
     std::optional<DccStyle> dcc;
+    /// The Gaussians alone, where the asset also holds a residual layer (the preview).
+    bool gaussiansOnly = false;
 };
 
 struct ExportResult {
@@ -54,11 +56,24 @@ struct ExportResult {
 };
 
 /// Evaluates the asset's field at the lattice's voxel centres (see fieldToGrid),
-/// with its own cutoff. Grey data gives a float fog volume "density" in physical
+/// with its own cutoff; or, for an asset with a residual layer (unless
+/// settings.gaussiansOnly), its bounded reconstruction on the source's lattice, every
+/// voxel active, so that every voxel is within the layer's bound of the source. Grey data gives a float fog volume "density" in physical
 /// units; RGB a Vec3s "color" (or "Cd") plus a float fog volume "density". Every
 /// grid carries the source's metadata, with the lattice's dimensions and spacing.
 ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& settings,
                          const ProgressFn& progress = {});
+
+/// The Gaussians alone at every voxel of the source's lattice (no threshold): what
+/// a residual layer is encoded over and decoded onto.
+FloatVolume gaussianPrediction(const GaussianAsset& asset, const ProgressFn& progress = {});
+
+/// The asset's residual layer decoded onto gaussianPrediction(): every voxel within
+/// its bound of the source. @throw InputError naming @a name when the result is not
+/// bit for bit what the encoder decoded (its checksum), since the bound then is not
+/// known to hold.
+FloatVolume boundedReconstruction(const GaussianAsset& asset, const std::string& name,
+                                  const ProgressFn& progress = {});
 
 /// The lattice of @a grid (its gvr dimensions, or its active voxels), moved so that
 /// its first voxel has index (0, 0, 0). @throw InputError naming @a name when it has

@@ -1,6 +1,7 @@
 #include "io/AssetFile.h"
 
 #include "io/AssetBodyV1.h"
+#include "io/AssetResidual.h"
 
 #include "io/AtomicFile.h"
 #include "io/ByteOrder.h"
@@ -183,7 +184,7 @@ void checkCountAgainstSize(std::uint32_t version, std::size_t count, int channel
     }
     // zstd packs a plane of equal bytes into very little, but a fit's Gaussians
     // differ: gvr's own files hold 2 bytes a Gaussian or more.
-    if (version == 2 && count > kMaxGaussiansPerBodyByte * bodyBytes) {
+    if (version >= 2 && count > kMaxGaussiansPerBodyByte * bodyBytes) {
         throw std::runtime_error("the count is impossible for a body of " + std::to_string(bodyBytes) +
                                  " bytes (at most " + std::to_string(kMaxGaussiansPerBodyByte) + " Gaussians a byte)");
     }
@@ -257,7 +258,40 @@ void checkAssetFields(const GaussianAsset& asset, const std::string& path) {
     }
 }
 
+/// The Gaussians' part of a format-3 body; the residual layer after it goes to @a asset.
+std::string_view splitOffResidual(std::string_view body, const nlohmann::json& description, GaussianAsset& asset,
+                                  int channels, const std::string& path) {
+    const auto sectionBytes = description.at("section_bytes").get<std::uint64_t>();
+    if (sectionBytes > body.size()) throw std::runtime_error("the residual section runs past the body");
+    const openvdb::Vec3i dims = asset.source.dims;
+    if (dims.x() < 1 || dims.y() < 1 || dims.z() < 1) throw std::runtime_error("a residual layer over no voxels");
+    checkVolumeFitsInMemory(path, {dims.x(), dims.y(), dims.z()}, channels, 3 * sizeof(float), "decode its residual layer");
+    asset.residual = std::make_shared<const ResidualLayer>(decodeResidualSection(
+        body.substr(body.size() - sectionBytes), description, openvdb::Coord(dims.x(), dims.y(), dims.z()), channels));
+    return body.substr(0, body.size() - sectionBytes);
+}
+
 }  // namespace
+
+std::string withResidualLayer(std::string_view assetBytes, const ResidualLayer& layer) {
+    const auto* cursor = reinterpret_cast<const unsigned char*>(assetBytes.data()) + sizeof kMagic;
+    const std::uint32_t version = takeLittleEndian<std::uint32_t>(cursor);
+    const std::uint32_t headerBytes = takeLittleEndian<std::uint32_t>(cursor);
+    if (version != kAssetVersion) throw std::logic_error("a residual layer goes onto a format-2 asset's bytes");
+    nlohmann::json header = nlohmann::json::parse(assetBytes.substr(kPreambleBytes, headerBytes));
+    nlohmann::json description;
+    const std::string section = encodeResidualSection(layer, description);
+    header["residual"] = description;
+    const std::string text = jsonText(header);
+    std::string bytes(kMagic, sizeof kMagic);
+    appendLittleEndian(bytes, kBoundedAssetVersion);
+    appendLittleEndian(bytes, std::uint32_t(text.size()));
+    bytes += text;
+    bytes += assetBytes.substr(kPreambleBytes + headerBytes, assetBytes.size() - kPreambleBytes - headerBytes - kChecksumBytes);
+    bytes += section;
+    appendLittleEndian(bytes, std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size()))));
+    return bytes;
+}
 
 double assetEstimatedBytesPerGaussian(const GaussianAsset& asset, double count) {
     const openvdb::Vec3i& dims = asset.source.dims;
@@ -354,16 +388,16 @@ GaussianAsset decodeAsset(std::string_view bytes, const std::string& path) {
     }
     const auto* cursor = reinterpret_cast<const unsigned char*>(bytes.data()) + sizeof kMagic;
     const std::uint32_t version = takeLittleEndian<std::uint32_t>(cursor);
-    if (version != 1 && version != kAssetVersion) {
+    if (version != 1 && version != kAssetVersion && version != kBoundedAssetVersion) {
         throw InputError(path, "unsupported asset version " + std::to_string(version) +
-                                   " (this gvr reads versions 1 and " + std::to_string(kAssetVersion) + ")");
+                                   " (this gvr reads versions 1 to " + std::to_string(kBoundedAssetVersion) + ")");
     }
     const std::uint32_t headerBytes = takeLittleEndian<std::uint32_t>(cursor);
     if (headerBytes > size - kPreambleBytes - kChecksumBytes) throw InputError(path, "truncated asset header");
 
     GaussianAsset asset;
     asset.formatVersion = version;
-    nlohmann::json quantisation;
+    nlohmann::json quantisation, residual;
     std::size_t count = 0;
     int channels = 1;
     if (jsonDepth(bytes.substr(kPreambleBytes, headerBytes)) > kMaxHeaderDepth) {
@@ -388,6 +422,7 @@ GaussianAsset decodeAsset(std::string_view bytes, const std::string& path) {
         asset.source = sourceFromJson(header.at("source"));
         asset.fitSettings = header.at("fit");
         if (header.contains("labels")) readLabelGroups(header.at("labels"), count, asset);
+        if (version == kBoundedAssetVersion) residual = header.at("residual");
     } catch (const std::exception& error) {
         throw InputError(path, std::string("corrupt asset header: ") + error.what());
     }
@@ -396,14 +431,17 @@ GaussianAsset decodeAsset(std::string_view bytes, const std::string& path) {
     const auto computed = std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(size - kChecksumBytes)));
     if (stored != computed) throw InputError(path, "corrupt asset: checksum mismatch (truncated or damaged)");
 
-    const std::string_view body(bytes.data() + kPreambleBytes + headerBytes,
-                                size - kPreambleBytes - headerBytes - kChecksumBytes);
+    std::string_view body(bytes.data() + kPreambleBytes + headerBytes,
+                          size - kPreambleBytes - headerBytes - kChecksumBytes);
     try {
+        if (!residual.is_null()) body = splitOffResidual(body, residual, asset, channels, path);
         if (version == 1) {
             asset.params = decodeAssetBodyV1(body, count, channels, quantisation);
         } else {
             asset.params = decodeAssetBodyV2(body, count, QuantisationV2(quantisation, channels));
         }
+    } catch (const InputError&) {
+        throw;
     } catch (const std::exception& error) {
         throw InputError(path, std::string("corrupt asset body: ") + error.what());
     }

@@ -6,10 +6,11 @@
 /// | offset | bytes | field                                                          |
 /// |--------|-------|----------------------------------------------------------------|
 /// | 0      | 8     | magic "GVRASSET"                                               |
-/// | 8      | 4     | format version, uint32 (2; version 1 files still load)         |
+/// | 8      | 4     | format version, uint32 (2, or 3 with a residual layer; 1 loads)|
 /// | 12     | 4     | header length H, uint32                                        |
 /// | 16     | H     | header, UTF-8 JSON (below)                                     |
 /// |        | B     | body: the Gaussians, quantised and entropy-coded (AssetBodyV2.h)|
+/// |        | R     | version 3: the residual layer (AssetResidual.h)                |
 /// | end-4  | 4     | CRC-32 (zlib) of every byte before it                          |
 ///
 /// The header holds: count n, channels C, cutoff_sigmas, world_from_index (16
@@ -35,6 +36,9 @@
 namespace gvr {
 
 constexpr std::uint32_t kAssetVersion = 2;  ///< the version gvr writes
+/// Version 2 with a residual layer (io/AssetResidual.h) after the Gaussians' body,
+/// described by the header's "residual".
+constexpr std::uint32_t kBoundedAssetVersion = 3;
 
 /// What a Gaussian costs in this asset's file, on average, when it holds @a count
 /// Gaussians over its source's voxels: for budgets before the fit, since the entropy
@@ -67,8 +71,14 @@ std::size_t fitAssetInto(GaussianAsset& asset, std::uint64_t maxBytes);
 /// @return the file's bytes.
 std::string encodeAssetWithin(GaussianAsset& asset, std::uint64_t maxBytes);
 
-/// The whole file for @a asset, which is put into storage order first.
+/// The whole file for @a asset, which is put into storage order first: the
+/// Gaussians only (format 2); withResidualLayer() adds a layer.
 std::string encodeAsset(GaussianAsset& asset);
+
+/// @a assetBytes (a format-2 file, as encodeAsset() gave it) with @a layer after its
+/// Gaussians, as format 3. The Gaussians' bytes are kept as they are, since the layer
+/// was encoded over the field that exactly these bytes decode to.
+std::string withResidualLayer(std::string_view assetBytes, const ResidualLayer& layer);
 
 /// Writes the bytes of encodeAsset() atomically, for a caller that also needs them
 /// (to send them to MPI ranks, say) and would otherwise encode twice.

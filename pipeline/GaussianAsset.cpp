@@ -11,6 +11,7 @@ namespace gvr {
 
 void keepOnly(GaussianAsset& asset, const std::vector<bool>& keep) {
     asset.params.keepOnly(keep);
+    asset.residual.reset();  // it corrects the field of every Gaussian, and some are gone
     if (asset.labels.empty()) return;
     std::size_t kept = 0;
     for (std::size_t i = 0; i < keep.size(); ++i) {

@@ -7,6 +7,7 @@
 #include "pipeline/AssetEncoding.h"
 #include "pipeline/GaussianParameters.h"
 #include "pipeline/LabelTable.h"
+#include "pipeline/ResidualLayer.h"
 #include "pipeline/ValueMapping.h"
 #include "pipeline/VolumeMetadata.h"
 
@@ -14,6 +15,7 @@
 #include <openvdb/math/Mat4.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,10 +32,14 @@ struct GaussianAsset {
     VolumeMetadata source;
     nlohmann::json fitSettings = nlohmann::json::object();
     AssetEncoding encoding;          ///< bit depths for storing
+    /// The error-bounded layer over the Gaussians on the source's lattice, or null
+    /// (pipeline/ResidualLayer.h). Shared: copies of an asset do not copy its codes.
+    std::shared_ptr<const ResidualLayer> residual;
     std::uint32_t formatVersion = 0;  ///< the file version it was read from (0: not read)
 };
 
-/// Keeps the Gaussians (and their labels) whose flag is set, in order.
+/// Keeps the Gaussians (and their labels) whose flag is set, in order; drops the
+/// residual layer, which corrected the field of them all.
 void keepOnly(GaussianAsset& asset, const std::vector<bool>& keep);
 
 /// Drops the Gaussians with the smallest peak amplitude max_c |opacity * colour_c|,

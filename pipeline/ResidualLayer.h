@@ -57,6 +57,9 @@ struct ResidualLayer {
     /// The exact values (stored samples k for integer domains, else the value), slab
     /// by slab, then channel by channel, voxel by voxel within.
     std::vector<double> exact;
+    /// CRC-32 of the reconstruction's floats as the encoder decoded them: a reader
+    /// whose arithmetic differed (its prediction not bit for bit the encoder's) finds out.
+    std::uint32_t reconstructionChecksum = 0;
 
     /// The quantisation step in the domain: 2E + 1 samples (E rounded down to whole
     /// samples), or 2E.

@@ -1,0 +1,84 @@
+// gvr fit --max-error, as a user runs it: every voxel of the export within the
+// bound of the source, read back from the file; the Gaussians alone on request; bad
+// bounds refused in one line with no output.
+
+#include "io/ComparisonInput.h"
+#include "pipeline/ResidualLayer.h"
+#include "tests/TestHelpers.h"
+#include "workflow/BoundedLayer.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+
+namespace gvr {
+namespace {
+
+double exportError(const std::string& source, const std::string& exported) {
+    const ComparisonInput a = loadComparisonInput(source, {});
+    const ComparisonInput b = loadComparisonInput(exported, {});
+    return maxAbsoluteError(a.volume, b.volume);
+}
+
+TEST(BoundedLayer, AFitWithMaxErrorExportsEveryVoxelWithinIt) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    const std::string asset = dir.path("bounded.gvr");
+    const test::CommandResult fit = test::runGvr(
+        "fit -q '" + grid + "' --gaussians 60 --iterations 10 --seed 3 --max-error 0.01 --json -o '" + asset + "'", dir);
+    ASSERT_EQ(fit.exitCode, 0) << fit.err;
+    const nlohmann::json report = nlohmann::json::parse(fit.out);
+    EXPECT_LE(report["residual_layer"]["measured_max_error"].get<double>(), 0.01);
+    const test::CommandResult info = test::runGvr("info --json '" + asset + "'", dir);
+    ASSERT_EQ(info.exitCode, 0) << info.err;
+    EXPECT_NE(info.out.find("\"format_version\": 3"), std::string::npos) << info.out;
+
+    const std::string all = dir.path("all.nii.gz"), preview = dir.path("gaussians.nii.gz");
+    ASSERT_EQ(test::runGvr("export -q '" + asset + "' --float32 -o '" + all + "'", dir).exitCode, 0);
+    ASSERT_EQ(test::runGvr("export -q '" + asset + "' --float32 --layers gaussians -o '" + preview + "'", dir).exitCode, 0);
+    EXPECT_LE(exportError(grid, all), 0.01);
+    EXPECT_GT(exportError(grid, preview), 0.01);  // ten iterations of 60 Gaussians are no copy
+
+    // The bound is on the source's own grid: another is the Gaussians' alone, if asked for.
+    const test::CommandResult coarse = test::runGvr("export -q '" + asset + "' --resolution 8 -o '" + dir.path("c.vdb") + "'", dir);
+    EXPECT_EQ(coarse.exitCode, 2);
+    EXPECT_NE(coarse.err.find("--layers gaussians"), std::string::npos) << coarse.err;
+    EXPECT_EQ(test::runGvr("export -q '" + asset + "' --resolution 8 --layers gaussians -o '" + dir.path("c.vdb") + "'",
+                           dir).exitCode, 0);
+}
+
+TEST(BoundedLayer, IntegerDataAtABoundBelowOneIsLossless) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string source = test::sharedData("mri-colin27-aal/ch2.nii.gz");
+    const std::string asset = dir.path("ch2.gvr"), out = dir.path("ch2.nii.gz");
+    const test::CommandResult fit = test::runGvr(
+        "fit -q '" + source + "' --gaussians 2000 --iterations 5 --max-error 0.5 -o '" + asset + "'", dir);
+    ASSERT_EQ(fit.exitCode, 0) << fit.err;
+    ASSERT_EQ(test::runGvr("export -q '" + asset + "' -o '" + out + "'", dir).exitCode, 0);  // uint8, as the source
+    EXPECT_EQ(exportError(source, out), 0.0);
+}
+
+TEST(BoundedLayer, ABadBoundIsRefusedInOneLineBeforeTheFit) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir);
+    for (const std::string bad : {"nan", "-1", "abc", "1e999", "5%%x"}) {
+        const std::string out = dir.path("out.gvr");
+        const test::CommandResult run =
+            test::runGvr("fit -q '" + grid + "' --gaussians 20 --iterations 2 --max-error '" + bad + "' -o '" + out + "'", dir);
+        EXPECT_EQ(run.exitCode, 2) << bad;
+        EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
+        EXPECT_NE(run.err.find("max-error"), std::string::npos) << run.err;
+        EXPECT_FALSE(std::filesystem::exists(out)) << bad;
+    }
+}
+
+TEST(BoundedLayer, ARelativeBoundIsAShareOfTheDataRange) {
+    EXPECT_DOUBLE_EQ(parseMaxError("0.5%", 254.0), 1.27);
+    EXPECT_DOUBLE_EQ(parseMaxError("3", 254.0), 3.0);
+    EXPECT_THROW(parseMaxError("%", 254.0), InputError);
+    EXPECT_THROW(parseMaxError("2 HU", 254.0), InputError);
+}
+
+}  // namespace
+}  // namespace gvr
