@@ -2,6 +2,7 @@
 // bound of the source, read back from the file; the Gaussians alone on request; bad
 // bounds refused in one line with no output.
 
+#include "io/AssetFile.h"
 #include "io/ComparisonInput.h"
 #include "pipeline/ResidualLayer.h"
 #include "tests/TestHelpers.h"
@@ -9,7 +10,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <zlib.h>
+
+#include <cstring>
 #include <filesystem>
+#include <functional>
 
 namespace gvr {
 namespace {
@@ -70,6 +75,44 @@ TEST(BoundedLayer, ABadBoundIsRefusedInOneLineBeforeTheFit) {
         EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
         EXPECT_NE(run.err.find("max-error"), std::string::npos) << run.err;
         EXPECT_FALSE(std::filesystem::exists(out)) << bad;
+    }
+}
+
+/// @a bytes with its header's residual edited by @a edit, and the CRC made right again.
+std::string withEditedResidual(const std::string& bytes, const std::function<void(nlohmann::json&)>& edit) {
+    std::uint32_t headerBytes;
+    std::memcpy(&headerBytes, bytes.data() + 12, 4);
+    nlohmann::json header = nlohmann::json::parse(bytes.substr(16, headerBytes));
+    edit(header["residual"]);
+    const std::string text = header.dump();
+    std::string out = bytes.substr(0, 12) + test::littleEndian32(std::uint32_t(text.size())) + text +
+                      bytes.substr(16 + headerBytes, bytes.size() - 16 - headerBytes - 4);
+    return out + test::littleEndian32(std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(out.data()), uInt(out.size()))));
+}
+
+TEST(BoundedLayer, ALayerThatLiesAboutItsSizesIsRefusedNamingTheFile) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir), asset = dir.path("b.gvr");
+    ASSERT_EQ(test::runGvr("fit -q '" + grid + "' --gaussians 30 --iterations 3 --max-error 0.05 -o '" + asset + "'",
+                           dir).exitCode, 0);
+    const std::string bytes = test::readBytes(asset);
+    ASSERT_NO_THROW(decodeAsset(bytes, asset));
+    const std::vector<std::function<void(nlohmann::json&)>> lies = {
+        [](nlohmann::json& r) { r["section_bytes"] = r["section_bytes"].get<std::uint64_t>() + (1u << 30); },
+        [](nlohmann::json& r) { r["exact_voxels"] = std::uint64_t(1) << 40; },
+        [](nlohmann::json& r) { r["wide_bytes"] = std::uint64_t(1) << 40; },
+        [](nlohmann::json& r) { r["bound"] = -1.0; },
+        [](nlohmann::json& r) { r["domain"] = "complex"; },
+        [](nlohmann::json& r) { r["reconstruction_crc32"] = r["reconstruction_crc32"].get<std::uint32_t>() ^ 1u; },
+    };
+    for (std::size_t n = 0; n < lies.size(); ++n) {
+        const std::string lying = dir.path("lie" + std::to_string(n) + ".gvr");
+        test::writeBytes(lying, withEditedResidual(bytes, lies[n]));
+        const test::CommandResult run = test::runGvr("export -q '" + lying + "' -o '" + dir.path("x.vdb") + "'", dir);
+        EXPECT_EQ(run.exitCode, 2) << n << ": " << run.err;
+        EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
+        EXPECT_NE(run.err.find(lying), std::string::npos) << run.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.path("x.vdb")));
     }
 }
 
