@@ -227,6 +227,31 @@ void codeSlab(ResidualLayer& layer, const FloatVolume& source, const Slab& slab,
     }
 }
 
+/// codeSlab's inverse: channel @a c of @a slab into @a out, taking exact values from @a next on.
+void decodeSlab(const ResidualLayer& layer, const Slab& slab, int c, SlabChannel& part, const DomainArithmetic& math,
+                std::size_t& next, FloatVolume& out) {
+    const openvdb::Coord blocks = blocksOf(layer.dims);
+    for (int k = slab.begin; k < slab.end; ++k) {
+        for (int j = 0; j < slab.ny; ++j) {
+            for (int i = 0; i < slab.nx; ++i) {
+                const std::size_t at = out.indexOf(i, j, k) * layer.channels + c;
+                const std::int32_t code = layer.codes[at];
+                double decoded;
+                if (code == kResidualExact) {
+                    decoded = layer.exact[next++];
+                } else {
+                    const auto predictor = layer.predictors[blockIndex(blocks, i, j, k, layer.channels, c)];
+                    double prediction = predict(predictor, slab, part, i, j, k);
+                    if (!math.usable(prediction)) throw std::runtime_error("a coded voxel has no prediction");
+                    decoded = math.decoded(prediction, code);
+                }
+                part.values[slab.local(i, j, k)] = decoded;
+                out.values[at] = math.toValue(decoded);
+            }
+        }
+    }
+}
+
 }  // namespace
 
 ResidualLayer encodeResidualLayer(const FloatVolume& source, const FloatVolume& prediction, double bound,
@@ -263,7 +288,6 @@ FloatVolume decodeResidualLayer(const ResidualLayer& layer, const FloatVolume& p
         layer.codes.size() != prediction.values.size()) {
         throw std::runtime_error("the residual layer is not of the asset's source lattice");
     }
-    const openvdb::Coord blocks = blocksOf(layer.dims);
     const DomainArithmetic math(layer.domain, layer.bound, layer.step());
     const int slabs = slabCount(layer.dims);
     // Where each slab's exact values begin: they are stored slab by slab.
@@ -284,25 +308,7 @@ FloatVolume decodeResidualLayer(const ResidualLayer& layer, const FloatVolume& p
         for (int c = 0; c < layer.channels; ++c) {
             SlabChannel part;
             fillGaussian(part, prediction, slab, c, layer.domain);
-            for (int k = slab.begin; k < slab.end; ++k) {
-                for (int j = 0; j < slab.ny; ++j) {
-                    for (int i = 0; i < slab.nx; ++i) {
-                        const std::size_t at = out.indexOf(i, j, k) * layer.channels + c;
-                        const std::int32_t code = layer.codes[at];
-                        double decoded;
-                        if (code == kResidualExact) {
-                            decoded = layer.exact[next++];
-                        } else {
-                            const auto predictor = layer.predictors[blockIndex(blocks, i, j, k, layer.channels, c)];
-                            double prediction = predict(predictor, slab, part, i, j, k);
-                            if (!math.usable(prediction)) throw std::runtime_error("a coded voxel has no prediction");
-                            decoded = math.decoded(prediction, code);
-                        }
-                        part.values[slab.local(i, j, k)] = decoded;
-                        out.values[at] = math.toValue(decoded);
-                    }
-                }
-            }
+            decodeSlab(layer, slab, c, part, math, next, out);
         }
     });
     return out;
