@@ -1,6 +1,7 @@
 #include "io/AssetResidual.h"
 
 #include "io/ByteOrder.h"
+#include "io/ResidualCodes.h"
 #include "io/ZstdFrame.h"
 #include "pipeline/Block.h"
 
@@ -15,70 +16,32 @@ namespace gvr {
 
 namespace {
 
-constexpr int kZstdLevel = 9;  // seconds on the chest's 67 M voxels, where 19 took minutes
-constexpr std::uint32_t kLargestByteCode = 252;
-constexpr std::uint8_t kExactByte = 253, kWide16Byte = 254, kWide32Byte = 255;
-
-std::uint32_t zigzag(std::int32_t q) { return (std::uint32_t(q) << 1) ^ std::uint32_t(q >> 31); }
-std::int32_t unzigzag(std::uint32_t z) { return std::int32_t(z >> 1) ^ -std::int32_t(z & 1); }
+constexpr int kZstdLevel = 19;  // the frames are small: a byte per 512 voxels, and the rare exact values
+constexpr const char* kCoder = "range-contexts";  // io/ResidualCodes
 
 std::size_t blockCount(const openvdb::Coord& dims) {
     const auto along = [](int n) { return std::size_t((n + kBlockDim - 1) / kBlockDim); };
     return along(dims.x()) * along(dims.y()) * along(dims.z());
 }
 
-void splitCodes(const ResidualLayer& layer, std::string& bytes, std::string& wide) {
-    const std::size_t voxels = layer.codes.size() / layer.channels;
-    bytes.resize(layer.codes.size());
-    std::size_t n = 0;
-    for (int c = 0; c < layer.channels; ++c) {
-        for (std::size_t v = 0; v < voxels; ++v) {
-            const std::int32_t q = layer.codes[v * layer.channels + c];
-            const std::uint32_t z = zigzag(q);
-            if (q == kResidualExact) {
-                bytes[n++] = char(kExactByte);
-            } else if (z <= kLargestByteCode) {
-                bytes[n++] = char(z);
-            } else if (z <= 0xffff) {
-                bytes[n++] = char(kWide16Byte);
-                appendLittleEndian(wide, std::uint16_t(z));
-            } else {
-                bytes[n++] = char(kWide32Byte);
-                appendLittleEndian(wide, z);
-            }
-        }
+void appendStreams(std::string& section, const std::vector<std::string>& streams) {
+    for (const std::string& stream : streams) {
+        appendLittleEndian(section, std::uint64_t(stream.size()));
+        section += stream;
     }
 }
 
-std::vector<std::int32_t> joinCodes(const std::string& bytes, const std::string& wide, int channels,
-                                    std::size_t& exactCount) {
-    const std::size_t voxels = bytes.size() / channels;
-    std::vector<std::int32_t> codes(bytes.size());
-    std::size_t n = 0, w = 0;
-    exactCount = 0;
-    for (int c = 0; c < channels; ++c) {
-        for (std::size_t v = 0; v < voxels; ++v) {
-            const auto b = std::uint8_t(bytes[n++]);
-            std::int32_t& code = codes[v * channels + c];
-            if (b == kExactByte) {
-                code = kResidualExact;
-                ++exactCount;
-            } else if (b <= kLargestByteCode) {
-                code = unzigzag(b);
-            } else {
-                const std::size_t width = b == kWide16Byte ? 2 : 4;
-                if (wide.size() - w < width) throw std::runtime_error("residual codes: the wide codes run out");
-                code = unzigzag(width == 2 ? loadLittleEndian<std::uint16_t>(wide.data() + w)
-                                           : loadLittleEndian<std::uint32_t>(wide.data() + w));
-                w += width;
-                if (!(std::abs(std::int64_t(code)) <= kMaxResidualCode)) {
-                    throw std::runtime_error("residual codes: a code beyond the layer's range");
-                }
-            }
-        }
+std::vector<std::string_view> takeStreams(std::string_view section, std::size_t& cursor, std::size_t count) {
+    std::vector<std::string_view> streams;
+    for (std::size_t n = 0; n < count; ++n) {
+        if (section.size() - cursor < sizeof(std::uint64_t)) throw std::runtime_error("residual codes: cut short");
+        const auto length = loadLittleEndian<std::uint64_t>(section.data() + cursor);
+        cursor += sizeof length;
+        if (length > section.size() - cursor) throw std::runtime_error("residual codes: a stream runs past the section");
+        streams.push_back(section.substr(cursor, length));
+        cursor += length;
     }
-    if (w != wide.size()) throw std::runtime_error("residual codes: wide codes left over");
-    return codes;
+    return streams;
 }
 
 }  // namespace
@@ -86,19 +49,19 @@ std::vector<std::int32_t> joinCodes(const std::string& bytes, const std::string&
 std::string encodeResidualSection(const ResidualLayer& layer, nlohmann::json& description) {
     std::string predictors(layer.predictors.size(), '\0');
     for (std::size_t b = 0; b < predictors.size(); ++b) predictors[b] = char(layer.predictors[b]);
-    std::string bytes, wide;
-    splitCodes(layer, bytes, wide);
     std::string exact;
     for (const double value : layer.exact) appendLittleEndian(exact, value);
     std::string section;
-    for (const std::string* frame : {&predictors, &bytes, &wide, &exact}) appendZstdFrame(section, *frame, kZstdLevel);
+    appendZstdFrame(section, predictors, kZstdLevel);
+    appendZstdFrame(section, exact, kZstdLevel);
+    appendStreams(section, encodeResidualCodes(layer));
     description = {{"bound", layer.bound},
                    {"domain", layer.domain.integers ? "integers" : "values"},
                    {"slope", layer.domain.slope},
                    {"intercept", layer.domain.intercept},
                    {"slab_slices", kResidualSlabSlices},
+                   {"coder", kCoder},
                    {"exact_voxels", layer.exact.size()},
-                   {"wide_bytes", wide.size()},
                    {"section_bytes", section.size()},
                    {"reconstruction_crc32", layer.reconstructionChecksum}};
     return section;
@@ -118,27 +81,28 @@ ResidualLayer decodeResidualSection(std::string_view section, const nlohmann::js
     if (description.at("slab_slices").get<int>() != kResidualSlabSlices) {
         throw std::runtime_error("residual: slabs of another size than this gvr codes");
     }
+    if (description.at("coder").get<std::string>() != kCoder) throw std::runtime_error("residual: a coder this gvr does not know");
     layer.dims = dims;
     layer.channels = channels;
     layer.reconstructionChecksum = description.at("reconstruction_crc32").get<std::uint32_t>();
     const std::size_t voxels = std::size_t(dims.x()) * dims.y() * dims.z() * channels;
     const auto exactCount = description.at("exact_voxels").get<std::size_t>();
-    const auto wideBytes = description.at("wide_bytes").get<std::size_t>();
-    if (exactCount > voxels || wideBytes > 4 * voxels) throw std::runtime_error("residual: more codes than voxels");
+    if (exactCount > voxels) throw std::runtime_error("residual: more exact values than voxels");
     std::size_t cursor = 0;
     const std::string predictors = takeZstdFrame(section, cursor, blockCount(dims) * channels, "residual predictors");
-    const std::string bytes = takeZstdFrame(section, cursor, voxels, "residual codes");
-    const std::string wide = takeZstdFrame(section, cursor, wideBytes, "residual wide codes");
     const std::string exact = takeZstdFrame(section, cursor, exactCount * sizeof(double), "residual exact values");
-    if (cursor != section.size()) throw std::runtime_error("residual: bytes after its last frame");
+    const auto streams = takeStreams(section, cursor, std::size_t(residualSlabCount(dims)));
+    if (cursor != section.size()) throw std::runtime_error("residual: bytes after its last stream");
     layer.predictors.resize(predictors.size());
     for (std::size_t b = 0; b < predictors.size(); ++b) {
         if (std::uint8_t(predictors[b]) >= kResidualPredictors) throw std::runtime_error("residual: unknown predictor");
         layer.predictors[b] = ResidualPredictor(predictors[b]);
     }
-    std::size_t exactCodes = 0;
-    layer.codes = joinCodes(bytes, wide, channels, exactCodes);
-    if (exactCodes != exactCount) throw std::runtime_error("residual: exact voxels do not match their codes");
+    layer.codes.assign(voxels, 0);
+    decodeResidualCodes(streams, layer);
+    if (std::size_t(std::count(layer.codes.begin(), layer.codes.end(), kResidualExact)) != exactCount) {
+        throw std::runtime_error("residual: exact voxels do not match their codes");
+    }
     layer.exact.resize(exactCount);
     for (std::size_t n = 0; n < exactCount; ++n) {
         layer.exact[n] = loadLittleEndian<double>(exact.data() + n * sizeof(double));

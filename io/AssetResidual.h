@@ -1,18 +1,17 @@
 /// @file AssetResidual.h
 /// @brief The residual layer's section of an asset file (format 3): after the
-/// Gaussians' body, four length-prefixed zstd frames, described by the header's
-/// "residual" object.
+/// Gaussians' body, two length-prefixed zstd frames and one range-coded stream per
+/// slab, described by the header's "residual" object.
 ///
-/// | frame        | holds                                                              |
+/// | part         | holds                                                              |
 /// |--------------|--------------------------------------------------------------------|
-/// | predictors   | one byte per 8^3 block and channel (ResidualPredictor)             |
-/// | codes        | one byte per voxel, channel by channel: zigzag code 0..252, 253 an |
-/// |              | exact voxel, 254 and 255 a code in the next 2 or 4 bytes of "wide" |
-/// | wide         | those codes, little-endian                                         |
-/// | exact        | the exact voxels' values (stored samples or values), float64       |
+/// | predictors   | zstd frame: one byte per 8^3 block and channel (ResidualPredictor) |
+/// | exact        | zstd frame: the exact voxels' values (stored samples or values),   |
+/// |              | float64                                                            |
+/// | codes        | per slab, a uint64 byte count and its stream (io/ResidualCodes)    |
 ///
 /// The header's "residual": bound, domain ("integers" with slope and intercept, or
-/// "values"), slab_slices, exact_voxels, wide_bytes, section_bytes and
+/// "values"), slab_slices, coder ("range-contexts"), exact_voxels, section_bytes and
 /// reconstruction_crc32 (zlib's CRC-32 of the reconstruction's float32 values).
 #pragma once
 

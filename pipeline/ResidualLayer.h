@@ -7,9 +7,10 @@
 /// samples (integer data, so that a file in the source's own type holds the
 /// result exactly) or 2E (float data), and the quantised residual added back.
 /// As in the SZ family of codecs, the prediction of a voxel uses only voxels
-/// decoded before it, so that the decoder predicts exactly as the encoder did; each
-/// 8^3 block picks its predictor (the Gaussians, its decoded neighbours by Lorenzo's
-/// rule, or the Gaussians corrected by their neighbours' decoded residuals), since on
+/// decoded before it, so that the decoder predicts exactly as the encoder did; voxels
+/// code level by level (SZ3's interpolation order), and each 8^3 block picks its
+/// predictor (the Gaussians, an interpolation of decoded neighbours, or the Gaussians
+/// corrected by an interpolation of their neighbours' decoded residuals), since on
 /// CT the Gaussians' tails over air predict worse than the neighbours do. The encoder
 /// runs the decoder's arithmetic and stores any voxel whose reconstruction would miss
 /// the bound after rounding exactly, so the bound holds on every voxel.
@@ -33,13 +34,17 @@ struct ResidualDomain {
 /// How a block's voxels are predicted.
 enum class ResidualPredictor : std::uint8_t {
     gaussians = 0,   ///< the Gaussian field at the voxel
-    neighbours = 1,  ///< Lorenzo's rule on the decoded voxels before it
-    both = 2,        ///< the Gaussian field plus Lorenzo's rule on the decoded residuals from it
+    neighbours = 1,  ///< cubic interpolation between decoded voxels
+    both = 2,        ///< the Gaussian field plus linear interpolation of the decoded residuals from it
 };
 constexpr int kResidualPredictors = 3;
-/// Slices coded apart from the others, so that slabs code in parallel (a slab's
-/// first slice predicts from its own plane only).
+/// Slices coded apart from the others, so that slabs code in parallel (a slab
+/// interpolates between its own slices only).
 constexpr int kResidualSlabSlices = 32;
+/// The slabs of a volume of @a dims: the slices [s * kResidualSlabSlices, ...) for each s.
+inline int residualSlabCount(const openvdb::Coord& dims) {
+    return (dims.z() + kResidualSlabSlices - 1) / kResidualSlabSlices;
+}
 /// A code that says: this voxel's exact value is the next of ResidualLayer::exact.
 constexpr std::int32_t kResidualExact = std::numeric_limits<std::int32_t>::min();
 /// Quantised residuals stay within this; beyond, the voxel is stored exactly.
@@ -55,7 +60,7 @@ struct ResidualLayer {
     /// One per voxel and channel, in FloatVolume's order: the quantised residual, or kResidualExact.
     std::vector<std::int32_t> codes;
     /// The exact values (stored samples k for integer domains, else the value), slab
-    /// by slab, then channel by channel, voxel by voxel within.
+    /// by slab, then channel by channel, in the coding order within.
     std::vector<double> exact;
     /// CRC-32 of the reconstruction's floats as the encoder decoded them: a reader
     /// whose arithmetic differed (its prediction not bit for bit the encoder's) finds out.

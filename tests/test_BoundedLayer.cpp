@@ -100,7 +100,7 @@ TEST(BoundedLayer, ALayerThatLiesAboutItsSizesIsRefusedNamingTheFile) {
     const std::vector<std::function<void(nlohmann::json&)>> lies = {
         [](nlohmann::json& r) { r["section_bytes"] = r["section_bytes"].get<std::uint64_t>() + (1u << 30); },
         [](nlohmann::json& r) { r["exact_voxels"] = std::uint64_t(1) << 40; },
-        [](nlohmann::json& r) { r["wide_bytes"] = std::uint64_t(1) << 40; },
+        [](nlohmann::json& r) { r["coder"] = "huffman"; },
         [](nlohmann::json& r) { r["bound"] = -1.0; },
         [](nlohmann::json& r) { r["domain"] = "complex"; },
         [](nlohmann::json& r) { r["reconstruction_crc32"] = r["reconstruction_crc32"].get<std::uint32_t>() ^ 1u; },
