@@ -32,6 +32,7 @@ void printEvaluation(const EvalFlags& flags, const EvalResult& e) {
     std::cout << std::setprecision(6) << "reference: " << flags.reference
               << (e.referenceReadAs.empty() ? "" : " (" + e.referenceReadAs + ")") << "\ntest:      " << flags.test << "\n"
               << "  MSE      " << e.mse << " (physical units squared)\n"
+              << "  max err  " << e.maxError << " (physical units, the largest over the voxels compared)\n"
               << "  PSNR     " << formatDb(e.psnr) << " dB, peak " << e.peak
               << (flags.options.peak ? " (--peak)" : " (the reference's data range)") << "\n"
               << "  FG PSNR  " << (e.foregroundVoxels ? formatDb(e.foregroundPsnr) + " dB" : std::string("n/a"))
@@ -59,7 +60,7 @@ void printEvaluation(const EvalFlags& flags, const EvalResult& e) {
 void addEvalCommand(CLI::App& app) {
     auto flags = std::make_shared<EvalFlags>();
     CLI::App* command = app.add_subcommand(
-        "eval", "Compare a test volume or image with a reference: MSE, PSNR, foreground PSNR, SSIM and "
+        "eval", "Compare a test volume or image with a reference: MSE, maximum error, PSNR, foreground PSNR, SSIM and "
                 "MS-SSIM (3D for volumes, 2D for images; RGB per channel, averaged)");
     command->add_option("reference", flags->reference, "Reference: .vdb, any volume ingest reads, or a 2D image")->required();
     command->add_option("test", flags->test, "Volume, Gaussian asset (as exported) or image to compare with it")->required();

@@ -51,6 +51,7 @@ struct BrickFlags {
 struct FitFlags {
     std::string input, output, logPath, labelVolume, labelNames;
     std::string maxError;  ///< --max-error as given: empty, a number, or a percentage
+    bool ratioGiven = false;  ///< --ratio on the command line (else a bound's preview takes kBoundedPreviewRatio)
     std::size_t threads = 0;
     bool json = false, quiet = false;
     BudgetedFitOptions options;
@@ -360,6 +361,9 @@ void runFit(FitFlags& flags) {
                                 flags.threads > 0 ? flags.threads : tbb::this_task_arena::max_concurrency());
     checkedSettings(flags.options);  // bad flags are refused before anything is read
     checkMaxError(flags.maxError);
+    if (!flags.maxError.empty() && !flags.ratioGiven && flags.options.gaussians == 0) {
+        flags.options.ratio = kBoundedPreviewRatio;
+    }
     checkOutputPath("-o", flags.output, {flags.input, flags.labelVolume, flags.labelNames});
     if (!flags.logPath.empty()) {
         checkOutputPath("--log", flags.logPath, {flags.input, flags.output, flags.labelVolume, flags.labelNames});
@@ -477,7 +481,11 @@ void addFitCommand(CLI::App& app) {
     command->add_option("input", flags->input, "Grid (.vdb) or source volume")->required();
     command->option_defaults()->group("Budget and output");
     command->add_option("-o,--output", flags->output, "Asset file to write (any name)")->required();
-    auto* ratio = command->add_option("--ratio", flags->options.ratio, "Target compression ratio against the raw source bytes")->capture_default_str();
+    auto* ratio = command->add_option("--ratio", flags->options.ratio,
+                                      "Target compression ratio against the raw source bytes (with --max-error, of the "
+                                      "Gaussians alone; default there " + std::to_string(int(kBoundedPreviewRatio)) + ")")
+                      ->capture_default_str()
+                      ->each([flags](const std::string&) { flags->ratioGiven = true; });
     command->add_option("--gaussians", flags->options.gaussians, "Fit exactly this many Gaussians instead")
         ->excludes(ratio)
         ->check(CLI::Range(std::size_t(1), std::size_t(1) << 32));
@@ -489,8 +497,8 @@ void addFitCommand(CLI::App& app) {
     auto* maxError = command->add_option("--max-error", flags->maxError,
                         "Add a residual layer so that every voxel of the export is within E of the source as read: "
                         "E in the source's units (HU, the stored values), or a percentage of its data range (0.5%). "
-                        "Integer data at E < 1 is kept losslessly. --ratio then sizes the Gaussians, the preview; "
-                        "the layer adds what the bound needs");
+                        "Integer data at E < 1 is kept losslessly. --ratio then sizes the Gaussians, the preview "
+                        "(default " + std::to_string(int(kBoundedPreviewRatio)) + ":1); the layer adds what the bound needs");
     command->add_option("--seed", flags->options.settings.seed, "Random seed")->capture_default_str();
     command->add_option("--ablation", flags->options.ablation, "full, A1, A2, A3, A4 or A5")->capture_default_str();
     auto* log = command->add_option("--log", flags->logPath, "Write error against run time as CSV");

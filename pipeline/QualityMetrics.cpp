@@ -210,6 +210,18 @@ double meanSquaredError(const FloatVolume& a, const FloatVolume& b, const std::v
     return count > 0 ? sum / (double(count) * a.channels) : 0.0;
 }
 
+double maxAbsoluteError(const FloatVolume& a, const FloatVolume& b, const std::vector<std::uint8_t>& mask) {
+    requireSameShape(a, b);
+    double worst = 0.0;
+    for (std::size_t n = 0; n < a.voxelCount(); ++n) {
+        if (!mask.empty() && !mask[n]) continue;
+        for (int c = 0; c < a.channels; ++c) {
+            worst = std::max(worst, std::abs(double(a.values[n * a.channels + c]) - double(b.values[n * a.channels + c])));
+        }
+    }
+    return worst;
+}
+
 namespace {
 
 /// Whether either rendering covers pixel @a n (alpha > 0).

@@ -35,6 +35,10 @@ struct SsimSettings {
 double meanSquaredError(const FloatVolume& a, const FloatVolume& b,
                         const std::vector<std::uint8_t>& mask = {});
 
+/// The largest |a - b| over every channel of the voxels in @a mask (all when empty),
+/// in double: the figure an error bound promises.
+double maxAbsoluteError(const FloatVolume& a, const FloatVolume& b, const std::vector<std::uint8_t>& mask = {});
+
 double ssim(const FloatVolume& a, const FloatVolume& b, const SsimSettings& settings);
 
 /// Two renderings (premultiplied RGBA, 4 channels) compared as they are seen: RGB

@@ -358,13 +358,4 @@ FloatVolume decodeResidualLayer(const ResidualLayer& layer, const FloatVolume& p
     return out;
 }
 
-double maxAbsoluteError(const FloatVolume& a, const FloatVolume& b) {
-    checkSameShape(a, b);
-    double worst = 0.0;
-    for (std::size_t n = 0; n < a.values.size(); ++n) {
-        worst = std::max(worst, std::abs(double(a.values[n]) - double(b.values[n])));
-    }
-    return worst;
-}
-
 }  // namespace gvr

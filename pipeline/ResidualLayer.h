@@ -89,7 +89,4 @@ ResidualLayer encodeResidualLayer(const FloatVolume& source, const FloatVolume& 
 /// match the prediction's shape, or its exact values run out.
 FloatVolume decodeResidualLayer(const ResidualLayer& layer, const FloatVolume& prediction);
 
-/// The largest |a - b| over every voxel and channel, in double.
-double maxAbsoluteError(const FloatVolume& a, const FloatVolume& b);
-
 }  // namespace gvr

@@ -4,6 +4,7 @@
 
 #include "io/AssetFile.h"
 #include "io/ComparisonInput.h"
+#include "pipeline/QualityMetrics.h"
 #include "pipeline/ResidualLayer.h"
 #include "tests/TestHelpers.h"
 #include "workflow/BoundedLayer.h"
@@ -43,6 +44,13 @@ TEST(BoundedLayer, AFitWithMaxErrorExportsEveryVoxelWithinIt) {
     ASSERT_EQ(test::runGvr("export -q '" + asset + "' --float32 --layers gaussians -o '" + preview + "'", dir).exitCode, 0);
     EXPECT_LE(exportError(grid, all), 0.01);
     EXPECT_GT(exportError(grid, preview), 0.01);  // ten iterations of 60 Gaussians are no copy
+    // gvr eval reads the asset with its layer and reports the bound's figure.
+    const test::CommandResult eval = test::runGvr("eval --json '" + grid + "' '" + asset + "'", dir);
+    ASSERT_EQ(eval.exitCode, 0) << eval.err;
+    EXPECT_LE(nlohmann::json::parse(eval.out)["max_error"].get<double>(), 0.01);
+    const test::CommandResult evalPreview = test::runGvr("eval --json '" + grid + "' '" + preview + "'", dir);
+    ASSERT_EQ(evalPreview.exitCode, 0) << evalPreview.err;
+    EXPECT_GT(nlohmann::json::parse(evalPreview.out)["max_error"].get<double>(), 0.01);
 
     // The bound is on the source's own grid: another is the Gaussians' alone, if asked for.
     const test::CommandResult coarse = test::runGvr("export -q '" + asset + "' --resolution 8 -o '" + dir.path("c.vdb") + "'", dir);

@@ -61,6 +61,18 @@ TEST(QualityMetrics, ConstantOffsetGivesExactMse) {
     EXPECT_NEAR(meanSquaredError(v, partly, mask), 16.0, 1e-3);
 }
 
+TEST(QualityMetrics, MaxErrorIsTheLargestOverChannelsAndTheMask) {
+    const FloatVolume v = smoothVolume({20, 18, 16}, 3);
+    FloatVolume off = v;
+    off.values[7 * 3 + 2] -= 9.0f;  // voxel 7's last channel
+    off.values[8 * 3 + 0] += 3.0f;
+    EXPECT_NEAR(maxAbsoluteError(v, off), 9.0, 1e-5);
+    std::vector<std::uint8_t> mask(v.voxelCount(), 1);
+    mask[7] = 0;
+    EXPECT_NEAR(maxAbsoluteError(v, off, mask), 3.0, 1e-5);
+    EXPECT_EQ(maxAbsoluteError(v, v), 0.0);
+}
+
 TEST(QualityMetrics, GaussianNoiseGivesTheExpectedPsnr) {
     const FloatVolume v = smoothVolume({64, 64, 48});
     const double peak = 1000.0;

@@ -3,6 +3,7 @@
 // that is wrong or not finite), in integer and float domains alike.
 
 #include "pipeline/Error.h"
+#include "pipeline/QualityMetrics.h"
 #include "pipeline/ResidualLayer.h"
 
 #include <gtest/gtest.h>

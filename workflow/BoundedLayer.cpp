@@ -4,6 +4,7 @@
 #include "io/AssetFile.h"
 #include "io/AssetResidual.h"
 #include "pipeline/Error.h"
+#include "pipeline/QualityMetrics.h"
 #include "pipeline/ResidualLayer.h"
 
 #include <chrono>

@@ -12,6 +12,12 @@
 
 namespace gvr {
 
+/// The Gaussians' ratio under a bound when none is asked: a coarse preview. The layer
+/// costs more bytes than the Gaussians save it above this share (on ch2, the chest,
+/// ct-head and norm.mgz, a 40:1 preview gave larger assets than a 400:1 one; see
+/// docs/benchmarks.md, "An error bound").
+constexpr double kBoundedPreviewRatio = 400.0;
+
 struct BoundedLayerReport {
     double bound = 0.0;          ///< in the source's units
     bool integers = false;       ///< coded in the source's stored samples

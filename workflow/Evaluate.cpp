@@ -182,6 +182,7 @@ EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const
     e.foregroundVoxels = std::size_t(std::count(mask.begin(), mask.end(), 1));
     e.mse = meanSquaredError(reference.volume, test.volume, kept);
     e.psnr = psnrFromMse(e.mse, e.peak);
+    e.maxError = maxAbsoluteError(reference.volume, test.volume, kept);
     e.foregroundMse = meanSquaredError(reference.volume, test.volume, mask);
     e.foregroundPsnr = e.foregroundVoxels > 0 ? psnrFromMse(e.foregroundMse, e.peak) : NAN;
     SsimSettings ssimSettings;
@@ -245,7 +246,7 @@ EvalResult evaluate(const std::string& referencePath, const std::string& testPat
 }
 
 nlohmann::json evalResultJson(const EvalResult& e) {
-    nlohmann::json out = {{"mse", e.mse}, {"psnr", jsonNumber(e.psnr)},
+    nlohmann::json out = {{"mse", e.mse}, {"psnr", jsonNumber(e.psnr)}, {"max_error", e.maxError},
                           {"fg_mse", e.foregroundVoxels ? nlohmann::json(e.foregroundMse) : nullptr}, {"fg_psnr", e.foregroundVoxels ? jsonNumber(e.foregroundPsnr) : nullptr},
                           {"fg_voxels", e.foregroundVoxels}, {"fg_rule", e.foregroundRule},
                           {"ssim", e.ssim}, {"ms_ssim", e.msSsim.value},

@@ -48,6 +48,7 @@ RenderingQuality renderingQuality(const FloatVolume& reference, const FloatVolum
 
 struct EvalResult {
     double mse = 0, psnr = 0, foregroundMse = 0, foregroundPsnr = 0, ssim = 0, peak = 0, seconds = 0;
+    double maxError = 0;  ///< the largest |reference - test| over the voxels compared, as an error bound reads it
     std::optional<RenderingQuality> rendering;  ///< for two RGBA images
     std::size_t foregroundVoxels = 0;
     MsSsim msSsim;
