@@ -170,7 +170,9 @@ std::string encodeAsset(GaussianAsset& asset) {
     bytes += header;
     bytes += encodeAssetBodyV2(asset.params, quantisation);
     appendLittleEndian(bytes, std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size()))));
-    return bytes;
+    // A layer read from a file goes back over the same Gaussians' bytes: a decoded
+    // asset's parameters quantise to what they were (a test holds save to the byte).
+    return asset.residual ? withResidualLayer(bytes, *asset.residual) : bytes;
 }
 
 namespace {

@@ -72,7 +72,8 @@ std::size_t fitAssetInto(GaussianAsset& asset, std::uint64_t maxBytes);
 std::string encodeAssetWithin(GaussianAsset& asset, std::uint64_t maxBytes);
 
 /// The whole file for @a asset, which is put into storage order first: the
-/// Gaussians only (format 2); withResidualLayer() adds a layer.
+/// Gaussians (format 2), and its residual layer after them when it has one
+/// (format 3; withResidualLayer() adds a new one).
 std::string encodeAsset(GaussianAsset& asset);
 
 /// @a assetBytes (a format-2 file, as encodeAsset() gave it) with @a layer after its

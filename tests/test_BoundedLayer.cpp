@@ -124,6 +124,16 @@ TEST(BoundedLayer, ALayerThatLiesAboutItsSizesIsRefusedNamingTheFile) {
     }
 }
 
+TEST(BoundedLayer, AnAssetSavedAgainKeepsItsLayerByteForByte) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir), asset = dir.path("b.gvr");
+    ASSERT_EQ(test::runGvr("fit -q '" + grid + "' --gaussians 40 --iterations 4 --max-error 0.05 -o '" + asset + "'",
+                           dir).exitCode, 0);
+    GaussianAsset read = readAsset(asset);
+    ASSERT_TRUE(read.residual);
+    EXPECT_EQ(encodeAsset(read), test::readBytes(asset));  // as Python's asset.save() writes it
+}
+
 TEST(BoundedLayer, ARelativeBoundIsAShareOfTheDataRange) {
     EXPECT_DOUBLE_EQ(parseMaxError("0.5%", 254.0), 1.27);
     EXPECT_DOUBLE_EQ(parseMaxError("3", 254.0), 3.0);
