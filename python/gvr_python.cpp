@@ -21,6 +21,7 @@
 #include "render/Camera.h"
 #include "render/ShearWarp.h"
 #include "render/VolumeClassifier.h"
+#include "workflow/BoundedLayer.h"
 #include "workflow/Evaluate.h"
 #include "workflow/FitToBudget.h"
 #include "workflow/RenderInput.h"
@@ -344,17 +345,46 @@ BudgetedFitResult fitLoaded(const IngestResult& loaded, const std::string& name,
     return fitAllBricks(SoloTeam(), loaded.grid, target, name, options, {bricks, halo}, observers).result;
 }
 
+/// max_error: a number in the source's units, or text such as "0.5%" of its data range.
+using MaxError = std::variant<double, std::string>;
+
+void checkMaxErrorBeforeFit(const MaxError& maxError, std::size_t bricks) {
+    if (bricks > 0) throw InputError("`max_error`", "does not combine with `bricks`");
+    const auto* number = std::get_if<double>(&maxError);
+    const double bound = number ? *number : parseMaxError(std::get<std::string>(maxError), 1.0);
+    if (!(bound >= 0.0) || !std::isfinite(bound)) {
+        throw InputError("`max_error`", "must be a finite number at least 0 (or a percentage of the data range)");
+    }
+}
+
+/// The fitted asset with the residual layer of max_error over its source as read
+/// (a file: every voxel, as gvr fit --max-error reads it; a Volume: its voxels, the
+/// inactive ones at its background).
+GaussianAsset withErrorBound(const BudgetedFitResult& result, const MaxError& maxError, const std::string& path,
+                             const Volume& volume) {
+    const std::string name = path.empty() ? "volume" : path;
+    const FloatVolume source = path.empty() ? comparisonInputOf(volume.grid, name).volume
+                                            : loadComparisonInput(path, IngestOptions{}).volume;
+    const VolumeMetadata& metadata = result.asset.source;
+    const auto* number = std::get_if<double>(&maxError);
+    const double bound = number ? *number : parseMaxError(std::get<std::string>(maxError), metadata.valueMax - metadata.valueMin);
+    BoundedLayerReport report;
+    return decodeAsset(addErrorBound(result.file, name, source, bound, report), name);
+}
+
 GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<double> ratio,
                   std::optional<double> seconds, std::size_t gaussians,
                   std::size_t iterations, std::uint64_t seed, const std::string& ablation, const std::string& labels,
-                  std::size_t bricks, int halo, const std::optional<py::function>& progress, double minSamples) {
+                  std::size_t bricks, int halo, const std::optional<py::function>& progress, double minSamples,
+                  const std::optional<MaxError>& maxError) {
     // Each pair names one thing twice: say so, rather than let one of them win.
     if (ratio && gaussians > 0) throw InputError("`gaussians`", "cannot be combined with `ratio`: both set the count");
     if (seconds && iterations > 0) throw InputError("`iterations`", "cannot be combined with `seconds`: both end the fit");
+    if (maxError) checkMaxErrorBeforeFit(*maxError, bricks);
     BudgetedFitOptions options;
     options.settings.minSamplesPerGaussian = minSamples;
     options.labels = labels;
-    options.ratio = ratio.value_or(options.ratio);
+    options.ratio = ratio.value_or(maxError && gaussians == 0 ? kBoundedPreviewRatio : options.ratio);
     options.gaussians = gaussians;
     options.ablation = ablation;
     options.settings.seed = seed;
@@ -375,6 +405,7 @@ GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<
             py::gil_scoped_acquire acquire;
             if (PyErr_WarnEx(PyExc_UserWarning, note.c_str(), 1) != 0) throw py::error_already_set();
         }
+        if (maxError) return withErrorBound(result, *maxError, path ? *path : std::string(), volume);
         return std::move(result.asset);
     } catch (const PythonErrorPending&) {
         throw py::error_already_set();
@@ -386,9 +417,11 @@ GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<
 std::map<int, std::string> structuresOf(const GaussianAsset& asset) { return labelNamesOf(asset.labelTable); }
 
 Volume exportVolume(const GaussianAsset& asset, const std::optional<std::variant<Volume, std::string>>& like,
-                    std::optional<double> voxelSize) {
+                    std::optional<double> voxelSize, const std::string& layers) {
     if (like && voxelSize) throw InputError("voxel_size", "give like or voxel_size, not both");
+    if (layers != "all" && layers != "gaussians") throw InputError("layers", "must be all or gaussians, not " + layers);
     ExportSettings settings;
+    settings.gaussiansOnly = layers == "gaussians";
     if (like) {
         const auto* volume = std::get_if<Volume>(&*like);
         if (!volume && !std::filesystem::exists(std::get<std::string>(*like))) {
@@ -631,9 +664,11 @@ PYBIND11_MODULE(gvr, m) {
                                "the asset's cutoff; read-only")
         .def_property_readonly("channels", [](const GaussianAsset& a) { return a.params.channels; })
         .def_property_readonly("structures", &structuresOf, "Structure names by label id (empty unless fitted by label)")
-        .def("export", &exportVolume, "like"_a = py::none(), "voxel_size"_a = py::none(),
+        .def("export", &exportVolume, "like"_a = py::none(), "voxel_size"_a = py::none(), "layers"_a = "all",
              "The field on a grid: the source's own (default), another volume's (like= a Volume or a file "
-             "ingest reads), or voxels of voxel_size mm over the source's extent")
+             "ingest reads), or voxels of voxel_size mm over the source's extent. layers: all (the Gaussians "
+             "and the residual layer of fit(max_error=...), which holds its bound on the source's own grid "
+             "only) or gaussians (the preview), as `gvr export --layers`")
         .def("probe", &probe, "points"_a, "Values in physical units at an (n, 3) array of source voxel indices")
         .def("show", [](const GaussianAsset& a, const std::string& show, const std::string& hide) {
                  return selectStructures(a, show, hide, "asset");
@@ -641,10 +676,10 @@ PYBIND11_MODULE(gvr, m) {
              "The asset with only these structures of a fit by label (ids or names, comma-separated; empty: "
              "all), less those in hide, as gvr render --show and --hide select them");
 
-    // min_samples comes last, so that positional calls written before it still mean what they did.
+    // New arguments come last, so that positional calls written before them still mean what they did.
     m.def("fit", &fit, "volume"_a, "ratio"_a = py::none(), "seconds"_a = py::none(), "gaussians"_a = 0,
           "iterations"_a = 0, "seed"_a = 1, "ablation"_a = "full", "labels"_a = "", "bricks"_a = 0,
-          "halo"_a = kDefaultBrickHalo, "progress"_a = py::none(), "min_samples"_a = 0.0,
+          "halo"_a = kDefaultBrickHalo, "progress"_a = py::none(), "min_samples"_a = 0.0, "max_error"_a = py::none(),
           "Fit Gaussians to a Volume or a file (anything gvr ingest reads), as `gvr fit` does: as many as fit in the raw bytes / ratio "
           "(default 10; or exactly `gaussians`, not both), within `seconds` (default 300; or exactly `iterations`, "
           "reproducible byte for byte, not both). When the "
@@ -653,7 +688,10 @@ PYBIND11_MODULE(gvr, m) {
           "is called with a dict after each iteration. Ctrl-C stops the fit with KeyboardInterrupt. labels: fit "
           "by structure (all, or ids and names) from the volume's labels, as `gvr fit --labels`. bricks: fit in "
           "that many bricks of whole 8^3 leaves (each seeing `halo` voxels around it) and merge them, as `gvr fit "
-          "--bricks`; the progress dict then says which brick.");
+          "--bricks`; the progress dict then says which brick. max_error: a number in the source's units, or a "
+          "string such as '0.5%' of its data range: add a residual layer so that every voxel of asset.export() "
+          "on the source's grid is within it (the Gaussians then default to a 400:1 preview), as `gvr fit "
+          "--max-error`.");
     m.def("render", &render, "what"_a, "azimuth"_a = 30.0, "elevation"_a = 15.0,
           "size"_a = std::pair<int, int>(512, 512), "tf"_a = "", "supersample"_a = ShearWarpSettings{}.supersampling,
           "classify"_a = "points",

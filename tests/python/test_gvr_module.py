@@ -152,6 +152,26 @@ def test_render_refuses_a_supersampling_outside_1_to_4_and_an_unknown_classifica
         gvr.render(cli_asset, classify="lines")
 
 
+def test_a_bounded_fit_from_python_is_gvr_fit_max_error_byte_for_byte(work):
+    cli = str(work / "cli-bounded.gvr")
+    run("fit", "-q", CH2, "-o", cli, "--iterations", "5", "--seed", "3", "--max-error", "4")
+    asset = gvr.fit(CH2, iterations=5, seed=3, max_error=4)
+    path = str(work / "python-bounded.gvr")
+    asset.save(path)
+    with open(path, "rb") as a, open(cli, "rb") as b:
+        assert a.read() == b.read()
+    source = np.asarray(nibabel.load(CH2).dataobj).astype(np.float64)
+    assert np.abs(asset.export().to_numpy().astype(np.float64) - source).max() <= 4
+    assert np.abs(asset.export(layers="gaussians").to_numpy().astype(np.float64) - source).max() > 4
+    assert gvr.evaluate(CH2, asset)["max_error"] <= 4
+    with pytest.raises(gvr.Error, match="max_error"):
+        gvr.fit(CH2, iterations=1, max_error=-1)
+    with pytest.raises(gvr.Error, match="max_error"):
+        gvr.fit(CH2, iterations=1, max_error="4 HU")
+    with pytest.raises(gvr.Error, match="layers"):
+        asset.export(layers="residual")
+
+
 def test_evaluate_has_the_keys_and_figures_of_gvr_eval(ch2_vdb, cli_asset):
     ours = gvr.evaluate(gvr.ingest(ch2_vdb), gvr.Asset.load(cli_asset))
     theirs = json.loads(run("eval", ch2_vdb, cli_asset, "--json"))
