@@ -56,6 +56,8 @@ std::string encodeResidualSection(const ResidualLayer& layer, nlohmann::json& de
     appendZstdFrame(section, exact, kZstdLevel);
     appendStreams(section, encodeResidualCodes(layer));
     description = {{"bound", layer.bound},
+                   {"low", layer.low},
+                   {"high", layer.high},
                    {"domain", layer.domain.integers ? "integers" : "values"},
                    {"slope", layer.domain.slope},
                    {"intercept", layer.domain.intercept},
@@ -71,6 +73,11 @@ ResidualLayer decodeResidualSection(std::string_view section, const nlohmann::js
                                     const openvdb::Coord& dims, int channels) {
     ResidualLayer layer;
     layer.bound = description.at("bound").get<double>();
+    layer.low = description.at("low").get<double>();
+    layer.high = description.at("high").get<double>();
+    if (!std::isfinite(layer.low) || !std::isfinite(layer.high) || !(layer.low <= layer.high)) {
+        throw std::runtime_error("residual: its source range is not a valid range");
+    }
     const std::string domain = description.at("domain").get<std::string>();
     if (domain != "integers" && domain != "values") throw std::runtime_error("residual: unknown domain " + domain);
     layer.domain = {domain == "integers", description.at("slope").get<double>(), description.at("intercept").get<double>()};

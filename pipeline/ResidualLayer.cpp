@@ -110,15 +110,19 @@ double previousAnchor(const Slab& slab, int i, int j, int k, ValueAt at) {
     return 0.0;
 }
 
+/// A source value in @a domain: its stored sample, or itself.
+double toDomainValue(const ResidualDomain& domain, float value) {
+    return domain.integers ? std::round((double(value) - domain.intercept) / domain.slope) : double(value);
+}
+
 /// The numbers the encoder and the decoder both compute with.
 class DomainArithmetic {
 public:
-    DomainArithmetic(const ResidualDomain& domain, double bound, double step)
-        : mDomain(domain), mBound(bound), mStep(step), mHalf(std::floor(step / 2.0)) {}
+    explicit DomainArithmetic(const ResidualLayer& layer)
+        : mDomain(layer.domain), mBound(layer.bound), mStep(layer.step()), mHalf(std::floor(mStep / 2.0)),
+          mLow(layer.low), mHigh(layer.high) {}
 
-    double toDomain(float value) const {
-        return mDomain.integers ? std::round((double(value) - mDomain.intercept) / mDomain.slope) : double(value);
-    }
+    double toDomain(float value) const { return toDomainValue(mDomain, value); }
     float toValue(double domainValue) const {
         return float(mDomain.integers ? mDomain.intercept + mDomain.slope * domainValue : domainValue);
     }
@@ -135,19 +139,19 @@ public:
         const double q = mDomain.integers ? std::floor((target - prediction + mHalf) / mStep)
                                           : std::round((double(value) - prediction) / mStep);
         if (!(std::abs(q) <= kMaxResidualCode)) return kResidualExact;
-        const double reconstructed = prediction + q * mStep;
+        const double reconstructed = std::clamp(prediction + q * mStep, mLow, mHigh);
         if (!(std::abs(double(toValue(reconstructed)) - double(value)) <= mBound)) return kResidualExact;
         return std::int32_t(q);
     }
     /// The decoded domain value of @a code over @a prediction, as the predictors read it.
     double decoded(double prediction, std::int32_t code) const {
-        const double reconstructed = prediction + double(code) * mStep;
+        const double reconstructed = std::clamp(prediction + double(code) * mStep, mLow, mHigh);
         return mDomain.integers ? reconstructed : double(toValue(reconstructed));
     }
 
 private:
     ResidualDomain mDomain;
-    double mBound, mStep, mHalf;
+    double mBound, mStep, mHalf, mLow, mHigh;
 };
 
 /// The bits a residual of @a r costs, about: the width of its quantised magnitude.
@@ -216,6 +220,16 @@ void checkSameShape(const FloatVolume& a, const FloatVolume& b) {
     if (a.dims != b.dims || a.channels != b.channels || a.values.size() != b.values.size()) {
         throw std::invalid_argument("a residual layer needs the source and its prediction on one lattice");
     }
+}
+
+/// The source's range in the domain, which every reconstruction is clamped into:
+/// a quantised step past it would only stray further from the source.
+void setSourceRange(ResidualLayer& layer, const FloatVolume& source) {
+    if (source.values.empty()) return;
+    const auto [lo, hi] = std::minmax_element(source.values.begin(), source.values.end());
+    const double a = toDomainValue(layer.domain, *lo), b = toDomainValue(layer.domain, *hi);
+    layer.low = std::min(a, b);  // a negative slope turns the range over
+    layer.high = std::max(a, b);
 }
 
 /// Converts the prediction's values into @a part's G, in the domain (unrounded).
@@ -311,7 +325,8 @@ ResidualLayer encodeResidualLayer(const FloatVolume& source, const FloatVolume& 
     layer.predictors.assign(std::size_t(blocks.x()) * blocks.y() * blocks.z() * source.channels,
                             ResidualPredictor::gaussians);
     layer.codes.assign(source.values.size(), 0);
-    const DomainArithmetic math(domain, bound, layer.step());
+    setSourceRange(layer, source);
+    const DomainArithmetic math(layer);
     const int slabs = residualSlabCount(source.dims);
     std::vector<std::vector<double>> exact(std::size_t(slabs) * source.channels);
     tbb::parallel_for(0, slabs, [&](int s) {
@@ -332,7 +347,8 @@ FloatVolume decodeResidualLayer(const ResidualLayer& layer, const FloatVolume& p
         layer.codes.size() != prediction.values.size()) {
         throw std::runtime_error("the residual layer is not of the asset's source lattice");
     }
-    const DomainArithmetic math(layer.domain, layer.bound, layer.step());
+    if (!(layer.low <= layer.high)) throw std::runtime_error("the layer's source range is empty");
+    const DomainArithmetic math(layer);
     const int slabs = residualSlabCount(layer.dims);
     // Where each slab's exact values begin: they are stored slab by slab.
     std::vector<std::size_t> firstExact(std::size_t(slabs) + 1, 0);

@@ -52,6 +52,9 @@ constexpr std::int32_t kMaxResidualCode = (1 << 30) - 1;
 
 struct ResidualLayer {
     double bound = 0.0;  ///< E, in the source's units: no voxel is further from it
+    /// The source's range in the domain (stored samples or values): reconstructions are
+    /// clamped into it, so they stay in the source's type and never step away from it.
+    double low = 0.0, high = 0.0;
     ResidualDomain domain;
     openvdb::Coord dims{0, 0, 0};
     int channels = 1;

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <random>
@@ -126,6 +127,20 @@ TEST(ResidualLayer, AirIsPredictedFromItsNeighboursAndDetailFromTheGaussians) {
     EXPECT_EQ(layer.predictors[0], ResidualPredictor::neighbours);  // block (0, 0, 0): all air
     EXPECT_EQ(layer.predictors[2], ResidualPredictor::gaussians);   // block (2, 0, 0): detail alone
     EXPECT_EQ(maxAbsoluteError(source, decodeResidualLayer(layer, prediction)), 0.0);
+}
+
+TEST(ResidualLayer, ReconstructionsStayWithinTheSourceRange) {
+    // uint8-like samples 0..254 and a wide step: unclamped, a step past 0 or 254 gives
+    // values the source's type cannot hold (and a NIfTI writer would clamp).
+    std::mt19937 random(4);
+    std::uniform_int_distribution<int> sample(0, 254);
+    const FloatVolume source = layerVolume(1, [&](int i, int, int, int) { return float(i < 9 ? 0 : sample(random)); });
+    const ResidualDomain domain = residualDomainOf(source, 1.0, 0.0);
+    const FloatVolume prediction = roughPrediction(source);
+    const FloatVolume decoded = decodeResidualLayer(encodeResidualLayer(source, prediction, 6.0, domain), prediction);
+    EXPECT_LE(maxAbsoluteError(source, decoded), 6.0);
+    EXPECT_EQ(*std::min_element(decoded.values.begin(), decoded.values.end()), 0.0f);
+    EXPECT_LE(*std::max_element(decoded.values.begin(), decoded.values.end()), 254.0f);
 }
 
 TEST(ResidualLayer, ABadBoundIsRefusedInOneLine) {
