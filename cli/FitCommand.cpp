@@ -350,10 +350,7 @@ std::string boundedFile(const FitFlags& flags, const BudgetedFitResult& result, 
 /// --max-error's text, refused before the fit when it is no bound at all.
 void checkMaxError(const std::string& text) {
     if (text.empty()) return;
-    const double bound = parseMaxError(text, 1.0);
-    if (!(bound >= 0.0) || !std::isfinite(bound)) {
-        throw InputError("--max-error", "must be a finite number at least 0 (or a percentage of the data range)");
-    }
+    checkBoundBeforeFit(parseMaxError(text, 1.0), "--max-error");
 }
 
 void runFit(FitFlags& flags) {

@@ -351,10 +351,7 @@ using MaxError = std::variant<double, std::string>;
 void checkMaxErrorBeforeFit(const MaxError& maxError, std::size_t bricks) {
     if (bricks > 0) throw InputError("`max_error`", "does not combine with `bricks`");
     const auto* number = std::get_if<double>(&maxError);
-    const double bound = number ? *number : parseMaxError(std::get<std::string>(maxError), 1.0);
-    if (!(bound >= 0.0) || !std::isfinite(bound)) {
-        throw InputError("`max_error`", "must be a finite number at least 0 (or a percentage of the data range)");
-    }
+    checkBoundBeforeFit(number ? *number : parseMaxError(std::get<std::string>(maxError), 1.0), "`max_error`");
 }
 
 /// The fitted asset with the residual layer of max_error over its source as read

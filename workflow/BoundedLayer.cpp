@@ -30,6 +30,12 @@ double parseMaxError(const std::string& text, double dataRange) {
     return relative ? value / 100.0 * dataRange : value;
 }
 
+void checkBoundBeforeFit(double bound, const std::string& name) {
+    if (!(bound >= 0.0) || !std::isfinite(bound)) {
+        throw InputError(name, "must be a finite number at least 0 (or a percentage of the data range)");
+    }
+}
+
 std::string addErrorBound(std::string_view assetBytes, const std::string& name, const FloatVolume& source,
                           double bound, BoundedLayerReport& report, const ProgressFn& progress) {
     const auto start = std::chrono::steady_clock::now();

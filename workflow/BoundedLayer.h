@@ -31,6 +31,10 @@ struct BoundedLayerReport {
 /// percentage of @a dataRange ("0.5%"). @throw InputError naming `max_error`.
 double parseMaxError(const std::string& text, double dataRange);
 
+/// Refuses, before any fit, a bound that is no bound at all (NaN, negative or
+/// infinite). @throw InputError naming @a name (the flag or argument).
+void checkBoundBeforeFit(double bound, const std::string& name);
+
 /// @a assetBytes (a format-2 asset, as the fit wrote it) with a residual layer that
 /// takes its Gaussians to within @a bound of @a source (the volume the fit read, as
 /// read: every voxel) on every voxel; @a report says what it cost.
