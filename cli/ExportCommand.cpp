@@ -2,6 +2,7 @@
 
 #include "cli/Commands.h"
 #include "cli/Diagnostics.h"
+#include "cli/LayersOption.h"
 #include "cli/ProgressBar.h"
 #include "cli/VolumeOutputOptions.h"
 #include "io/AssetExport.h"
@@ -63,8 +64,8 @@ void runExport(const ExportFlags& flags) {
     const auto start = std::chrono::steady_clock::now();
     const GaussianAsset asset = selectStructures(readAsset(flags.input), flags.show, flags.hide, flags.input);
     ExportSettings settings;
-    settings.gaussiansOnly = flags.layers == "gaussians";
-    const bool bounded = asset.residual && !settings.gaussiansOnly;
+    settings.layers = parseAssetLayers(flags.layers, "--layers");
+    const bool bounded = readsResidualLayer(asset, settings.layers);
     if (bounded && flags.threshold) {
         throw InputError("--threshold", "the residual layer keeps every voxel within its bound, so there is "
                                         "nothing to cut; add --layers gaussians to cut the Gaussians alone");
@@ -142,11 +143,7 @@ void addExportCommand(CLI::App& app) {
                         "With --dcc: transfer function, a preset (ct, ct-bone, mri, rgb) or a JSON file as render "
                         "takes it (default: the preset for the data)")
         ->needs(dcc);
-    command->add_option("--layers", flags->layers,
-                        "all: the Gaussians with the residual layer of fit --max-error, when the asset has one "
-                        "(every voxel within its bound, on the source's grid); gaussians: the Gaussians alone, "
-                        "the preview")
-        ->check(CLI::IsMember({"all", "gaussians"}))->capture_default_str();
+    addLayersOption(*command, flags->layers, "on the source's grid");
     addRemovedFormatOption(*command, flags->removedFormat);
     command->add_flag("--json", flags->json, "Print the result as JSON");
     command->add_flag("-q,--quiet", flags->quiet, "No progress bars");

@@ -1,10 +1,11 @@
 // gvr probe ASSET --world X,Y,Z | --index I,J,K: what the Gaussian field holds at given points.
 
 #include "cli/Commands.h"
+#include "cli/LayersOption.h"
 #include "io/AssetFile.h"
 #include "io/JsonText.h"
-#include "pipeline/AssetProbe.h"
 #include "pipeline/Error.h"
+#include "workflow/ProbeAsset.h"
 
 #include <iomanip>
 #include <iostream>
@@ -17,6 +18,7 @@ namespace {
 struct ProbeFlags {
     std::string input;
     std::vector<std::string> indexPoints, worldPoints;
+    std::string layers = "all";
     bool json = false;
 };
 
@@ -32,14 +34,15 @@ openvdb::Vec3d parsePoint(const std::string& flag, const std::string& text) {
 }
 
 /// Every point asked for, in the asset's index space: --world ones first.
-std::vector<openvdb::Vec3d> indexPointsOf(const ProbeFlags& flags, const GaussianAsset& asset) {
+std::vector<std::array<double, 3>> indexPointsOf(const ProbeFlags& flags, const GaussianAsset& asset) {
     if (flags.indexPoints.empty() && flags.worldPoints.empty()) {
         throw InputError("probe", "give points with --world X,Y,Z (mm) or --index I,J,K");
     }
     const openvdb::math::Mat4d indexFromWorld = asset.worldFromIndex.inverse();
-    std::vector<openvdb::Vec3d> points;
-    for (const std::string& text : flags.worldPoints) points.push_back(indexFromWorld.transform(parsePoint("--world", text)));
-    for (const std::string& text : flags.indexPoints) points.push_back(parsePoint("--index", text));
+    std::vector<std::array<double, 3>> points;
+    const auto add = [&](const openvdb::Vec3d& p) { points.push_back({p[0], p[1], p[2]}); };
+    for (const std::string& text : flags.worldPoints) add(indexFromWorld.transform(parsePoint("--world", text)));
+    for (const std::string& text : flags.indexPoints) add(parsePoint("--index", text));
     return points;
 }
 
@@ -61,23 +64,29 @@ std::string valuesText(const nlohmann::json& values) {
 
 void runProbe(const ProbeFlags& flags) {
     const GaussianAsset asset = readAsset(flags.input);
-    AssetProbe probe(asset);
+    const AssetLayers layers = parseAssetLayers(flags.layers, "--layers");
+    const std::vector<std::array<double, 3>> points = indexPointsOf(flags, asset);
+    const std::vector<AssetProbe::Sample> samples = probeAsset(asset, points, layers, flags.input);
+    const int channels = asset.params.channels;
+    const bool bounded = readsResidualLayer(asset, layers);
     nlohmann::json rows = nlohmann::json::array();
-    for (const openvdb::Vec3d& index : indexPointsOf(flags, asset)) {
-        const AssetProbe::Sample sample = probe.at({index[0], index[1], index[2]});
-        const openvdb::Vec3d world = asset.worldFromIndex.transform(index);
-        rows.push_back({{"index", {index[0], index[1], index[2]}},
+    for (std::size_t n = 0; n < points.size(); ++n) {
+        const openvdb::Vec3d world = asset.worldFromIndex.transform(openvdb::Vec3d(points[n].data()));
+        rows.push_back({{"index", points[n]},
                         {"world_mm", {world[0], world[1], world[2]}},
-                        {"value", std::vector<double>(sample.value.begin(), sample.value.begin() + probe.channels())},
-                        {"gaussians", sample.gaussians}});
+                        {"value", std::vector<double>(samples[n].value.begin(), samples[n].value.begin() + channels)},
+                        {"gaussians", samples[n].gaussians}});
     }
     if (flags.json) {
-        std::cout << jsonText({{"asset", flags.input}, {"points", rows}}, 2) << "\n";
+        std::cout << jsonText({{"asset", flags.input}, {"layers", flags.layers},
+                               {"max_error", bounded ? nlohmann::json(asset.residual->bound) : nlohmann::json()},
+                               {"points", rows}}, 2) << "\n";
         return;
     }
+    const std::string from = bounded ? " Gaussians and the residual layer\n" : " Gaussians\n";
     for (const auto& row : rows) {
         std::cout << "world " << triple(row["world_mm"]) << " mm (index " << triple(row["index"])
-                  << "): " << valuesText(row["value"]) << " from " << row["gaussians"] << " Gaussians\n";
+                  << "): " << valuesText(row["value"]) << " from " << row["gaussians"] << from;
     }
 }
 
@@ -94,6 +103,7 @@ void addProbeCommand(CLI::App& app) {
         ->allow_extra_args(false);
     command->add_option("--index", flags->indexPoints, "A point I,J,K in source voxel indices (repeatable)")
         ->allow_extra_args(false);
+    addLayersOption(*command, flags->layers, "at its voxel centres, trilinear between them");
     command->add_flag("--json", flags->json, "Print the values as JSON");
     command->callback([flags] { runProbe(*flags); });
 }

@@ -2,6 +2,7 @@
 
 #include "cli/Commands.h"
 #include "cli/Diagnostics.h"
+#include "cli/LayersOption.h"
 #include "cli/ProgressBar.h"
 #include "cli/RenderFlags.h"
 #include "cli/SourceOptions.h"
@@ -33,7 +34,7 @@ namespace gvr {
 namespace {
 
 struct RenderFlags {
-    std::string input, output, size = "512x512", tf, renderer = "shear-warp", statsPath, saveTf, show, hide, labelStyle;
+    std::string input, output, size = "512x512", tf, renderer = "shear-warp", statsPath, saveTf, show, hide, labelStyle, layers = "all";
     double azimuth = 30.0, elevation = 15.0, stepVoxels = 0.5;
     std::optional<double> minScale;
     int orbit = 0, samples = 1;
@@ -114,8 +115,11 @@ void runRender(RenderFlags& flags) {
     if (flags.stacksAuto) flags.shearWarp.stacks = automaticStacks(frames);
     checkRenderOutputs(flags, frames);
     const auto [width, height] = parseImageSize(flags.size);
-    const RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, minScale(flags),
-                                              toIngestOptions(flags.source));
+    const RenderInput input = [&] {
+        ProgressBar bar("residual layer", !flags.quiet);
+        return loadRenderInput(flags.input, flags.show, flags.hide, parseAssetLayers(flags.layers, "--layers"),
+                               minScale(flags), toIngestOptions(flags.source), bar.callback());
+    }();
     setup.lap("read");
     const std::optional<GaussianAsset>& asset = input.asset;
     const std::unique_ptr<RenderVolume>& volume = input.volume;
@@ -210,6 +214,7 @@ void addRenderCommand(CLI::App& app) {
     command->add_option("--show", flags->show,
                         "Render only these structures of an asset fitted with --labels: IDs or names, comma-separated");
     command->add_option("--hide", flags->hide, "Leave these structures out (after --show)");
+    addLayersOption(*command, flags->layers, "at its voxels; --show and --hide draw the Gaussians alone");
     command->add_option("--label-style", flags->labelStyle,
                         "Per-structure colour and opacity: JSON {\"NAME or ID\": {\"color\": [r, g, b], "
                         "\"opacity\": factor}, ...}; colours for grey assets");

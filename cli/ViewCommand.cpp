@@ -3,6 +3,7 @@
 
 #include "cli/Commands.h"
 #include "cli/Diagnostics.h"
+#include "cli/LayersOption.h"
 #include "cli/RenderFlags.h"
 #include "cli/SdlWindow.h"
 #include "cli/SourceOptions.h"
@@ -43,7 +44,7 @@ constexpr int kStillPollMs = 20, kIdleWaitMs = 250;
 const std::vector<std::string> kPresets = {"ct", "ct-bone", "mri", "rgb"};
 
 struct ViewFlags {
-    std::string input, tf, show, hide, size = "800x800", screenshots = ".";
+    std::string input, tf, show, hide, layers = "all", size = "800x800", screenshots = ".";
     double azimuth = 30.0, elevation = 15.0;
     double stillSupersampling = ShearWarpSettings{}.supersampling;  ///< 0: no still
     std::uint64_t frames = 0;
@@ -311,7 +312,8 @@ void runView(const ViewFlags& flags) {
     }
     const auto [width, height] = parseImageSize(flags.size);
     if (flags.input.empty() || !std::filesystem::exists(flags.input)) throw InputError(flags.input, "no such file or folder");
-    RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, flags.shearWarp.minimumFootprintVoxels(),
+    RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, parseAssetLayers(flags.layers, "--layers"),
+                                        flags.shearWarp.minimumFootprintVoxels(),
                                         toIngestOptions(flags.source));
     setup.lap("read");
     Viewer viewer(flags, std::move(input));  // a bad --tf fails before a window opens
@@ -340,6 +342,7 @@ void addViewCommand(CLI::App& app) {
                                            "(default: rgb for colour, ct for HU, else mri)");
     command->add_option("--show", flags->show, "Only these structures of an asset fitted with --labels");
     command->add_option("--hide", flags->hide, "Leave these structures out (after --show)");
+    addLayersOption(*command, flags->layers, "at its voxels; hidden structures leave the Gaussians alone");
     command->add_option("--size", flags->size, "Window size WIDTHxHEIGHT in pixels")->capture_default_str();
     command->add_option("--azimuth", flags->azimuth, "Starting azimuth in degrees, as gvr render's")->capture_default_str();
     command->add_option("--elevation", flags->elevation, "Starting elevation in degrees")->capture_default_str();

@@ -171,6 +171,12 @@ bool isSourceLattice(const Lattice& lattice, const GaussianAsset& asset) {
 
 }  // namespace
 
+AssetLayers parseAssetLayers(const std::string& text, const std::string& name) {
+    if (text == "all") return AssetLayers::All;
+    if (text == "gaussians") return AssetLayers::Gaussians;
+    throw InputError(name, "must be all or gaussians, not '" + text + "'");
+}
+
 FloatVolume gaussianPrediction(const GaussianAsset& asset, const ProgressFn& progress) {
     const Lattice lattice = sourceLattice(asset.worldFromIndex, asset.source.dims);
     const GaussianField field(asset.params, asset.cutoffSigmas);
@@ -208,7 +214,7 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
                             asset.params.channels, sizeof(float), "export");
     const std::string name = settings.assetPath.empty() ? "asset" : settings.assetPath;
     openvdb::GridBase::Ptr values;
-    if (asset.residual && !settings.gaussiansOnly) {
+    if (readsResidualLayer(asset, settings.layers)) {
         if (!isSourceLattice(result.lattice, asset)) {
             throw InputError(name, "its residual layer holds its bound on the source's own grid only; export "
                                    "there, or the Gaussians alone (`layers` gaussians) on another grid");

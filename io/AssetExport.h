@@ -30,6 +30,21 @@ struct DccStyle {
     double colourScale = 1.0 / 255.0;
 };
 
+/// Which of an asset's layers a reader uses.
+enum class AssetLayers {
+    All,        ///< the Gaussians and the residual layer of fit --max-error, when there is one
+    Gaussians,  ///< the Gaussians alone: the preview
+};
+
+/// "all" or "gaussians", as `--layers` and `layers=` give it.
+/// @throw InputError naming @a name for anything else.
+AssetLayers parseAssetLayers(const std::string& text, const std::string& name);
+
+/// True when a reader of @a layers of @a asset reads a residual layer.
+inline bool readsResidualLayer(const GaussianAsset& asset, AssetLayers layers) {
+    return asset.residual && layers == AssetLayers::All;
+}
+
 struct ExportSettings {
     std::optional<Lattice> lattice;  ///< unset: the source's own grid
     /// Physical units (luminance for RGB); voxels at or below stay inactive.
@@ -44,8 +59,7 @@ struct ExportSettings {
     std::string assetPath;  ///< recorded in the grids' metadata
     /// Set: the grids in DccStyle (density first, then colour) instead of physical units.
     std::optional<DccStyle> dcc;
-    /// The Gaussians alone, where the asset also holds a residual layer (the preview).
-    bool gaussiansOnly = false;
+    AssetLayers layers = AssetLayers::All;
 };
 
 struct ExportResult {
@@ -56,8 +70,7 @@ struct ExportResult {
 };
 
 /// Evaluates the asset's field at the lattice's voxel centres (see fieldToGrid),
-/// with its own cutoff; or, for an asset with a residual layer (unless
-/// settings.gaussiansOnly), its bounded reconstruction on the source's lattice, every
+/// with its own cutoff; or, when it reads a residual layer (readsResidualLayer), its bounded reconstruction on the source's lattice, every
 /// voxel active, so that every voxel is within the layer's bound of the source. Grey data gives a float fog volume "density" in physical
 /// units; RGB a Vec3s "color" (or "Cd") plus a float fog volume "density". Every
 /// grid carries the source's metadata, with the lattice's dimensions and spacing.

@@ -24,6 +24,7 @@
 #include "workflow/BoundedLayer.h"
 #include "workflow/Evaluate.h"
 #include "workflow/FitToBudget.h"
+#include "workflow/ProbeAsset.h"
 #include "workflow/RenderInput.h"
 #include "workflow/TeamFit.h"
 
@@ -416,9 +417,8 @@ std::map<int, std::string> structuresOf(const GaussianAsset& asset) { return lab
 Volume exportVolume(const GaussianAsset& asset, const std::optional<std::variant<Volume, std::string>>& like,
                     std::optional<double> voxelSize, const std::string& layers) {
     if (like && voxelSize) throw InputError("voxel_size", "give like or voxel_size, not both");
-    if (layers != "all" && layers != "gaussians") throw InputError("layers", "must be all or gaussians, not " + layers);
     ExportSettings settings;
-    settings.gaussiansOnly = layers == "gaussians";
+    settings.layers = parseAssetLayers(layers, "layers");
     if (like) {
         const auto* volume = std::get_if<Volume>(&*like);
         if (!volume && !std::filesystem::exists(std::get<std::string>(*like))) {
@@ -433,16 +433,23 @@ Volume exportVolume(const GaussianAsset& asset, const std::optional<std::variant
     return {exportAsset(asset, settings).grids.front()};
 }
 
-py::array probe(const GaussianAsset& asset, const py::object& points) {
+py::array probe(const GaussianAsset& asset, const py::object& points, const std::string& layers) {
     const auto p = py::array_t<double, py::array::forcecast>::ensure(asArray(points, "points"));
     if (!p || p.ndim() != 2 || p.shape(1) != 3) throw InputError("points", "must be an (n, 3) array of voxel indices");
+    const AssetLayers chosen = parseAssetLayers(layers, "layers");
     const auto in = p.unchecked<2>();
-    AssetProbe field(asset);
-    py::array_t<double> values(std::vector<py::ssize_t>{p.shape(0), field.channels()});
+    std::vector<std::array<double, 3>> indices(p.shape(0));
+    for (py::ssize_t n = 0; n < p.shape(0); ++n) indices[n] = {in(n, 0), in(n, 1), in(n, 2)};
+    std::vector<AssetProbe::Sample> samples;
+    {
+        const WithoutGil released;
+        samples = probeAsset(asset, indices, chosen, "asset");
+    }
+    const int channels = asset.params.channels;
+    py::array_t<double> values(std::vector<py::ssize_t>{p.shape(0), channels});
     auto out = values.mutable_unchecked<2>();
     for (py::ssize_t n = 0; n < p.shape(0); ++n) {
-        const AssetProbe::Sample sample = field.at({in(n, 0), in(n, 1), in(n, 2)});
-        for (int c = 0; c < field.channels(); ++c) out(n, c) = sample.value[c];
+        for (int c = 0; c < channels; ++c) out(n, c) = samples[n].value[c];
     }
     return values;
 }
@@ -507,14 +514,14 @@ Classifier classifierOf(const RenderVolume& volume, const TransferSpec& tf) {
     return classifierFor(std::get<std::string>(tf), volume);
 }
 
-std::unique_ptr<RenderVolume> renderVolumeOf(const Renderable& what, float minScale) {
-    if (const auto* asset = std::get_if<GaussianAsset>(&what)) return assetRenderVolume(*asset, minScale, "asset");
+std::unique_ptr<RenderVolume> renderVolumeOf(const Renderable& what, AssetLayers layers, float minScale) {
+    if (const auto* asset = std::get_if<GaussianAsset>(&what)) return assetRenderVolume(*asset, layers, minScale, "asset");
     if (const auto* volume = std::get_if<Volume>(&what)) return std::make_unique<GridRenderVolume>(volume->grid);
-    return loadRenderInput(std::get<std::string>(what), "", "", minScale, IngestOptions{}).volume;
+    return loadRenderInput(std::get<std::string>(what), "", "", layers, minScale, IngestOptions{}).volume;
 }
 
 py::array render(const Renderable& what, double azimuth, double elevation, std::pair<int, int> size,
-                 const TransferSpec& tf, double supersample, const std::string& classify) {
+                 const TransferSpec& tf, double supersample, const std::string& classify, const std::string& layers) {
     const auto [width, height] = size;
     if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide) {
         throw InputError("size", "must be (width, height) in 1 to " + std::to_string(kMaxImageSide) + " pixels");
@@ -526,10 +533,11 @@ py::array render(const Renderable& what, double azimuth, double elevation, std::
     if (!classification) throw InputError("classify", "'" + classify + "' is neither points nor segments");
     settings.classification = *classification;
     if (const std::string problem = settings.validate(); !problem.empty()) throw InputError("render", problem);
+    const AssetLayers chosen = parseAssetLayers(layers, "layers");
     Framebuffer image;
     {
         const WithoutGil released;
-        const std::unique_ptr<RenderVolume> volume = renderVolumeOf(what, settings.minimumFootprintVoxels());
+        const std::unique_ptr<RenderVolume> volume = renderVolumeOf(what, chosen, settings.minimumFootprintVoxels());
         const OrthoCamera camera =
             makeCamera({azimuth, elevation}, worldCorners(volume->worldFromIndex(), volume->box()), width, height);
         ShearWarpRenderer renderer(*volume, classifierOf(*volume, tf), settings);
@@ -666,7 +674,10 @@ PYBIND11_MODULE(gvr, m) {
              "ingest reads), or voxels of voxel_size mm over the source's extent. layers: all (the Gaussians "
              "and the residual layer of fit(max_error=...), which holds its bound on the source's own grid "
              "only) or gaussians (the preview), as `gvr export --layers`")
-        .def("probe", &probe, "points"_a, "Values in physical units at an (n, 3) array of source voxel indices")
+        .def("probe", &probe, "points"_a, "layers"_a = "all",
+             "Values in physical units at an (n, 3) array of source voxel indices. layers: all (with the residual "
+             "layer of fit(max_error=...), its reconstruction: within the bound at voxel centres, trilinear "
+             "between them) or gaussians (the preview), as `gvr probe --layers`")
         .def("show", [](const GaussianAsset& a, const std::string& show, const std::string& hide) {
                  return selectStructures(a, show, hide, "asset");
              }, "structures"_a = "", "hide"_a = "",
@@ -691,12 +702,14 @@ PYBIND11_MODULE(gvr, m) {
           "--max-error`.");
     m.def("render", &render, "what"_a, "azimuth"_a = 30.0, "elevation"_a = 15.0,
           "size"_a = std::pair<int, int>(512, 512), "tf"_a = "", "supersample"_a = ShearWarpSettings{}.supersampling,
-          "classify"_a = "points",
+          "classify"_a = "points", "layers"_a = "all",
           "A shear-warp view of an Asset, a Volume or a file of either as premultiplied RGBA float32, shape (height, width, 4), "
           "as `gvr render` draws it. tf: a preset (ct, ct-bone, mri, rgb; default: by the data), a JSON file "
           "as `gvr render --tf` and `--save-tf` use, or its points [[value, r, g, b, a], ...] in physical units. "
           "supersample: stack samples along each side of a pixel, 1 to 4, as `gvr render --supersample`. "
-          "classify: points or segments (pre-integrated), as `gvr render --classify`");
+          "classify: points or segments (pre-integrated), as `gvr render --classify`. layers: all (an asset "
+          "with the residual layer of fit(max_error=...) is drawn from its bounded reconstruction) or gaussians "
+          "(the preview), as `gvr render --layers`");
     m.def("evaluate",
           [](const Comparable& reference, const Comparable& test, bool resample, std::optional<double> peak,
              const std::string& mask, std::optional<double> threshold, const std::string& labels,

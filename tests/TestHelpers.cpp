@@ -1,6 +1,10 @@
 #include "tests/TestHelpers.h"
 
+#include "io/AssetFile.h"
+#include "io/ComparisonInput.h"
 #include "io/GridBuilder.h"
+#include "workflow/BoundedLayer.h"
+#include "workflow/FitToBudget.h"
 
 #include <sys/wait.h>
 
@@ -138,6 +142,17 @@ std::string smallGrid(const TempDir& dir, bool empty) {
                                          "' --raw-dims 24,20,16 --raw-type uint8 --spacing 1,1,1", dir);
     EXPECT_EQ(run.exitCode, 0) << run.err;
     return grid;
+}
+
+GaussianAsset boundedAsset(const openvdb::GridBase::Ptr& grid, std::size_t gaussians, double bound) {
+    BudgetedFitOptions options;
+    options.gaussians = gaussians;
+    options.settings.seconds = 0.0;
+    options.settings.iterations = 3;
+    const BudgetedFitResult fitted = fitToBudget(grid, "grid", options);
+    BoundedLayerReport report;
+    const FloatVolume source = comparisonInputOf(grid, "grid").volume;
+    return decodeAsset(addErrorBound(fitted.file, "grid", source, bound, report), "grid");
 }
 
 GaussianParameters randomGaussians(std::size_t count, int channels, float extent, unsigned seed) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "io/DenseVolume.h"
+#include "pipeline/GaussianAsset.h"
 #include "pipeline/GaussianParameters.h"
 #include "render/Framebuffer.h"
 
@@ -107,6 +108,11 @@ DenseVolume makeVolume(std::array<std::int64_t, 3> dims, const std::vector<T>& v
 openvdb::GridBase::Ptr makeGrid(std::array<int, 3> dims, const std::function<float(int, int, int)>& value,
                                 openvdb::Vec3d spacingMm = openvdb::Vec3d(1.0),
                                 std::optional<double> threshold = std::nullopt);
+
+/// @a grid fitted by @a gaussians Gaussians in three iterations, with the residual
+/// layer that takes them to within @a bound of its voxels (the inactive ones at
+/// the background), as fit --max-error adds it.
+GaussianAsset boundedAsset(const openvdb::GridBase::Ptr& grid, std::size_t gaussians, double bound);
 
 /// A colour grid of @a dims whose voxel (i, j, k) holds colour(i, j, k), every voxel
 /// active, on a background of @a outside, with spacing @a spacingMm.

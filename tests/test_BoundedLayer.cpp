@@ -13,6 +13,7 @@
 
 #include <zlib.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -96,6 +97,32 @@ std::string withEditedResidual(const std::string& bytes, const std::function<voi
     std::string out = bytes.substr(0, 12) + test::littleEndian32(std::uint32_t(text.size())) + text +
                       bytes.substr(16 + headerBytes, bytes.size() - 16 - headerBytes - 4);
     return out + test::littleEndian32(std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(out.data()), uInt(out.size()))));
+}
+
+TEST(BoundedLayer, ProbeAndRenderReadTheLayerAndTheGaussiansOnRequest) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir), asset = dir.path("b.gvr");
+    ASSERT_EQ(test::runGvr("fit -q '" + grid + "' --gaussians 20 --iterations 3 --max-error 0.5 -o '" + asset + "'",
+                           dir).exitCode, 0);  // lossless: the source is uint8
+    const auto probed = [&](const std::string& layers) {
+        const test::CommandResult run = test::runGvr("probe --json '" + asset + "' --index 8,10,8 --layers " + layers, dir);
+        EXPECT_EQ(run.exitCode, 0) << run.err;
+        return nlohmann::json::parse(run.out)["points"][0]["value"][0].get<double>();
+    };
+    EXPECT_NEAR(probed("all"), 200.0, 0.5);  // the blob's centre, as stored
+    EXPECT_GT(std::abs(probed("gaussians") - 200.0), 0.5);  // 20 Gaussians in three iterations
+
+    // Lossless, the asset draws as its source does, pixel for pixel; its Gaussians do not.
+    const auto rendered = [&](const std::string& input, const std::string& extra, const std::string& name) {
+        const std::string frame = dir.path(name);
+        const test::CommandResult run =
+            test::runGvr("render -q '" + input + "' --size 48x48 --tf mri " + extra + " -o '" + frame + "'", dir);
+        EXPECT_EQ(run.exitCode, 0) << run.err;
+        return test::readBytes(frame);
+    };
+    const std::string source = rendered(grid, "", "source.png");
+    EXPECT_EQ(rendered(asset, "", "all.png"), source);
+    EXPECT_NE(rendered(asset, "--layers gaussians", "preview.png"), source);
 }
 
 TEST(BoundedLayer, ALayerThatLiesAboutItsSizesIsRefusedNamingTheFile) {

@@ -1,6 +1,7 @@
 #include "workflow/RenderInput.h"
 
 #include "io/AssetFile.h"
+#include "io/GridBuilder.h"
 #include "io/MemoryBudget.h"
 #include "io/TransferFunctionFile.h"
 #include "pipeline/Error.h"
@@ -10,16 +11,44 @@
 
 namespace gvr {
 
-std::unique_ptr<GaussianRenderVolume> assetRenderVolume(const GaussianAsset& asset, float minScale,
-                                                        const std::string& name) {
+namespace {
+
+/// The bounded reconstruction of @a asset as a grid that ingest would have built
+/// from it: the source's thresholds, modality and background, so that presets,
+/// windows and empty space come out as they do for the source.
+openvdb::GridBase::Ptr boundedGrid(const GaussianAsset& asset, const std::string& name, const ProgressFn& progress) {
+    DenseVolume dense;
+    {
+        const FloatVolume reconstruction = boundedReconstruction(asset, name, progress);
+        dense.dims = {reconstruction.dims.x(), reconstruction.dims.y(), reconstruction.dims.z()};
+        dense.channels = reconstruction.channels;
+        dense.type = SampleType::Float32;
+        const auto* bytes = reinterpret_cast<const unsigned char*>(reconstruction.values.data());
+        dense.samples.assign(bytes, bytes + reconstruction.values.size() * sizeof(float));
+    }
+    dense.worldFromIndex = asset.worldFromIndex;
+    dense.modality = asset.source.modality;
+    GridBuildSettings settings;
+    settings.sourceFile = name;
+    settings.threshold = asset.source.threshold;
+    settings.thresholdAbove = asset.source.thresholdAbove;
+    return buildGrid(dense, settings);
+}
+
+}  // namespace
+
+std::unique_ptr<RenderVolume> assetRenderVolume(const GaussianAsset& asset, AssetLayers layers, float minScale,
+                                                const std::string& name, const ProgressFn& progress) {
     // An asset is drawn from its voxels: at worst a float grid of its source's size.
     const openvdb::Vec3i& dims = asset.source.dims;
     checkVolumeFitsInMemory(name, {dims.x(), dims.y(), dims.z()}, asset.params.channels, 0, "render");
+    if (readsResidualLayer(asset, layers)) return std::make_unique<GridRenderVolume>(boundedGrid(asset, name, progress));
     return std::make_unique<GaussianRenderVolume>(asset, minScale);
 }
 
-RenderInput loadRenderInput(const std::string& path, const std::string& show, const std::string& hide, float minScale,
-                            const IngestOptions& ingest) {
+RenderInput loadRenderInput(const std::string& path, const std::string& show, const std::string& hide,
+                            AssetLayers layers, float minScale, const IngestOptions& ingest,
+                            const ProgressFn& progress) {
     RenderInput input;
     if (!isAssetFile(path)) {
         if (!show.empty() || !hide.empty()) {
@@ -29,7 +58,7 @@ RenderInput loadRenderInput(const std::string& path, const std::string& show, co
         return input;
     }
     input.asset = selectStructures(readAsset(path), show, hide, path);
-    input.volume = assetRenderVolume(*input.asset, minScale, path);
+    input.volume = assetRenderVolume(*input.asset, layers, minScale, path, progress);
     return input;
 }
 

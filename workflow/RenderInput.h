@@ -1,8 +1,10 @@
 /// @file RenderInput.h
 /// @brief What `gvr render`, `gvr view` and Python's render draw: a Gaussian asset (the structures
-/// shown) or a grid, and the transfer function given by preset or file.
+/// shown, or its residual layer's bounded reconstruction) or a grid, and the transfer function
+/// given by preset or file.
 #pragma once
 
+#include "io/AssetExport.h"
 #include "io/Ingest.h"
 #include "pipeline/GaussianAsset.h"
 #include "render/Classifier.h"
@@ -20,19 +22,23 @@ struct RenderInput {
     std::unique_ptr<RenderVolume> volume;  ///< the asset's field, or the grid
 };
 
-/// The render volume of @a asset (named @a name in errors).
+/// The render volume of @a layers of @a asset (named @a name in errors): its
+/// Gaussians' field, or with a residual layer its bounded reconstruction, cut as
+/// ingest cut the source, so that it is drawn as the source itself would be.
 /// @param minScale  as for GaussianRenderVolume
 /// @throw InputError when the voxels it is drawn from (at worst a float grid of its
-///        source's size) would not fit in memory.
-std::unique_ptr<GaussianRenderVolume> assetRenderVolume(const GaussianAsset& asset, float minScale,
-                                                        const std::string& name);
+///        source's size) would not fit in memory, or as boundedReconstruction.
+std::unique_ptr<RenderVolume> assetRenderVolume(const GaussianAsset& asset, AssetLayers layers, float minScale,
+                                                const std::string& name, const ProgressFn& progress = {});
 
 /// Reads @a path: an asset (with only the structures that @a show names, less
-/// @a hide) or anything loadOrIngest reads.
+/// @a hide: their Gaussians, without the residual layer that corrects them all) or
+/// anything loadOrIngest reads.
 /// @param minScale  as for GaussianRenderVolume
 /// @throw InputError naming the file, also when @a show or @a hide is given for a grid.
-RenderInput loadRenderInput(const std::string& path, const std::string& show, const std::string& hide, float minScale,
-                            const IngestOptions& ingest);
+RenderInput loadRenderInput(const std::string& path, const std::string& show, const std::string& hide,
+                            AssetLayers layers, float minScale, const IngestOptions& ingest,
+                            const ProgressFn& progress = {});
 
 /// The transfer function @a tf names: a JSON file, else a preset fitted to @a volume
 /// (empty: the preset for data like these). @a mismatch: as for presetFor.

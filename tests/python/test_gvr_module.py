@@ -164,6 +164,12 @@ def test_a_bounded_fit_from_python_is_gvr_fit_max_error_byte_for_byte(work):
     assert np.abs(asset.export().to_numpy().astype(np.float64) - source).max() <= 4
     assert np.abs(asset.export(layers="gaussians").to_numpy().astype(np.float64) - source).max() > 4
     assert gvr.evaluate(CH2, asset)["max_error"] <= 4
+    points = np.array([[45.0, 60.0, 40.0], [90.0, 100.0, 80.0]])
+    at = source[tuple(points.astype(int).T)]
+    assert np.abs(asset.probe(points)[:, 0] - at).max() <= 4
+    assert np.abs(asset.probe(points, layers="gaussians")[:, 0] - at).max() > 4
+    drawn, preview = (gvr.render(asset, size=(64, 48), tf="mri", layers=layers) for layers in ("all", "gaussians"))
+    assert np.abs(drawn - gvr.render(CH2, size=(64, 48), tf="mri")).max() < np.abs(preview - drawn).max()
     with pytest.raises(gvr.Error, match="max_error"):
         gvr.fit(CH2, iterations=1, max_error=-1)
     with pytest.raises(gvr.Error, match="max_error"):
