@@ -50,8 +50,9 @@ struct BrickFlags {
 
 struct FitFlags {
     std::string input, output, logPath, labelVolume, labelNames;
-    std::string maxError;  ///< --max-error as given: empty, a number, or a percentage
+    std::string maxError;  ///< --max-error as given: empty, a number, a percentage or auto
     bool ratioGiven = false;  ///< --ratio on the command line (else a bound's preview takes kBoundedPreviewRatio)
+    double boundRatio = 0.0;  ///< --ratio as given, before a bound's Gaussians take theirs (0: none)
     std::size_t threads = 0;
     bool json = false, quiet = false;
     BudgetedFitOptions options;
@@ -163,12 +164,19 @@ std::string thresholdNote(const VolumeMetadata& source) {
 /// The residual layer, as --json reports it.
 nlohmann::json layerJson(const BoundedLayerReport& layer) {
     return {{"max_error", layer.bound}, {"measured_max_error", layer.maxError},
+            {"searched_for_ratio", layer.searchedRatio > 0.0 ? nlohmann::json(layer.searchedRatio) : nlohmann::json()},
+            {"encodes", layer.encodes},
             {"domain", layer.integers ? "stored samples" : "values"}, {"exact_voxels", layer.exactVoxels},
             {"gaussian_bytes", layer.gaussianBytes}, {"layer_bytes", layer.fileBytes - layer.gaussianBytes},
             {"seconds", layer.seconds}};
 }
 
 void reportLayer(const BoundedLayerReport& layer, std::uint64_t rawBytes) {
+    if (layer.searchedRatio > 0.0) {
+        std::cout << "  bound search:    the smallest bound with which the asset fits " << std::setprecision(4)
+                  << layer.searchedRatio << ":1 is " << std::setprecision(6) << layer.bound << " (" << layer.encodes
+                  << " layers encoded)\n";
+    }
     std::cout << "  residual layer:  every voxel within " << layer.bound << " of the source as read (measured: "
               << layer.maxError << "), coded in " << (layer.integers ? "its stored samples" : "float values") << ", "
               << layer.exactVoxels << " voxels stored exactly; " << formatBytes(layer.fileBytes - layer.gaussianBytes)
@@ -338,29 +346,29 @@ void runBrickedFit(const FitFlags& flags, PhaseTimes& phases) {
     if (team.isRoot()) report(flags, bricked.result, target.peak(), error, &bricked, phases);
 }
 
+BoundRequest boundRequest(const FitFlags& flags) { return {flags.maxError, flags.boundRatio}; }
+
 /// The fit's file with the residual layer of --max-error, over the source as read.
 std::string boundedFile(const FitFlags& flags, const BudgetedFitResult& result, BoundedLayerReport& layer,
                         ProgressBar& bar) {
-    const VolumeMetadata& source = result.asset.source;
-    const double bound = parseMaxError(flags.maxError, source.valueMax - source.valueMin);
     const ComparisonInput asRead = loadComparisonInput(flags.input, toIngestOptions(flags.source));
-    return addErrorBound(result.file, flags.output, asRead.volume, bound, layer, bar.callback());
+    return addErrorBound(result.file, flags.output, asRead.volume, boundRequest(flags), layer, bar.callback());
 }
 
-/// --max-error's text, refused before the fit when it is no bound at all.
-void checkMaxError(const std::string& text) {
-    if (text.empty()) return;
-    checkBoundBeforeFit(parseMaxError(text, 1.0), "--max-error");
+/// Under --max-error, the Gaussians take the request's ratio; a bad request is
+/// refused before anything is read.
+void applyBoundRequest(FitFlags& flags) {
+    if (flags.maxError.empty()) return;
+    flags.boundRatio = flags.ratioGiven ? flags.options.ratio : 0.0;
+    checkBoundRequest(boundRequest(flags), "--max-error", "--ratio");
+    if (flags.options.gaussians == 0) flags.options.ratio = boundRequest(flags).gaussianRatio();
 }
 
 void runFit(FitFlags& flags) {
     tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                                 flags.threads > 0 ? flags.threads : tbb::this_task_arena::max_concurrency());
     checkedSettings(flags.options);  // bad flags are refused before anything is read
-    checkMaxError(flags.maxError);
-    if (!flags.maxError.empty() && !flags.ratioGiven && flags.options.gaussians == 0) {
-        flags.options.ratio = kBoundedPreviewRatio;
-    }
+    applyBoundRequest(flags);
     checkOutputPath("-o", flags.output, {flags.input, flags.labelVolume, flags.labelNames});
     if (!flags.logPath.empty()) {
         checkOutputPath("--log", flags.logPath, {flags.input, flags.output, flags.labelVolume, flags.labelNames});
@@ -479,8 +487,9 @@ void addFitCommand(CLI::App& app) {
     command->option_defaults()->group("Budget and output");
     command->add_option("-o,--output", flags->output, "Asset file to write (any name)")->required();
     auto* ratio = command->add_option("--ratio", flags->options.ratio,
-                                      "Target compression ratio against the raw source bytes (with --max-error, of the "
-                                      "Gaussians alone; default there " + std::to_string(int(kBoundedPreviewRatio)) + ")")
+                                      "Target compression ratio against the raw source bytes (with --max-error E, of the "
+                                      "Gaussians alone, default there " + std::to_string(int(kBoundedPreviewRatio)) +
+                                      "; with --max-error auto, of the whole asset)")
                       ->capture_default_str()
                       ->each([flags](const std::string&) { flags->ratioGiven = true; });
     command->add_option("--gaussians", flags->options.gaussians, "Fit exactly this many Gaussians instead")
@@ -495,7 +504,9 @@ void addFitCommand(CLI::App& app) {
                         "Add a residual layer so that every voxel of the export is within E of the source as read: "
                         "E in the source's units (HU, the stored values), or a percentage of its data range (0.5%). "
                         "Integer data at E < 1 is kept losslessly. --ratio then sizes the Gaussians, the preview "
-                        "(default " + std::to_string(int(kBoundedPreviewRatio)) + ":1); the layer adds what the bound needs");
+                        "(default " + std::to_string(int(kBoundedPreviewRatio)) + ":1); the layer adds what the bound needs. "
+                        "auto, with --ratio R: the smallest bound with which the whole asset fits R (the Gaussians at "
+                        "R x 4, at least " + std::to_string(int(kBoundedPreviewRatio)) + ":1), printed");
     command->add_option("--seed", flags->options.settings.seed, "Random seed")->capture_default_str();
     command->add_option("--ablation", flags->options.ablation, "full, A1, A2, A3, A4 or A5")->capture_default_str();
     auto* log = command->add_option("--log", flags->logPath, "Write error against run time as CSV");

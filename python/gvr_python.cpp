@@ -346,28 +346,24 @@ BudgetedFitResult fitLoaded(const IngestResult& loaded, const std::string& name,
     return fitAllBricks(SoloTeam(), loaded.grid, target, name, options, {bricks, halo}, observers).result;
 }
 
-/// max_error: a number in the source's units, or text such as "0.5%" of its data range.
+/// max_error: a number in the source's units, or text such as "0.5%" of its data range, or "auto".
 using MaxError = std::variant<double, std::string>;
 
-void checkMaxErrorBeforeFit(const MaxError& maxError, std::size_t bricks) {
-    if (bricks > 0) throw InputError("`max_error`", "does not combine with `bricks`");
-    const auto* number = std::get_if<double>(&maxError);
-    checkBoundBeforeFit(number ? *number : parseMaxError(std::get<std::string>(maxError), 1.0), "`max_error`");
+BoundRequest boundRequestOf(const MaxError& maxError, std::optional<double> ratio) {
+    if (const auto* number = std::get_if<double>(&maxError)) return BoundRequest::exactly(*number, ratio.value_or(0.0));
+    return {std::get<std::string>(maxError), ratio.value_or(0.0)};
 }
 
 /// The fitted asset with the residual layer of max_error over its source as read
 /// (a file: every voxel, as gvr fit --max-error reads it; a Volume: its voxels, the
 /// inactive ones at its background).
-GaussianAsset withErrorBound(const BudgetedFitResult& result, const MaxError& maxError, const std::string& path,
+GaussianAsset withErrorBound(const BudgetedFitResult& result, const BoundRequest& request, const std::string& path,
                              const Volume& volume) {
     const std::string name = path.empty() ? "volume" : path;
     const FloatVolume source = path.empty() ? comparisonInputOf(volume.grid, name).volume
                                             : loadComparisonInput(path, IngestOptions{}).volume;
-    const VolumeMetadata& metadata = result.asset.source;
-    const auto* number = std::get_if<double>(&maxError);
-    const double bound = number ? *number : parseMaxError(std::get<std::string>(maxError), metadata.valueMax - metadata.valueMin);
     BoundedLayerReport report;
-    return decodeAsset(addErrorBound(result.file, name, source, bound, report), name);
+    return decodeAsset(addErrorBound(result.file, name, source, request, report), name);
 }
 
 GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<double> ratio,
@@ -378,11 +374,16 @@ GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<
     // Each pair names one thing twice: say so, rather than let one of them win.
     if (ratio && gaussians > 0) throw InputError("`gaussians`", "cannot be combined with `ratio`: both set the count");
     if (seconds && iterations > 0) throw InputError("`iterations`", "cannot be combined with `seconds`: both end the fit");
-    if (maxError) checkMaxErrorBeforeFit(*maxError, bricks);
+    std::optional<BoundRequest> bound;
+    if (maxError) {
+        if (bricks > 0) throw InputError("`max_error`", "does not combine with `bricks`");
+        bound = boundRequestOf(*maxError, ratio);
+        checkBoundRequest(*bound, "`max_error`", "`ratio`");
+    }
     BudgetedFitOptions options;
     options.settings.minSamplesPerGaussian = minSamples;
     options.labels = labels;
-    options.ratio = ratio.value_or(maxError && gaussians == 0 ? kBoundedPreviewRatio : options.ratio);
+    options.ratio = bound && gaussians == 0 ? bound->gaussianRatio() : ratio.value_or(options.ratio);
     options.gaussians = gaussians;
     options.ablation = ablation;
     options.settings.seed = seed;
@@ -403,7 +404,7 @@ GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<
             py::gil_scoped_acquire acquire;
             if (PyErr_WarnEx(PyExc_UserWarning, note.c_str(), 1) != 0) throw py::error_already_set();
         }
-        if (maxError) return withErrorBound(result, *maxError, path ? *path : std::string(), volume);
+        if (bound) return withErrorBound(result, *bound, path ? *path : std::string(), volume);
         return std::move(result.asset);
     } catch (const PythonErrorPending&) {
         throw py::error_already_set();
@@ -668,6 +669,9 @@ PYBIND11_MODULE(gvr, m) {
                                "mapped): the field is background + sum amplitude exp(-d^T C^-1 d / 2) within "
                                "the asset's cutoff; read-only")
         .def_property_readonly("channels", [](const GaussianAsset& a) { return a.params.channels; })
+        .def_property_readonly("max_error", [](const GaussianAsset& a) {
+            return a.residual ? py::object(py::float_(a.residual->bound)) : py::object(py::none());
+        }, "The residual layer's bound in the source's units (None without one), as `gvr info` lists it")
         .def_property_readonly("structures", &structuresOf, "Structure names by label id (empty unless fitted by label)")
         .def("export", &exportVolume, "like"_a = py::none(), "voxel_size"_a = py::none(), "layers"_a = "all",
              "The field on a grid: the source's own (default), another volume's (like= a Volume or a file "
@@ -699,7 +703,8 @@ PYBIND11_MODULE(gvr, m) {
           "--bricks`; the progress dict then says which brick. max_error: a number in the source's units, or a "
           "string such as '0.5%' of its data range: add a residual layer so that every voxel of asset.export() "
           "on the source's grid is within it (the Gaussians then default to a 400:1 preview), as `gvr fit "
-          "--max-error`.");
+          "--max-error`; or 'auto' with ratio: the smallest such bound with which the whole asset fits ratio "
+          "(asset.max_error says which).");
     m.def("render", &render, "what"_a, "azimuth"_a = 30.0, "elevation"_a = 15.0,
           "size"_a = std::pair<int, int>(512, 512), "tf"_a = "", "supersample"_a = ShearWarpSettings{}.supersampling,
           "classify"_a = "points", "layers"_a = "all",

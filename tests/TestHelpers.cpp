@@ -152,7 +152,7 @@ GaussianAsset boundedAsset(const openvdb::GridBase::Ptr& grid, std::size_t gauss
     const BudgetedFitResult fitted = fitToBudget(grid, "grid", options);
     BoundedLayerReport report;
     const FloatVolume source = comparisonInputOf(grid, "grid").volume;
-    return decodeAsset(addErrorBound(fitted.file, "grid", source, bound, report), "grid");
+    return decodeAsset(addErrorBound(fitted.file, "grid", source, BoundRequest::exactly(bound), report), "grid");
 }
 
 GaussianParameters randomGaussians(std::size_t count, int channels, float extent, unsigned seed) {

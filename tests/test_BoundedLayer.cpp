@@ -73,6 +73,32 @@ TEST(BoundedLayer, IntegerDataAtABoundBelowOneIsLossless) {
     EXPECT_EQ(exportError(source, out), 0.0);
 }
 
+TEST(BoundedLayer, AnAutoBoundIsTheSmallestWithWhichTheAssetFitsTheRatio) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string source = test::sharedData("mri-colin27-aal/ch2.nii.gz");
+    const std::string asset = dir.path("auto.gvr"), tighter = dir.path("tighter.gvr");
+    const test::CommandResult fit = test::runGvr(
+        "fit -q '" + source + "' --ratio 10 --max-error auto --iterations 5 --json -o '" + asset + "'", dir);
+    ASSERT_EQ(fit.exitCode, 0) << fit.err;
+    const nlohmann::json report = nlohmann::json::parse(fit.out);
+    EXPECT_GE(report["ratio_vs_raw"].get<double>(), 10.0);
+    EXPECT_EQ(report["residual_layer"]["searched_for_ratio"].get<double>(), 10.0);
+    const double bound = report["residual_layer"]["max_error"].get<double>();
+    EXPECT_LE(report["residual_layer"]["measured_max_error"].get<double>(), bound);
+    ASSERT_GE(bound, 1.0);  // ch2 is uint8: bounds are whole samples
+
+    // One sample tighter, over the same Gaussians (400:1 is also the default preview), misses 10:1.
+    const test::CommandResult over = test::runGvr("fit -q '" + source + "' --max-error " + std::to_string(bound - 1.0) +
+                                                      " --iterations 5 --json -o '" + tighter + "'", dir);
+    ASSERT_EQ(over.exitCode, 0) << over.err;
+    EXPECT_LT(nlohmann::json::parse(over.out)["ratio_vs_raw"].get<double>(), 10.0);
+
+    const test::CommandResult alone = test::runGvr("fit -q '" + source + "' --max-error auto -o '" + tighter + "'", dir);
+    EXPECT_EQ(alone.exitCode, 2);
+    EXPECT_NE(alone.err.find("--ratio"), std::string::npos) << alone.err;
+}
+
 TEST(BoundedLayer, ABadBoundIsRefusedInOneLineBeforeTheFit) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);

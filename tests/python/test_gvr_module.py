@@ -178,6 +178,17 @@ def test_a_bounded_fit_from_python_is_gvr_fit_max_error_byte_for_byte(work):
         asset.export(layers="residual")
 
 
+def test_an_auto_bound_fits_the_ratio_and_says_which_it_is():
+    asset = gvr.fit(CH2, ratio=10, iterations=5, max_error="auto")
+    assert asset.ratio >= 10
+    assert asset.max_error >= 1
+    source = np.asarray(nibabel.load(CH2).dataobj).astype(np.float64)
+    assert np.abs(asset.export().to_numpy().astype(np.float64) - source).max() <= asset.max_error
+    assert gvr.fit(CH2, ratio=10, iterations=1).max_error is None
+    with pytest.raises(gvr.Error, match="max_error: auto searches the bound for ratio,"):
+        gvr.fit(CH2, iterations=1, max_error="auto")
+
+
 def test_evaluate_has_the_keys_and_figures_of_gvr_eval(ch2_vdb, cli_asset):
     ours = gvr.evaluate(gvr.ingest(ch2_vdb), gvr.Asset.load(cli_asset))
     theirs = json.loads(run("eval", ch2_vdb, cli_asset, "--json"))
