@@ -21,10 +21,18 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 const std::vector<std::string>& benchMethods() {
-    static const std::vector<std::string> methods = {"gvr",          "A1",       "A2",        "A3",
-                                                     "A4",           "A5",       "zfp-accuracy", "zfp-rate",
-                                                     "vdb-blosc",    "vdb-half", "down2",     "down3",
-                                                     "down4"};
+    static const std::vector<std::string> methods = {"gvr",       "gvr+bound", "A1",           "A2",       "A3",
+                                                     "A4",        "A5",        "zfp-accuracy", "zfp-rate", "vdb-blosc",
+                                                     "vdb-half",  "down2",     "down3",        "down4"};
+    return methods;
+}
+
+const std::vector<std::string>& defaultBenchMethods() {
+    static const std::vector<std::string> methods = [] {
+        std::vector<std::string> all = benchMethods();
+        all.erase(std::find(all.begin(), all.end(), "gvr+bound"));
+        return all;
+    }();
     return methods;
 }
 
@@ -33,7 +41,7 @@ bool isRatioFree(const std::string& method) {
 }
 
 bool isFitMethod(const std::string& method) {
-    return method == "gvr" || (method.size() == 2 && method[0] == 'A' && method[1] >= '1' && method[1] <= '5');
+    return method == "gvr" || method == "gvr+bound" || (method.size() == 2 && method[0] == 'A' && method[1] >= '1' && method[1] <= '5');
 }
 
 namespace {
@@ -300,7 +308,7 @@ BenchManifest readBenchManifest(const std::string& path) {
     if (document.contains("methods")) {
         manifest.methods = reader.methods(document["methods"], manifest.codecs);
     } else {
-        manifest.methods = benchMethods();
+        manifest.methods = defaultBenchMethods();
         for (const ExternalCodec& codec : manifest.codecs) manifest.methods.push_back(codec.name);
     }
     const std::vector<double> ratios =

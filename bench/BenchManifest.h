@@ -15,7 +15,7 @@
 ///     }
 ///
 /// The same keys work in TOML. Relative inputs resolve against the manifest's folder.
-/// "methods" defaults to every method; a volume's "ratios" and "fit" override the
+/// "methods" defaults to every method but gvr+bound; a volume's "ratios" and "fit" override the
 /// top-level ones.
 ///
 /// Codecs outside gvr are declared under "codecs" and then named in "methods" like
@@ -41,13 +41,18 @@
 
 namespace gvr {
 
-/// Every method the benchmark knows, in report order.
+/// Every method the benchmark knows, in report order. "gvr+bound" is gvr's fit with
+/// `--max-error auto`: the smallest error bound with which the asset fits the ratio.
 const std::vector<std::string>& benchMethods();
+
+/// The methods a manifest without "methods" runs: all but gvr+bound, whose second
+/// fit a ratio would double the benchmark's time.
+const std::vector<std::string>& defaultBenchMethods();
 
 /// Methods whose result does not depend on the target ratio (run once per volume).
 bool isRatioFree(const std::string& method);
 
-/// gvr fits: "gvr" (the full method) and the ablations "A1".."A5".
+/// gvr fits: "gvr" (the full method), "gvr+bound" and the ablations "A1".."A5".
 bool isFitMethod(const std::string& method);
 
 struct FitBudget {

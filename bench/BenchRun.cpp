@@ -213,8 +213,10 @@ private:
         const std::string log = folder + "/log.txt", asset = folder + "/asset.gvr";
         Reconstruction r;
         r.fitLog = folder + "/fit.csv";
+        const bool bounded = method == "gvr+bound";
         std::vector<std::string> args = {"fit", mSource, "-o", asset, "--ratio", ratioText(unit.ratio), "--ablation",
-                                         method == "gvr" ? "full" : method, "--log", r.fitLog, "-q"};
+                                         method == "gvr" || bounded ? "full" : method, "--log", r.fitLog, "-q"};
+        if (bounded) args.insert(args.end(), {"--max-error", "auto"});
         const FitBudget& budget = mVolume.fit;
         if (budget.iterations) {
             args.insert(args.end(), {"--iterations", std::to_string(*budget.iterations)});
@@ -237,6 +239,11 @@ private:
         r.renderInput = asset;
         r.detail = std::to_string(fitted.value("gaussians", 0)) + " Gaussians, " +
                    std::to_string(fitted.value("iterations", 0)) + " iterations";
+        if (bounded) {
+            std::ostringstream bound;
+            bound << ", every voxel within " << jsonDouble(fitted["residual_layer"]["max_error"]);
+            r.detail += bound.str();
+        }
         return r;
     }
 
@@ -373,7 +380,7 @@ private:
         const json e = gvr("eval", {"eval", mSource, r.grid}, folder + "/log.txt");
         row.set("psnr", psnrIn(e["psnr"], e["mse"]));
         row.set("fg_psnr", psnrIn(e["fg_psnr"], e["fg_mse"]));
-        for (const char* key : {"ssim", "ms_ssim"}) row.set(key, jsonDouble(e[key]));
+        for (const char* key : {"ssim", "ms_ssim", "max_error"}) row.set(key, jsonDouble(e[key]));
     }
 
     /// Renders the views and scores each against the ray-marched original.

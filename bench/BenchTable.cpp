@@ -29,7 +29,7 @@ const std::vector<std::string>& benchColumns() {
     static const std::vector<std::string> columns = {
         "volume",  "ratio",         "method",      "status",      "message",     "bytes",
         "ratio_raw", "ratio_float32", "bits_per_voxel", "psnr",    "fg_psnr",     "ssim",
-        "ms_ssim", "render_psnr",   "render_ssim", "compress_s",  "decompress_s", "peak_rss_mib",
+        "ms_ssim", "max_error",     "render_psnr",   "render_ssim", "compress_s",  "decompress_s", "peak_rss_mib",
         "render_fps", "detail",     "fit_log",     "views",       "truth_views"};
     return columns;
 }

@@ -23,17 +23,17 @@ except ImportError as error:
     plt = None
     PLOTS_UNAVAILABLE = str(error)
 
-KNOWN_METHODS = ["gvr", "A1", "A2", "A3", "A4", "A5", "zfp-accuracy", "zfp-rate",
+KNOWN_METHODS = ["gvr", "gvr+bound", "A1", "A2", "A3", "A4", "A5", "zfp-accuracy", "zfp-rate",
                  "vdb-blosc", "vdb-half", "down2", "down3", "down4"]
-LABELS = {"zfp-accuracy": "ZFP fixed-accuracy", "zfp-rate": "ZFP fixed-rate"}
+LABELS = {"zfp-accuracy": "ZFP fixed-accuracy", "zfp-rate": "ZFP fixed-rate", "gvr+bound": "gvr with an error bound"}
 EQUAL_SIZE = 0.05  # zfp-accuracy's tolerance search aims within 5 % of gvr's bytes
 TIE_DB = 0.005     # smaller gaps print as 0.00 dB, so call them ties
 DASH = "—"
 DPI = 110
 METHOD_COLUMNS = [("Bytes", "bytes", None), ("Ratio vs raw", "ratio_raw", 1), ("PSNR dB", "psnr", 2),
                   ("FG PSNR dB", "fg_psnr", 2), ("SSIM", "ssim", 4), ("MS-SSIM", "ms_ssim", 4),
-                  ("Render PSNR dB", "render_psnr", 2), ("Render SSIM", "render_ssim", 4),
-                  ("Compress s", "compress_s", 2), ("Decompress s", "decompress_s", 2),
+                  ("Max error", "max_error", 4), ("Render PSNR dB", "render_psnr", 2),
+                  ("Render SSIM", "render_ssim", 4), ("Compress s", "compress_s", 2), ("Decompress s", "decompress_s", 2),
                   ("Peak RSS MiB", "peak_rss_mib", 0), ("FPS", "render_fps", 1)]
 DATASET_COLUMNS = [("Achieved ratio", "ratio_raw", 1), ("PSNR dB", "psnr", 2), ("FG PSNR dB", "fg_psnr", 2),
                    ("SSIM", "ssim", 4), ("MS-SSIM", "ms_ssim", 4), ("Render PSNR dB", "render_psnr", 2),

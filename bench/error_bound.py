@@ -15,17 +15,25 @@ import nibabel as nib
 import numpy as np
 
 # name: source under DATA_DIR, bound in the source's units, the fit's seconds (the Gaussians at fit's
-# default preview ratio under a bound)
+# default preview ratio under a bound), and gvr fit's further flags (paths under DATA_DIR)
 VOLUMES = {
-    "ch2": ("mri-colin27-aal/ch2.nii.gz", 4, 20),
-    "ch2-lossless": ("mri-colin27-aal/ch2.nii.gz", 0.5, 20),
-    "freesurfer-norm": ("mri-freesurfer-norm-aparc/norm.mgz", 4, 20),
-    "ct-head": ("ct-head-visible-human-png", 4, 20),
-    "chest": ("ct-chest-ricord-512", 1, 40),
-    "gantry-tilt": ("ct-gantry-tilt-shear/shear.nii.gz", 8, 20),
-    "brainmaps54": ("rgb-brainmaps54-cryosection", 4, 20),
-    "frog": ("rgb-frog-cryosection/color_png", 4, 40),
+    "ch2": ("mri-colin27-aal/ch2.nii.gz", 4, 20, []),
+    "ch2-lossless": ("mri-colin27-aal/ch2.nii.gz", 0.5, 20, []),
+    "colin27-labels": ("mri-colin27-aal/ch2.nii.gz", 4, 20,
+                       ["--label-volume", "mri-colin27-aal/aal.nii.gz", "--label-names", "mri-colin27-aal/aal.nii.txt",
+                        "--labels", "all"]),
+    "freesurfer-norm": ("mri-freesurfer-norm-aparc/norm.mgz", 4, 20, []),
+    "ct-head": ("ct-head-visible-human-png", 4, 20, []),
+    "chest": ("ct-chest-ricord-512", 1, 40, []),
+    "gantry-tilt": ("ct-gantry-tilt-shear/shear.nii.gz", 8, 20, []),
+    "brainmaps54": ("rgb-brainmaps54-cryosection", 4, 20, []),
+    "frog": ("rgb-frog-cryosection/color_png", 4, 40, []),
 }
+
+
+def fit_flags(data, flags):
+    """gvr fit's further flags of a volume, its paths under @data."""
+    return [os.path.join(data, f) if "/" in f else f for f in flags]
 
 
 def run(*args):
@@ -60,12 +68,12 @@ def external(codec_dir, source, bound, work):
 
 
 def row(gvr, data, codec_dir, work, name):
-    src, bound, seconds = VOLUMES[name]
+    src, bound, seconds, flags = VOLUMES[name]
     src = os.path.join(data, src)
     ref, asset, export, zfp = (f"{work}/{name}{ext}" for ext in ("-asread.nii.gz", ".gvr", ".nii.gz", ".zfp"))
     run(gvr, "ingest", "-q", src, "--threshold", "-1e9", "-o", ref)
     fit = subprocess.run([gvr, "fit", "-q", src, "-o", asset, "--time", str(seconds), "--max-error", str(bound),
-                          "--json"], check=True, capture_output=True, text=True)
+                          "--json", *fit_flags(data, flags)], check=True, capture_output=True, text=True)
     report = json.loads(fit.stdout)
     layer, raw = report["residual_layer"], report["raw_source_bytes"]
     start = time.perf_counter()

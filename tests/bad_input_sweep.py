@@ -294,6 +294,49 @@ def gvr_files(work, gvr, seeds):
     return grid, asset
 
 
+def with_header(asset, change):
+    """The asset's bytes after change(body, header) edits them, with the CRC made right again."""
+    data = asset.read_bytes()
+    header_length = struct.unpack_from("<I", data, 12)[0]
+    header = json.loads(data[16:16 + header_length])
+    body = bytearray(data[:-4])
+    change(body, header)
+    text = json.dumps(header).encode()
+    rebuilt = bytearray(body[:12]) + struct.pack("<I", len(text)) + text + body[16 + header_length:]
+    return bytes(rebuilt + struct.pack("<I", zlib.crc32(bytes(rebuilt))))
+
+
+def damaged_layers(work, gvr, grid):
+    """A residual layer (format 3) cut short, or whose header lies with a valid CRC: every reader refuses it."""
+    asset = work / "bounded.gvr"
+    subprocess.run([gvr, "fit", grid, "-o", asset, "--gaussians", "40", "--iterations", "5", "--max-error", "3"],
+                   check=True, capture_output=True)
+    size, layer_start = asset.stat().st_size, size_without_layer(asset)
+    for f in fractions(6):
+        target = cut(asset, work / f"layer-cut-{f:.2f}.gvr", layer_start + int((size - layer_start) * f))
+        case("damaged asset", f"residual layer cut at {f:.0%}", ["export", target, "-o", "out.vdb"], [target])
+    readers = [("export", ["-o", "out.vdb"], ["out.vdb"]), ("probe", ["--index", "1,1,1"], []),
+               ("render", ["-o", "out.png"], ["out.png"])]
+    for label, key, value in [("bound -1", "bound", -1.0), ("bound NaN", "bound", float("nan")),
+                              ("slope 0", "slope", 0.0), ("slab_slices 0", "slab_slices", 0),
+                              ("exact_voxels 2^40", "exact_voxels", 1 << 40),
+                              ("section_bytes + 1", "section_bytes", None), ("domain 'fixed'", "domain", "fixed")]:
+        def change(body, header, key=key, value=value):
+            header["residual"][key] = header["residual"][key] + 1 if value is None else value
+        target = work / ("layer-" + "".join(c if c.isalnum() else "-" for c in label) + ".gvr")
+        target.write_bytes(with_header(asset, change))
+        for command, flags, outputs in readers:
+            case("damaged asset", f"{command} of a residual layer with a valid CRC but {label}",
+                 [command, target, *flags], [target], outputs)
+
+
+def size_without_layer(asset):
+    """Where the residual section starts: the file's end less its section and the CRC."""
+    data = asset.read_bytes()
+    header = json.loads(data[16:16 + struct.unpack_from("<I", data, 12)[0]])
+    return len(data) - 4 - header["residual"]["section_bytes"]
+
+
 def damaged_assets(work, asset):
     size = asset.stat().st_size
     for f in fractions(10):
@@ -303,9 +346,6 @@ def damaged_assets(work, asset):
         offset = min(size - 1, int(size * f))
         target = flipped(asset, work / f"asset-flip-{offset}.gvr", offset)
         case("damaged asset", f"asset byte {offset} flipped", ["render", target, "-o", "out.png"], [target], ["out.png"])
-    data = asset.read_bytes()
-    header_length = struct.unpack_from("<I", data, 12)[0]
-    header = json.loads(data[16:16 + header_length])
     for label, change in [("version 99", lambda d, h: struct.pack_into("<I", d, 8, 99)),
                           ("count + 1", lambda d, h: h.update(count=h["count"] + 1)),
                           ("cutoff 0", lambda d, h: h.update(cutoff_sigmas=0.0)),
@@ -317,20 +357,14 @@ def damaged_assets(work, asset):
                           ("an offset of 1e300 mm", lambda d, h: h.update(
                               world_from_index=[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1e300, 0, 0, 1])),
                           ("a count of 16.7 million", lambda d, h: h.update(count=1 << 24))]:
-        h = dict(header)
-        body = bytearray(data[:-4])
-        change(body, h)
-        text = json.dumps(h).encode()
-        rebuilt = bytearray(body[:12]) + struct.pack("<I", len(text)) + text + body[16 + header_length:]
-        rebuilt += struct.pack("<I", zlib.crc32(bytes(rebuilt)))
         target = work / f"asset-{label.replace(' ', '-')}.gvr"
-        target.write_bytes(bytes(rebuilt))
+        target.write_bytes(with_header(asset, change))
         case("damaged asset", f"asset with a valid CRC but {label}", ["export", target, "-o", "out.vdb"], [target])
         case("damaged asset", f"rendering an asset with a valid CRC but {label}", ["render", target, "-o", "out.png"],
              [target], ["out.png"])
     deep = work / "asset-deep.gvr"
     text = b"[" * 100000 + b"]" * 100000
-    deep.write_bytes(data[:12] + struct.pack("<I", len(text)) + text + b"\0" * 8)
+    deep.write_bytes(asset.read_bytes()[:12] + struct.pack("<I", len(text)) + text + b"\0" * 8)
     case("damaged asset", "asset header nested 100,000 deep", ["info", deep], [deep], ())
 
 
@@ -491,6 +525,7 @@ def body(gvr, shared, scratch):
     unsupported_and_inconsistent_headers(work, seeds)
     path_escapes(work, seeds)
     damaged_assets(work, asset)
+    damaged_layers(work, gvr, grid)
     damaged_grids(work, grid)
     outputs_and_flags(work, grid, asset)
     legitimate_extremes(work, grid, asset)

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -116,7 +118,7 @@ TEST(BenchManifest, ShardsCoverEveryUnitExactlyOnce) {
 TEST(BenchManifest, MistakesAreNamed) {
     test::TempDir dir;
     const auto volume = std::string(R"("volumes": [{"input": "a.nii"}])");
-    EXPECT_NE(manifestError(write(dir, "a.json", R"({"methods": ["gvr", "sz3"], )" + volume + "}")).find("unknown method 'sz3'; known: gvr, A1"),
+    EXPECT_NE(manifestError(write(dir, "a.json", R"({"methods": ["gvr", "sz3"], )" + volume + "}")).find("unknown method 'sz3'; known: gvr, gvr+bound, A1"),
               std::string::npos);
     EXPECT_NE(manifestError(write(dir, "b.json", R"({"ratio": [10], )" + volume + "}")).find("unknown key 'ratio'"),
               std::string::npos);
@@ -153,8 +155,10 @@ TEST(BenchManifest, CodecsAreDeclaredThenRunAfterGvrLikeAnyMethod) {
     EXPECT_DOUBLE_EQ(sz3->paramMin, 1e-6);
     EXPECT_DOUBLE_EQ(sz3->timeoutSeconds, 30);
     EXPECT_EQ(sz3->versionCommand, (std::vector<std::string>{"sz3", "-v"}));
-    // Without "methods", every method runs, the codec last: it matches gvr's bytes.
+    // Without "methods", every method runs but gvr+bound (a second fit), the codec
+    // last: it matches gvr's bytes.
     EXPECT_EQ(manifest.methods.back(), "sz3");
+    EXPECT_EQ(std::count(manifest.methods.begin(), manifest.methods.end(), "gvr+bound"), 0);
     const std::vector<BenchUnit> units = benchUnits(manifest);
     ASSERT_EQ(units.size(), 2u);
     EXPECT_EQ(units[1].methods.front(), "gvr");

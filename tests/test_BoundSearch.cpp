@@ -72,6 +72,9 @@ TEST(BoundSearch, AWholeSampleBoundIsNeverAHairUnderItsSamples) {
         EXPECT_NEAR(ladder.bound(k), 0.1 * double(k), 1e-12);
     }
     EXPECT_GE(ladder.bound(ladder.size() - 1), 100.0);
+    const BoundLadder rounded = BoundLadder::wholeSamples(7.1098, 3000.0, 4.9e-4);
+    EXPECT_EQ(rounded.bound(0), 0.0);  // lossless needs no room for rounding
+    EXPECT_DOUBLE_EQ(rounded.bound(2), 2 * 7.1098 + 4.9e-4);
 }
 
 }  // namespace

@@ -99,6 +99,18 @@ TEST(BoundedLayer, AnAutoBoundIsTheSmallestWithWhichTheAssetFitsTheRatio) {
     EXPECT_NE(alone.err.find("--ratio"), std::string::npos) << alone.err;
 }
 
+TEST(BoundedLayer, AnAutoBoundOnAnOddSlopeLeavesNoVoxelToRounding) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string source = test::sharedData("ct-gantry-tilt-shear/shear.nii.gz");  // uint8, 7.1098 HU a sample
+    const test::CommandResult fit = test::runGvr("fit -q '" + source + "' --ratio 10 --max-error auto --iterations 20 "
+                                                 "--json -o '" + dir.path("g.gvr") + "'", dir);
+    ASSERT_EQ(fit.exitCode, 0) << fit.err;
+    const nlohmann::json layer = nlohmann::json::parse(fit.out)["residual_layer"];
+    EXPECT_EQ(layer["exact_voxels"].get<std::size_t>(), 0u) << layer;
+    EXPECT_LE(layer["measured_max_error"].get<double>(), layer["max_error"].get<double>());
+}
+
 TEST(BoundedLayer, ABadBoundIsRefusedInOneLineBeforeTheFit) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);

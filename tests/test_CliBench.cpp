@@ -285,3 +285,28 @@ TEST(CliBenchCodecs, ACodecMatchesGvrsBytesAndEveryFaultyCodecFailsOnlyItsOwnRow
     EXPECT_NE(test::readBytes(dir.path("merged/codecs.json")).find("\"fake 1.0\""), std::string::npos);
     EXPECT_NE(test::readBytes(dir.path("merged/report.md")).find("fake 1.0"), std::string::npos);
 }
+
+TEST(CliBenchBound, GvrWithABoundFitsTheRatioAndReportsItsMaximumError) {
+    GVR_REQUIRE_SHARED_DATA();
+    test::TempDir dir;
+    const std::string path = dir.path("bound.json");
+    std::ofstream(path) << R"({
+  "ratios": [10],
+  "methods": ["gvr+bound", "down2"],
+  "fit": {"iterations": 5},
+  "render": {"size": "32x32", "views": 1},
+  "volumes": [{"name": "ch2", "input": ")" + test::sharedData("mri-colin27-aal/ch2.nii.gz") + R"("}]
+})";
+    const test::CommandResult run = runGvr("bench '" + path + "' -o '" + dir.path("out") + "'", dir);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    std::map<std::string, BenchRow> rows;
+    for (const BenchRow& row : readResultsCsv(dir.path("out/results.csv"))) rows[row.get("method")] = row;
+    const BenchRow& bounded = rows["gvr+bound"];
+    ASSERT_EQ(bounded.get("status"), "ok") << bounded.get("message");
+    EXPECT_GE(*bounded.number("ratio_raw"), 10.0);
+    const std::string detail = bounded.get("detail");
+    const std::size_t within = detail.find("every voxel within ");
+    ASSERT_NE(within, std::string::npos) << detail;
+    EXPECT_LE(*bounded.number("max_error"), std::stod(detail.substr(within + 19))) << detail;
+    EXPECT_GT(*rows["down2"].number("max_error"), 0.0);  // every method reports it
+}

@@ -17,20 +17,21 @@ struct Tried {
 
 }  // namespace
 
-BoundLadder BoundLadder::wholeSamples(double sampleStep, double span) {
+BoundLadder BoundLadder::wholeSamples(double sampleStep, double span, double rounding) {
     const double steps = std::ceil(std::max(span, 0.0) / sampleStep);
-    return BoundLadder(true, sampleStep, std::size_t(steps) + 1);
+    return BoundLadder(true, sampleStep, std::size_t(steps) + 1, rounding);
 }
 
 BoundLadder BoundLadder::values(double span) {
     const double smallest = span * kSmallestShare;
-    return BoundLadder(false, smallest, std::size_t(std::ceil(std::log(1.0 / kSmallestShare) / std::log(kValueStep))) + 1);
+    return BoundLadder(false, smallest, std::size_t(std::ceil(std::log(1.0 / kSmallestShare) / std::log(kValueStep))) + 1,
+                       0.0);
 }
 
 double BoundLadder::bound(std::size_t index) const {
     if (!mWholeSamples) return mBase * std::pow(kValueStep, double(index));
     // k samples' worth, never a hair under it (the layer rounds a bound down to whole samples).
-    double bound = double(index) * mBase;
+    double bound = double(index) * mBase + (index > 0 ? mRounding : 0.0);
     while (std::floor(bound / mBase) < double(index)) bound = std::nextafter(bound, INFINITY);
     return bound;
 }

@@ -14,8 +14,10 @@ namespace gvr {
 /// that each is a different quantisation), else floats 2 % apart.
 class BoundLadder {
 public:
-    /// 0, s, 2s, ... up to the first multiple of @a sampleStep at least @a span.
-    static BoundLadder wholeSamples(double sampleStep, double span);
+    /// 0, s, 2s, ... up to the first multiple of @a sampleStep at least @a span, each
+    /// but 0 raised by @a rounding: what rounding samples to float may add to their
+    /// difference, so that a bound of whole samples is not missed by a hair.
+    static BoundLadder wholeSamples(double sampleStep, double span, double rounding = 0.0);
     /// @a span * 1e-7 up to @a span (the data range: one quantisation step holds it all).
     static BoundLadder values(double span);
 
@@ -28,10 +30,12 @@ public:
     std::size_t indexAt(double position) const;
 
 private:
-    BoundLadder(bool wholeSamples, double base, std::size_t size) : mWholeSamples(wholeSamples), mBase(base), mSize(size) {}
+    BoundLadder(bool wholeSamples, double base, std::size_t size, double rounding)
+        : mWholeSamples(wholeSamples), mBase(base), mSize(size), mRounding(rounding) {}
     bool mWholeSamples;
     double mBase;  ///< the sample step, or the smallest bound
     std::size_t mSize;
+    double mRounding;
 };
 
 struct SearchedBound {

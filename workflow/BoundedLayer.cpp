@@ -67,6 +67,7 @@ struct Prediction {
     FloatVolume values;
     ResidualDomain domain;
     double dataRange = 0.0;  ///< the source's, as its metadata says: what a percentage bound is of
+    double largestMagnitude = 0.0;
     double rawSourceBytes = 0.0;
 };
 
@@ -81,12 +82,29 @@ Prediction predictionOf(std::string_view assetBytes, const std::string& name, co
     const bool grey = asset.params.channels == 1;
     return {gaussianPrediction(asset, progress),
             residualDomainOf(source, grey ? asset.source.storedSlope : 1.0, grey ? asset.source.storedIntercept : 0.0),
-            asset.source.valueMax - asset.source.valueMin, double(asset.source.rawSourceBytes())};
+            asset.source.valueMax - asset.source.valueMin,
+            std::max(std::abs(asset.source.valueMin), std::abs(asset.source.valueMax)),
+            double(asset.source.rawSourceBytes())};
+}
+
+/// What rounding two samples to float may add to their difference: nothing where
+/// every sample is a whole number that a float holds, else two units in the last place
+/// of the largest value, one for each sample's rounding however its reader computed it
+/// (a CT's slope of 7.1098 HU left 90,000 voxels of a gantry-tilt
+/// scan stored exactly at a bound of exactly two samples).
+double roundingOfSamples(const ResidualDomain& domain, double largestMagnitude) {
+    const bool whole = domain.slope == std::round(domain.slope) && domain.intercept == std::round(domain.intercept);
+    if (whole && largestMagnitude < double(1 << 24)) return 0.0;
+    const float largest = float(largestMagnitude);
+    return 2.0 * (double(std::nextafter(largest, INFINITY)) - double(largest));
 }
 
 BoundLadder ladderOf(const Prediction& prediction) {
     const double range = prediction.dataRange;
-    if (prediction.domain.integers) return BoundLadder::wholeSamples(std::abs(prediction.domain.slope), range);
+    if (prediction.domain.integers) {
+        return BoundLadder::wholeSamples(std::abs(prediction.domain.slope), range,
+                                         roundingOfSamples(prediction.domain, prediction.largestMagnitude));
+    }
     return BoundLadder::values(range > 0.0 ? range : 1.0);  // a constant volume: any bound holds it
 }
 

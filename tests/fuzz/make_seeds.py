@@ -90,11 +90,13 @@ def write_vdb_and_assets(gvr, vdb_folder, asset_folder, work):
         source = work / "nifti" / f"{name}.nii"
         grid = vdb_folder / f"{name}.vdb"
         subprocess.run([gvr, "ingest", str(source), "-o", str(grid)], check=True, stdout=subprocess.DEVNULL)
-        asset = work / f"{name}.gvr"
-        subprocess.run([gvr, "fit", str(grid), "-o", str(asset), "--gaussians", "12", "--iterations", "3"],
-                       check=True, stdout=subprocess.DEVNULL)
-        # The asset target appends the CRC-32 itself, so its seeds leave it off.
-        (asset_folder / f"{name}.gvr-body").write_bytes(asset.read_bytes()[:-4])
+        # Format 2, and format 3 with a residual layer; the asset target appends the
+        # CRC-32 itself, so its seeds leave it off.
+        for kind, bound in [("", []), ("-bounded", ["--max-error", "2"])]:
+            asset = work / f"{name}{kind}.gvr"
+            subprocess.run([gvr, "fit", str(grid), "-o", str(asset), "--gaussians", "12", "--iterations", "3", *bound],
+                           check=True, stdout=subprocess.DEVNULL)
+            (asset_folder / f"{name}{kind}.gvr-body").write_bytes(asset.read_bytes()[:-4])
     subprocess.run([gvr, "ingest", str(work / "nifti" / "rgb24.nii"), "-o", str(vdb_folder / "rgb.vdb")],
                    check=True, stdout=subprocess.DEVNULL)
 
