@@ -14,7 +14,7 @@ from error_bound import VOLUMES, fit_flags, run, voxels
 
 # name: the ratio asked of the whole asset, near what error_bound.py's bound gives
 RATIOS = {"ch2": 10, "colin27-labels": 10, "freesurfer-norm": 50, "ct-head": 80, "chest": 4, "gantry-tilt": 10,
-          "brainmaps54": 20, "frog": 5}
+          "brainmaps54": 20, "frog": 5, "ct-perfusion": 8, "asl": 11}
 
 
 def row(gvr, data, work, name):

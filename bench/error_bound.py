@@ -28,6 +28,8 @@ VOLUMES = {
     "gantry-tilt": ("ct-gantry-tilt-shear/shear.nii.gz", 8, 20, []),
     "brainmaps54": ("rgb-brainmaps54-cryosection", 4, 20, []),
     "frog": ("rgb-frog-cryosection/color_png", 4, 40, []),
+    "ct-perfusion": ("rgb24-ct-perfusion/ct_perfusion.nii.gz", 4, 20, []),
+    "asl": ("mri-4d-asl-float32/mpld_asl.nii.gz", 4, 20, []),
 }
 
 

@@ -361,7 +361,7 @@ void applyBoundRequest(FitFlags& flags) {
     if (flags.maxError.empty()) return;
     flags.boundRatio = flags.ratioGiven ? flags.options.ratio : 0.0;
     checkBoundRequest(boundRequest(flags), "--max-error", "--ratio");
-    if (flags.options.gaussians == 0) flags.options.ratio = boundRequest(flags).gaussianRatio();
+    boundRequest(flags).applyTo(flags.options);
 }
 
 void runFit(FitFlags& flags) {

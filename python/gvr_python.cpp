@@ -383,8 +383,9 @@ GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<
     BudgetedFitOptions options;
     options.settings.minSamplesPerGaussian = minSamples;
     options.labels = labels;
-    options.ratio = bound && gaussians == 0 ? bound->gaussianRatio() : ratio.value_or(options.ratio);
+    options.ratio = ratio.value_or(options.ratio);
     options.gaussians = gaussians;
+    if (bound) bound->applyTo(options);
     options.ablation = ablation;
     options.settings.seed = seed;
     options.settings.iterations = iterations;

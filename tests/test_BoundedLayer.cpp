@@ -111,6 +111,24 @@ TEST(BoundedLayer, AnAutoBoundOnAnOddSlopeLeavesNoVoxelToRounding) {
     EXPECT_LE(layer["measured_max_error"].get<double>(), layer["max_error"].get<double>());
 }
 
+TEST(BoundedLayer, ASmallVolumesPreviewKeepsAFewGaussiansPastItsRatio) {
+    test::TempDir dir;
+    const std::string grid = test::smallGrid(dir), asset = dir.path("small.gvr");  // 7.5 KiB: 400:1 is 19 bytes
+    const test::CommandResult fit =
+        test::runGvr("fit -q '" + grid + "' --max-error 2 --iterations 3 --json -o '" + asset + "'", dir);
+    ASSERT_EQ(fit.exitCode, 0) << fit.err;
+    const nlohmann::json report = nlohmann::json::parse(fit.out);
+    EXPECT_EQ(report["gaussians"].get<std::size_t>(), kBoundedPreviewGaussians);
+    EXPECT_LE(report["residual_layer"]["measured_max_error"].get<double>(), 2.0);
+    // A ratio the whole asset cannot reach is refused in one line, naming it.
+    const test::CommandResult tight = test::runGvr(
+        "fit -q '" + grid + "' --ratio 50 --max-error auto --iterations 3 -o '" + dir.path("t.gvr") + "'", dir);
+    EXPECT_EQ(tight.exitCode, 2);
+    EXPECT_EQ(test::lineCount(tight.err), 1u) << tight.err;
+    EXPECT_NE(tight.err.find("no error bound fits 50:1"), std::string::npos) << tight.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("t.gvr")));
+}
+
 TEST(BoundedLayer, ABadBoundIsRefusedInOneLineBeforeTheFit) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);

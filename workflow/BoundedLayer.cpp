@@ -46,6 +46,12 @@ double BoundRequest::gaussianRatio() const {
     return ratio > 0.0 ? ratio : kBoundedPreviewRatio;
 }
 
+void BoundRequest::applyTo(BudgetedFitOptions& options) const {
+    if (options.gaussians > 0) return;
+    options.ratio = gaussianRatio();
+    options.minimumGaussians = kBoundedPreviewGaussians;
+}
+
 void checkBoundRequest(const BoundRequest& request, const std::string& maxErrorName, const std::string& ratioName) {
     if (request.searched()) {
         if (request.ratio > 0.0) return;

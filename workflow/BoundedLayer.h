@@ -5,6 +5,7 @@
 
 #include "pipeline/FloatVolume.h"
 #include "pipeline/Progress.h"
+#include "workflow/FitToBudget.h"
 
 #include <cstdint>
 #include <string>
@@ -17,6 +18,10 @@ namespace gvr {
 /// ct-head and norm.mgz, a 40:1 preview gave larger assets than a 400:1 one; see
 /// docs/benchmarks.md, "An error bound").
 constexpr double kBoundedPreviewRatio = 400.0;
+
+/// A preview has at least this many Gaussians: on a small volume (64 x 64 x 24
+/// floats) 400:1 leaves no room past the file's header.
+constexpr std::size_t kBoundedPreviewGaussians = 64;
 
 /// What `--max-error` reads as a request to search the bound.
 inline constexpr const char* kSearchedBound = "auto";
@@ -35,6 +40,8 @@ struct BoundRequest {
     /// The ratio the Gaussians are fit at: under a searched bound, a quarter of the
     /// whole asset's budget at most, so that the layer has the rest.
     double gaussianRatio() const;
+    /// @a options with the Gaussians' budget under this bound (unless they ask a count).
+    void applyTo(BudgetedFitOptions& options) const;
 };
 
 struct BoundedLayerReport {

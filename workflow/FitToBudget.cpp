@@ -71,6 +71,10 @@ std::size_t budgetedGaussians(const GaussianAsset& asset, const BudgetedFitOptio
     checkRatio(options.ratio);
     maxBytes = std::uint64_t(double(asset.source.rawSourceBytes()) / options.ratio);
     const std::size_t capacity = assetCapacity(asset, maxBytes);
+    if (capacity < options.minimumGaussians) {
+        maxBytes = 0;  // a count, as if asked for
+        return options.minimumGaussians;
+    }
     if (capacity == 0) {
         throw InputError("`ratio`", "leaves " + std::to_string(maxBytes) + " bytes, too few for even one Gaussian");
     }

@@ -29,6 +29,9 @@ struct BudgetedFitOptions {
     /// is what fits in rawBytes / ratio. Ignored when @a gaussians is set.
     double ratio = 10.0;
     std::size_t gaussians = 0;  ///< an exact count instead (the time then never lowers it)
+    /// With a ratio: at least this many, past the ratio's bytes where they hold fewer
+    /// (a bound's preview of a small volume, whose 400:1 leaves no room past the header).
+    std::size_t minimumGaussians = 0;
     /// Time or iterations must be set. The count (settings.gaussians) is derived;
     /// the ablation (applyAblation) is recorded in the asset as @a ablation.
     FitSettings settings;
