@@ -68,7 +68,9 @@ std::uint64_t copySamples(const FloatVolume& volume, const NiftiStorage& storage
             return copyScaled(volume, storage, static_cast<decltype(sample)*>(image.data));
         });
     }
-    return copyScaled(volume, NiftiStorage{SampleType::UInt8}, static_cast<std::uint8_t*>(image.data));
+    NiftiStorage colour;  // RGB24: bytes, unscaled
+    colour.type = SampleType::UInt8;
+    return copyScaled(volume, colour, static_cast<std::uint8_t*>(image.data));
 }
 
 /// OpenVDB's row-vector matrix (world = index * M) as NIfTI's column form.

@@ -92,7 +92,7 @@ void forEachInCodingOrder(const Slab& slab, Visit visit) {
 template <typename ValueAt>
 double interpolate(const Slab& slab, int i, int j, int k, const Stencil& stencil, bool cubic, ValueAt at) {
     const Along along{i, j, k, stencil.axis};
-    std::size_t before, after, before3, after3;
+    std::size_t before = 0, after = 0, before3 = 0, after3 = 0;
     along.step(-stencil.stride, slab, before);  // always there: the voxel is an odd multiple of the stride
     if (!along.step(stencil.stride, slab, after)) return at(before);
     if (cubic && along.step(-3 * stencil.stride, slab, before3) && along.step(3 * stencil.stride, slab, after3)) {

@@ -213,7 +213,7 @@ Volume volumeFromNumpy(const py::object& samples, std::optional<std::array<doubl
         metadata.sourceType = sampleTypeName(*declared);
         writeVolumeMetadata(metadata, *grid);
     }
-    return {grid};
+    return {grid, nullptr};
 }
 
 /// A nibabel image, with what its header says: the stored type (for the ratio), the
@@ -432,7 +432,7 @@ Volume exportVolume(const GaussianAsset& asset, const std::optional<std::variant
     }
     if (voxelSize) settings.lattice = resizedLattice(asset.worldFromIndex, asset.source.dims, *voxelSize);
     const WithoutGil released;
-    return {exportAsset(asset, settings).grids.front()};
+    return {exportAsset(asset, settings).grids.front(), nullptr};
 }
 
 py::array probe(const GaussianAsset& asset, const py::object& points, const std::string& layers) {

@@ -295,7 +295,7 @@ TEST(BadInput, EveryCommandThatReadsAVdbRefusesNonFiniteValues) {
     grid->tree().setValueOn(openvdb::Coord(3, 4, 5), NAN);
     writeGridFile(dir.path("nan.vdb"), {grid});
     const std::string in = "'" + dir.path("nan.vdb") + "' ";
-    for (const std::string command : {"fit " + in + "-o '" + dir.path("out.gvr") + "' --gaussians 20 --iterations 2",
+    for (const std::string& command : {"fit " + in + "-o '" + dir.path("out.gvr") + "' --gaussians 20 --iterations 2",
                                       "render " + in + "-o '" + dir.path("out.png") + "'",
                                       "eval " + in + in,
                                       "baseline " + in + "--method zfp-accuracy --tolerance 0.1 -o '" + dir.path("out.vdb") + "' --stream '" + dir.path("out.zfp") + "'"}) {
@@ -435,7 +435,9 @@ void writeMultiPageTiff(const std::string& path, int pages) {
     const std::vector<OIIO::ImageSpec> specs(std::size_t(pages), OIIO::ImageSpec(64, 64, 1, OIIO::TypeDesc::UINT8));
     ASSERT_TRUE(output->open(path, pages, specs.data()));
     for (int page = 0; page < pages; ++page) {
-        if (page > 0) ASSERT_TRUE(output->open(path, specs[std::size_t(page)], OIIO::ImageOutput::AppendSubimage));
+        if (page > 0) {
+            ASSERT_TRUE(output->open(path, specs[std::size_t(page)], OIIO::ImageOutput::AppendSubimage));
+        }
         std::vector<std::uint8_t> pixels(64 * 64);
         for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = std::uint8_t((i * 2654435761u + page) >> 13);
         ASSERT_TRUE(output->write_image(OIIO::TypeDesc::UINT8, pixels.data()));

@@ -198,7 +198,7 @@ TEST(BenchManifest, NamesThatWouldBePathsAreRefused) {
     const auto volumeNamed = [&](const std::string& name) {
         return manifestError(write(dir, "v.json", R"({"volumes": [{"name": ")" + name + R"(", "input": "a.nii"}]})"));
     };
-    for (const std::string name : {std::string("."), std::string(".."), std::string("a/b"), std::string(".hidden"),
+    for (const std::string& name : {std::string("."), std::string(".."), std::string("a/b"), std::string(".hidden"),
                                    std::string(300, 'x'), std::string("two words"), std::string("")}) {
         EXPECT_NE(volumeNamed(name).find("volumes[0].name: '" + name + "' is not a name"), std::string::npos) << name;
     }

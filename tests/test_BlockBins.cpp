@@ -23,7 +23,9 @@ void expectBinsHoldEveryReach(const GaussianField& field, const BlockBins& bins)
                 float u[3];
                 reaches = mahalanobis2(field.gaussians()[g], x, u) <= field.cutoff2();
             }
-            if (reaches) EXPECT_TRUE(std::binary_search(bin.begin(), bin.end(), g)) << "Gaussian " << g << ", block " << b;
+            if (reaches) {
+                EXPECT_TRUE(std::binary_search(bin.begin(), bin.end(), g)) << "Gaussian " << g << ", block " << b;
+            }
         }
     }
 }

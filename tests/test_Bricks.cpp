@@ -43,12 +43,16 @@ TEST(Bricks, CoresTileTheVolumeOnLeafBoundariesAndBudgetsAddUp) {
         active += brick.coreActiveVoxels;
         budget += brick.budget;
         for (int a = 0; a < 3; ++a) {
-            if (brick.core.min()[a] > 0) EXPECT_EQ(brick.core.min()[a] % 8, 0) << brick.index;
+            if (brick.core.min()[a] > 0) {
+                EXPECT_EQ(brick.core.min()[a] % 8, 0) << brick.index;
+            }
             EXPECT_LE(brick.fitted.min()[a], brick.core.min()[a]);
             EXPECT_GE(brick.fitted.min()[a], 0);
         }
         for (const Brick& other : bricks) {
-            if (other.index != brick.index) EXPECT_FALSE(brick.core.hasOverlap(other.core));
+            if (other.index != brick.index) {
+                EXPECT_FALSE(brick.core.hasOverlap(other.core));
+            }
         }
     }
     EXPECT_EQ(voxels, target.box().volume());
@@ -65,7 +69,9 @@ TEST(Bricks, TapersAddUpToOneAtEveryVoxel) {
             for (const Brick& brick : bricks) {
                 const float w = brick.taper().at(*ijk);
                 EXPECT_GE(w, 0.0f);
-                if (w > 0.0f) EXPECT_TRUE(brick.fitted.isInside(*ijk)) << "halo " << halo << " at " << *ijk;
+                if (w > 0.0f) {
+                    EXPECT_TRUE(brick.fitted.isInside(*ijk)) << "halo " << halo << " at " << *ijk;
+                }
                 sum += w;
             }
             ASSERT_NEAR(sum, 1.0, 1e-5) << "halo " << halo << " at " << *ijk;

@@ -61,7 +61,9 @@ TEST(Camera, AxesAreOrthonormalAndElevationLiftsTheCameraTowardsSuperior) {
             EXPECT_NEAR(c.direction.dot(c.up), 0.0, 1e-9);
             EXPECT_NEAR(c.right.dot(c.up), 0.0, 1e-9);
             EXPECT_NEAR(c.direction.z(), -std::sin(elevation * M_PI / 180.0), 1e-9);
-            if (std::abs(elevation) < 90.0) EXPECT_GT(c.up.z(), 0.0);
+            if (std::abs(elevation) < 90.0) {
+                EXPECT_GT(c.up.z(), 0.0);
+            }
         }
     }
 }

@@ -419,7 +419,7 @@ TEST(Cli, OutputsNeverReplaceInputsOrSpecialFiles) {
     ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
     std::filesystem::create_directory(dir.path("out"));
     const std::string asset = dir.path("out/a.gvr");
-    for (const std::string command : {"fit -q '" + grid + "' -o '" + grid + "' --iterations 5",
+    for (const std::string& command : {"fit -q '" + grid + "' -o '" + grid + "' --iterations 5",
                                       "ingest '" + grid + "' -o '" + grid + "'",
                                       "fit -q '" + grid + "' -o '" + fifo + "' --iterations 5",
                                       "fit -q '" + grid + "' -o '" + dir.path("out") + "' --iterations 5",
@@ -501,7 +501,7 @@ TEST(Cli, InputsThatAreNotRegularFilesAreRefusedWithoutBlocking) {
         ASSERT_EQ(mkfifo(dir.path(name).c_str(), 0600), 0);
     }
     const std::string out = " -o '" + dir.path("out.vdb") + "'";
-    for (const std::string command :
+    for (const std::string& command :
          {"ingest '" + dir.path("pipe.nii.gz") + "'" + out, "ingest '" + dir.path("pipe.png") + "'" + out,
           "ingest '" + dir.path("pipe*.png") + "'" + out, "info '" + dir.path("pipe.vdb") + "'",
           "info '" + dir.path("pipe.gvr") + "'", "eval '" + grid + "' '" + dir.path("pipe.vdb") + "'",
@@ -548,7 +548,7 @@ TEST(Cli, NumbersOutsideTheirRangeAreRefusedAndHugePeaksStayFinite) {
     const std::string grid = test::smallGrid(dir);
     const std::string asset = dir.path("a.gvr");
     ASSERT_EQ(test::runGvr("fit -q '" + grid + "' -o '" + asset + "' --gaussians 40 --iterations 10", dir).exitCode, 0);
-    for (const std::string command : {"export '" + asset + "' -o '" + dir.path("x.vdb") + "' --threshold nan",
+    for (const std::string& command : {"export '" + asset + "' -o '" + dir.path("x.vdb") + "' --threshold nan",
                                       "eval '" + grid + "' '" + asset + "' --threshold nan",
                                       "fit -q '" + grid + "' -o '" + dir.path("b.gvr") + "' --gaussians 40 --time 1e30",
                                       "fit -q '" + grid + "' -o '" + dir.path("b.gvr") +

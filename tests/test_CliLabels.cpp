@@ -136,8 +136,12 @@ TEST_F(CliLabels, PerStructureBudgetsAddUpAndEveryGaussianKeepsItsLabel) {
     EXPECT_EQ(std::size_t(left), report["structures"][0]["gaussians"].get<std::size_t>());
     for (std::size_t g = 0; g < asset.params.count(); ++g) {  // seeded inside their own blob
         const float x = asset.params.at(kMeans, g)[0];
-        if (asset.labels[g] == 1) EXPECT_LT(x, 18.0f) << g;
-        if (asset.labels[g] == 2) EXPECT_GT(x, 14.0f) << g;
+        if (asset.labels[g] == 1) {
+            EXPECT_LT(x, 18.0f) << g;
+        }
+        if (asset.labels[g] == 2) {
+            EXPECT_GT(x, 14.0f) << g;
+        }
     }
 }
 

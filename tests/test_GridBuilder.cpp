@@ -270,7 +270,9 @@ TEST(GridBuilder, AStreamedBuildEqualsTheWholeBuildAlsoWhenTheMinimumComesLast) 
         settings.threshold = threshold;
         const auto [whole, streamed] = wholeAndStreamed(dir.path("ct.raw"), read, settings);
         expectSameGrids<openvdb::FloatGrid>(whole, streamed);
-        if (!threshold) EXPECT_TRUE(asFloat(streamed)->tree().isValueOn(openvdb::Coord(5, 0, 0)));
+        if (!threshold) {
+            EXPECT_TRUE(asFloat(streamed)->tree().isValueOn(openvdb::Coord(5, 0, 0)));
+        }
     }
 }
 

@@ -78,7 +78,9 @@ void expectIntegersKeptOrTheRoundedCounted(SampleType type, const std::vector<T>
     const bool warned = !result.warnings.empty() &&
                         result.warnings.back().find(" integers beyond 2^24, which the float32 grid rounds") != std::string::npos;
     EXPECT_EQ(warned, changed > 0);
-    if (sizeof(T) <= 2) EXPECT_EQ(changed, 0u);
+    if (sizeof(T) <= 2) {
+        EXPECT_EQ(changed, 0u);
+    }
 }
 
 /// The type's lowest and highest values, those next to them, 0, 1, 2^24 and 2^24 + 1

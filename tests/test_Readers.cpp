@@ -382,7 +382,9 @@ TEST(ImageStackReader, ReadsMultiPageTiffAsSlices) {
                                       OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::UINT8)};
     ASSERT_TRUE(output->open(path, 2, specs));
     for (int page = 0; page < 2; ++page) {
-        if (page > 0) ASSERT_TRUE(output->open(path, specs[page], OIIO::ImageOutput::AppendSubimage));
+        if (page > 0) {
+            ASSERT_TRUE(output->open(path, specs[page], OIIO::ImageOutput::AppendSubimage));
+        }
         const std::vector<std::uint8_t> pixels(12, std::uint8_t(50 + page * 100));
         ASSERT_TRUE(output->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
     }

@@ -136,8 +136,12 @@ TEST(SliceStack, SamplesAlongAVolumesAxesFallOnItsVoxelCentres) {
         const double xPerVoxel = std::max(1.0, 1.0 / c.xStep), zPerVoxel = std::max(1.0, 1.5 / c.zStep);
         for (int n = 0; n < std::min(g.width, g.height); ++n) {
             const openvdb::Vec3d index = indexOfSample(stack, volume, n, n);
-            if (c.xOnCentres) EXPECT_TRUE(onVoxelCentre(index.x() * xPerVoxel)) << c.askedMm << " " << n;
-            if (c.zOnCentres) EXPECT_TRUE(onVoxelCentre(index.z() * zPerVoxel)) << c.askedMm << " " << n;
+            if (c.xOnCentres) {
+                EXPECT_TRUE(onVoxelCentre(index.x() * xPerVoxel)) << c.askedMm << " " << n;
+            }
+            if (c.zOnCentres) {
+                EXPECT_TRUE(onVoxelCentre(index.z() * zPerVoxel)) << c.askedMm << " " << n;
+            }
         }
     }
     // Off the volume's axes, the spacings asked, or the least voxel edge where that is finer.
@@ -474,11 +478,15 @@ TEST(SliceStack, RowsKeepOnlyTheirRunsOfVisibleSamples) {
                 // kRunGap transparent samples separate runs.
                 EXPECT_GT(slice.samples[run.offset].a, 0);
                 EXPECT_GT(slice.samples[run.offset + run.end - run.begin - 1].a, 0);
-                if (r > first) EXPECT_GE(run.begin - slice.runs[r - 1].end, std::uint32_t(kRunGap));
+                if (r > first) {
+                    EXPECT_GE(run.begin - slice.runs[r - 1].end, std::uint32_t(kRunGap));
+                }
                 // Each run lies between two transparent samples.
                 EXPECT_EQ(slice.samples[run.offset - 1].a, 0);
                 EXPECT_EQ(slice.samples[run.offset + run.end - run.begin].a, 0);
-                if (r + 1 < end) EXPECT_EQ(slice.runs[r + 1].offset, run.offset + run.end - run.begin + 2);
+                if (r + 1 < end) {
+                    EXPECT_EQ(slice.runs[r + 1].offset, run.offset + run.end - run.begin + 2);
+                }
             }
         }
     }

@@ -25,7 +25,7 @@ TEST(VolumeOutputs, TheExtensionNamesTheFormatInAnyCase) {
     EXPECT_EQ(volumeFileFormat("x.nii"), VolumeFileFormat::Nifti);
     EXPECT_EQ(volumeFileFormat("x.NII.GZ"), VolumeFileFormat::Nifti);
     EXPECT_EQ(volumeFileFormat("folder.vdb/x.nii.gz"), VolumeFileFormat::Nifti);
-    for (const std::string& path : {"x.nii.bz2", "x.gz", "x", "x.vdb.tmp", "vdb", ""}) {
+    for (const std::string path : {"x.nii.bz2", "x.gz", "x", "x.vdb.tmp", "vdb", ""}) {
         const std::string message = test::errorMessageOf<InputError>([&] { volumeFileFormat(path); });
         EXPECT_EQ(message.rfind(path + ": unknown output extension", 0), 0u) << path << ": " << message;
     }
