@@ -176,7 +176,12 @@ TEST(BadInput, NaNVoxelsAreCountedOrReplaced) {
     options.read.raw = RawLayout{{2, 2, 2}, SampleType::Float32, 1, false, 0};
     expectMentions(ingestError(dir.path("nan.raw"), options), "2 voxels are NaN or Inf");
     options.build.nanTo = 0.0f;
-    EXPECT_NO_THROW(ingest(dir.path("nan.raw"), options));
+    const IngestResult replaced = ingest(dir.path("nan.raw"), options);
+    const auto stored = openvdb::gridConstPtrCast<openvdb::FloatGrid>(replaced.grid)->getConstAccessor();
+    for (int n = 0; n < 8; ++n) {
+        const openvdb::Coord ijk(n % 2, (n / 2) % 2, n / 4);
+        EXPECT_EQ(stored.getValue(ijk), n == 3 || n == 5 ? 0.0f : 1.0f) << ijk;  // the two, and only they
+    }
 }
 
 TEST(BadInput, StackSlicesOfDifferentSizes) {
