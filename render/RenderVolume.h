@@ -5,6 +5,7 @@
 #include "pipeline/GaussianAsset.h"
 #include "pipeline/GaussianField.h"
 #include "pipeline/LatticeSampler.h"
+#include "pipeline/Trilinear.h"
 #include "pipeline/ValueMapping.h"
 #include "render/TransferPresets.h"
 
@@ -157,61 +158,6 @@ private:
     openvdb::FloatGrid::ConstPtr mFloat;
     openvdb::Vec3SGrid::ConstPtr mColour;
 };
-
-/// The voxel below @a x along one axis: std::floor's, in fewer instructions where the
-/// processor has no rounding instruction (SSE4.1) for it. @a x lies well inside int's range.
-inline int voxelBelow(double x) {
-    const int truncated = int(x);
-    return truncated - (x < double(truncated));
-}
-
-/// The voxel below @a x: its cell's first corner.
-inline openvdb::Coord voxelBelow(const openvdb::Vec3d& x) {
-    return openvdb::Coord(voxelBelow(x[0]), voxelBelow(x[1]), voxelBelow(x[2]));
-}
-
-/// One step of a trilinear blend, of a double or of lanes of them (each lane as a
-/// double alone). In doubles, so that values near the float range's ends cannot overflow.
-template <typename Lanes>
-inline Lanes trilinearLerp(Lanes a, Lanes b, double s) {
-    return (1.0 - s) * a + s * b;
-}
-
-/// The trilinear blend of eight corners, corner n at (n >> 2, n >> 1 & 1, n & 1)
-/// (z fastest, as a leaf's voxels), at fractions @a t.
-template <typename Lanes>
-Lanes blendCorners(const Lanes (&corners)[8], const openvdb::Vec3d& t) {
-    const auto lerp = trilinearLerp<Lanes>;  // a short name: the blend nests three deep
-    Lanes alongY[2];
-    for (int i = 0; i < 2; ++i) {
-        const Lanes* pair = corners + 4 * i;
-        alongY[i] = lerp(lerp(pair[0], pair[1], t[2]), lerp(pair[2], pair[3], t[2]), t[1]);
-    }
-    return lerp(alongY[0], alongY[1], t[0]);
-}
-
-/// The same for grid values, into out[0..channels). A colour's red and green share
-/// two lanes and its blue takes a third: colour stills spent a third of their build
-/// blending one channel at a time (docs/benchmarks.md, "Stacks of colours").
-template <typename ValueT>
-void blendTrilinearCorners(const ValueT (&corners)[8], const openvdb::Vec3d& t, float* out) {
-    if constexpr (std::is_same_v<ValueT, openvdb::Vec3s>) {
-        using Pair = double __attribute__((vector_size(16)));
-        Pair redGreen[8], blue[8];
-        for (int n = 0; n < 8; ++n) {
-            redGreen[n] = Pair{corners[n][0], corners[n][1]};
-            blue[n] = Pair{corners[n][2], 0.0};
-        }
-        const Pair rg = blendCorners(redGreen, t), b = blendCorners(blue, t);
-        out[0] = float(rg[0]);
-        out[1] = float(rg[1]);
-        out[2] = float(b[0]);
-    } else {
-        double values[8];
-        for (int n = 0; n < 8; ++n) values[n] = corners[n];
-        out[0] = float(blendCorners(values, t));
-    }
-}
 
 template <typename Accessor>
 void GridRenderVolume::trilinear(const Accessor& accessor, const openvdb::Vec3d& x, float* out) {
