@@ -73,7 +73,7 @@ nlohmann::json settingsJson(const RenderFlags& flags) {
                 {"termination", termination}};
     }
     const ShearWarpSettings& s = flags.shearWarp;
-    return {{"renderer", "shear-warp"}, {"stacks", s.stacks == StackOrientation::view ? "view" : "axes"},
+    return {{"renderer", "shear-warp"}, {"stacks", s.stacks == StackOrientation::View ? "view" : "axes"},
             {"supersample", s.supersampling}, {"slice_spacing_voxels", s.sliceSpacingVoxels},
             {"reuse_angle_deg", s.reuseAngleDeg}, {"termination", termination},
             {"classify", classificationName(s.classification)}};

@@ -17,7 +17,7 @@ void addStackFlags(CLI::App& command, ShearWarpSettings& settings, bool* automat
                "--stacks",
                [&settings, automatic](const std::string& name) {
                    if (automatic) *automatic = name == "auto";
-                   settings.stacks = name == "view" ? StackOrientation::view : StackOrientation::axes;
+                   settings.stacks = name == "view" ? StackOrientation::View : StackOrientation::Axes;
                },
                automatic ? "auto: view for a single image, axes for an orbit; " + axesAndView : axesAndView)
         ->check(automatic ? CLI::IsMember({"auto", "axes", "view"}) : CLI::IsMember({"axes", "view"}))

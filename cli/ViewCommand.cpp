@@ -73,7 +73,7 @@ public:
         mState.tf = flags.tf.empty() ? defaultPreset(mInput.volume->channels(), mInput.volume->statistics()) : flags.tf;
         mInitial = mState;
         classify();
-        mSession = std::make_unique<ViewSession>(scene(), flags.shearWarp, Prefetch::nextAxis, FirstImage::coarseFirst,
+        mSession = std::make_unique<ViewSession>(scene(), flags.shearWarp, Prefetch::NextAxis, FirstImage::CoarseFirst,
                                                  stillSettings(flags));
     }
 

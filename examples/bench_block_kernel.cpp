@@ -60,7 +60,7 @@ void measure(const char* label, const GaussianParameters& params, const VolumeTa
     GradientChunks chunks;
     Timing eight, four;
     for (int r = 0; r < kRepeats; ++r) {
-        for (auto [kernel, timing] : {std::pair{BlockKernel::best, &eight}, std::pair{BlockKernel::fourLanes, &four}}) {
+        for (auto [kernel, timing] : {std::pair{BlockKernel::Best, &eight}, std::pair{BlockKernel::FourLanes, &four}}) {
             std::uint64_t voxels = 0;
             timing->seconds = std::min(timing->seconds, timeOneCall(field, bins, target, blocks, kernel, chunks, voxels));
             timing->voxels = voxels;

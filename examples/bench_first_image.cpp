@@ -41,7 +41,7 @@ int run(const std::string& path, int repeats) {
     moving.supersampling = 1.0;
     const ShearWarpSettings still = stillSettingsFor(moving, ShearWarpSettings{}.supersampling);
     for (int r = 0; r < repeats; ++r) {
-        ViewSession session(scene, moving, Prefetch::none, FirstImage::coarseFirst, still);
+        ViewSession session(scene, moving, Prefetch::None, FirstImage::CoarseFirst, still);
         start = std::chrono::steady_clock::now();
         FrameStats frame;
         session.render(camera, &frame);

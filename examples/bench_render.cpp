@@ -54,7 +54,7 @@ Framebuffer rayMarchAntialiased(const RenderVolume& volume, const Classifier& cl
     return rayMarch(volume, classifier, cameraAt(volume, azimuth), settings);
 }
 
-const char* nameOf(StackOrientation orientation) { return orientation == StackOrientation::axes ? "axis" : "view"; }
+const char* nameOf(StackOrientation orientation) { return orientation == StackOrientation::Axes ? "axis" : "view"; }
 
 struct ShearWarpFigures {
     double rebuildMs = 0, reuseMs = 0;
@@ -156,7 +156,7 @@ std::pair<double, double> meanAndWorstDb(const std::vector<Framebuffer>& referen
 /// over the voxel (at least 1).
 std::vector<ShearWarpSettings> settingsCompared(double voxelSupersampling) {
     std::vector<ShearWarpSettings> all;
-    for (const StackOrientation orientation : {StackOrientation::axes, StackOrientation::view}) {
+    for (const StackOrientation orientation : {StackOrientation::Axes, StackOrientation::View}) {
         for (const double supersampling : {ShearWarpSettings{}.supersampling, 1.0}) {
             ShearWarpSettings settings;
             settings.stacks = orientation;
@@ -165,7 +165,7 @@ std::vector<ShearWarpSettings> settingsCompared(double voxelSupersampling) {
         }
     }
     ShearWarpSettings asVolPack;
-    asVolPack.stacks = StackOrientation::axes;
+    asVolPack.stacks = StackOrientation::Axes;
     asVolPack.supersampling = voxelSupersampling;
     all.push_back(asVolPack);
     return all;
@@ -189,7 +189,7 @@ void compare(const char* label, const GaussianRenderVolume& gaussians, const Gri
     for (const ShearWarpSettings& settings : settingsCompared(voxelSupersampling)) {
         const ShearWarpFigures ours = measureShearWarp(gaussians, classifier, settings);
         const ShearWarpFigures dense = measureShearWarp(original, classifier, settings);
-        if (settings.stacks == StackOrientation::axes) axisReuseMs.push_back(ours.reuseMs);
+        if (settings.stacks == StackOrientation::Axes) axisReuseMs.push_back(ours.reuseMs);
         const auto [gaussianDb, worstDb] = meanAndWorstDb(references.original, ours.reuseImages);
         std::printf("   %s stacks, supersample %.2f\n", nameOf(settings.stacks), settings.supersampling);
         std::printf("      Gaussians: reused frame %.1f ms = %.1f FPS, build %.0f ms; %.1f dB mean, %.1f dB worst "

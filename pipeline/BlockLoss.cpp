@@ -293,7 +293,7 @@ double blockSquaredError(const GaussianField& field, const BlockBins& bins, cons
                          const std::vector<SampledBlock>& blocks, const BlockLossSettings& settings,
                          GradientChunks* gradients, std::vector<BlockOutcome>* outcomes) {
     const Pass pass{field, bins, target, settings};
-    const bool eightLanes = settings.kernel == BlockKernel::best && processorHasAvx2Fma();
+    const bool eightLanes = settings.kernel == BlockKernel::Best && processorHasAvx2Fma();
     const auto evaluate = eightLanes ? evaluateBlockAvx2Fma : evaluateBlockFourLanes;
     const std::size_t n = blocks.size();
     std::vector<BlockOutcome> local;

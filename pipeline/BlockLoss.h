@@ -26,14 +26,14 @@ struct BlockOutcome {
 };
 
 enum class BlockKernel {
-    best,       ///< eight lanes with fused multiply-adds where the processor has AVX2 and FMA, else four
-    fourLanes,  ///< four lanes on any processor, for tests against best
+    Best,       ///< eight lanes with fused multiply-adds where the processor has AVX2 and FMA, else four
+    FourLanes,  ///< four lanes on any processor, for tests against best
 };
 
 struct BlockLossSettings {
     double scale = 1.0;  ///< multiplies every weighted squared residual
     int rowStride = 1;   ///< the sampler's k: rows with (x + y) mod k = the block's phase
-    BlockKernel kernel = BlockKernel::best;
+    BlockKernel kernel = BlockKernel::Best;
 };
 
 /// L = scale * sum over @a blocks of weight_b * sum over the trainable voxels of the

@@ -24,7 +24,7 @@ struct FieldToGridSettings {
     openvdb::CoordBBox fieldBox = openvdb::CoordBBox::inf();
     /// exact for export (the very floats of GaussianField::evaluate); rows for the
     /// renderer, several times faster and within 1e-6 of each Gaussian's peak.
-    BlockEvaluation evaluation = BlockEvaluation::exact;
+    BlockEvaluation evaluation = BlockEvaluation::Exact;
 };
 
 /// Evaluates @a field (which lives in the index space that @a fieldWorldFromIndex

@@ -303,8 +303,8 @@ CoordBBox LatticeSampler::sampleBlock(const Coord& origin, float* sums, float sk
     // the lattice too, as rows cover whole blocks).
     alignas(16) std::int32_t inCells[kBlockVoxels] = {};
     float points[kBlockVoxels][3];
-    const bool exact = evaluation == BlockEvaluation::exact;
-    const bool eightLanes = evaluation == BlockEvaluation::rows && processorHasAvx2();
+    const bool exact = evaluation == BlockEvaluation::Exact;
+    const bool eightLanes = evaluation == BlockEvaluation::Rows && processorHasAvx2();
     // Rows need only the mask; exact evaluation also needs each point.
     const bool allInCells = !exact && allVoxelsInside(voxels, mFieldFromLattice, mFieldCells);
     for (auto ijk = voxels.begin(); ijk; ++ijk) {

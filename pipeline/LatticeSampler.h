@@ -86,16 +86,16 @@ private:
 /// How sampleBlock() evaluates each Gaussian over a block.
 enum class BlockEvaluation {
     /// Point by point, as GaussianField::evaluate does: the very same floats.
-    exact,
+    Exact,
     /// Along each row of the block as one quadratic, through an exp the compiler
     /// vectorises: several times faster. Each term is within 1e-6 of its exact
     /// value, relative to the Gaussian's peak, except where a sample lies within
     /// rounding of the truncation edge and one of the two keeps a term the other cuts.
     /// Eight samples at a time where the processor has AVX2, else four.
-    rows,
+    Rows,
     /// As rows, but four samples at a time on any processor: what rows computes
     /// without AVX2, so that tests can check the two agree.
-    rowsFourLanes,
+    RowsFourLanes,
 };
 
 /// Evaluates @a field, which lives in the index space that @a fieldWorldFromIndex
@@ -122,7 +122,7 @@ public:
     /// (a transfer function transparent there) skips the work.
     /// @return the block's voxels inside the lattice (empty if none, or skipped).
     openvdb::CoordBBox sampleBlock(const openvdb::Coord& origin, float* sums, float skipUpTo = -1.0f,
-                                   BlockEvaluation evaluation = BlockEvaluation::exact) const;
+                                   BlockEvaluation evaluation = BlockEvaluation::Exact) const;
 
     int channels() const { return mField.channels(); }
     const Lattice& lattice() const { return mLattice; }
@@ -134,7 +134,7 @@ private:
     /// box [lower, upper], in any channel.
     float reachCeiling(const std::uint32_t* hits, const std::uint32_t* hitsEnd, const float lower[3],
                        const float upper[3], int channels) const;
-    /// Adds Gaussian @a index over @a reached, row by row (BlockEvaluation::rows).
+    /// Adds Gaussian @a index over @a reached, row by row (BlockEvaluation::Rows).
     void addRows(std::uint32_t index, const openvdb::Coord& origin, const openvdb::CoordBBox& reached,
                  const std::int32_t inCells[], float* sums, bool eightLanes) const;
 

@@ -177,10 +177,10 @@ double predict(ResidualPredictor predictor, const Slab& slab, const SlabChannel&
     const auto residual = [&](std::size_t n) { return part.values[n] - part.gaussian[n]; };
     const bool anchor = stencil.axis < 0;
     switch (predictor) {
-        case ResidualPredictor::gaussians: return part.gaussian[at];
-        case ResidualPredictor::neighbours:
+        case ResidualPredictor::Gaussians: return part.gaussian[at];
+        case ResidualPredictor::Neighbours:
             return anchor ? previousAnchor(slab, i, j, k, value) : interpolate(slab, i, j, k, stencil, true, value);
-        case ResidualPredictor::both:
+        case ResidualPredictor::Both:
             return part.gaussian[at] +
                    (anchor ? previousAnchor(slab, i, j, k, residual) : interpolate(slab, i, j, k, stencil, false, residual));
     }
@@ -323,7 +323,7 @@ ResidualLayer encodeResidualLayer(const FloatVolume& source, const FloatVolume& 
     layer.channels = source.channels;
     const openvdb::Coord blocks = blocksOf(source.dims);
     layer.predictors.assign(std::size_t(blocks.x()) * blocks.y() * blocks.z() * source.channels,
-                            ResidualPredictor::gaussians);
+                            ResidualPredictor::Gaussians);
     layer.codes.assign(source.values.size(), 0);
     setSourceRange(layer, source);
     const DomainArithmetic math(layer);

@@ -33,9 +33,9 @@ struct ResidualDomain {
 
 /// How a block's voxels are predicted.
 enum class ResidualPredictor : std::uint8_t {
-    gaussians = 0,   ///< the Gaussian field at the voxel
-    neighbours = 1,  ///< cubic interpolation between decoded voxels
-    both = 2,        ///< the Gaussian field plus linear interpolation of the decoded residuals from it
+    Gaussians = 0,   ///< the Gaussian field at the voxel
+    Neighbours = 1,  ///< cubic interpolation between decoded voxels
+    Both = 2,        ///< the Gaussian field plus linear interpolation of the decoded residuals from it
 };
 constexpr int kResidualPredictors = 3;
 /// Slices coded apart from the others, so that slabs code in parallel (a slab

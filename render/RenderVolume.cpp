@@ -49,7 +49,7 @@ public:
     CoordBBox sampleBlock(const Coord& origin, float* values) const override {
         const int channels = mSampler.channels();
         std::fill(values, values + kBlockVoxels * channels, 0.0f);
-        const CoordBBox voxels = mSampler.sampleBlock(origin, values, mSkipUpTo, BlockEvaluation::rows);
+        const CoordBBox voxels = mSampler.sampleBlock(origin, values, mSkipUpTo, BlockEvaluation::Rows);
         for (int n = 0; n < kBlockVoxels * channels; ++n) {
             values[n] = mMapping.toPhysicalFloat(values[n], n % channels);
         }
@@ -381,7 +381,7 @@ std::size_t GaussianRenderVolume::evaluateVoxelsOnce() const {
         FieldToGridSettings settings;
         settings.mapping = mMapping;
         settings.fieldBox = mBox;
-        settings.evaluation = BlockEvaluation::rows;  // a frame needs 16-bit opacity, not bit-for-bit sums
+        settings.evaluation = BlockEvaluation::Rows;  // a frame needs 16-bit opacity, not bit-for-bit sums
         mVoxels = fieldToGrid(mField, mWorldFromIndex, Lattice{mWorldFromIndex, mBox}, settings);
         evaluated = mField.gaussians().size();
     });

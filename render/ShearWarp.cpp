@@ -683,7 +683,7 @@ std::string ShearWarpSettings::validate() const {
 }
 
 Vec3d ShearWarpSettings::stackNormalFor(const Vec3d& direction) const {
-    if (stacks == StackOrientation::view) return direction.unit();
+    if (stacks == StackOrientation::View) return direction.unit();
     // Ties go to the first axis, so that a view at exactly 45 degrees has one stack.
     int axis = 0;
     for (int a = 1; a < 3; ++a) {
@@ -694,11 +694,11 @@ Vec3d ShearWarpSettings::stackNormalFor(const Vec3d& direction) const {
 
 SegmentViews ShearWarpSettings::segmentViews() const {
     const double axisToDiagonalDeg = std::acos(1.0 / std::sqrt(3.0)) * 180.0 / M_PI;
-    return {classification, stacks == StackOrientation::view ? reuseAngleDeg : axisToDiagonalDeg};
+    return {classification, stacks == StackOrientation::View ? reuseAngleDeg : axisToDiagonalDeg};
 }
 
 bool ShearWarpSettings::serves(const Vec3d& normal, const Vec3d& direction) const {
-    if (stacks == StackOrientation::axes) return normal == stackNormalFor(direction);
+    if (stacks == StackOrientation::Axes) return normal == stackNormalFor(direction);
     return angleToStackDeg(direction, normal) <= reuseAngleDeg;
 }
 
@@ -819,10 +819,10 @@ IntermediateImage compositeSlices(const SliceStack& stack, const Vec3d& directio
     // The path through one slice is 1 / cos(angle) slice spacings long.
     const double obliquity = 1.0 / std::abs(dn);
     const ValueLevels* levels = stack.valueLevels();
-    if (stack.content() == StackContent::colours) {
+    if (stack.content() == StackContent::Colours) {
         const ColourLight light(*levels, obliquity);
         compositeBands(stack, shears, backwards, Compositing<ColourLight>{light, terminationOpacity}, out);
-    } else if (levels && stack.classification() == Classification::segments) {
+    } else if (levels && stack.classification() == Classification::Segments) {
         const SegmentLight light(*levels, obliquity);
         compositeBands(stack, shears, backwards, Compositing<SegmentLight>{light, terminationOpacity}, out);
     } else if (levels) {
@@ -870,10 +870,10 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
     frame.reused = serving != mStacks.end();
     if (!frame.reused) {
         // A view stack serves only its cone: the next one replaces it.
-        if (mSettings.stacks == StackOrientation::view) mStacks.clear();
+        if (mSettings.stacks == StackOrientation::View) mStacks.clear();
         mStacks.push_back(std::make_unique<SliceStack>(
             mLayers, mSettings.stackNormalFor(camera.direction), mSettings.sliceSpacingVoxels,
-            mSettings.sampleMmFor(camera, *mLayers.front().volume), ProgressFn{}, nullptr, StackSampling::voxels,
+            mSettings.sampleMmFor(camera, *mLayers.front().volume), ProgressFn{}, nullptr, StackSampling::Voxels,
             mSettings.segmentViews()));
         serving = std::prev(mStacks.end());
         frame.buildMs = millisecondsSince(start);

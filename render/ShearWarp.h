@@ -20,13 +20,13 @@ namespace gvr {
 enum class StackOrientation {
     /// Across the world axis nearest the view, as Lacroute and Levoy's: the view is
     /// at most 54.7 degrees off it, and the three stacks, each built once, serve every view.
-    axes,
+    Axes,
     /// Across the view itself, rebuilt when the view turns beyond reuseAngleDeg.
-    view,
+    View,
 };
 
 struct ShearWarpSettings {
-    StackOrientation stacks = StackOrientation::axes;
+    StackOrientation stacks = StackOrientation::Axes;
     double sliceSpacingVoxels = 1.0;   ///< slice spacing in voxels (the smallest voxel edge); > 0
     double reuseAngleDeg = 15.0;       ///< view stacks: keep one while the view is within this; [0, 60]
     float terminationOpacity = 0.98f;  ///< a pixel stops accumulating at this opacity; (0, 1]
@@ -39,7 +39,7 @@ struct ShearWarpSettings {
     double supersampling = 1.5;
     /// How a grey volume's values are composited: segments see bands of the
     /// transfer function thinner than a slice spacing (SliceStack, Classification).
-    Classification classification = Classification::points;
+    Classification classification = Classification::Points;
     /// @return an empty string, or what is wrong, naming the flag.
     std::string validate() const;
     /// How thin a Gaussian may be before GaussianRenderVolume widens it, unless
@@ -67,7 +67,7 @@ struct ShearWarpSettings {
 /// view, which needs no shear there and is the most faithful (docs/benchmarks.md,
 /// "Supersampled stacks"); an orbit gets axis stacks, built once and kept.
 inline StackOrientation automaticStacks(int frames) {
-    return frames == 1 ? StackOrientation::view : StackOrientation::axes;
+    return frames == 1 ? StackOrientation::View : StackOrientation::Axes;
 }
 
 /// Degrees between a view along @a direction and the slices' normal @a normal,

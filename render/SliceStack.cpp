@@ -638,9 +638,9 @@ int segmentReach(const StackGeometry& g, double maxAngleDeg) {
 StackContent contentOf(const std::vector<StackLayer>& layers) {
     const RenderVolume& volume = *layers.front().volume;
     if (layers.size() > 1 || layers.front().classifier.transferFunction()(volume.backgroundKey())[3] != 0.0f) {
-        return StackContent::classified;
+        return StackContent::Classified;
     }
-    return volume.channels() == 1 ? StackContent::values : StackContent::colours;
+    return volume.channels() == 1 ? StackContent::Values : StackContent::Colours;
 }
 
 /// A stack's lattice and what its slices hold. Stacks of values take the voxel
@@ -653,12 +653,12 @@ std::pair<StackGeometry, StackContent> layoutFor(const std::vector<StackLayer>& 
                                                  double sliceSpacingVoxels, double sampleMm, StackSampling sampling) {
     const RenderVolume& volume = *layers.front().volume;
     const StackContent content = contentOf(layers);
-    const bool fine = sampling == StackSampling::voxels;
+    const bool fine = sampling == StackSampling::Voxels;
     const StackGeometry g =
-        stackGeometryFor(volume, direction, sliceSpacingVoxels, sampleMm, content != StackContent::classified, fine);
-    if (content == StackContent::colours && !g.samplesOnVoxels) {
+        stackGeometryFor(volume, direction, sliceSpacingVoxels, sampleMm, content != StackContent::Classified, fine);
+    if (content == StackContent::Colours && !g.samplesOnVoxels) {
         return {stackGeometryFor(volume, direction, sliceSpacingVoxels, sampleMm, false, fine),
-                StackContent::classified};
+                StackContent::Classified};
     }
     return {g, content};
 }
@@ -678,18 +678,18 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     mSlices.resize(mGeometry.slices);
     const RenderVolume& volume = *layers.front().volume;
     const Classifier& classifier = layers.front().classifier;
-    if (mContent != StackContent::classified) {
+    if (mContent != StackContent::Classified) {
         mLevels = std::make_unique<ValueLevels>(classifier.transferFunction(), mGeometry.sliceVoxels);
     }
     // Pre-integration takes one value a sample.
-    if (mContent == StackContent::values) mClassification = segments.classification;
+    if (mContent == StackContent::Values) mClassification = segments.classification;
     for (Slice& slice : mSlices) slice.rowRuns.assign(mGeometry.height + 1, 0);
     std::vector<std::unique_ptr<BlockSource>> sources;
     std::vector<Coord> occupied;
     for (const StackLayer& layer : layers) {
         const double invisibleUpTo = layer.classifier.transferFunction().transparentUpTo();
         const Lattice lattice = mGeometry.lattice();
-        sources.push_back(sampling == StackSampling::preview ? layer.volume->previewBlocksOn(lattice, invisibleUpTo)
+        sources.push_back(sampling == StackSampling::Preview ? layer.volume->previewBlocksOn(lattice, invisibleUpTo)
                                                              : layer.volume->blocksOn(lattice, invisibleUpTo));
         const std::vector<Coord> blocks = sources.back()->occupiedBlocks();
         occupied.insert(occupied.end(), blocks.begin(), blocks.end());
@@ -704,7 +704,7 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
     const auto buildValues = [&](const auto outside) {
         using Value = std::decay_t<decltype(outside)>;
         std::optional<int> reach;
-        if (mClassification == Classification::segments) reach = segmentReach(mGeometry, segments.maxAngleDeg);
+        if (mClassification == Classification::Segments) reach = segmentReach(mGeometry, segments.maxAngleDeg);
         ValueSliceKeeper<Value> keeper(mGeometry, *mLevels, reach, outside, mSlices);
         buildSlices(
             mGeometry, slabs, outside, counter, cancel,
@@ -714,9 +714,9 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
             [&](int firstSlice, int count, const Slab<Value>& slab) { keeper.addSlab(firstSlice, count, slab); });
         keeper.finish();
     };
-    if (mContent == StackContent::values) {
+    if (mContent == StackContent::Values) {
         buildValues(float(volume.backgroundKey()));
-    } else if (mContent == StackContent::colours) {
+    } else if (mContent == StackContent::Colours) {
         buildValues(slabValue(volume.background().data(), classifier, ColourValue{}));
     } else {
         buildSlices(

@@ -62,12 +62,12 @@ struct StackGeometry {
 /// What a stack's slices hold.
 enum class StackContent {
     /// Classified samples (StackSample): premultiplied colour and opacity.
-    classified,
+    Classified,
     /// A grey volume's values, as codes (Slice::codes).
-    values,
+    Values,
     /// A colour volume's values (StackSample): the colour the classifier gives it, and
     /// the code of its luminance, which the transfer function classifies.
-    colours,
+    Colours,
 };
 
 struct StackSample {
@@ -206,7 +206,7 @@ struct StackLayer {
 enum class Classification {
     /// Each sample classified alone: a band of values thinner than a slice spacing
     /// may fall between two slices and be missed.
-    points,
+    Points,
     /// Pre-integrated (Engel, Kraus and Ertl): each stretch of a ray from one slice to
     /// the next takes the transfer function averaged over the values between its
     /// two ends, which sees such bands. The build keeps every sample whose stretch
@@ -214,17 +214,17 @@ enum class Classification {
     /// SegmentViews::maxAngleDeg of the stack's normal. Outside the volume the
     /// values are the background's, as for points: a ray entering through a face
     /// crosses every value between the background's and the face's.
-    segments,
+    Segments,
 };
 
 /// "points" or "segments": how the command line and reports name a classification.
 inline const char* classificationName(Classification classification) {
-    return classification == Classification::segments ? "segments" : "points";
+    return classification == Classification::Segments ? "segments" : "points";
 }
 
 /// The classification called @a name, or none when no classification is.
 inline std::optional<Classification> classificationNamed(const std::string& name) {
-    for (const Classification c : {Classification::points, Classification::segments}) {
+    for (const Classification c : {Classification::Points, Classification::Segments}) {
         if (name == classificationName(c)) return c;
     }
     return std::nullopt;
@@ -234,13 +234,13 @@ inline std::optional<Classification> classificationNamed(const std::string& name
 /// crosses more samples from one slice to the next than the build looked at, and
 /// where one end of a stretch was left out it is classified as a point.
 struct SegmentViews {
-    Classification classification = Classification::points;
+    Classification classification = Classification::Points;
     double maxAngleDeg = 0.0;  ///< degrees; taken as 0 to 80
 };
 
 /// What a stack samples: each volume's voxels (RenderVolume::blocksOn), or a quick
 /// look that need not wait for them (previewBlocksOn), for a coarse first image.
-enum class StackSampling { voxels, preview };
+enum class StackSampling { Voxels, Preview };
 
 class SliceStack {
 public:
@@ -255,14 +255,14 @@ public:
     ///                eight slices and throws Cancelled
     SliceStack(const RenderVolume& volume, const Classifier& classifier, const openvdb::Vec3d& direction,
                double sliceSpacingVoxels, double sampleMm, const ProgressFn& progress = {},
-               const std::atomic<bool>* cancel = nullptr, StackSampling sampling = StackSampling::voxels,
+               const std::atomic<bool>* cancel = nullptr, StackSampling sampling = StackSampling::Voxels,
                SegmentViews segments = {});
 
     /// The same for several layers: where layers meet, their opacities combine as
     /// 1 - prod(1 - alpha) and their colours in proportion to their opacities.
     SliceStack(const std::vector<StackLayer>& layers, const openvdb::Vec3d& direction, double sliceSpacingVoxels,
                double sampleMm, const ProgressFn& progress = {}, const std::atomic<bool>* cancel = nullptr,
-               StackSampling sampling = StackSampling::voxels, SegmentViews segments = {});
+               StackSampling sampling = StackSampling::Voxels, SegmentViews segments = {});
 
     const StackGeometry& geometry() const { return mGeometry; }
     const std::vector<Slice>& slices() const { return mSlices; }
@@ -278,9 +278,9 @@ public:
 
 private:
     StackGeometry mGeometry;
-    StackContent mContent = StackContent::classified;
+    StackContent mContent = StackContent::Classified;
     std::unique_ptr<ValueLevels> mLevels;
-    Classification mClassification = Classification::points;
+    Classification mClassification = Classification::Points;
     std::vector<Slice> mSlices;
     std::size_t mGaussiansTouched = 0;
 };

@@ -134,11 +134,11 @@ void ViewSession::buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& n
     const RenderVolume& volume = *mScene->layers.front().volume;
     const double fullMm = mSettings.sampleMmFor(camera, volume);
     const double coarseness = coarsenessFor(volume, fullMm, mSettings.sliceSpacingVoxels);
-    if (mSettings.stacks == StackOrientation::axes && mCurrent.stack) keep(std::move(mCurrent));
+    if (mSettings.stacks == StackOrientation::Axes && mCurrent.stack) keep(std::move(mCurrent));
     // A preview: an asset's Gaussians sampled directly, without waiting for its
     // voxels, which the full build evaluates in the background.
     mCurrent = buildStack({mScene, normal, coarseness * fullMm}, coarseness * mSettings.sliceSpacingVoxels,
-                          mSettings.segmentViews(), nullptr, StackSampling::preview);
+                          mSettings.segmentViews(), nullptr, StackSampling::Preview);
     ++mStacksBuilt;
     frame.reused = false;
     frame.buildMs = mCurrent.buildMs;
@@ -146,7 +146,7 @@ void ViewSession::buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& n
 }
 
 void ViewSession::prefetchNextAxis(const OrthoCamera& camera) {
-    if (mPrefetch != Prefetch::nextAxis || mSettings.stacks != StackOrientation::axes || building() ||
+    if (mPrefetch != Prefetch::NextAxis || mSettings.stacks != StackOrientation::Axes || building() ||
         !fits(mCurrent, camera)) {
         return;
     }
@@ -168,10 +168,10 @@ void ViewSession::adoptFinishedBuild(const OrthoCamera& camera, FrameStats& fram
     BuiltStack built = mBuild.result.get();
     ++mStacksBuilt;
     if (!fits(built, camera) && fits(mCurrent, camera)) {
-        if (mSettings.stacks == StackOrientation::axes) keep(std::move(built));
+        if (mSettings.stacks == StackOrientation::Axes) keep(std::move(built));
         return;
     }
-    if (mSettings.stacks == StackOrientation::axes && mCurrent.stack) keep(std::move(mCurrent));
+    if (mSettings.stacks == StackOrientation::Axes && mCurrent.stack) keep(std::move(mCurrent));
     mCurrent = std::move(built);
     dropKept(mCurrent.stack->geometry().normal);  // one stack an axis
     frame.reused = false;
@@ -200,7 +200,7 @@ Framebuffer ViewSession::render(const OrthoCamera& camera, FrameStats* stats) {
     const openvdb::Vec3d normal = mSettings.stackNormalFor(camera.direction);
     const bool sameSize = mLastFrame.width == camera.width && mLastFrame.height == camera.height;
     // Before the full build starts, so that the two do not share the cores.
-    if (mFirstImage == FirstImage::coarseFirst && !sameSize && !shearableFor(camera) && !building()) {
+    if (mFirstImage == FirstImage::CoarseFirst && !sameSize && !shearableFor(camera) && !building()) {
         buildCoarse(camera, normal, frame);
     }
     if (!fits(mCurrent, camera) && !building()) startBuild(camera, normal);

@@ -25,24 +25,24 @@ using Scene = std::shared_ptr<const StyledLayers>;
 
 /// What a session with axis stacks builds while it has nothing else to build.
 enum class Prefetch {
-    none,
+    None,
     /// The stack across the axis the view is second nearest to, where a turn goes
     /// next: crossing to it then draws at once, not from a stale stack.
-    nextAxis,
+    NextAxis,
 };
 
 /// What a session draws when it has no stack to shear for the view (the first
 /// frame, or a new size far from every stack kept).
 enum class FirstImage {
     /// Waits for the stack built for the view.
-    settled,
+    Settled,
     /// Builds a coarse stack at once, its samples at least twice as far apart as the
     /// full stack's across and along the view (further on large volumes, so that the
     /// build stays short), and draws from it (stats.stale) while the full stack
     /// builds in the background. The coarse stack is a preview (StackSampling): an
     /// asset's comes from its Gaussians at once, not from its voxels, which the
     /// full build evaluates.
-    coarseFirst,
+    CoarseFirst,
 };
 
 /// The settings of the still drawn once the view rests: those of @a moving, with
@@ -54,15 +54,15 @@ class ViewSession {
 public:
     /// @param still  the settings of the still drawn once the view rests
     ///               (refineAtRest); none: the moving frames stay
-    ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch = Prefetch::none,
-                FirstImage firstImage = FirstImage::settled, std::optional<ShearWarpSettings> still = std::nullopt);
+    ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch = Prefetch::None,
+                FirstImage firstImage = FirstImage::Settled, std::optional<ShearWarpSettings> still = std::nullopt);
     ~ViewSession();  ///< cancels a build in progress, and waits for it to stop
 
     /// Draw @a scene from the next frame on (its stack is built in the background).
     void setScene(Scene scene);
 
     /// A frame of @a camera's view. Waits only for the very first stack (or, with
-    /// FirstImage::coarseFirst, for a coarse one, built at once); later,
+    /// FirstImage::CoarseFirst, for a coarse one, built at once); later,
     /// frames that need another stack come from the current one (stats.stale) until
     /// the new one is ready, or repeat the last frame where the current one cannot
     /// be sheared that far.
@@ -120,7 +120,7 @@ private:
     /// The scene's stack across @a normal, built now on this thread.
     static BuiltStack buildStack(const StackTarget& target, double spacingVoxels, SegmentViews segments,
                                  const std::atomic<bool>* cancel = nullptr,
-                                 StackSampling sampling = StackSampling::voxels);
+                                 StackSampling sampling = StackSampling::Voxels);
     bool fits(const StackTarget& target, const OrthoCamera& camera) const;
     bool fits(const BuiltStack& built, const OrthoCamera& camera) const;
     bool shearableFor(const OrthoCamera& camera) const;
@@ -149,7 +149,7 @@ private:
     /// Draws @a camera from the still when the view rests there and one serves it;
     /// drops the still, or cancels a still's build, that cannot serve the view.
     bool drawStill(const OrthoCamera& camera, FrameStats& frame);
-    /// Makes a coarse stack for @a camera the current one (FirstImage::coarseFirst).
+    /// Makes a coarse stack for @a camera the current one (FirstImage::CoarseFirst).
     void buildCoarse(const OrthoCamera& camera, const openvdb::Vec3d& normal, FrameStats& frame);
     void prefetchNextAxis(const OrthoCamera& camera);
     /// Takes a finished build: as the current stack when it serves @a camera or the

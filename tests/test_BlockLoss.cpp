@@ -170,7 +170,7 @@ TEST(BlockLoss, EightLanesAgreeWithFour) {
     eight.reset(50);
     four.reset(50);
     const double eightLanes = blockSquaredError(field, bins, volume.target, everyBlock(volume.grid), settings, &eight);
-    settings.kernel = BlockKernel::fourLanes;
+    settings.kernel = BlockKernel::FourLanes;
     const double fourLanes = blockSquaredError(field, bins, volume.target, everyBlock(volume.grid), settings, &four);
     // Fused multiply-adds round once where the four lanes round twice: float
     // rounding apart, not an algorithm apart.

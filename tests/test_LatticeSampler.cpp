@@ -58,7 +58,7 @@ TEST(LatticeSampler, RowEvaluationKeepsEachTermWithinItsToleranceOfExact) {
         for (const openvdb::Coord& origin : sampler.occupiedBlocks()) {
             float exact[kBlockVoxels * 3] = {}, rows[kBlockVoxels * 3] = {};
             const openvdb::CoordBBox voxels = sampler.sampleBlock(origin, exact);
-            ASSERT_EQ(sampler.sampleBlock(origin, rows, -1.0f, BlockEvaluation::rows), voxels);
+            ASSERT_EQ(sampler.sampleBlock(origin, rows, -1.0f, BlockEvaluation::Rows), voxels);
             for (auto ijk = voxels.begin(); ijk; ++ijk) {
                 for (int c = 0; c < 3; ++c) {
                     const float e = exact[blockOffset(*ijk) * 3 + c], r = rows[blockOffset(*ijk) * 3 + c];
@@ -86,8 +86,8 @@ TEST(LatticeSampler, RowEvaluationIsTheSameFourOrEightSamplesAtATime) {
         std::size_t nonZero = 0;
         for (const openvdb::Coord& origin : sampler.occupiedBlocks()) {
             float rows[kBlockVoxels * 3] = {}, fourLanes[kBlockVoxels * 3] = {};
-            const openvdb::CoordBBox voxels = sampler.sampleBlock(origin, rows, -1.0f, BlockEvaluation::rows);
-            ASSERT_EQ(sampler.sampleBlock(origin, fourLanes, -1.0f, BlockEvaluation::rowsFourLanes), voxels);
+            const openvdb::CoordBBox voxels = sampler.sampleBlock(origin, rows, -1.0f, BlockEvaluation::Rows);
+            ASSERT_EQ(sampler.sampleBlock(origin, fourLanes, -1.0f, BlockEvaluation::RowsFourLanes), voxels);
             for (int n = 0; n < kBlockVoxels * channels; ++n) {
                 ASSERT_EQ(rows[n], fourLanes[n]) << origin << " value " << n;
                 nonZero += rows[n] != 0.0f;

@@ -21,15 +21,15 @@ TEST(RenderFlags, StacksAndReuseAngleReachTheSettings) {
     CLI::App app;
     addStackFlags(app, settings);
     test::parseFlags(app, {"--stacks", "view", "--reuse-angle", "25"});
-    EXPECT_EQ(settings.stacks, StackOrientation::view);
+    EXPECT_EQ(settings.stacks, StackOrientation::View);
     EXPECT_EQ(settings.reuseAngleDeg, 25.0);
 
     ShearWarpSettings back;
-    back.stacks = StackOrientation::view;
+    back.stacks = StackOrientation::View;
     CLI::App again;
     addStackFlags(again, back);
     test::parseFlags(again, {"--stacks", "axes"});
-    EXPECT_EQ(back.stacks, StackOrientation::axes);
+    EXPECT_EQ(back.stacks, StackOrientation::Axes);
 }
 
 TEST(RenderFlags, WithoutFlagsTheSettingsKeepTheirDefaultsAndHelpShowsThem) {
@@ -37,7 +37,7 @@ TEST(RenderFlags, WithoutFlagsTheSettingsKeepTheirDefaultsAndHelpShowsThem) {
     CLI::App app;
     addStackFlags(app, settings);
     test::parseFlags(app, {});
-    EXPECT_EQ(settings.stacks, StackOrientation::axes);
+    EXPECT_EQ(settings.stacks, StackOrientation::Axes);
     EXPECT_EQ(settings.reuseAngleDeg, 15.0);
     EXPECT_EQ(app.get_option("--stacks")->get_default_str(), "axes");
     EXPECT_EQ(app.get_option("--reuse-angle")->get_default_str(), "15");
@@ -58,14 +58,14 @@ TEST(RenderFlags, RenderOffersAutoStacksByDefaultAndViewDoesNot) {
     addStackFlags(chosen, settings, &automatic);
     test::parseFlags(chosen, {"--stacks", "view"});
     EXPECT_FALSE(automatic);
-    EXPECT_EQ(settings.stacks, StackOrientation::view);
+    EXPECT_EQ(settings.stacks, StackOrientation::View);
 
     CLI::App withoutAuto;
     addStackFlags(withoutAuto, settings);
     EXPECT_THROW(test::parseFlags(withoutAuto, {"--stacks", "auto"}), CLI::ParseError);
 
-    EXPECT_EQ(automaticStacks(1), StackOrientation::view);   // a still: no shear at its own view
-    EXPECT_EQ(automaticStacks(120), StackOrientation::axes);  // an orbit: stacks built once
+    EXPECT_EQ(automaticStacks(1), StackOrientation::View);   // a still: no shear at its own view
+    EXPECT_EQ(automaticStacks(120), StackOrientation::Axes);  // an orbit: stacks built once
 }
 
 TEST(RenderFlags, StacksTakesNamesOnlyNotTheEnumsNumbers) {
@@ -74,7 +74,7 @@ TEST(RenderFlags, StacksTakesNamesOnlyNotTheEnumsNumbers) {
         CLI::App app;
         addStackFlags(app, settings);
         EXPECT_THROW(test::parseFlags(app, {"--stacks", bad}), CLI::ParseError) << bad;
-        EXPECT_EQ(settings.stacks, StackOrientation::axes) << bad;
+        EXPECT_EQ(settings.stacks, StackOrientation::Axes) << bad;
     }
 }
 

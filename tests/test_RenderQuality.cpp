@@ -31,7 +31,7 @@ TEST(RenderQuality, AxisStackFramesOfAScanPassTheOneRayRayMarcher) {
     RayMarchSettings antialiased;
     antialiased.raysPerSide = 4;
     ShearWarpSettings axes;
-    axes.stacks = StackOrientation::axes;
+    axes.stacks = StackOrientation::Axes;
     for (const Classifier* classifier : {&surface, &translucent}) {
         const Framebuffer reference = rayMarch(head, *classifier, camera, antialiased);
         const double oneRayDb = psnrAgainst(reference, rayMarch(head, *classifier, camera, {}));

@@ -124,8 +124,8 @@ TEST(ResidualLayer, AirIsPredictedFromItsNeighboursAndDetailFromTheGaussians) {
             for (int i = 0; i < kOddDims.x(); ++i) *prediction.at(i, j, k) += i < 8 ? float(7 * ((i + j + k) % 5)) : 0.25f;
     const ResidualDomain domain = residualDomainOf(source, 1.0, 0.0);
     const ResidualLayer layer = encodeResidualLayer(source, prediction, 0.0, domain);
-    EXPECT_EQ(layer.predictors[0], ResidualPredictor::neighbours);  // block (0, 0, 0): all air
-    EXPECT_EQ(layer.predictors[2], ResidualPredictor::gaussians);   // block (2, 0, 0): detail alone
+    EXPECT_EQ(layer.predictors[0], ResidualPredictor::Neighbours);  // block (0, 0, 0): all air
+    EXPECT_EQ(layer.predictors[2], ResidualPredictor::Gaussians);   // block (2, 0, 0): detail alone
     EXPECT_EQ(maxAbsoluteError(source, decodeResidualLayer(layer, prediction)), 0.0);
 }
 

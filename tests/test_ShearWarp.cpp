@@ -53,7 +53,7 @@ ShearWarpSettings stacksAcross(StackOrientation orientation) {
 
 ShearWarpSettings segmentsAcross(StackOrientation orientation) {
     ShearWarpSettings settings = stacksAcross(orientation);
-    settings.classification = Classification::segments;
+    settings.classification = Classification::Segments;
     return settings;
 }
 
@@ -62,7 +62,7 @@ TEST(ShearWarp, MatchesRayMarchingFromAxesObliqueAnd45Degrees) {
     const Classifier classifier = rampClassifier();
     const double diagonalElevation = std::atan(1.0 / std::sqrt(2.0)) * 180.0 / M_PI;
     // Views from behind the axis stacks (azimuth 180, elevation -90) composite their slices last to first.
-    for (const StackOrientation orientation : {StackOrientation::axes, StackOrientation::view}) {
+    for (const StackOrientation orientation : {StackOrientation::Axes, StackOrientation::View}) {
         for (const View view : {View{0, 0}, View{90, 0}, View{180, 0}, View{0, 90}, View{0, -90}, View{45, 0},
                                 View{0, 45}, View{45, diagonalElevation}, View{30, 20}, View{-130, -35}}) {
             ShearWarpRenderer shearWarp(*volume, classifier, stacksAcross(orientation));
@@ -71,7 +71,7 @@ TEST(ShearWarp, MatchesRayMarchingFromAxesObliqueAnd45Degrees) {
             const Framebuffer image = shearWarp.render(camera);
             EXPECT_GT(test::opacitySum(reference), 100.0) << "the phantom must be visible";
             EXPECT_GE(imagePsnr(image, reference), 35.0)
-                << (orientation == StackOrientation::axes ? "axes" : "view") << " stacks, azimuth " << view.azimuthDeg
+                << (orientation == StackOrientation::Axes ? "axes" : "view") << " stacks, azimuth " << view.azimuthDeg
                 << ", elevation " << view.elevationDeg;
         }
     }
@@ -119,7 +119,7 @@ TEST(ShearWarp, SupersampledStacksComeCloserToTheAntialiasedRayMarcherThanOneRay
 
 TEST(ShearWarp, StackSamplesAreSupersampledPixelsNoCoarserThanTheVoxels) {
     const auto volume = phantom();  // voxels of 1 x 1 x 1.5 mm: a voxel is 1 mm
-    ShearWarpSettings settings = stacksAcross(StackOrientation::view);  // oblique: off the voxel centres
+    ShearWarpSettings settings = stacksAcross(StackOrientation::View);  // oblique: off the voxel centres
     settings.supersampling = 2.0;
     // Pixels of about 2.5 mm: 1.25 asked, a voxel taken. Of about 10 mm: 5 asked, twice as fine taken. Of
     // about 0.31 mm: half a voxel asked and taken.
@@ -152,7 +152,7 @@ TEST(ShearWarp, ThinSheetsSeenFromAfarLookAsTheAntialiasedRayMarcherSeesThem) {
         const OrthoCamera camera = cameraFor(*sheets, view.azimuthDeg, view.elevationDeg, 24);  // 2 voxels a pixel
         const Framebuffer reference = rayMarch(*sheets, classifier, camera, antialiased);
         const double oneRayDb = imagePsnr(rayMarch(*sheets, classifier, camera, {}), reference);
-        ShearWarpRenderer renderer(*sheets, classifier, stacksAcross(StackOrientation::axes));
+        ShearWarpRenderer renderer(*sheets, classifier, stacksAcross(StackOrientation::Axes));
         EXPECT_GE(imagePsnr(renderer.render(camera), reference), oneRayDb) << view.azimuthDeg;
     }
 }
@@ -178,7 +178,7 @@ TEST(ShearWarp, ContentCutByTheVolumesFacesLooksAsTheRayMarcherSeesIt) {
 TEST(ShearWarp, AxisStacksAreBuiltOnceAndServeAnOrbitFromBothSides) {
     const auto volume = phantom();
     const Classifier classifier = rampClassifier();
-    ShearWarpRenderer renderer(*volume, classifier, stacksAcross(StackOrientation::axes));
+    ShearWarpRenderer renderer(*volume, classifier, stacksAcross(StackOrientation::Axes));
     int builds = 0;
     double worstDb = 1e9;
     for (int f = 0; f < 24; ++f) {
@@ -224,7 +224,7 @@ TEST(ShearWarp, MatchesRayMarchingOnShearedAnisotropicVoxels) {
 
 TEST(ShearWarp, ReusesTheStackInsideTheConeAndRebuildsOutside) {
     const auto volume = phantom();
-    ShearWarpSettings settings = stacksAcross(StackOrientation::view);
+    ShearWarpSettings settings = stacksAcross(StackOrientation::View);
     settings.reuseAngleDeg = 15.0;
     ShearWarpRenderer renderer(*volume, rampClassifier(), settings);
     FrameStats stats;
@@ -355,7 +355,7 @@ TEST(ShearWarp, DataAndTransferFunctionsOfAnyFiniteScaleRenderAlike) {
     const OrthoCamera camera = cameraFor(*unit, 30, 20, 48);
     const Classifier ramp = rampClassifier();
     // Points and pre-integrated segments alike.
-    for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::axes), segmentsAcross(StackOrientation::axes)}) {
+    for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::Axes), segmentsAcross(StackOrientation::Axes)}) {
         const Framebuffer expected = ShearWarpRenderer(*unit, ramp, settings).render(camera);
         for (const float factor : {1e-36f, 1e-30f, 1e-3f, 1e30f, 3e35f}) {
             const auto scaled = phantom(factor);
@@ -386,7 +386,7 @@ TEST(ShearWarp, TransferFunctionsAtTheEndsOfTheDoubleRangeAreSafe) {
                                  // a slice stop (64 spans out): stretches still integrate in floats.
                                  Points{{1e-300, clear}, {2e-300, white}}}) {
         const Classifier classifier(TransferFunction(points, "extreme"), 1);
-        for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::axes), segmentsAcross(StackOrientation::axes)}) {
+        for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::Axes), segmentsAcross(StackOrientation::Axes)}) {
             const Framebuffer image = ShearWarpRenderer(*volume, classifier, settings).render(camera);
             expectAValidImage(image, std::to_string(points.front().value));
         }
@@ -404,7 +404,7 @@ TEST(ShearWarp, OpacitiesDownToAFloatsLeastAreSafe) {
     const OrthoCamera camera = cameraFor(*volume, 30, 20, 32);
     for (const float opacity : {std::numeric_limits<float>::denorm_min(), 1e-40f, std::numeric_limits<float>::min()}) {
         const Classifier faint(TransferFunction({{0.0, {1, 1, 1, 0}}, {1000.0, {1, 1, 1, opacity}}}, "faint"), 1);
-        for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::axes), segmentsAcross(StackOrientation::axes)}) {
+        for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::Axes), segmentsAcross(StackOrientation::Axes)}) {
             const Framebuffer image = ShearWarpRenderer(*volume, faint, settings).render(camera);
             expectAValidImage(image, std::to_string(opacity));
             EXPECT_LT(test::opacitySum(image), 1e-3) << opacity;
@@ -472,7 +472,7 @@ TEST(ShearWarp, BandsThinnerThanASliceAreSeenAsTheRayMarcherSeesThem) {
         const OrthoCamera camera = cameraFor(ramp, view.azimuthDeg, view.elevationDeg, 64);
         const Framebuffer exact = middleOf(finelyMarched(ramp, band, camera));
         EXPECT_GT(test::opacitySum(exact), 100.0) << "the bands must be seen";
-        for (const StackOrientation orientation : {StackOrientation::axes, StackOrientation::view}) {
+        for (const StackOrientation orientation : {StackOrientation::Axes, StackOrientation::View}) {
             const Framebuffer segments = middleOf(ShearWarpRenderer(ramp, band, segmentsAcross(orientation)).render(camera));
             EXPECT_NEAR(test::opacitySum(segments) / test::opacitySum(exact), 1.0, 0.01) << view.azimuthDeg;
             EXPECT_GE(imagePsnr(segments, exact), 35.0) << view.azimuthDeg;
@@ -503,10 +503,10 @@ TEST(ShearWarp, ASteepRampShowsNoSliceRings) {
     };
     const Framebuffer exact = middleOf(finelyMarched(tilted, shell, camera));
     const Framebuffer segments =
-        middleOf(ShearWarpRenderer(tilted, shell, segmentsAcross(StackOrientation::view)).render(camera));
+        middleOf(ShearWarpRenderer(tilted, shell, segmentsAcross(StackOrientation::View)).render(camera));
     EXPECT_LT(ringDepth(segments), 0.01f);
     EXPECT_GE(imagePsnr(segments, exact), 40.0);
-    const Framebuffer points = middleOf(ShearWarpRenderer(tilted, shell, stacksAcross(StackOrientation::view)).render(camera));
+    const Framebuffer points = middleOf(ShearWarpRenderer(tilted, shell, stacksAcross(StackOrientation::View)).render(camera));
     EXPECT_GT(ringDepth(points), 0.1f) << "the test must see rings where they are";
     EXPECT_LT(imagePsnr(points, exact), 30.0);
 }
@@ -520,7 +520,7 @@ TEST(ShearWarp, SegmentsMatchTheRayMarcherOnSmoothVolumesAsPointsDo) {
         const OrthoCamera camera = cameraFor(*volume, view.azimuthDeg, view.elevationDeg);
         const Framebuffer exact = finelyMarched(*volume, rampClassifier(), camera);
         const Framebuffer segments =
-            ShearWarpRenderer(*volume, rampClassifier(), segmentsAcross(StackOrientation::axes)).render(camera);
+            ShearWarpRenderer(*volume, rampClassifier(), segmentsAcross(StackOrientation::Axes)).render(camera);
         EXPECT_GE(imagePsnr(segments, exact), 50.0) << view.azimuthDeg;
         EXPECT_NEAR(test::opacitySum(segments) / test::opacitySum(exact), 1.0, 0.01) << view.azimuthDeg;
     }
@@ -541,9 +541,9 @@ TEST(ShearWarp, ColoursBlendBeforeTheyAreClassifiedAsTheRayMarcherBlendsThem) {
                              1.0 / 255.0);
     for (const View view : {View{30, 20}, View{-130, -35}}) {
         const OrthoCamera camera = cameraFor(*tissue, view.azimuthDeg, view.elevationDeg, 48);
-        ShearWarpRenderer renderer(*tissue, surface, stacksAcross(StackOrientation::axes));
+        ShearWarpRenderer renderer(*tissue, surface, stacksAcross(StackOrientation::Axes));
         const Framebuffer image = renderer.render(camera);
-        ASSERT_EQ(renderer.stacks().front()->content(), StackContent::colours) << view.azimuthDeg;
+        ASSERT_EQ(renderer.stacks().front()->content(), StackContent::Colours) << view.azimuthDeg;
         const Framebuffer reference = rayMarch(*tissue, surface, camera, {});
         EXPECT_GT(test::opacitySum(reference), 100.0) << "the surface must be seen";
         EXPECT_NEAR(test::opacitySum(image) / test::opacitySum(reference), 1.0, 0.01) << view.azimuthDeg;
@@ -564,7 +564,7 @@ TEST(ShearWarp, RaysStopAtTheVolumesFacesAcrossTheSlicesRowsToo) {
                            1.0 / 255.0);
     for (const View view : {View{30, 20}, View{-130, -35}, View{70, 10}}) {
         const OrthoCamera camera = cameraFor(*block, view.azimuthDeg, view.elevationDeg, 48);
-        const Framebuffer image = ShearWarpRenderer(*block, dense, stacksAcross(StackOrientation::axes)).render(camera);
+        const Framebuffer image = ShearWarpRenderer(*block, dense, stacksAcross(StackOrientation::Axes)).render(camera);
         const Framebuffer reference = rayMarch(*block, dense, camera, {});
         EXPECT_NEAR(test::opacitySum(image) / test::opacitySum(reference), 1.0, 0.006) << view.azimuthDeg;
         EXPECT_GE(imagePsnr(image, reference), 29.5) << view.azimuthDeg;
@@ -590,7 +590,7 @@ TEST(ShearWarp, VeryUnequalVoxelsRenderAsTheRayMarcherSeesThem) {
         const OrthoCamera alongX = cameraFor(volume, 90, 0, 48);
         const Framebuffer reference = rayMarch(volume, classifier, alongX, RayMarchSettings{});
         EXPECT_GT(test::opacitySum(reference), 10.0) << xMm;  // not empty
-        for (const StackOrientation orientation : {StackOrientation::axes, StackOrientation::view}) {
+        for (const StackOrientation orientation : {StackOrientation::Axes, StackOrientation::View}) {
             const Framebuffer image = ShearWarpRenderer(volume, classifier, stacksAcross(orientation)).render(alongX);
             EXPECT_GE(imagePsnr(middleOf(image), middleOf(reference)), 35.0) << xMm << " mm along x";
         }
@@ -598,7 +598,7 @@ TEST(ShearWarp, VeryUnequalVoxelsRenderAsTheRayMarcherSeesThem) {
             const OrthoCamera camera = cameraFor(volume, view.azimuthDeg, view.elevationDeg, 48);
             const std::string what = std::to_string(xMm) + " mm along x, azimuth " + std::to_string(view.azimuthDeg);
             expectAValidImage(rayMarch(volume, classifier, camera, RayMarchSettings{}), what);
-            for (const StackOrientation orientation : {StackOrientation::axes, StackOrientation::view}) {
+            for (const StackOrientation orientation : {StackOrientation::Axes, StackOrientation::View}) {
                 expectAValidImage(ShearWarpRenderer(volume, classifier, stacksAcross(orientation)).render(camera), what);
             }
         }

@@ -34,15 +34,15 @@ Classifier shellClassifier() {
 TEST(SliceStack, GreyVolumesKeepValuesAndOtherStacksClassifiedSamples) {
     const GridRenderVolume ball = hollowBall();
     const SliceStack values(ball, shellClassifier(), openvdb::Vec3d(0, 0, 1), 1.0, 1.0);
-    EXPECT_EQ(values.content(), StackContent::values);
+    EXPECT_EQ(values.content(), StackContent::Values);
     EXPECT_NE(values.valueLevels(), nullptr);
     // Two layers combine their classified samples; so does a visible background,
     // whose values outside the volume would be wrongly seen.
     const SliceStack layered({{&ball, shellClassifier()}, {&ball, shellClassifier()}}, openvdb::Vec3d(0, 0, 1), 1.0, 1.0);
-    EXPECT_EQ(layered.content(), StackContent::classified);
+    EXPECT_EQ(layered.content(), StackContent::Classified);
     EXPECT_EQ(layered.valueLevels(), nullptr);
     const Classifier fog(TransferFunction({{0.0, {1, 1, 1, 0.01f}}, {1000.0, {1, 1, 1, 0.5f}}}, "test"), 1);
-    EXPECT_EQ(SliceStack(ball, fog, openvdb::Vec3d(0, 0, 1), 1.0, 1.0).content(), StackContent::classified);
+    EXPECT_EQ(SliceStack(ball, fog, openvdb::Vec3d(0, 0, 1), 1.0, 1.0).content(), StackContent::Classified);
 }
 
 // A colour volume keeps its colours, and the luminance that classifies them, where
@@ -57,7 +57,7 @@ TEST(SliceStack, ColourVolumesKeepTheirColoursOnTheVoxelCentres) {
     const Classifier darkIsDense(TransferFunction({{50.0, {1, 1, 1, 0.5f}}, {200.0, {1, 1, 1, 0.0f}}}, "test"), 3,
                                  1.0 / 250.0);
     const SliceStack onCentres(section, darkIsDense, openvdb::Vec3d(0, 0, 1), 1.0, 1.0);
-    ASSERT_EQ(onCentres.content(), StackContent::colours);
+    ASSERT_EQ(onCentres.content(), StackContent::Colours);
     ASSERT_TRUE(onCentres.geometry().samplesOnVoxels);
     const ValueLevels& levels = *onCentres.valueLevels();
     int checked = 0;
@@ -90,12 +90,12 @@ TEST(SliceStack, ColourVolumesKeepTheirColoursOnTheVoxelCentres) {
     EXPECT_GT(checked, 100);
     // Samples a third of a voxel apart are too far from the centres' spacing.
     const SliceStack offCentres(section, darkIsDense, openvdb::Vec3d(0, 0, 1), 1.0, 0.34);
-    EXPECT_EQ(offCentres.content(), StackContent::classified);
+    EXPECT_EQ(offCentres.content(), StackContent::Classified);
     EXPECT_EQ(offCentres.geometry().sampleMm, openvdb::Vec2d(0.34));
     // Nor may the paper be seen: outside the volume is nothing, not paper.
     const Classifier paperSeen(TransferFunction({{50.0, {1, 1, 1, 0.5f}}, {300.0, {1, 1, 1, 0.1f}}}, "test"), 3,
                                1.0 / 250.0);
-    EXPECT_EQ(SliceStack(section, paperSeen, openvdb::Vec3d(0, 0, 1), 1.0, 1.0).content(), StackContent::classified);
+    EXPECT_EQ(SliceStack(section, paperSeen, openvdb::Vec3d(0, 0, 1), 1.0, 1.0).content(), StackContent::Classified);
 }
 
 /// Where lattice sample (i, j) of @a stack's front slice lies in @a volume's index space.
@@ -193,7 +193,7 @@ TEST(SliceStack, VeryUnequalVoxelsTakeNoMoreSlicesThanRaysCanCross) {
 TEST(SliceStack, APreviewTakesTheSpacingAskedHoweverCoarse) {
     const GridRenderVolume volume(test::makeGrid({20, 16, 12}, hollowBallAt, openvdb::Vec3d(1.0, 1.0, 1.5)));
     const SliceStack preview(volume, shellClassifier(), openvdb::Vec3d(0, 1, 0), 1.0, 2.2, {}, nullptr,
-                             StackSampling::preview);
+                             StackSampling::Preview);
     const StackGeometry& g = preview.geometry();
     const int xAxis = std::abs(g.e1.x()) > 0.5 ? 0 : 1;
     EXPECT_DOUBLE_EQ(g.sampleMm[xAxis], 2.0);  // two voxels, on their centres
@@ -359,10 +359,10 @@ TEST(SliceStack, SegmentsKeepTheSlicesOnEitherSideOfABandThatFallsBetweenThem) {
     const Classifier bands(TransferFunction({{329.0, clear}, {330.0, seen}, {360.0, seen}, {361.0, clear},
                                              {729.0, clear}, {730.0, seen}, {760.0, seen}, {761.0, clear}}, "test"), 1);
     const openvdb::Vec3d up(0, 0, 1);
-    SegmentViews segments{Classification::segments, 0.0};
-    const SliceStack stack(ramp, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::voxels, segments);
+    SegmentViews segments{Classification::Segments, 0.0};
+    const SliceStack stack(ramp, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::Voxels, segments);
     ASSERT_EQ(stack.geometry().slices, 24);
-    EXPECT_EQ(stack.classification(), Classification::segments);
+    EXPECT_EQ(stack.classification(), Classification::Segments);
     EXPECT_EQ(slicesWithRuns(stack), (std::vector<int>{3, 4, 7, 8}));
     // Each sample alone is invisible, and so are the cells of each slice.
     EXPECT_TRUE(slicesWithRuns(SliceStack(ramp, bands, up, 1.0, 1.0)).empty());
@@ -377,8 +377,8 @@ TEST(SliceStack, SegmentsKeepTheSlicesOnEitherSideOfABandThatFallsBetweenThem) {
         return count;
     };
     segments.maxAngleDeg = 45.0;  // one sample across a slice spacing
-    const SliceStack along(step, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::voxels, {Classification::segments, 0.0});
-    const SliceStack oblique(step, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::voxels, segments);
+    const SliceStack along(step, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::Voxels, {Classification::Segments, 0.0});
+    const SliceStack oblique(step, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::Voxels, segments);
     EXPECT_EQ(keptInRow(oblique, 7, 12), keptInRow(along, 7, 12) + 1);
 }
 

@@ -53,14 +53,14 @@ TEST(ViewSession, SettledFramesAreTheRenderersFrames) {
 
 ShearWarpSettings viewStacks() {
     ShearWarpSettings settings;
-    settings.stacks = StackOrientation::view;
+    settings.stacks = StackOrientation::View;
     return settings;
 }
 
 TEST(ViewSession, CoarseFirstDrawsACoarseStackAtOnceThenTheRenderersFrame) {
     const auto volume = blob();
     const Scene scene = sceneOf(*volume, 0.1f);
-    ViewSession session(scene, ShearWarpSettings{}, Prefetch::none, FirstImage::coarseFirst);
+    ViewSession session(scene, ShearWarpSettings{}, Prefetch::None, FirstImage::CoarseFirst);
     const OrthoCamera camera = cameraFor(*volume, 30.0);
     FrameStats first;
     const Framebuffer coarse = session.render(camera, &first);
@@ -121,7 +121,7 @@ TEST(ViewSession, AxisStacksAreKeptSoThatTurningBackBuildsNothing) {
 TEST(ViewSession, APrefetchedNextAxisMakesCrossingToItDrawAtOnce) {
     const auto volume = blob();
     const Scene scene = sceneOf(*volume, 0.1f);
-    ViewSession session(scene, ShearWarpSettings{}, Prefetch::nextAxis);
+    ViewSession session(scene, ShearWarpSettings{}, Prefetch::NextAxis);
     session.renderSettled(cameraFor(*volume, 30.0));  // along y; x is the next nearest axis
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
     while (session.building()) {
@@ -254,7 +254,7 @@ void waitForTheStill(const ViewSession& session, const OrthoCamera& camera) {
 TEST(ViewSession, AViewAtRestIsDrawnAgainFromTheFinerStillStack) {
     const auto volume = blob();
     const Scene scene = sceneOf(*volume, 0.1f);
-    ViewSession session(scene, movingSettings(), Prefetch::none, FirstImage::settled, kStill);
+    ViewSession session(scene, movingSettings(), Prefetch::None, FirstImage::Settled, kStill);
     const OrthoCamera camera = cameraFor(*volume, 30.0);
     FrameStats moving;
     const Framebuffer axisFrame = session.render(camera, &moving);
@@ -302,7 +302,7 @@ TEST(ViewSession, ScreenshotsShowTheStillWhenTheSessionHasOne) {
     const auto volume = blob();
     const Scene scene = sceneOf(*volume, 0.1f);
     for (const ShearWarpSettings& still : {kStill, stillSettingsFor(viewStacks(), 2.0)}) {
-        ViewSession session(scene, movingSettings(), Prefetch::none, FirstImage::coarseFirst, still);
+        ViewSession session(scene, movingSettings(), Prefetch::None, FirstImage::CoarseFirst, still);
         FrameStats settled;
         const Framebuffer image = session.renderSettled(cameraFor(*volume, 60.0), &settled);
         EXPECT_TRUE(settled.still);
@@ -313,7 +313,7 @@ TEST(ViewSession, ScreenshotsShowTheStillWhenTheSessionHasOne) {
 TEST(ViewSession, AStillThatCannotServeTheViewIsCancelledAndNoneStartsBesideAMovingBuild) {
     GatedVolume volume(blob());
     const Scene scene = sceneOf(volume, 0.1f);
-    ViewSession session(scene, movingSettings(), Prefetch::none, FirstImage::settled, kStill);
+    ViewSession session(scene, movingSettings(), Prefetch::None, FirstImage::Settled, kStill);
     session.render(cameraFor(volume, 30.0));  // along y
     volume.open = false;
     session.refineAtRest(cameraFor(volume, 30.0));  // waits at the gate
