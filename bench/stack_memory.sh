@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Two builds of gvr side by side, alternating, twice over: peak memory, stack builds
 # and reused frames of 24-frame orbits across the axes. The table of
-# docs/benchmarks.md, "Stacks of 16-bit codes". Prints one line a run; nothing is
+# docs/benchmarks.md, "A render's memory". Prints one line a run; nothing is
 # asserted. Run it with nothing else on the machine.
 #
 # Usage: bench/stack_memory.sh GVR_BEFORE GVR_AFTER CT_HEAD.vdb CHEST.vdb

@@ -222,7 +222,7 @@ double finestSliceVoxels(const RenderVolume& volume, double depthMm) {
 /// field. Not for classified samples: there resampling blends colours classified
 /// at the voxels, not the colour of blended voxels, and at `gvr render`'s default
 /// view axis frames of the colour cryosection scored 28.05 dB against the reference
-/// on the voxel centres, 36.85 off them (docs/benchmarks.md, "A still once the view rests").
+/// on the voxel centres, 36.85 off them (docs/benchmarks.md, "Stacks of colours").
 StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& direction, double sliceSpacingVoxels,
                                double sampleMm, bool keepsValues, bool fine) {
     StackGeometry g;
