@@ -1,7 +1,7 @@
 #include "bench/BenchTable.h"
 
 #include "io/AtomicFile.h"
-#include "io/Figures.h"
+#include "io/ReportNumbers.h"
 #include "io/JsonText.h"
 #include "pipeline/Error.h"
 

@@ -6,7 +6,7 @@
 #include "cli/Commands.h"
 #include "cli/Diagnostics.h"
 #include "io/AtomicFile.h"
-#include "io/Figures.h"
+#include "io/ReportNumbers.h"
 #include "io/JsonText.h"
 #include "pipeline/Error.h"
 

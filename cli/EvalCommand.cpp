@@ -3,7 +3,7 @@
 #include "cli/Commands.h"
 #include "cli/SourceOptions.h"
 #include "io/AtomicFile.h"
-#include "io/Figures.h"
+#include "io/ReportNumbers.h"
 #include "io/JsonText.h"
 #include "workflow/Evaluate.h"
 

@@ -7,7 +7,7 @@
 #include "io/AssetFile.h"
 #include "io/AtomicFile.h"
 #include "io/ComparisonInput.h"
-#include "io/Figures.h"
+#include "io/ReportNumbers.h"
 #include "io/FitLog.h"
 #include "io/GridFile.h"
 #include "io/GridSummary.h"

@@ -5,7 +5,7 @@
 #include "cli/ProgressBar.h"
 #include "cli/SourceOptions.h"
 #include "cli/VolumeOutputOptions.h"
-#include "io/Figures.h"
+#include "io/ReportNumbers.h"
 #include "io/GridSummary.h"
 #include "io/JsonText.h"
 #include "io/LabelGrid.h"

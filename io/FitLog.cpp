@@ -1,6 +1,6 @@
 #include "io/FitLog.h"
 
-#include "io/Figures.h"
+#include "io/ReportNumbers.h"
 #include "pipeline/Error.h"
 #include "pipeline/ProcessMemory.h"
 

@@ -3,7 +3,7 @@
 #include "io/GridFile.h"
 #include "io/LabelGrid.h"
 #include "io/MemoryBudget.h"
-#include "pipeline/EnclosedShare.h"
+#include "pipeline/ThresholdHoles.h"
 #include "pipeline/Error.h"
 #include "pipeline/FiniteValues.h"
 
@@ -34,7 +34,7 @@ IngestResult buildImageGrid(const std::string& input, const IngestOptions& optio
 
 /// A Hounsfield threshold that also deletes the inside of the body (the lungs,
 /// at about -890 HU, under the old advice of -500) is worth a warning.
-constexpr double kEnclosedShareWarning = 0.10;
+constexpr double kThresholdHolesWarning = 0.10;
 
 std::optional<std::string> lungWarning(const openvdb::GridBase& grid) {
     const std::optional<VolumeMetadata> metadata = readVolumeMetadata(grid);
@@ -42,7 +42,7 @@ std::optional<std::string> lungWarning(const openvdb::GridBase& grid) {
     const bool hounsfield = metadata->modality == "CT" || metadata->valueMin <= -1000.0;
     if (!hounsfield || *metadata->threshold <= kCtDefaultThreshold) return std::nullopt;
     const double share = enclosedInactiveShare(grid);
-    if (share <= kEnclosedShareWarning) return std::nullopt;
+    if (share <= kThresholdHolesWarning) return std::nullopt;
     std::ostringstream text;
     text << std::fixed << std::setprecision(1) << "the threshold " << *metadata->threshold << " HU leaves "
          << 100.0 * share << " % of the voxels inside the body's outline inactive (lungs are about -890 HU); "

@@ -60,7 +60,7 @@ struct BlockWork {
 };
 
 /// What the whole pass shares.
-struct Pass {
+struct PassInputs {
     const GaussianField& field;
     const BlockBins& bins;
     const VolumeTarget& target;
@@ -202,7 +202,7 @@ __attribute__((always_inline)) inline GradientSums aboutTheMean(const double cen
 
 /// Residuals over the block's sampled rows into work.upstream (dL/df, zero where a
 /// voxel is not trainable). @return sum of squared residuals.
-double residuals(const Pass& pass, const SampledBlock& sampled, BlockWork& work,
+double residuals(const PassInputs& pass, const SampledBlock& sampled, BlockWork& work,
                  BlockOutcome& outcome) {
     const int channels = pass.field.channels();
     const int rowStride = pass.settings.rowStride;
@@ -233,7 +233,7 @@ double residuals(const Pass& pass, const SampledBlock& sampled, BlockWork& work,
 
 /// One sampled block, forward and (with @a gradients) backward.
 template <typename Floats>
-__attribute__((always_inline)) inline double evaluateBlockWith(const Pass& pass, const SampledBlock& sampled,
+__attribute__((always_inline)) inline double evaluateBlockWith(const PassInputs& pass, const SampledBlock& sampled,
                                                                BlockWork& work, BlockOutcome& outcome,
                                                                GradientChunks* gradients, std::size_t chunk) {
     const GaussianField& field = pass.field;
@@ -276,13 +276,13 @@ __attribute__((always_inline)) inline double evaluateBlockWith(const Pass& pass,
     return squared;
 }
 
-__attribute__((target("avx2,fma"))) double evaluateBlockAvx2Fma(const Pass& pass, const SampledBlock& sampled, BlockWork& work,
+__attribute__((target("avx2,fma"))) double evaluateBlockAvx2Fma(const PassInputs& pass, const SampledBlock& sampled, BlockWork& work,
                                                          BlockOutcome& outcome, GradientChunks* gradients,
                                                          std::size_t chunk) {
     return evaluateBlockWith<Floats8>(pass, sampled, work, outcome, gradients, chunk);
 }
 
-double evaluateBlockFourLanes(const Pass& pass, const SampledBlock& sampled, BlockWork& work, BlockOutcome& outcome,
+double evaluateBlockFourLanes(const PassInputs& pass, const SampledBlock& sampled, BlockWork& work, BlockOutcome& outcome,
                               GradientChunks* gradients, std::size_t chunk) {
     return evaluateBlockWith<Floats4>(pass, sampled, work, outcome, gradients, chunk);
 }
@@ -292,7 +292,7 @@ double evaluateBlockFourLanes(const Pass& pass, const SampledBlock& sampled, Blo
 double blockSquaredError(const GaussianField& field, const BlockBins& bins, const VolumeTarget& target,
                          const std::vector<SampledBlock>& blocks, const BlockLossSettings& settings,
                          GradientChunks* gradients, std::vector<BlockOutcome>* outcomes) {
-    const Pass pass{field, bins, target, settings};
+    const PassInputs pass{field, bins, target, settings};
     const bool eightLanes = settings.kernel == BlockKernel::Best && processorHasAvx2Fma();
     const auto evaluate = eightLanes ? evaluateBlockAvx2Fma : evaluateBlockFourLanes;
     const std::size_t n = blocks.size();

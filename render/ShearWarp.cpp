@@ -334,10 +334,10 @@ Floats4 load(const StackSample& sample) {
 /// are the weights.
 template <typename Sample>
 struct Tap {
-    using Weighed = decltype(load(Sample{}));  ///< Floats4 for classified samples, float for codes (in levels)
+    using Loaded = decltype(load(Sample{}));  ///< Floats4 for classified samples, float for codes (in levels)
     const Sample* columns;                      ///< the row's samples, indexed by column
-    Weighed right, left;
-    Weighed operator()(int column) const {
+    Loaded right, left;
+    Loaded operator()(int column) const {
         if constexpr (std::is_same_v<Sample, std::uint16_t>) {
             const Floats4 pair = loadPair(columns + column);
             return right * pair[0] + left * pair[1];
@@ -376,19 +376,19 @@ SliceShear shearOf(const StackGeometry& g, int k, double shiftX, double shiftY, 
 /// its padding there.
 template <typename Sample>
 struct ShearedRuns {
-    using Weighed = typename Tap<Sample>::Weighed;
+    using Loaded = typename Tap<Sample>::Loaded;
     const RowRun* runs = nullptr;
     const RowRun* end = nullptr;
     const Sample* samples = nullptr;
     int shift = 0;
-    Weighed right{}, left{};
+    Loaded right{}, left{};
 
     /// @a unit: what one stored step weighs (a Light's unitOf), 1 for classified samples.
     ShearedRuns(const Slice& slice, int row, int height, int shiftBy, float leftWeight, float rightWeight,
-                Weighed unit = Weighed{} + 1.0f)
-        // Weighed{} + w is w, or w in each of four lanes.
-        : samples(slice.stored<Sample>().data()), shift(shiftBy), right(Weighed{} + rightWeight * unit),
-          left(Weighed{} + leftWeight * unit) {
+                Loaded unit = Loaded{} + 1.0f)
+        // Loaded{} + w is w, or w in each of four lanes.
+        : samples(slice.stored<Sample>().data()), shift(shiftBy), right(Loaded{} + rightWeight * unit),
+          left(Loaded{} + leftWeight * unit) {
         if (row < 0 || row >= height || leftWeight + rightWeight == 0.0f) return;
         runs = slice.runs.data() + slice.rowRuns[row];
         end = slice.runs.data() + slice.rowRuns[row + 1];

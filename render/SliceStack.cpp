@@ -157,7 +157,7 @@ AxisSamples samplesOnVoxels(double lo, double hi, double step, const VoxelRow& r
     return {int(after - before) + 1, row.centreMm + before * step, step, true};
 }
 
-/// How much finer than asked a stack may sample, to keep to the voxels (voxelRate).
+/// How much finer than asked a stack may sample, to keep to the voxels (sampleSpacing).
 constexpr double kFinerThanAsked = 2.0;
 
 /// The spacing to sample along @a along when @a wantedMm is asked: no coarser than
@@ -168,18 +168,18 @@ constexpr double kFinerThanAsked = 2.0;
 /// to 6.8 dB short of the one-ray ray marcher (docs/benchmarks.md, "Samples no
 /// coarser than the voxels"). Asked coarser than the voxels, a stack so holds at
 /// most a sample a voxel.
-double voxelRate(const RenderVolume& volume, const std::optional<VoxelRow>& row, double wantedMm) {
+double sampleSpacing(const RenderVolume& volume, const std::optional<VoxelRow>& row, double wantedMm) {
     const double voxelMm = row ? row->edgeMm : volume.voxelMm();
     return std::max(std::min(wantedMm, voxelMm), wantedMm / kFinerThanAsked);
 }
 
 /// Samples along @a along covering [lo, hi] and one beyond each end, about
-/// @a wantedMm apart (at voxelRate when @a fine): on the voxel centres when
+/// @a wantedMm apart (at sampleSpacing when @a fine): on the voxel centres when
 /// @a onVoxels, it runs along an axis of the volume and they lie near, else centred.
 AxisSamples samplesAlong(const RenderVolume& volume, const Vec3d& along, double lo, double hi, double wantedMm,
                          bool onVoxels, bool fine) {
     const std::optional<VoxelRow> row = voxelRowAlong(volume, along);
-    if (fine) wantedMm = voxelRate(volume, row, wantedMm);
+    if (fine) wantedMm = sampleSpacing(volume, row, wantedMm);
     if (row && onVoxels) {
         if (const std::optional<double> step = stepOnVoxels(wantedMm, *row)) return samplesOnVoxels(lo, hi, *step, *row);
     }
@@ -217,7 +217,7 @@ double finestSliceVoxels(const RenderVolume& volume, double depthMm) {
 /// The lattice of slices perpendicular to @a direction that covers the volume,
 /// @a sliceSpacingVoxels apart (a voxel is the volume's smallest voxel edge), or
 /// as far apart as the volume's finest spacing along it when that is further, and
-/// about @a sampleMm across (at voxelRate when @a fine): on the voxel centres
+/// about @a sampleMm across (at sampleSpacing when @a fine): on the voxel centres
 /// nearby for a stack of values, whose bilinear resampling is then the trilinear
 /// field. Not for classified samples: there resampling blends colours classified
 /// at the voxels, not the colour of blended voxels, and at `gvr render`'s default
@@ -269,7 +269,7 @@ Lattice StackGeometry::lattice() const {
 namespace {
 
 /// The classified samples of all layers at one lattice voxel, combined.
-struct Combined {
+struct LayerBlend {
     float keep = 1.0f, r = 0.0f, g = 0.0f, b = 0.0f, alphaSum = 0.0f, single = 0.0f;
     int layers = 0;
 
@@ -370,7 +370,7 @@ void storeClassified(const std::vector<StackLayer>& layers, const std::vector<st
     }
     const int channels = layers.front().volume->channels();
     cells.forEachInside(voxels, [&](const Coord& ijk) {
-        Combined combined;
+        LayerBlend combined;
         for (std::size_t l = 0; l < layers.size(); ++l) {
             if (!sampled[l].isInside(ijk)) continue;
             const float* value = values.data() + l * kBlockVoxels * 3 + blockOffset(ijk) * channels;

@@ -1,7 +1,7 @@
 #include "workflow/Evaluate.h"
 
 #include "io/AssetFile.h"
-#include "io/Figures.h"
+#include "io/ReportNumbers.h"
 #include "io/GridFile.h"
 #include "io/ImageFile.h"
 #include "io/LabelGrid.h"

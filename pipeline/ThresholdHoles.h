@@ -1,4 +1,4 @@
-/// @file EnclosedShare.h
+/// @file ThresholdHoles.h
 /// @brief How much of the inside of a subject a threshold removed: the check that
 /// catches a CT threshold which deletes the lungs.
 #pragma once

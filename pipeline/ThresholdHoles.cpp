@@ -1,4 +1,4 @@
-#include "pipeline/EnclosedShare.h"
+#include "pipeline/ThresholdHoles.h"
 
 #include <algorithm>
 #include <cstdint>

@@ -1,6 +1,6 @@
 // The share of a subject's inside that a threshold removed.
 
-#include "pipeline/EnclosedShare.h"
+#include "pipeline/ThresholdHoles.h"
 
 #include <gtest/gtest.h>
 
@@ -23,12 +23,12 @@ openvdb::FloatGrid::Ptr ringAroundAHole() {
     return grid;
 }
 
-TEST(EnclosedShare, CountsTheInactiveVoxelsThatActiveOnesEncloseInTheirSlice) {
+TEST(ThresholdHoles, CountsTheInactiveVoxelsThatActiveOnesEncloseInTheirSlice) {
     // Inside: all 81 voxels of each slice; inactive: 24 and 25 of the hole.
     EXPECT_DOUBLE_EQ(enclosedInactiveShare(*ringAroundAHole()), (24.0 + 25.0) / 162.0);
 }
 
-TEST(EnclosedShare, AnOpenSubjectOrAnEmptyGridEnclosesNothing) {
+TEST(ThresholdHoles, AnOpenSubjectOrAnEmptyGridEnclosesNothing) {
     auto grid = ringAroundAHole();
     grid->tree().setValueOn(openvdb::Coord(4, 0, 0), 40.0f);
     grid->tree().setValueOff(openvdb::Coord(4, 0, 0));  // a gap in the ring: the hole of slice 0 is outside

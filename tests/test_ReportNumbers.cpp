@@ -1,6 +1,6 @@
 // Figures as gvr writes them: an infinite PSNR is null in JSON and "inf" in text.
 
-#include "io/Figures.h"
+#include "io/ReportNumbers.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 namespace gvr {
 namespace {
 
-TEST(Figures, InfinityIsNullInJsonAWordInTextAndNumbersStayNumbers) {
+TEST(ReportNumbers, InfinityIsNullInJsonAWordInTextAndNumbersStayNumbers) {
     const double inf = std::numeric_limits<double>::infinity();
     EXPECT_TRUE(jsonNumber(inf).is_null());
     EXPECT_TRUE(jsonNumber(-inf).is_null());

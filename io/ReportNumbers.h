@@ -1,4 +1,4 @@
-/// @file Figures.h
+/// @file ReportNumbers.h
 /// @brief Figures as gvr writes them, in JSON and in text, where a perfect match
 /// has an infinite PSNR.
 #pragma once
