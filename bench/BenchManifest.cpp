@@ -102,7 +102,7 @@ constexpr std::size_t kLongestName = 64;
 constexpr const char* kNameCharacters = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._+-";
 
 /// The largest side of the bench's views: views to compare, each ray-marched again
-/// as the reference at every ratio (8192 x 8192 views ran for hours).
+/// as the reference at every ratio (8192 x 8192 views took far too long).
 constexpr int kLargestViewSide = 2048;
 
 class ManifestReader {

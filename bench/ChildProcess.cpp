@@ -23,7 +23,7 @@ namespace gvr {
 namespace {
 
 /// The most of a child's standard output kept: gvr's own steps print a few
-/// kilobytes of JSON, and a codec that flooded its output grew gvr to 4 GiB.
+/// kilobytes of JSON, and a codec that flooded its output grew gvr's memory with it.
 constexpr std::size_t kMostOutputBytes = 16u << 20;
 
 /// Closes every descriptor above stderr. A codec inherited gvr's (a copy of its

@@ -47,7 +47,7 @@ openvdb::FloatGrid::Ptr derivedDensity(const openvdb::Vec3SGrid& colour, const o
 
 /// Blender and Houdini interpolate colour and density alike: where a structure ends,
 /// the colour fell to the inactive voxels' black as the density fell to zero, so
-/// the light emitted (their product) fell twice as fast, and thin bone came out 27 %
+/// the light emitted (their product) fell twice as fast, and thin bone came out
 /// darker in Blender than in gvr render. The colour reaches one voxel further, each
 /// new voxel the mean colour of its active neighbours, where the density stays zero.
 void extendColourOneVoxel(openvdb::Vec3SGrid& colour) {

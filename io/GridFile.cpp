@@ -30,7 +30,7 @@ namespace {
 
 /// OpenVDB reads lengths and counts without checking that the read succeeded, so
 /// in a cut file it would size strings and buffers from whatever the variable held
-/// (up to 23 GB on a 10 KB grid). A stream that throws on the first short read
+/// (gigabytes on a grid of kilobytes). A stream that throws on the first short read
 /// stops it there. io::Stream reads what io::File writes, all in one pass.
 openvdb::GridPtrVecPtr streamGrids(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

@@ -66,7 +66,8 @@ RawHeader readRawHeader(const std::string& path) {
 }
 
 /// nifticlib adds each header extension to its list by copying the whole list, so
-/// 100,000 of them took minutes: a header with more than this many is refused first.
+/// a header with very many of them took long to read: one with more than this many
+/// is refused first.
 constexpr int kMaxExtensions = 1000;
 
 void checkExtensionCount(const std::string& path, const RawHeader& header) {

@@ -90,8 +90,8 @@ struct FitSettings {
     /// How many more Gaussians the file has room for, given these, if the caller
     /// knows its byte budget: the fit then adds them where the error is largest, a few
     /// times before its last fifth. The count chosen before the fit assumes trained
-    /// Gaussians, and seeds that have barely moved code smaller (ct-head at 10:1 in
-    /// 30 s once wrote 13.4:1).
+    /// Gaussians, and seeds that have barely moved code smaller, which left files
+    /// above the ratio asked (docs/benchmarks.md, "The file holds the ratio").
     std::function<std::size_t(const GaussianParameters&)> roomInBudget;
     /// Sees each iteration's gradient before the step, a range of Gaussians at a time
     /// (Gaussian first + i at index i); tests use it to inject the non-finite values
@@ -111,8 +111,8 @@ struct FitSettings {
 
 /// The default batch grows with the count: each step's pass over every Gaussian
 /// (Adam, re-activation) then serves as many samples a Gaussian at any scale, and
-/// nearly every Gaussian gets a gradient each step. A fixed 524,288 left a 35 M-voxel
-/// MRI's 480k Gaussians a gradient in 40 % of the steps (docs/benchmarks.md, "The
+/// nearly every Gaussian gets a gradient each step. A fixed 524,288 left most of a
+/// large MRI's Gaussians without a gradient in a step (docs/benchmarks.md, "The
 /// batch grows with the count").
 constexpr std::size_t kLeastVoxelBatch = 524288;
 constexpr double kBatchPerGaussian = 8.0;

@@ -151,8 +151,7 @@ private:
     /// Time kept for the amplitude solve: its share of the budget, or less when its
     /// passes need less, and the coding of the stored geometry before it. Each CG
     /// iteration, and the passes before and after them, costs about a dense
-    /// measurement (1.3 of them measured on ch2), so a long budget no longer leaves
-    /// most of its share unused (40 of 60 s on ch2 in 600 s).
+    /// measurement, so a long budget no longer leaves most of its share unused.
     double solveSeconds() const {
         if (!solving()) return 0.0;
         const double passes = double(mSettings.amplitudeSolveIterations + 2);
@@ -173,8 +172,9 @@ private:
     double codingSeconds() const { return kCodingsWithinTheBudget * mRoomSeconds; }
 
     /// Whether the iteration just done is the last: the budget is spent, or the next
-    /// iteration would end further past it than stopping now ends short of it (one
-    /// iteration of the chest takes 4 s, which came on top of its budget).
+    /// iteration would end further past it than stopping now ends short of it (a
+    /// large volume's iterations are long, and one came on top of its budget:
+    /// docs/benchmarks.md, "The time budget").
     bool lastIteration(std::size_t iteration) const {
         if (fractionDone(iteration) >= 1.0) return true;
         return mSettings.seconds > 0.0 && elapsed() + 0.5 * mIterationSeconds >= adamSeconds();
@@ -300,7 +300,8 @@ private:
     static constexpr std::size_t kPaceIterations = 5;
     /// The estimate of the measurement is from a sample of blocks, and the field
     /// still grows a little after the last one, at 95 % of Adam's time. Half as much
-    /// again kept the chest's 120 s fit 5 % short of its budget.
+    /// again kept the chest's fit within its budget (docs/benchmarks.md, "The time
+    /// budget").
     static constexpr double kMeasurementMargin = 1.2;
     double mMeasurementSeconds = 0.0;
     static constexpr double kCodingsWithinTheBudget = 2.0;
@@ -316,8 +317,8 @@ private:
     std::size_t mFills = 0;  ///< of kFillPoints passed
     /// A restart at most multiplies the count by this. One pace cannot see how an
     /// iteration's cost grows with the count, so its estimate overshoots, and the
-    /// overshoot set the peak memory: a 24M-voxel MRI in 600 s seeded 1.38 M
-    /// Gaussians (1,220 MiB) before its second pace settled on 640k.
+    /// overshoot set the peak memory: a large MRI seeded far more Gaussians than its
+    /// second pace settled on.
     static constexpr double kMaxPaceGrowth = 8.0;
     static constexpr std::size_t kMaxPaces = 3;
     std::vector<Pace> mPaces;
@@ -440,8 +441,8 @@ void FitLoop::fitCountToTheTime() {
 /// Gaussian is binned afresh (renumbered in space, the field re-activated, the BVH
 /// rebuilt, one query per block) every rebinEvery iterations, when the count or
 /// the numbering changed, or when the measurement is to be timed. The BVH is freed
-/// once the bins are built: the fit asks only them, and the BVH was a quarter of
-/// its memory (a 24M-voxel MRI, heaptrack).
+/// once the bins are built: the fit asks only them, and the BVH was a large share
+/// of its memory (docs/benchmarks.md, "A fit's memory").
 void FitLoop::refreshField(std::size_t iteration) {
     const double fraction = fractionDone(iteration);
     const bool timeMeasurement = measurementDue(fraction);
@@ -571,8 +572,8 @@ void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOut
 
 /// Frees what only Adam's steps need (the optimiser's moments, the gradient
 /// chunks, the field and its bins, the drawn blocks) before the amplitude solve,
-/// which builds a field of its own: that solve set the fit's peak memory (a
-/// 24M-voxel MRI at 640k Gaussians: 829 MiB, against 638 through the steps).
+/// which builds a field of its own: that solve set the fit's peak memory
+/// (docs/benchmarks.md, "A fit's memory").
 /// refreshField() builds the field again for the held-out PSNR after it.
 void FitLoop::releaseTrainingState() {
     mAdam.reset();
@@ -606,7 +607,8 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
 
         if (mSettings.pruneEvery > 0 && iteration % mSettings.pruneEvery == 0 && !mOutcomes.empty()) {
             // Sites drawn for the purpose, not the blocks of the last batch, one site each:
-            // those left ct-head at 10:1 in 300 s 30,000 sites short (10.996:1).
+            // those left a fit sites short, and its file above the ratio asked
+            // (docs/benchmarks.md, "The file holds the ratio").
             const std::size_t negligible = negligibleCount(mParams, mSettings.pruneAmplitude);
             const PruneResult pruned = pruneAndRespawn(
                 mParams, *mAdam, mSettings.pruneAmplitude,

@@ -11,7 +11,7 @@ double peakRssMiB();
 /// Hands the heap's free memory back to the system (glibc; elsewhere nothing).
 /// Call it after freeing arrays as large as the Gaussians: glibc raises its mmap
 /// threshold after such frees and then keeps them, so a long fit's memory crept up
-/// (ch2 10:1 in 600 s: from 232 to 349 MiB).
+/// (docs/benchmarks.md, "A fit's memory").
 void releaseFreedMemory();
 
 }  // namespace gvr

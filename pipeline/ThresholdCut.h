@@ -38,8 +38,8 @@ private:
 /// What export uses when no threshold is given. The source holds no value between
 /// its background and its ingest threshold, so a reconstructed value in that gap
 /// goes to the nearer of the two: values below the midpoint become background.
-/// (Cutting at the threshold itself costs 3 dB on a chest CT whose background is
-/// 1300 HU below it.) Without an ingest threshold: the source's minimum.
+/// (Cutting at the threshold itself loses accuracy on a chest CT whose background
+/// is 1300 HU below it.) Without an ingest threshold: the source's minimum.
 double defaultExportThreshold(const VolumeMetadata& source);
 
 /// The same for a threshold from above: midway between it and a background above

@@ -467,7 +467,7 @@ namespace {
 /// The key of every @a stride-th active value of @a grid, counted in the order of its
 /// value iterator. Where every active value lies in a leaf, the leaves are read on
 /// all cores, each from its first value's place in that order: the same keys, in the
-/// same order, as one walk (a large CT's walk took a tenth of a second).
+/// same order, as one walk (on one core, a large CT's walk was slow).
 template <typename GridT>
 std::vector<float> everyStridethKey(const GridT& grid, std::size_t stride) {
     std::vector<float> keys;

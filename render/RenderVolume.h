@@ -94,7 +94,7 @@ private:
 /// evaluated on first use and kept, and between them trilinear like a grid's. The
 /// Gaussians were fitted to the voxels' values; between voxels they depart from the
 /// interpolation of those values, and a stack sampling them there departed from the
-/// export by up to 14 dB (docs/benchmarks.md, "Assets drawn from their voxels").
+/// export (docs/benchmarks.md, "Assets drawn from their voxels").
 /// Gaussians thinner than @a minScaleVoxels along an axis are widened to it with
 /// their amplitude lowered so that their integral (their mass) stays: sheets and
 /// needles thinner than a voxel then neither vanish between voxels nor flicker.

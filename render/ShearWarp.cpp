@@ -240,7 +240,7 @@ public:
             const float mean = float(integral[3] / (xb - xa));
             const float opacity = 1.0f - expNonPositive(Floats4{} - mean)[0];
             // The difference keeps a few levels' worth out of thousands: floats from
-            // here, a third faster. Codes reach no further than ValueLevels::codingFor's
+            // here, which are faster. Codes reach no further than ValueLevels::codingFor's
             // spans beyond the levels, so the integrals stay far within a float's range.
             Floats4 light = __builtin_convertvector(integral, Floats4);
             // Negative for a stretch down the levels; zero for an extinction below a float's least.
@@ -274,8 +274,8 @@ private:
 /// What a colour resampled from a stack of colours adds over the oblique path: the
 /// colour, with the opacity that the transfer function gives its luminance's
 /// level. So colours blend before they are classified, as the ray marcher blends
-/// them: a stack of classified colours fell 3.2 dB short of the one-ray ray marcher
-/// on a colour section (docs/benchmarks.md, "Stacks of colours").
+/// them: a stack of classified colours fell short of the one-ray ray marcher on a
+/// colour section (docs/benchmarks.md, "Stacks of colours").
 class ColourLight {
 public:
     using Sample = StackSample;
@@ -308,7 +308,8 @@ private:
 float load(std::uint16_t code) { return code; }
 
 /// Two neighbouring codes as floats, in the two lowest lanes: one load and one
-/// conversion, where two scalar ones made reused frames a tenth slower than floats.
+/// conversion, where two scalar ones made reused frames slower than floats
+/// (docs/benchmarks.md, "Render speed").
 Floats4 loadPair(const std::uint16_t* codes) {
 #if defined(__SSE2__)
     std::int32_t bits;
@@ -424,7 +425,8 @@ __attribute__((target("avx2"), always_inline)) inline Ints8 eightLevels(
     const std::array<Tap<std::uint16_t>, TapCount>& taps, int column, ValueLight::Lookup lookup) {
     Floats8 sum{};
     for (std::size_t t = 0; t < TapCount; ++t) {
-        // Half a kilobyte ahead along the row: reused chest frames took a twentieth less.
+        // Half a kilobyte ahead along the row: reused chest frames ran faster with it
+        // (docs/benchmarks.md, "Render speed").
         __builtin_prefetch(taps[t].columns + column + 256);
         const Floats8 tap = taps[t].right * eightCodes(taps[t].columns + column) +
                             taps[t].left * eightCodes(taps[t].columns + column + 1);
@@ -511,8 +513,9 @@ __attribute__((target("avx2"), always_inline)) inline void compositeEight(const 
 /// first pixel left: one function around the whole loop, so that its constants
 /// stay in registers.
 /// - Each eight's light is resampled before the eight before it is composited, so
-///   that the two chains of dependent instructions overlap: chest frames a
-///   thirtieth faster than where the processor was left to overlap them. (The next
+///   that the two chains of dependent instructions overlap: chest frames ran faster
+///   than where the processor was left to overlap them (docs/benchmarks.md,
+///   "Render speed"). (The next
 ///   open pixel can be found first: closing pixels changes only their own links.)
 /// - The last few go as the eight that end at @a last, where the row has eight
 ///   pixels: one at a time, each cost about as much as eight (a branch on its

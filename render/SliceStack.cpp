@@ -132,8 +132,8 @@ std::optional<VoxelRow> voxelRowAlong(const RenderVolume& volume, const Vec3d& a
 
 /// How far a lattice on the voxel centres may stray from the spacing asked: at
 /// ct-head's default view (pixels of 1.39 voxels, 0.93 asked) a lattice of one
-/// voxel scores 2.2 dB more against the reference with the `mri` preset than the
-/// lattice asked (0.8 less with a surface), from 86% of the samples
+/// voxel scores higher against the reference with the `mri` preset than the
+/// lattice asked (lower with a surface), from fewer samples
 /// (docs/benchmarks.md, "Samples on the voxel centres, slices off the voxel planes").
 constexpr double kVoxelStepReach = 1.3;
 
@@ -164,8 +164,8 @@ constexpr double kFinerThanAsked = 2.0;
 /// the voxels along it (its voxel edge, or the smallest where it runs along no
 /// axis), nor more than kFinerThanAsked times finer than asked. Where the view
 /// shrinks the volume, samples further apart than the voxels skip some, and a thin
-/// structure between them shows as stripes: at 256 x 256, chest `ct` frames fell up
-/// to 6.8 dB short of the one-ray ray marcher (docs/benchmarks.md, "Samples no
+/// structure between them shows as stripes: at 256 x 256, chest `ct` frames fell
+/// short of the one-ray ray marcher (docs/benchmarks.md, "Samples no
 /// coarser than the voxels"). Asked coarser than the voxels, a stack so holds at
 /// most a sample a voxel.
 double sampleSpacing(const RenderVolume& volume, const std::optional<VoxelRow>& row, double wantedMm) {
@@ -189,9 +189,9 @@ AxisSamples samplesAlong(const RenderVolume& volume, const Vec3d& along, double 
 /// Slices across a volume's axis lie this far off its voxel planes, in voxels. On the
 /// planes, with samples on the voxel centres, a ray met only the voxels' own values
 /// and a scan's steps of value showed as rings: at 512 x 512 at `gvr render`'s
-/// default view, axis stacks' images of ct-head and the chest scored 1.6 to 7.9 dB
-/// closer to the reference a quarter of a voxel off them (with a sharper warp than
-/// today's; at 256 x 256, from 1.1 dB further to 0.6 closer: docs/benchmarks.md,
+/// default view, axis stacks' images of ct-head and the chest scored closer to the
+/// reference a quarter of a voxel off them (with a sharper warp than today's; at
+/// 256 x 256, some further and some closer: docs/benchmarks.md,
 /// "Samples on the voxel centres, slices off the voxel planes").
 constexpr double kSlicesOffPlanes = 0.25;
 
@@ -221,8 +221,8 @@ double finestSliceVoxels(const RenderVolume& volume, double depthMm) {
 /// nearby for a stack of values, whose bilinear resampling is then the trilinear
 /// field. Not for classified samples: there resampling blends colours classified
 /// at the voxels, not the colour of blended voxels, and at `gvr render`'s default
-/// view axis frames of the colour cryosection scored 28.05 dB against the reference
-/// on the voxel centres, 36.85 off them (docs/benchmarks.md, "Stacks of colours").
+/// view axis frames of the colour cryosection scored lower against the reference
+/// on the voxel centres than off them (docs/benchmarks.md, "Stacks of colours").
 StackGeometry stackGeometryFor(const RenderVolume& volume, const Vec3d& direction, double sliceSpacingVoxels,
                                double sampleMm, bool keepsValues, bool fine) {
     StackGeometry g;
@@ -449,7 +449,7 @@ CellLevels cellLevels(const std::vector<std::uint16_t>& codes, const ValueCoding
 
 /// ValueLevels::markVisible's loop, without branches: a stack build judges every
 /// cell of every slice (one at a time, with a test for each neighbouring slice,
-/// chest CT builds took 3 % longer).
+/// chest CT builds took longer: docs/benchmarks.md, "Render speed").
 __attribute__((target_clones("avx2", "default"))) void markVisibleLevels(const std::uint16_t* lo,
                                                                          const std::uint16_t* hi, std::size_t count,
                                                                          const std::uint16_t* visibleFrom,
@@ -647,8 +647,8 @@ StackContent contentOf(const std::vector<StackLayer>& layers) {
 /// centres nearby. A colour volume keeps its colours only on them, where their
 /// resampling is the trilinear field's: elsewhere colour and opacity, resampled
 /// apart, lose how they vary together (dark tissue opaque, pale tissue clear), and
-/// images of a colour section came out paler than the ray marcher's, up to 4.4 dB
-/// further than classified samples (docs/benchmarks.md, "Stacks of colours").
+/// images of a colour section came out paler than the ray marcher's, further from
+/// it than classified samples (docs/benchmarks.md, "Stacks of colours").
 std::pair<StackGeometry, StackContent> layoutFor(const std::vector<StackLayer>& layers, const Vec3d& direction,
                                                  double sliceSpacingVoxels, double sampleMm, StackSampling sampling) {
     const RenderVolume& volume = *layers.front().volume;

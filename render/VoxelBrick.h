@@ -2,7 +2,7 @@
 /// @brief A box of a grid's voxels copied into a dense array, for sampling it
 /// trilinearly many times over: a stack build samples each block of its lattice
 /// from one brick, where a trip through the tree for each sample (and eight where
-/// its corners straddle leaves) took half the build.
+/// its corners straddle leaves) took much of the build.
 #pragma once
 
 #include "pipeline/LatticeSampler.h"

@@ -58,7 +58,7 @@ public:
         }
         mReach = {reachU, reachV};
         mWeight = 1.0f / float(mOffsets.size());
-        // Taps in floats are a sixth faster than in doubles: the margin covers their
+        // Taps in floats are faster than in doubles: the margin covers their
         // rounding (an ulp at 65536 is 0.004), so that i + 1 stays inside.
         const double margin = 1e-3 + 1e-6 * std::max(image.width, image.height);
         mInsideLo = {reachU, reachV};

@@ -20,7 +20,7 @@ namespace gvr {
 constexpr double kDefaultFitSeconds = 300.0;
 
 /// Voxel samples a Gaussian below which a fit is reported as undertrained: at a
-/// fixed time, quality peaked at about 1,200 on `ch2`.
+/// fixed time, quality peaked a little above this on `ch2`.
 constexpr double kTrainedSamplesPerGaussian = 1000.0;
 
 struct BudgetedFitOptions {
