@@ -548,6 +548,7 @@ template <typename Light>
 struct Compositing {
     const Light& light;
     float terminationOpacity;
+    CompositeLanes lanes;
 
     /// Composites the open pixels of [first, last] of an intermediate row, each
     /// taking the sum of @a taps at its column, pixel + shift.
@@ -561,7 +562,7 @@ struct Compositing {
             // Eight pixels at a time where the processor has AVX2: one at a time spent
             // most of its instructions moving two codes and one pixel into place.
             // (Without AVX2, GCC converts 16-bit codes one by one, and lanes are slower.)
-            if (processorHasAvx2()) {
+            if (lanes == CompositeLanes::Best && processorHasAvx2()) {
                 p = compositeEights(std::array{taps...}, p, last, shift, lookup, termination, row, open);
             }
         }
@@ -797,8 +798,10 @@ void compositeBands(const SliceStack& stack, const std::vector<SliceShear>& shea
 }
 
 /// @a memory: storage for the intermediate image, of any size and content.
-IntermediateImage compositeSlices(const SliceStack& stack, const Vec3d& direction, float terminationOpacity,
+IntermediateImage compositeSlices(const SliceStack& stack, const Vec3d& direction, const ShearWarpSettings& settings,
                                   std::vector<float> memory) {
+    const float terminationOpacity = settings.terminationOpacity;
+    const CompositeLanes lanes = settings.compositeLanes;
     const StackGeometry& g = stack.geometry();
     const double dn = direction.dot(g.normal);
     // Moving one slice back shifts the ray this far across the slices, in samples.
@@ -824,17 +827,17 @@ IntermediateImage compositeSlices(const SliceStack& stack, const Vec3d& directio
     const ValueLevels* levels = stack.valueLevels();
     if (stack.content() == StackContent::Colours) {
         const ColourLight light(*levels, obliquity);
-        compositeBands(stack, shears, backwards, Compositing<ColourLight>{light, terminationOpacity}, out);
+        compositeBands(stack, shears, backwards, Compositing<ColourLight>{light, terminationOpacity, lanes}, out);
     } else if (levels && stack.classification() == Classification::Segments) {
         const SegmentLight light(*levels, obliquity);
-        compositeBands(stack, shears, backwards, Compositing<SegmentLight>{light, terminationOpacity}, out);
+        compositeBands(stack, shears, backwards, Compositing<SegmentLight>{light, terminationOpacity, lanes}, out);
     } else if (levels) {
         const ValueLight light(*levels, obliquity);
-        compositeBands(stack, shears, backwards, Compositing<ValueLight>{light, terminationOpacity}, out);
+        compositeBands(stack, shears, backwards, Compositing<ValueLight>{light, terminationOpacity, lanes}, out);
     } else {
         const ObliquityTable oblique(obliquity);
         const ClassifiedLight light{oblique};
-        compositeBands(stack, shears, backwards, Compositing<ClassifiedLight>{light, terminationOpacity}, out);
+        compositeBands(stack, shears, backwards, Compositing<ClassifiedLight>{light, terminationOpacity, lanes}, out);
     }
     return out;
 }
@@ -882,17 +885,17 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
         frame.buildMs = millisecondsSince(start);
         frame.gaussiansTouched = (*serving)->gaussiansTouched();
     }
-    Framebuffer image = mFramer.frame(**serving, camera, mSettings.terminationOpacity, frame);
+    Framebuffer image = mFramer.frame(**serving, camera, mSettings, frame);
     frame.totalMs = millisecondsSince(start);
     if (stats) *stats = frame;
     return image;
 }
 
-Framebuffer ShearWarpFramer::frame(const SliceStack& stack, const OrthoCamera& camera, float terminationOpacity,
-                                   FrameStats& stats) {
+Framebuffer ShearWarpFramer::frame(const SliceStack& stack, const OrthoCamera& camera,
+                                   const ShearWarpSettings& settings, FrameStats& stats) {
     const auto composited = std::chrono::steady_clock::now();
     IntermediateImage intermediate =
-        compositeSlices(stack, camera.direction, terminationOpacity, std::move(mIntermediate));
+        compositeSlices(stack, camera.direction, settings, std::move(mIntermediate));
     stats.compositeMs = millisecondsSince(composited);
 
     const auto warped = std::chrono::steady_clock::now();

@@ -25,6 +25,12 @@ enum class StackOrientation {
     View,
 };
 
+/// How a grey stack's codes are composited.
+enum class CompositeLanes {
+    Best,  ///< eight pixels at a time where the processor has AVX2, else one
+    One,   ///< one pixel at a time on any processor: what Best does without AVX2, for tests against it
+};
+
 struct ShearWarpSettings {
     StackOrientation stacks = StackOrientation::Axes;
     double sliceSpacingVoxels = 1.0;   ///< slice spacing in voxels (the smallest voxel edge); > 0
@@ -40,6 +46,7 @@ struct ShearWarpSettings {
     /// How a grey volume's values are composited: segments see bands of the
     /// transfer function thinner than a slice spacing (SliceStack, Classification).
     Classification classification = Classification::Points;
+    CompositeLanes compositeLanes = CompositeLanes::Best;
     /// @return an empty string, or what is wrong, naming the flag.
     std::string validate() const;
     /// How thin a Gaussian may be before GaussianRenderVolume widens it, unless
@@ -102,7 +109,8 @@ public:
     /// Composites @a stack for @a camera's view and warps it to the image, whatever
     /// the stack's direction (up to the grazing angles where the shear runs away);
     /// fills in stats.compositeMs and warpMs.
-    Framebuffer frame(const SliceStack& stack, const OrthoCamera& camera, float terminationOpacity, FrameStats& stats);
+    Framebuffer frame(const SliceStack& stack, const OrthoCamera& camera, const ShearWarpSettings& settings,
+                      FrameStats& stats);
 
 private:
     std::vector<float> mIntermediate;

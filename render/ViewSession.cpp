@@ -213,7 +213,7 @@ Framebuffer ViewSession::render(const OrthoCamera& camera, FrameStats* stats) {
     }
     frame.stale = !fits(mCurrent, camera);
     if (!frame.stale || shearableFor(camera) || !sameSize) {
-        mLastFrame = mFramer.frame(*mCurrent.stack, camera, mSettings.terminationOpacity, frame);
+        mLastFrame = mFramer.frame(*mCurrent.stack, camera, mSettings, frame);
     }
     prefetchNextAxis(camera);
     frame.totalMs = millisecondsSince(start);
@@ -296,7 +296,7 @@ bool ViewSession::drawStill(const OrthoCamera& camera, FrameStats& frame) {
         frame.gaussiansTouched = mStill.stack->gaussiansTouched();
         mStillFresh = false;
     }
-    mLastFrame = mFramer.frame(*mStill.stack, camera, mStillSettings->terminationOpacity, frame);
+    mLastFrame = mFramer.frame(*mStill.stack, camera, *mStillSettings, frame);
     mStillShown = true;
     return true;
 }
