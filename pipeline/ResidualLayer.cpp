@@ -127,10 +127,14 @@ public:
         return float(mDomain.integers ? mDomain.intercept + mDomain.slope * domainValue : domainValue);
     }
     /// The prediction as the quantiser takes it: a whole sample in an integer domain.
-    /// @return false where none is usable (non-finite, or past exact integers).
+    /// @return false where none is usable: non-finite, or in an integer domain past
+    /// exact integers. Float values of any size are usable, since code() checks the
+    /// bound on each value as a float holds it (data near 1e38 was stored exactly).
     bool usable(double& prediction) const {
+        if (!std::isfinite(prediction)) return false;
+        if (!mDomain.integers) return true;
         if (!(std::abs(prediction) <= kMaxPrediction)) return false;
-        if (mDomain.integers) prediction = std::round(prediction);
+        prediction = std::round(prediction);
         return true;
     }
     /// The code of @a target against @a prediction, or kResidualExact when its

@@ -96,6 +96,16 @@ TEST(ResidualLayer, FloatDataHoldsTheBoundAfterRoundingNearTheFloatRange) {
     }
 }
 
+TEST(ResidualLayer, FloatDataNearTheFloatRangeIsCodedNotStoredExactly) {
+    std::mt19937 random(5);
+    std::normal_distribution<float> noise(0.0f, 1.0f);
+    const FloatVolume source = layerVolume(1, [&](int i, int, int, int) { return (i + noise(random)) * 5e36f; });
+    const FloatVolume prediction = roughPrediction(source);
+    ResidualLayer layer;
+    EXPECT_LE(roundTripError(source, prediction, 1e36, {}, &layer), 1e36);
+    EXPECT_LT(layer.exactVoxels(), source.voxelCount() / 100);  // predictions of 1e38 are predictions too
+}
+
 TEST(ResidualLayer, APredictionThatIsNotFiniteOrFarOffStillGivesTheBound) {
     const FloatVolume source = adversarialIntegers(1.0, 0.0);
     FloatVolume prediction = source;
