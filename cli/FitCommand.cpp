@@ -52,7 +52,7 @@ struct FitFlags {
     std::string input, output, logPath, labelVolume, labelNames;
     std::string maxError;  ///< --max-error as given: empty, a number, a percentage or auto
     bool ratioGiven = false;  ///< --ratio on the command line (else a bound's preview takes kBoundedPreviewRatio)
-    double boundRatio = 0.0;  ///< --ratio as given, before a bound's Gaussians take theirs (0: none)
+    std::optional<BoundRequest> bound;  ///< --max-error with --ratio as given, before the Gaussians take theirs
     std::size_t threads = 0;
     bool json = false, quiet = false;
     BudgetedFitOptions options;
@@ -346,22 +346,20 @@ void runBrickedFit(const FitFlags& flags, PhaseTimes& phases) {
     if (team.isRoot()) report(flags, bricked.result, target.peak(), error, &bricked, phases);
 }
 
-BoundRequest boundRequest(const FitFlags& flags) { return {flags.maxError, flags.boundRatio}; }
-
 /// The fit's file with the residual layer of --max-error, over the source as read.
 std::string boundedFile(const FitFlags& flags, const BudgetedFitResult& result, BoundedLayerReport& layer,
                         ProgressBar& bar) {
     const ComparisonInput asRead = loadComparisonInput(flags.input, toIngestOptions(flags.source));
-    return addErrorBound(result.file, flags.output, asRead.volume, boundRequest(flags), layer, bar.callback());
+    return addErrorBound(result.file, flags.output, asRead.volume, *flags.bound, layer, bar.callback());
 }
 
 /// Under --max-error, the Gaussians take the request's ratio; a bad request is
 /// refused before anything is read.
 void applyBoundRequest(FitFlags& flags) {
     if (flags.maxError.empty()) return;
-    flags.boundRatio = flags.ratioGiven ? flags.options.ratio : 0.0;
-    checkBoundRequest(boundRequest(flags), "--max-error", "--ratio");
-    boundRequest(flags).applyTo(flags.options);
+    flags.bound = BoundRequest{flags.maxError, flags.ratioGiven ? flags.options.ratio : 0.0};
+    checkBoundRequest(*flags.bound, "--max-error", "--ratio");
+    flags.bound->applyTo(flags.options);
 }
 
 void runFit(FitFlags& flags) {
@@ -390,7 +388,7 @@ void runFit(FitFlags& flags) {
     }
     phases.lap("fit");
     std::optional<BoundedLayerReport> layer;
-    if (!flags.maxError.empty()) {
+    if (flags.bound) {
         layer.emplace();
         ProgressBar bounding("residual layer", !flags.quiet);
         result.file = boundedFile(flags, result, *layer, bounding);
