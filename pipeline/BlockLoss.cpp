@@ -1,7 +1,6 @@
 #include "pipeline/BlockLoss.h"
 
-#include "pipeline/FastExp.h"
-#include "pipeline/LatticeSampler.h"
+#include "pipeline/BlockKernel.h"
 
 #include <tbb/parallel_for.h>
 
@@ -83,43 +82,27 @@ __attribute__((always_inline)) inline void addPairTerms(const BlockQuadratic& qu
                                                         const float amplitude[3], int channels, BlockWork& work) {
     using Ints = decltype(Floats{} < Floats{});
     constexpr int kLanes = sizeof(Floats) / sizeof(float);
-    Floats lane;
-    for (int i = 0; i < kLanes; ++i) lane[i] = float(i);
-    const double(&G)[3][3] = quad.G;
-    const double inverseZz = 1.0 / G[2][2];
-    const float zz = float(G[2][2]);
-    for (int x = xs[0]; x <= xs[1]; ++x) {
-        // What the rows of this x share: q's terms in y are linear and quadratic in y.
-        const double zLinearX = 2.0 * (G[0][2] * x + quad.gLin[2]), zLinearY = 2.0 * G[1][2];
-        const double constantX = quad.h + 2.0 * quad.gLin[0] * x + G[0][0] * x * x;
-        const double constantY = 2.0 * (quad.gLin[1] + G[0][1] * x);
-        for (int y = firstSampledY(x, ys[0], rowStride, sampled.rowPhase); y <= ys[1]; y += rowStride) {
-            // Along the row q(z) = G_zz (z - zCentre)^2 + qMin, accurate in float near the ellipsoid.
-            const double zLinear = zLinearX + zLinearY * y;
-            const double qMin = constantX + y * (constantY + G[1][1] * y) - 0.25 * zLinear * zLinear * inverseZz;
-            if (qMin > cutoff2) continue;
-            const float zCentre = float(-0.5 * zLinear * inverseZz), qMinF = float(qMin);
-            RowTerms terms;
-            terms.row = std::uint32_t(x * kBlockDim + y);
-            const int base = int(terms.row) * kBlockDim;
-            int kept = 0;
-            for (int part = 0; part < kBlockDim; part += kLanes) {
-                const Floats dz = (lane + float(part)) - zCentre;
-                const Floats q = zz * dz * dz + qMinF;
-                const Ints keep = q <= cutoff2;
-                for (int i = 0; i < kLanes; ++i) kept |= keep[i];
-                const Floats e = (Floats)((Ints)expNonPositive(-0.5f * q) & keep);
-                std::memcpy(terms.e + part, &e, sizeof e);
-                for (int c = 0; c < channels; ++c) {
-                    Floats f;
-                    std::memcpy(&f, work.field[c] + base + part, sizeof f);
-                    f += amplitude[c] * e;
-                    std::memcpy(work.field[c] + base + part, &f, sizeof f);
-                }
+    const auto firstY = [&](int x) { return firstSampledY(x, ys[0], rowStride, sampled.rowPhase); };
+    forEachRowCrossed(quad, xs[0], xs[1], firstY, ys[1], rowStride, cutoff2, [&](int x, int y, const RowParabola& row) {
+        RowTerms terms;
+        terms.row = std::uint32_t(x * kBlockDim + y);
+        const int base = int(terms.row) * kBlockDim;
+        int kept = 0;
+        for (int part = 0; part < kBlockDim; part += kLanes) {
+            const Floats q = rowQ<Floats>(row, part);
+            const Ints keep = q <= cutoff2;
+            for (int i = 0; i < kLanes; ++i) kept |= keep[i];
+            const Floats e = kernelWhere(q, keep);
+            std::memcpy(terms.e + part, &e, sizeof e);
+            for (int c = 0; c < channels; ++c) {
+                Floats f;
+                std::memcpy(&f, work.field[c] + base + part, sizeof f);
+                f += amplitude[c] * e;
+                std::memcpy(work.field[c] + base + part, &f, sizeof f);
             }
-            if (kept) work.terms.push_back(terms);
         }
-    }
+        if (kept) work.terms.push_back(terms);
+    });
 }
 
 /// Moments of pass 2 in the block's frame, about its centre: s0 = sum t,

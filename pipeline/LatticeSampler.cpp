@@ -1,7 +1,7 @@
 #include "pipeline/LatticeSampler.h"
 
 #include "pipeline/Error.h"
-#include "pipeline/FastExp.h"
+#include "pipeline/BlockKernel.h"
 #include "pipeline/VolumeMetadata.h"
 
 #include <tbb/parallel_for.h>
@@ -235,52 +235,32 @@ __attribute__((always_inline)) inline void addRowTerms(const BlockQuadratic& qua
                                                        float* sums) {
     using Ints = decltype(Floats{} < Floats{});
     constexpr int kLanes = sizeof(Floats) / sizeof(float);
-    Floats lane;
-    for (int i = 0; i < kLanes; ++i) lane[i] = float(i);
-    const double(&G)[3][3] = quad.G;
-    const double inverseZz = 1.0 / G[2][2];
-    const float zz = float(G[2][2]);
-    for (int x = reached.min().x(); x <= reached.max().x(); ++x) {
-        const double rx = x - origin.x();
-        // What the rows of this x share: q's terms in y are linear and quadratic in ry.
-        const double zLinearX = 2.0 * (G[0][2] * rx + quad.gLin[2]), zLinearY = 2.0 * G[1][2];
-        const double constantX = quad.h + 2.0 * quad.gLin[0] * rx + G[0][0] * rx * rx;
-        const double constantY = 2.0 * (quad.gLin[1] + G[0][1] * rx);
-        for (int y = reached.min().y(); y <= reached.max().y(); ++y) {
-            const double ry = y - origin.y();
-            // Along this row q(z) = G_zz (z - zCentre)^2 + qMin: in this form float
-            // keeps q accurate near the ellipsoid, where the terms would cancel.
-            const double zLinear = zLinearX + zLinearY * ry;
-            const double constant = constantX + ry * (constantY + G[1][1] * ry);
-            const double qMin = constant - 0.25 * zLinear * zLinear * inverseZz;
-            if (qMin > cutoff2) continue;  // the row misses the ellipsoid
-            const float zCentre = float(-0.5 * zLinear * inverseZz), qMinF = float(qMin);
-            const int base = blockOffset(Coord(x, y, origin.z()));
-            float* row = sums + base * channels;
-            for (int part = 0; part < kBlockDim; part += kLanes) {
-                // lane + part is exact, so each sample's dz rounds once, whatever the lanes.
-                const Floats dz = (lane + float(part)) - zCentre;
-                const Floats q = zz * dz * dz + qMinF;
-                Ints keep;
-                std::memcpy(&keep, inCells + base + part, sizeof keep);
-                keep &= q <= cutoff2;
-                int kept = 0;
-                for (int i = 0; i < kLanes; ++i) kept |= keep[i];
-                if (!kept) continue;
-                const Floats term = (Floats)((Ints)expNonPositive(-0.5f * q) & keep);
-                if (channels == 1) {
-                    Floats sum;
-                    std::memcpy(&sum, row + part, sizeof sum);
-                    sum += amplitude[0] * term;
-                    std::memcpy(row + part, &sum, sizeof sum);
-                    continue;
-                }
-                for (int i = 0; i < kLanes; ++i) {
-                    for (int c = 0; c < channels; ++c) row[(part + i) * channels + c] += amplitude[c] * term[i];
-                }
+    const Coord first = reached.min() - origin, last = reached.max() - origin;
+    const auto firstY = [&](int) { return first.y(); };
+    forEachRowCrossed(quad, first.x(), last.x(), firstY, last.y(), 1, cutoff2, [&](int x, int y, const RowParabola& row) {
+        const int base = (x * kBlockDim + y) * kBlockDim;
+        float* sumsOfRow = sums + base * channels;
+        for (int part = 0; part < kBlockDim; part += kLanes) {
+            const Floats q = rowQ<Floats>(row, part);
+            Ints keep;
+            std::memcpy(&keep, inCells + base + part, sizeof keep);
+            keep &= q <= cutoff2;
+            int kept = 0;
+            for (int i = 0; i < kLanes; ++i) kept |= keep[i];
+            if (!kept) continue;
+            const Floats term = kernelWhere(q, keep);
+            if (channels == 1) {
+                Floats sum;
+                std::memcpy(&sum, sumsOfRow + part, sizeof sum);
+                sum += amplitude[0] * term;
+                std::memcpy(sumsOfRow + part, &sum, sizeof sum);
+                continue;
+            }
+            for (int i = 0; i < kLanes; ++i) {
+                for (int c = 0; c < channels; ++c) sumsOfRow[(part + i) * channels + c] += amplitude[c] * term[i];
             }
         }
-    }
+    });
 }
 
 /// The same, eight samples at once where the processor has AVX2 (the stack

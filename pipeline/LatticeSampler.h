@@ -43,13 +43,6 @@ std::vector<openvdb::Coord> blockOrigins(const openvdb::CoordBBox& box);
 bool allVoxelsInside(const openvdb::CoordBBox& voxels, const openvdb::math::Mat4d& cellsFromVoxels,
                      const openvdb::BBoxd& cells);
 
-/// One Gaussian's q = (x - mean)^T Sigma^-1 (x - mean) over one block, as a quadratic
-/// in r, a position relative to the block's origin: q = h + 2 gLin.r + r^T G r. The
-/// lattice sampler and the fit's block loss each fill it for their own r.
-struct BlockQuadratic {
-    double G[3][3], gLin[3], h;
-};
-
 /// The 8^3 blocks over a box of voxels, numbered in z, y, x order as blockOrigins()
 /// lists them: a block's number (slot) is where its list of Gaussians is kept.
 class BlockSlots {
