@@ -4,11 +4,10 @@
 #include "io/GridBuilder.h"
 #include "io/GridFile.h"
 #include "io/ZfpStream.h"
+#include "pipeline/BoxAverage.h"
 #include "pipeline/Error.h"
 #include "pipeline/FloatVolume.h"
 #include "pipeline/VolumeMetadata.h"
-
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
@@ -176,26 +175,15 @@ FloatVolume boxAverage(const FloatVolume& fine, int factor) {
     fineFromCoarse.setToScale(openvdb::Vec3d(factor));
     fineFromCoarse.setTranslation(openvdb::Vec3d(0.5 * (factor - 1)));
     coarse.worldFromIndex = fineFromCoarse * fine.worldFromIndex;
-    tbb::parallel_for(0, dims.z(), [&](int k) {
-        for (int j = 0; j < dims.y(); ++j) {
-            for (int i = 0; i < dims.x(); ++i) {
-                const openvdb::Coord first(i * factor, j * factor, k * factor);
-                const openvdb::Coord end = openvdb::Coord::minComponent(first + openvdb::Coord(factor), fine.dims);
-                double sums[3] = {0.0, 0.0, 0.0};
-                for (int z = first.z(); z < end.z(); ++z) {
-                    for (int y = first.y(); y < end.y(); ++y) {
-                        for (int x = first.x(); x < end.x(); ++x) {
-                            const float* value = fine.at(x, y, z);
-                            for (int c = 0; c < fine.channels; ++c) sums[c] += value[c];
-                        }
-                    }
-                }
-                const openvdb::Coord size = end - first;
-                const double count = double(size.x()) * size.y() * size.z();
-                for (int c = 0; c < fine.channels; ++c) coarse.at(i, j, k)[c] = float(sums[c] / count);
-            }
-        }
-    });
+    forEachBoxAverage(
+        dims, openvdb::Coord(factor), fine.dims, fine.channels,
+        [&](int x, int y, int z, double* sums) {
+            const float* value = fine.at(x, y, z);
+            for (int c = 0; c < fine.channels; ++c) sums[c] += value[c];
+        },
+        [&](int i, int j, int k, const double* means) {
+            for (int c = 0; c < fine.channels; ++c) coarse.at(i, j, k)[c] = float(means[c]);
+        });
     return coarse;
 }
 

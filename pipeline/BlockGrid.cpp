@@ -6,21 +6,10 @@
 
 namespace gvr {
 
-namespace {
-
-constexpr int kMask = ~(kBlockDim - 1);
-
-openvdb::Coord alignedDown(const openvdb::Coord& ijk) { return {ijk.x() & kMask, ijk.y() & kMask, ijk.z() & kMask}; }
-
-}  // namespace
-
-BlockGrid::BlockGrid(const openvdb::CoordBBox& box, const std::vector<openvdb::Coord>& excluded) : mBox(box) {
+BlockGrid::BlockGrid(const openvdb::CoordBBox& box, const std::vector<openvdb::Coord>& excluded)
+    : mBox(box), mSlots(box) {
     if (box.empty()) return;
-    mFirst = alignedDown(box.min());
-    const openvdb::Coord last = alignedDown(box.max());
-    mCounts = openvdb::Coord((last.x() - mFirst.x()) / kBlockDim + 1, (last.y() - mFirst.y()) / kBlockDim + 1,
-                             (last.z() - mFirst.z()) / kBlockDim + 1);
-    mTrainable.resize(std::size_t(mCounts.x()) * mCounts.y() * mCounts.z());
+    mTrainable.resize(mSlots.size());
     for (std::uint32_t b = 0; b < mTrainable.size(); ++b) {
         openvdb::CoordBBox voxels(origin(b), origin(b).offsetBy(kBlockDim - 1));
         voxels.intersect(box);
@@ -30,24 +19,14 @@ BlockGrid::BlockGrid(const openvdb::CoordBBox& box, const std::vector<openvdb::C
     exclude(excluded);
 }
 
-openvdb::Coord BlockGrid::origin(std::uint32_t block) const {
-    const std::uint32_t nx = std::uint32_t(mCounts.x()), ny = std::uint32_t(mCounts.y());
-    return mFirst.offsetBy(int(block % nx) * kBlockDim, int((block / nx) % ny) * kBlockDim,
-                           int(block / (nx * ny)) * kBlockDim);
-}
-
-std::uint32_t BlockGrid::blockOf(const openvdb::Coord& ijk) const {
-    const openvdb::Coord local = ijk - mFirst;
-    return blockAt(local.x() / kBlockDim, local.y() / kBlockDim, local.z() / kBlockDim);
-}
-
 void BlockGrid::blockRange(const float lower[3], const float upper[3], int lo[3], int hi[3]) const {
     for (int a = 0; a < 3; ++a) {
         // Block k covers cells [first + 8k - 1/2, first + 8k + 7.5].
-        const double from = std::ceil((double(lower[a]) - mFirst[a] - (kBlockDim - 0.5)) / kBlockDim);
-        const double to = std::floor((double(upper[a]) - mFirst[a] + 0.5) / kBlockDim);
-        lo[a] = int(std::clamp(from, 0.0, double(mCounts[a])));
-        hi[a] = int(std::clamp(to, -1.0, double(mCounts[a] - 1)));
+        const int first = mSlots.first()[a], count = mSlots.counts()[a];
+        const double from = std::ceil((double(lower[a]) - first - (kBlockDim - 0.5)) / kBlockDim);
+        const double to = std::floor((double(upper[a]) - first + 0.5) / kBlockDim);
+        lo[a] = int(std::clamp(from, 0.0, double(count)));
+        hi[a] = int(std::clamp(to, -1.0, double(count - 1)));
     }
 }
 

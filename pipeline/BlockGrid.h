@@ -7,7 +7,7 @@
 /// never trained on, nor are the voxels set aside with exclude() (held-out voxels).
 #pragma once
 
-#include "pipeline/LatticeSampler.h"
+#include "pipeline/Block.h"
 
 #include <openvdb/openvdb.h>
 
@@ -26,16 +26,15 @@ public:
 
     const openvdb::CoordBBox& box() const { return mBox; }
     std::size_t blockCount() const { return mTrainable.size(); }
-    openvdb::Coord origin(std::uint32_t block) const;
+    /// Blocks are numbered as BlockSlots numbers them.
+    openvdb::Coord origin(std::uint32_t block) const { return mSlots.originOf(block); }
     /// The block holding voxel @a ijk, which must lie in box().
-    std::uint32_t blockOf(const openvdb::Coord& ijk) const;
+    std::uint32_t blockOf(const openvdb::Coord& ijk) const { return std::uint32_t(mSlots.slotOf(mSlots.blockOf(ijk))); }
     /// The blocks whose voxel cells ([origin - 1/2, origin + 7.5] per axis) overlap the
     /// index-space box [lower, upper], as a range of block coordinates per axis; empty
     /// (some lo > hi) when none do.
     void blockRange(const float lower[3], const float upper[3], int lo[3], int hi[3]) const;
-    std::uint32_t blockAt(int bx, int by, int bz) const {
-        return std::uint32_t((std::size_t(bz) * mCounts.y() + by) * mCounts.x() + bx);
-    }
+    std::uint32_t blockAt(int bx, int by, int bz) const { return std::uint32_t(mSlots.slotOf(bx, by, bz)); }
 
     /// Trainable voxels of a block, and of the whole box.
     std::uint32_t trainableVoxels(std::uint32_t block) const { return mTrainable[block]; }
@@ -49,8 +48,7 @@ private:
     void exclude(const std::vector<openvdb::Coord>& voxels);
 
     openvdb::CoordBBox mBox;
-    openvdb::Coord mFirst;   ///< origin of block 0
-    openvdb::Coord mCounts;  ///< blocks along each axis
+    BlockSlots mSlots;
     std::vector<std::uint32_t> mTrainable;
     std::uint64_t mTotalTrainable = 0;
     std::unordered_map<std::uint32_t, std::bitset<kBlockVoxels>> mExcluded;  ///< by block, at blockOffset()

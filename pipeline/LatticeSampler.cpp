@@ -69,52 +69,19 @@ std::vector<CoordBBox> latticeReach(const GaussianField& field, const Mat4d& lat
     return reach;
 }
 
-/// Calls @a visit with the slot of each block that @a reach overlaps.
-template <typename Visit>
-void forEachBlockSlot(const CoordBBox& reach, const BlockSlots& slots, Visit&& visit) {
-    const Coord low = slots.blockOf(reach.min()), high = slots.blockOf(reach.max());
-    for (int z = low.z(); z <= high.z(); ++z) {
-        for (int y = low.y(); y <= high.y(); ++y) {
-            for (int x = low.x(); x <= high.x(); ++x) visit(slots.slotOf(x, y, z));
-        }
-    }
-}
-
 }  // namespace
-
-BlockSlots::BlockSlots(const CoordBBox& box) {
-    if (box.empty()) return;
-    const int mask = ~(kBlockDim - 1);
-    mFirst = Coord(box.min().x() & mask, box.min().y() & mask, box.min().z() & mask);
-    const Coord last = blockOf(box.max());
-    mCountX = last.x() + 1;
-    mCountY = last.y() + 1;
-    mCountZ = last.z() + 1;
-}
-
-Coord BlockSlots::blockOf(const Coord& voxel) const {
-    const int mask = ~(kBlockDim - 1);
-    return Coord(((voxel.x() & mask) - mFirst.x()) / kBlockDim, ((voxel.y() & mask) - mFirst.y()) / kBlockDim,
-                 ((voxel.z() & mask) - mFirst.z()) / kBlockDim);
-}
-
-Coord BlockSlots::originOf(std::size_t slot) const {
-    const auto x = int(slot % std::size_t(mCountX)), y = int(slot / std::size_t(mCountX) % std::size_t(mCountY)),
-               z = int(slot / (std::size_t(mCountX) * std::size_t(mCountY)));
-    return mFirst + Coord(x * kBlockDim, y * kBlockDim, z * kBlockDim);
-}
 
 BlockLists::BlockLists(const std::vector<CoordBBox>& reach, const BlockSlots& slots) : mStarts(slots.size() + 1, 0) {
     // Counted, then filled in index order, so that each list is ascending.
     for (const CoordBBox& box : reach) {
-        if (!box.empty()) forEachBlockSlot(box, slots, [&](std::size_t slot) { ++mStarts[slot + 1]; });
+        if (!box.empty()) slots.forEachSlotOver(box, [&](std::size_t slot) { ++mStarts[slot + 1]; });
     }
     for (std::size_t slot = 0; slot < slots.size(); ++slot) mStarts[slot + 1] += mStarts[slot];
     mGaussians.resize(mStarts.back());
     std::vector<std::size_t> next(mStarts.begin(), mStarts.end() - 1);
     for (std::size_t g = 0; g < reach.size(); ++g) {
         if (!reach[g].empty()) {
-            forEachBlockSlot(reach[g], slots, [&](std::size_t slot) { mGaussians[next[slot]++] = std::uint32_t(g); });
+            slots.forEachSlotOver(reach[g], [&](std::size_t slot) { mGaussians[next[slot]++] = std::uint32_t(g); });
         }
     }
 }
@@ -191,18 +158,6 @@ float LatticeSampler::reachCeiling(const std::uint32_t* hits, const std::uint32_
 
 std::size_t LatticeSampler::reachingGaussians() const {
     return std::size_t(std::count_if(mReach.begin(), mReach.end(), [](const CoordBBox& box) { return !box.empty(); }));
-}
-
-std::vector<Coord> blockOrigins(const CoordBBox& box) {
-    std::vector<Coord> origins;
-    if (box.empty()) return origins;
-    const int mask = ~(kBlockDim - 1);
-    for (int z = box.min().z() & mask; z <= box.max().z(); z += kBlockDim) {
-        for (int y = box.min().y() & mask; y <= box.max().y(); y += kBlockDim) {
-            for (int x = box.min().x() & mask; x <= box.max().x(); x += kBlockDim) origins.emplace_back(x, y, z);
-        }
-    }
-    return origins;
 }
 
 bool allVoxelsInside(const CoordBBox& voxels, const Mat4d& cellsFromVoxels, const openvdb::BBoxd& cells) {

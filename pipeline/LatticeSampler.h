@@ -35,32 +35,10 @@ Lattice resizedLattice(const openvdb::math::Mat4d& worldFromIndex, const openvdb
 double voxelSizeForResolution(const openvdb::math::Mat4d& worldFromIndex, const openvdb::Vec3i& dims,
                               int samples);
 
-/// Origins of every block that overlaps @a box, in z, y, x order.
-std::vector<openvdb::Coord> blockOrigins(const openvdb::CoordBBox& box);
-
 /// Whether the centre of every voxel of @a voxels, placed by @a cellsFromVoxels,
 /// lies inside @a cells.
 bool allVoxelsInside(const openvdb::CoordBBox& voxels, const openvdb::math::Mat4d& cellsFromVoxels,
                      const openvdb::BBoxd& cells);
-
-/// The 8^3 blocks over a box of voxels, numbered in z, y, x order as blockOrigins()
-/// lists them: a block's number (slot) is where its list of Gaussians is kept.
-class BlockSlots {
-public:
-    explicit BlockSlots(const openvdb::CoordBBox& box);
-    /// The block that holds @a voxel, counted in blocks from the first: inside the box.
-    openvdb::Coord blockOf(const openvdb::Coord& voxel) const;
-    std::size_t slotOf(int x, int y, int z) const {
-        return (std::size_t(z) * std::size_t(mCountY) + std::size_t(y)) * std::size_t(mCountX) + std::size_t(x);
-    }
-    std::size_t slotOf(const openvdb::Coord& block) const { return slotOf(block.x(), block.y(), block.z()); }
-    openvdb::Coord originOf(std::size_t slot) const;
-    std::size_t size() const { return std::size_t(mCountX) * std::size_t(mCountY) * std::size_t(mCountZ); }
-
-private:
-    openvdb::Coord mFirst;  ///< the first block's origin
-    int mCountX = 0, mCountY = 0, mCountZ = 0;
-};
 
 /// The Gaussians whose reach (a box of lattice voxels each) overlaps each block, in
 /// ascending order: one pass over the boxes instead of a BVH query per block.

@@ -1,5 +1,7 @@
 #include "pipeline/QualityMetrics.h"
 
+#include "pipeline/BoxAverage.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -167,21 +169,12 @@ void halve(const Channel& in, const Axes& smoothed, Channel& out) {
         if (smoothed[axis]) dims[axis] /= 2;
     }
     std::vector<float> samples(std::size_t(dims.x()) * dims.y() * dims.z(), 0.0f);
-    const int fx = smoothed[0] ? 2 : 1, fy = smoothed[1] ? 2 : 1, fz = smoothed[2] ? 2 : 1;
-    const double norm = 1.0 / (fx * fy * fz);
-    tbb::parallel_for(0, dims.z(), [&](int k) {
-        for (int j = 0; j < dims.y(); ++j) {
-            for (int i = 0; i < dims.x(); ++i) {
-                double sum = 0.0;
-                for (int dz = 0; dz < fz; ++dz) {
-                    for (int dy = 0; dy < fy; ++dy) {
-                        for (int dx = 0; dx < fx; ++dx) sum += in.at(i * fx + dx, j * fy + dy, k * fz + dz);
-                    }
-                }
-                samples[(std::size_t(k) * dims.y() + j) * dims.x() + i] = float(sum * norm);
-            }
-        }
-    });
+    const openvdb::Coord factor(smoothed[0] ? 2 : 1, smoothed[1] ? 2 : 1, smoothed[2] ? 2 : 1);
+    forEachBoxAverage(
+        dims, factor, in.dims, 1, [&](int x, int y, int z, double* sums) { sums[0] += in.at(x, y, z); },
+        [&](int i, int j, int k, const double* means) {
+            samples[(std::size_t(k) * dims.y() + j) * dims.x() + i] = float(means[0]);
+        });
     out.dims = dims;
     out.owned = std::move(samples);
     out.samples = out.owned.data();

@@ -119,19 +119,6 @@ TEST(LatticeSampler, SkippedBlocksNeverHoldValuesAboveTheBound) {
     EXPECT_GT(kept, 10u);
 }
 
-TEST(BlockSlots, NumberBlocksAsBlockOriginsListsThemAlsoAtNegativeUnalignedCorners) {
-    const openvdb::CoordBBox box(openvdb::Coord(-13, 5, -1), openvdb::Coord(20, 9, 17));
-    const BlockSlots slots(box);
-    const std::vector<openvdb::Coord> origins = blockOrigins(box);
-    ASSERT_EQ(slots.size(), origins.size());
-    for (std::size_t slot = 0; slot < origins.size(); ++slot) {
-        EXPECT_EQ(slots.originOf(slot), origins[slot]);
-        EXPECT_EQ(slots.slotOf(slots.blockOf(origins[slot] + openvdb::Coord(7))), slot);
-    }
-    EXPECT_EQ(slots.slotOf(slots.blockOf(box.min())), 0u);
-    EXPECT_EQ(slots.slotOf(slots.blockOf(box.max())), origins.size() - 1);
-}
-
 TEST(BlockLists, HoldEveryBoxThatMeetsABlockInAscendingOrder) {
     const openvdb::CoordBBox box(openvdb::Coord(-20, -3, 0), openvdb::Coord(30, 25, 40));
     const BlockSlots slots(box);
