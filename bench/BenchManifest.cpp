@@ -1,6 +1,6 @@
 #include "bench/BenchManifest.h"
 
-#include "io/InputFile.h"
+#include "io/guard/InputFile.h"
 #include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>

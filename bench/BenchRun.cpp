@@ -2,9 +2,9 @@
 
 #include "bench/ChildProcess.h"
 #include "bench/ExternalCodec.h"
-#include "io/BaselineCodecs.h"
-#include "io/FramePath.h"
-#include "io/GridFile.h"
+#include "workflow/BaselineCodecs.h"
+#include "workflow/FramePath.h"
+#include "io/formats/GridFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/FloatVolume.h"
 #include "pipeline/VolumeMetadata.h"

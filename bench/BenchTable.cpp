@@ -1,8 +1,8 @@
 #include "bench/BenchTable.h"
 
-#include "io/AtomicFile.h"
-#include "io/ReportNumbers.h"
-#include "io/JsonText.h"
+#include "io/guard/AtomicFile.h"
+#include "workflow/ReportNumbers.h"
+#include "io/formats/JsonText.h"
 #include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>

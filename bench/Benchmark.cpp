@@ -5,8 +5,8 @@
 #include "bench/BenchRun.h"
 #include "bench/ChildProcess.h"
 #include "bench/ExternalCodec.h"
-#include "io/AtomicFile.h"
-#include "io/JsonText.h"
+#include "io/guard/AtomicFile.h"
+#include "io/formats/JsonText.h"
 #include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>

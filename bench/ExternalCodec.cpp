@@ -1,8 +1,8 @@
 #include "bench/ExternalCodec.h"
 
 #include "bench/ChildProcess.h"
-#include "io/AtomicFile.h"
-#include "io/BaselineCodecs.h"
+#include "io/guard/AtomicFile.h"
+#include "workflow/BaselineCodecs.h"
 
 #include <unistd.h>
 

@@ -5,11 +5,11 @@
 #include "cli/Diagnostics.h"
 #include "cli/ProgressBar.h"
 #include "cli/SourceOptions.h"
-#include "io/AtomicFile.h"
-#include "io/BaselineCodecs.h"
-#include "io/GridFile.h"
-#include "io/GridSummary.h"
-#include "io/JsonText.h"
+#include "io/guard/AtomicFile.h"
+#include "workflow/BaselineCodecs.h"
+#include "io/formats/GridFile.h"
+#include "cli/GridSummary.h"
+#include "io/formats/JsonText.h"
 #include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>

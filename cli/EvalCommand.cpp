@@ -2,9 +2,9 @@
 
 #include "cli/Commands.h"
 #include "cli/SourceOptions.h"
-#include "io/AtomicFile.h"
-#include "io/ReportNumbers.h"
-#include "io/JsonText.h"
+#include "io/guard/AtomicFile.h"
+#include "workflow/ReportNumbers.h"
+#include "io/formats/JsonText.h"
 #include "workflow/Evaluate.h"
 
 #include <iomanip>

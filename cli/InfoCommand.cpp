@@ -1,12 +1,13 @@
 // gvr info FILE: what a .vdb holds, or what ingest would make of a source volume.
 
+#include "io/formats/FileKind.h"
 #include "cli/Commands.h"
 #include "cli/Diagnostics.h"
 #include "cli/SourceOptions.h"
-#include "io/AssetFile.h"
-#include "io/GridFile.h"
-#include "io/GridSummary.h"
-#include "io/JsonText.h"
+#include "io/asset/AssetFile.h"
+#include "io/formats/GridFile.h"
+#include "cli/GridSummary.h"
+#include "io/formats/JsonText.h"
 
 #include <filesystem>
 #include <iostream>
@@ -98,11 +99,12 @@ void printAssetInfo(const InfoFlags& flags) {
 }
 
 void runInfo(const InfoFlags& flags) {
-    if (std::filesystem::is_regular_file(flags.input) && isAssetFile(flags.input)) {
+    const FileKind kind = fileKind(flags.input);
+    if (kind == FileKind::Asset) {
         printAssetInfo(flags);
         return;
     }
-    const bool isGridFile = std::filesystem::is_regular_file(flags.input) && isVdbFile(flags.input);
+    const bool isGridFile = kind == FileKind::Vdb;
     std::vector<GridSummary> summaries;
     std::vector<std::string> warnings;
     if (isGridFile) {

@@ -1,10 +1,10 @@
 // gvr merge PARTS... -o ASSET: the parts of a bricked fit (gvr fit --brick I --of N) as one asset.
 
 #include "cli/Commands.h"
-#include "io/AssetFile.h"
-#include "io/AtomicFile.h"
-#include "io/GridSummary.h"
-#include "io/JsonText.h"
+#include "io/asset/AssetFile.h"
+#include "io/guard/AtomicFile.h"
+#include "cli/GridSummary.h"
+#include "io/formats/JsonText.h"
 #include "workflow/BrickedFit.h"
 
 #include <filesystem>

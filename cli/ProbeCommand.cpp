@@ -2,8 +2,8 @@
 
 #include "cli/Commands.h"
 #include "cli/LayersOption.h"
-#include "io/AssetFile.h"
-#include "io/JsonText.h"
+#include "io/asset/AssetFile.h"
+#include "io/formats/JsonText.h"
 #include "pipeline/Error.h"
 #include "workflow/ProbeAsset.h"
 

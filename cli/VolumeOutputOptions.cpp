@@ -1,7 +1,7 @@
 #include "cli/VolumeOutputOptions.h"
 
 #include "cli/Diagnostics.h"
-#include "io/GridSummary.h"
+#include "cli/GridSummary.h"
 #include "pipeline/Error.h"
 
 #include <iostream>

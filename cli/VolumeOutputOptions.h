@@ -3,7 +3,7 @@
 /// and how what was written is reported.
 #pragma once
 
-#include "io/VolumeOutputs.h"
+#include "io/formats/VolumeOutputs.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

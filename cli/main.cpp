@@ -4,7 +4,7 @@
 #include "cli/Diagnostics.h"
 #include "cli/OptionGuards.h"
 #include "cli/Suggestions.h"
-#include "io/AtomicFile.h"
+#include "io/guard/AtomicFile.h"
 #include "pipeline/Error.h"
 
 #include <filesystem>

@@ -19,7 +19,7 @@ install(TARGETS gvr RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS gvr_library gvr_pipeline gvr_io gvr_render gvr_workflow gvr_bench gvr_nifti EXPORT gvrTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 # Headers keep their folder, as the sources include them ("pipeline/Fitter.h").
-foreach(_folder pipeline io render workflow bench)
+foreach(_folder pipeline io io/formats io/asset io/guard render workflow bench)
   file(GLOB _gvr_headers CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/${_folder}/*.h)
   list(FILTER _gvr_headers EXCLUDE REGEX "/MpiTeam\\.h$")  # its library, gvr_mpi_team, is not installed
   install(FILES ${_gvr_headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/gvr/${_folder})

@@ -8,9 +8,9 @@
 // fine; then the defaults are measured together, against version 1's fixed widths.
 // PSNR is of the whole volume against SOURCE, every voxel counted.
 
-#include "io/AssetBodyV1.h"
-#include "io/AssetFile.h"
-#include "io/GridFile.h"
+#include "io/asset/AssetBodyV1.h"
+#include "io/asset/AssetFile.h"
+#include "io/formats/GridFile.h"
 #include "pipeline/FieldAccuracy.h"
 
 #include <cstdio>

@@ -5,7 +5,7 @@
 //
 //   bench_asset_layout ASSET
 
-#include "io/AssetFile.h"
+#include "io/asset/AssetFile.h"
 #include "pipeline/GaussianKernel.h"
 
 #include <openvdb/points/PointConversion.h>

@@ -8,8 +8,8 @@
 // fastest of several calls, so that other work on a shared machine shows less; the
 // two kernels alternate, so drift hits both alike. Defaults: 10000 40000 100000 400000.
 
-#include "io/AssetFile.h"
-#include "io/GridFile.h"
+#include "io/asset/AssetFile.h"
+#include "io/formats/GridFile.h"
 #include "pipeline/BlockLoss.h"
 #include "pipeline/FitSettings.h"
 #include "pipeline/Initialisation.h"

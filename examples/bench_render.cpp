@@ -19,8 +19,8 @@
 // Figures are printed, never asserted.
 
 #include "examples/VolPackReference.h"
-#include "io/AssetFile.h"
-#include "io/GridFile.h"
+#include "io/asset/AssetFile.h"
+#include "io/formats/GridFile.h"
 #include "pipeline/Fitter.h"
 #include "pipeline/QualityMetrics.h"
 #include "render/RayMarcher.h"

@@ -7,10 +7,10 @@
 // Every step is one call; the `gvr` command does the same with progress bars,
 // flags and error messages around them. Read top to bottom.
 
-#include "io/AssetExport.h"
-#include "io/AssetFile.h"
-#include "io/GridFile.h"
-#include "io/ImageFile.h"
+#include "io/asset/AssetExport.h"
+#include "io/asset/AssetFile.h"
+#include "io/formats/GridFile.h"
+#include "io/formats/ImageFile.h"
 #include "io/Ingest.h"
 #include "render/ShearWarp.h"
 #include "workflow/FitToBudget.h"

@@ -1,6 +1,6 @@
 #include "io/DenseCopy.h"
 
-#include "io/MemoryBudget.h"
+#include "io/guard/MemoryBudget.h"
 
 namespace gvr {
 

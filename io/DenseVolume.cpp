@@ -1,6 +1,6 @@
 #include "io/DenseVolume.h"
 
-#include "io/MemoryBudget.h"
+#include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 
 namespace gvr {

@@ -1,6 +1,6 @@
 #include "io/GridBuilder.h"
 
-#include "io/MemoryBudget.h"
+#include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 #include "pipeline/LatticeSampler.h"
 #include "pipeline/LeafAssembly.h"

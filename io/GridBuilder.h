@@ -3,7 +3,7 @@
 #pragma once
 
 #include "io/DenseVolume.h"
-#include "io/SliceSource.h"
+#include "io/formats/SliceSource.h"
 #include "pipeline/Progress.h"
 
 #include <openvdb/openvdb.h>

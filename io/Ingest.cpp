@@ -1,8 +1,9 @@
 #include "io/Ingest.h"
 
-#include "io/GridFile.h"
+#include "io/formats/FileKind.h"
+#include "io/formats/GridFile.h"
 #include "io/LabelGrid.h"
-#include "io/MemoryBudget.h"
+#include "io/guard/MemoryBudget.h"
 #include "pipeline/ThresholdHoles.h"
 #include "pipeline/Error.h"
 #include "pipeline/FiniteValues.h"
@@ -89,7 +90,7 @@ IngestResult ingest(const std::string& input, IngestOptions options) {
 }
 
 IngestResult loadOrIngest(const std::string& input, const IngestOptions& options) {
-    if (std::filesystem::is_regular_file(input) && isVdbFile(input)) {
+    if (fileKind(input) == FileKind::Vdb) {
         const openvdb::GridPtrVecPtr grids = options.vdbOnDemand ? readGridFileOnDemand(input) : readGridFile(input);
         IngestResult result;
         result.grid = chooseVolumeGrid(*grids, input);

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "io/GridBuilder.h"
-#include "io/Readers.h"
+#include "io/formats/Readers.h"
 
 namespace gvr {
 

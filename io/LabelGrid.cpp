@@ -1,7 +1,7 @@
 #include "io/LabelGrid.h"
 
-#include "io/InputFile.h"
-#include "io/JsonText.h"
+#include "io/guard/InputFile.h"
+#include "io/formats/JsonText.h"
 #include "pipeline/Error.h"
 #include "pipeline/SampleType.h"
 #include "pipeline/VolumeMetadata.h"

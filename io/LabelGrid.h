@@ -3,7 +3,7 @@
 /// "labels" on the same voxels, with the structures' names as grid metadata.
 #pragma once
 
-#include "io/Readers.h"
+#include "io/formats/Readers.h"
 #include "pipeline/LabelTable.h"
 
 #include <openvdb/openvdb.h>

@@ -2,7 +2,7 @@
 /// @brief How finely a stored asset keeps each attribute of its Gaussians.
 ///
 /// Part of the model, not of one file layout: the fit's last amplitude solve runs on
-/// the geometry as these depths round it. io/AssetBodyV2.h turns them into bytes.
+/// the geometry as these depths round it. io/asset/AssetBodyV2.h turns them into bytes.
 #pragma once
 
 namespace gvr {

@@ -1,7 +1,7 @@
 /// @file GaussianAsset.h
 /// @brief A fitted model that stands on its own: the Gaussians with everything
 /// needed to place them in the world, map their values back to the source's
-/// units, and name their structures. io/AssetFile.h stores it.
+/// units, and name their structures. io/asset/AssetFile.h stores it.
 #pragma once
 
 #include "pipeline/AssetEncoding.h"

@@ -1,7 +1,7 @@
 #include "tests/TestHelpers.h"
 
-#include "io/AssetFile.h"
-#include "io/ComparisonInput.h"
+#include "io/asset/AssetFile.h"
+#include "workflow/ComparisonInput.h"
 #include "io/GridBuilder.h"
 #include "workflow/BoundedLayer.h"
 #include "workflow/FitToBudget.h"

@@ -1,7 +1,7 @@
 // Version 1 asset bodies, still loaded: flat arrays of fixed-width quantised
 // attributes, decoded from bytes laid out by hand as the format table says.
 
-#include "io/AssetBodyV1.h"
+#include "io/asset/AssetBodyV1.h"
 
 #include "tests/TestHelpers.h"
 

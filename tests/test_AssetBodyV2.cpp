@@ -1,7 +1,7 @@
 // The format-2 asset body: it decodes to what its round trip promises, within one
 // quantisation step of each attribute, and refuses a body of another size.
 
-#include "io/AssetBodyV2.h"
+#include "io/asset/AssetBodyV2.h"
 #include "pipeline/GaussianKernel.h"
 
 #include <gtest/gtest.h>

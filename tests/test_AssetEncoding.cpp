@@ -1,7 +1,7 @@
 // The bit depths an asset keeps: the measured defaults, the ranges the comments
 // promise (which the encoder enforces), and their trip through an asset's header.
 
-#include "io/AssetBodyV2.h"
+#include "io/asset/AssetBodyV2.h"
 #include "pipeline/AssetEncoding.h"
 
 #include <gtest/gtest.h>

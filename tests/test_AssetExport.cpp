@@ -1,11 +1,11 @@
 // Export as the DCC tools and medical readers expect it: grid names, classes,
 // metadata, derived densities (the NIfTI and transfer function writers: their own tests).
 
-#include "io/AssetExport.h"
-#include "io/GridFile.h"
-#include "io/NiftiWriter.h"
-#include "io/Readers.h"
-#include "io/TransferFunctionFile.h"
+#include "io/asset/AssetExport.h"
+#include "io/formats/GridFile.h"
+#include "io/formats/NiftiWriter.h"
+#include "io/formats/Readers.h"
+#include "io/formats/TransferFunctionFile.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

@@ -1,6 +1,6 @@
 // The asset file: round trip within quantisation error, budgets, and corrupt files.
 
-#include "io/AssetFile.h"
+#include "io/asset/AssetFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/GaussianField.h"
 #include "tests/TestHelpers.h"

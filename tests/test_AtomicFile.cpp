@@ -3,10 +3,10 @@
 // survive and no temporary file may be left. Each fault runs in a child process
 // (a death test), so that the limit and the signal do not reach the test runner.
 
-#include "io/AtomicFile.h"
-#include "io/GridFile.h"
+#include "io/guard/AtomicFile.h"
+#include "io/formats/GridFile.h"
 #include "io/Ingest.h"
-#include "io/NiftiWriter.h"
+#include "io/formats/NiftiWriter.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

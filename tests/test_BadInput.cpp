@@ -2,9 +2,9 @@
 // crash or garbage. Corrupted copies of real data are made in a temporary folder.
 
 #include "io/GridBuilder.h"
-#include "io/GridFile.h"
+#include "io/formats/GridFile.h"
 #include "io/Ingest.h"
-#include "io/MemoryBudget.h"
+#include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"
 #include "tests/TestHelpers.h"

@@ -1,10 +1,10 @@
 // The reference codecs of gvr baseline: their error bounds, stream sizes, and
 // reconstructions that stand in for the source.
 
-#include "io/BaselineCodecs.h"
+#include "workflow/BaselineCodecs.h"
 #include "io/GridBuilder.h"
-#include "io/GridFile.h"
-#include "io/ZfpStream.h"
+#include "io/formats/GridFile.h"
+#include "workflow/ZfpStream.h"
 #include "pipeline/Error.h"
 #include "pipeline/FloatVolume.h"
 #include "pipeline/VolumeMetadata.h"

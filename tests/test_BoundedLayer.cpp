@@ -2,8 +2,9 @@
 // bound of the source, read back from the file; the Gaussians alone on request; bad
 // bounds refused in one line with no output.
 
-#include "io/AssetFile.h"
-#include "io/ComparisonInput.h"
+#include "io/asset/AssetFile.h"
+#include "workflow/ComparisonInput.h"
+#include "pipeline/Error.h"
 #include "pipeline/QualityMetrics.h"
 #include "pipeline/ResidualLayer.h"
 #include "tests/TestHelpers.h"

@@ -3,7 +3,7 @@
 
 #include "workflow/BrickedFit.h"
 
-#include "io/AssetFile.h"
+#include "io/asset/AssetFile.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

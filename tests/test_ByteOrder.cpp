@@ -1,7 +1,7 @@
 // Words in a stated byte order: loaded the same on any host, and written
 // little-endian whatever the host.
 
-#include "io/ByteOrder.h"
+#include "io/guard/ByteOrder.h"
 
 #include <gtest/gtest.h>
 

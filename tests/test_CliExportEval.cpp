@@ -1,7 +1,7 @@
 // gvr export, eval and probe as a user meets them.
 
-#include "io/ImageFile.h"
-#include "io/Readers.h"
+#include "io/formats/ImageFile.h"
+#include "io/formats/Readers.h"
 #include "tests/TestHelpers.h"
 
 #include <nlohmann/json.hpp>

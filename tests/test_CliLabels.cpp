@@ -2,9 +2,9 @@
 // label per Gaussian with per-structure budgets, render and export select
 // structures without refitting, eval reports each structure.
 
-#include "io/AssetFile.h"
-#include "io/ImageFile.h"
-#include "io/NiftiWriter.h"
+#include "io/asset/AssetFile.h"
+#include "io/formats/ImageFile.h"
+#include "io/formats/NiftiWriter.h"
 #include "pipeline/FloatVolume.h"
 #include "tests/TestHelpers.h"
 

@@ -1,7 +1,7 @@
 // gvr render as a user meets it: a CT frame against a stored image, turntables
 // and their statistics, both renderers on assets, and bad input.
 
-#include "io/ComparisonInput.h"
+#include "workflow/ComparisonInput.h"
 #include "pipeline/Fitter.h"
 #include "pipeline/QualityMetrics.h"
 #include "tests/TestHelpers.h"

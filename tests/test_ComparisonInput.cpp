@@ -1,8 +1,8 @@
 // What `gvr eval` compares: grids as dense samples with their data range, and
 // single images in OpenImageIO's 0..1 scale, refused when they hold NaN or Inf.
 
-#include "io/ComparisonInput.h"
-#include "io/GridFile.h"
+#include "workflow/ComparisonInput.h"
+#include "io/formats/GridFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"
 #include "tests/TestHelpers.h"

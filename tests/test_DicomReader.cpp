@@ -2,7 +2,7 @@
 // naming the slice: mixed geometry, mirrored spacing, unreadable rescale text, a
 // missing position, palette colour, and RGB stored plane by plane.
 
-#include "io/Readers.h"
+#include "io/formats/Readers.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

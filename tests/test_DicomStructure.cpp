@@ -2,7 +2,7 @@
 // fragment or sequence is refused with one line naming it; a whole file, or one
 // whose native pixels alone are short, passes.
 
-#include "io/DicomStructure.h"
+#include "io/guard/DicomStructure.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

@@ -1,4 +1,4 @@
-#include "io/FitLog.h"
+#include "cli/FitLog.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

@@ -1,6 +1,6 @@
 // How render --orbit names its frames.
 
-#include "io/FramePath.h"
+#include "workflow/FramePath.h"
 
 #include <gtest/gtest.h>
 

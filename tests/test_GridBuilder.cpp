@@ -1,5 +1,5 @@
 #include "io/GridBuilder.h"
-#include "io/Readers.h"
+#include "io/formats/Readers.h"
 #include "pipeline/Error.h"
 #include "pipeline/Luminance.h"
 #include "pipeline/VolumeMetadata.h"

@@ -1,5 +1,5 @@
-#include "io/AtomicFile.h"
-#include "io/GridFile.h"
+#include "io/guard/AtomicFile.h"
+#include "io/formats/GridFile.h"
 #include "io/Ingest.h"
 #include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"

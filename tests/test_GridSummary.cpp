@@ -1,9 +1,9 @@
 // What `gvr info` says about a grid: sizes, value range, metadata and affine, in
 // JSON and as text, checked on small grids whose answers are known by hand.
 
-#include "io/AssetExport.h"
+#include "io/asset/AssetExport.h"
 #include "io/DenseVolume.h"
-#include "io/GridSummary.h"
+#include "cli/GridSummary.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>

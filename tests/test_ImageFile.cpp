@@ -1,7 +1,7 @@
 // Rendered frames out: PNG as straight 8-bit RGBA, EXR as the premultiplied floats
 // themselves, and nothing written for a format gvr does not write.
 
-#include "io/ImageFile.h"
+#include "io/formats/ImageFile.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

@@ -2,7 +2,7 @@
 // ones are refused by name before OpenImageIO sees them. The files are built here
 // byte by byte, since only their framing is checked, not their pixels.
 
-#include "io/ImageFraming.h"
+#include "io/guard/ImageFraming.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

@@ -4,8 +4,8 @@
 
 #include "io/Ingest.h"
 
-#include "io/ByteOrder.h"
-#include "io/GridFile.h"
+#include "io/guard/ByteOrder.h"
+#include "io/formats/GridFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"
 #include "tests/TestHelpers.h"

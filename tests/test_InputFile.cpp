@@ -1,7 +1,7 @@
 // What gvr opens as input (regular files only, no NUL bytes in paths), and how
 // orbit frames are named: two small rules that many commands lean on.
 
-#include "io/InputFile.h"
+#include "io/guard/InputFile.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

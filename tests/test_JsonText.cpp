@@ -1,4 +1,4 @@
-#include "io/JsonText.h"
+#include "io/formats/JsonText.h"
 
 #include <gtest/gtest.h>
 

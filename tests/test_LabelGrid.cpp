@@ -2,7 +2,7 @@
 // the Int32 "labels" grid on the image's voxels (resampled only when asked), and
 // label volumes that are not labels refused naming the file.
 
-#include "io/ByteOrder.h"
+#include "io/guard/ByteOrder.h"
 #include "io/LabelGrid.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"

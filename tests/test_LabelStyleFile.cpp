@@ -1,7 +1,7 @@
 // Label style files: styles are read by the key as written, and every mistake is
 // refused with the file, the structure and the rule it broke.
 
-#include "io/LabelStyleFile.h"
+#include "io/formats/LabelStyleFile.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

@@ -2,7 +2,7 @@
 // are refused by name before anything is allocated. A ceiling stands in for a small
 // machine, so the sizes in the messages can be checked by hand.
 
-#include "io/MemoryBudget.h"
+#include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

@@ -1,4 +1,4 @@
-#include "io/NiftiImage.h"
+#include "io/formats/NiftiImage.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // The NIfTI writer: values, geometry, datatype and codes survive a round trip
 // through gvr's own reader; what cannot be stored is clamped and counted.
 
-#include "io/NiftiWriter.h"
-#include "io/Readers.h"
+#include "io/formats/NiftiWriter.h"
+#include "io/formats/Readers.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

@@ -1,7 +1,7 @@
 // What gvr probe and asset.probe report: the Gaussians' field, or with the residual
 // layer the bounded reconstruction, exact to the bound at voxel centres.
 
-#include "io/ComparisonInput.h"
+#include "workflow/ComparisonInput.h"
 #include "tests/TestHelpers.h"
 #include "workflow/ProbeAsset.h"
 

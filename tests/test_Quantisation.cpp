@@ -1,6 +1,6 @@
 // The shared quantisation of both asset bodies.
 
-#include "io/Quantisation.h"
+#include "io/asset/Quantisation.h"
 
 #include <gtest/gtest.h>
 

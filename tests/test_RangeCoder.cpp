@@ -1,7 +1,7 @@
 // The range coder: bits come back as they went in, skewed bits cost far less than
 // a bit each, and a cut stream decodes without reading out of bounds.
 
-#include "io/RangeCoder.h"
+#include "io/asset/RangeCoder.h"
 
 #include <gtest/gtest.h>
 

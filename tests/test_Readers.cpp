@@ -1,7 +1,7 @@
 // Each reader on small files written here, with values and geometry known exactly.
 
-#include "io/ByteOrder.h"
-#include "io/Readers.h"
+#include "io/guard/ByteOrder.h"
+#include "io/formats/Readers.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

@@ -1,17 +1,17 @@
 // What render, view and Python draw: an asset or a grid read from a file, and the
 // transfer function a name stands for.
 
-#include "io/AssetFile.h"
-#include "io/GridFile.h"
-#include "io/TransferFunctionFile.h"
+#include "io/asset/AssetFile.h"
+#include "io/formats/GridFile.h"
+#include "io/formats/TransferFunctionFile.h"
 #include "pipeline/Error.h"
 #include "render/Camera.h"
 #include "tests/TestHelpers.h"
 #include "workflow/FitToBudget.h"
 #include "workflow/RenderInput.h"
 
-#include "io/AssetExport.h"
-#include "io/MemoryBudget.h"
+#include "io/asset/AssetExport.h"
+#include "io/guard/MemoryBudget.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Figures as gvr writes them: an infinite PSNR is null in JSON and "inf" in text.
 
-#include "io/ReportNumbers.h"
+#include "workflow/ReportNumbers.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The residual codes' streams: every code (zero, small, the largest, negative,
 // exact) comes back, per slab and channel, and quiet regions cost almost nothing.
 
-#include "io/ResidualCodes.h"
+#include "io/asset/ResidualCodes.h"
 
 #include <gtest/gtest.h>
 

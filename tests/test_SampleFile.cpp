@@ -1,7 +1,7 @@
 // Sample blocks after a header: plain, gzip'd as a whole, or a zlib stream. The
 // samples are converted to host order; short, cut and damaged data are refused.
 
-#include "io/SampleFile.h"
+#include "io/formats/SampleFile.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

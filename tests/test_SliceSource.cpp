@@ -2,7 +2,7 @@
 // slices are computed: slabs are the right slices with the layout's geometry,
 // buffers are reused, and a volume too large to read whole is refused first.
 
-#include "io/SliceSource.h"
+#include "io/formats/SliceSource.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

@@ -1,4 +1,4 @@
-#include "io/AssetFile.h"
+#include "io/asset/AssetFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/GaussianField.h"
 #include "tests/ScopedEnvironment.h"

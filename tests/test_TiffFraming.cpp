@@ -2,7 +2,7 @@
 // at any byte, or whose page chain loops, is refused by name before OpenImageIO
 // sees it. The files are built here word by word, since only their framing is read.
 
-#include "io/TiffFraming.h"
+#include "io/guard/TiffFraming.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

@@ -1,7 +1,7 @@
 // Transfer function files: what the reader accepts and refuses, and that the
 // writer's output reads back as the same function.
 
-#include "io/TransferFunctionFile.h"
+#include "io/formats/TransferFunctionFile.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

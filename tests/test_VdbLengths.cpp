@@ -1,8 +1,8 @@
 // The walk of a VDB file's lengths before OpenVDB reads it: a good file passes, and
 // every truncation and an old format are refused naming the file.
 
-#include "io/GridFile.h"
-#include "io/VdbLengths.h"
+#include "io/formats/GridFile.h"
+#include "io/guard/VdbLengths.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

@@ -1,9 +1,9 @@
 // Volume outputs: the extension picks the format, outputs are checked before any
 // work, and writing several is all or none.
 
-#include "io/GridFile.h"
-#include "io/Readers.h"
-#include "io/VolumeOutputs.h"
+#include "io/formats/GridFile.h"
+#include "io/formats/Readers.h"
+#include "io/formats/VolumeOutputs.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

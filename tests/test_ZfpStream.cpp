@@ -1,7 +1,7 @@
 // zfp streams, the reference codec's container: what goes in comes back within the
 // tolerance, a rate sets the size, and a damaged file is named, never decoded.
 
-#include "io/ZfpStream.h"
+#include "workflow/ZfpStream.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 

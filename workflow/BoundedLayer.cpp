@@ -1,8 +1,8 @@
 #include "workflow/BoundedLayer.h"
 
-#include "io/AssetExport.h"
-#include "io/AssetFile.h"
-#include "io/AssetResidual.h"
+#include "io/asset/AssetExport.h"
+#include "io/asset/AssetFile.h"
+#include "io/asset/AssetResidual.h"
 #include "pipeline/Error.h"
 #include "pipeline/QualityMetrics.h"
 #include "pipeline/ResidualLayer.h"

@@ -1,9 +1,10 @@
 #include "workflow/Evaluate.h"
 
-#include "io/AssetFile.h"
-#include "io/ReportNumbers.h"
-#include "io/GridFile.h"
-#include "io/ImageFile.h"
+#include "io/formats/FileKind.h"
+#include "io/asset/AssetFile.h"
+#include "workflow/ReportNumbers.h"
+#include "io/formats/GridFile.h"
+#include "io/formats/ImageFile.h"
 #include "io/LabelGrid.h"
 #include "pipeline/Error.h"
 #include "pipeline/Fitter.h"
@@ -106,7 +107,7 @@ void evaluateStructures(const EvalOptions& options, const openvdb::Int32Grid& la
 /// label volume ingest reads, placed onto @a reference's voxels (nearest neighbour
 /// when its lattice differs: eval maps voxels by world position anyway).
 openvdb::Int32Grid::Ptr loadLabelGrid(const EvalOptions& options, const ComparisonInput& reference) {
-    if (isVdbFile(options.labels)) return findLabelGrid(*readGridFile(options.labels), options.labels);
+    if (fileKind(options.labels) == FileKind::Vdb) return findLabelGrid(*readGridFile(options.labels), options.labels);
     if (!reference.grid) throw InputError(options.labels, "labels apply to volumes, not to 2D images");
     IngestOptions atlas = options.ingest;
     atlas.labels = options.labels;
@@ -117,7 +118,7 @@ openvdb::Int32Grid::Ptr loadLabelGrid(const EvalOptions& options, const Comparis
 
 /// The structures of a labelled asset at @a path, as a --structures list; else "".
 std::string assetStructures(const std::string& path) {
-    if (!isAssetFile(path)) return "";
+    if (fileKind(path) != FileKind::Asset) return "";
     std::string spec;
     for (const auto& [id, name] : readAsset(path).labelTable.names) spec += (spec.empty() ? "" : ",") + std::to_string(id);
     return spec;

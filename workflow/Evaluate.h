@@ -3,7 +3,7 @@
 /// MS-SSIM, and per structure, as `gvr eval` reports them.
 #pragma once
 
-#include "io/ComparisonInput.h"
+#include "workflow/ComparisonInput.h"
 #include "pipeline/LabelTable.h"
 #include "pipeline/QualityMetrics.h"
 #include "pipeline/StructureQuality.h"

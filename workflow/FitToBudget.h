@@ -3,7 +3,7 @@
 /// or a count, with its byte budget kept, as `gvr fit` runs it.
 #pragma once
 
-#include "io/AssetFile.h"
+#include "io/asset/AssetFile.h"
 #include "pipeline/Fitter.h"
 #include "pipeline/LabelledFit.h"
 

@@ -4,7 +4,7 @@
 /// layer, from its bounded reconstruction.
 #pragma once
 
-#include "io/AssetExport.h"
+#include "io/asset/AssetExport.h"
 #include "pipeline/AssetProbe.h"
 
 #include <array>

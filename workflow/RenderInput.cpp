@@ -1,9 +1,10 @@
 #include "workflow/RenderInput.h"
 
-#include "io/AssetFile.h"
+#include "io/formats/FileKind.h"
+#include "io/asset/AssetFile.h"
 #include "io/GridBuilder.h"
-#include "io/MemoryBudget.h"
-#include "io/TransferFunctionFile.h"
+#include "io/guard/MemoryBudget.h"
+#include "io/formats/TransferFunctionFile.h"
 #include "pipeline/Error.h"
 #include "render/VolumeClassifier.h"
 
@@ -50,7 +51,7 @@ RenderInput loadRenderInput(const std::string& path, const std::string& show, co
                             AssetLayers layers, float minScale, const IngestOptions& ingest,
                             const ProgressFn& progress) {
     RenderInput input;
-    if (!isAssetFile(path)) {
+    if (fileKind(path) != FileKind::Asset) {
         if (!show.empty() || !hide.empty()) {
             throw InputError(path, "`show` and `hide` select the structures of a Gaussian asset fitted with `labels`");
         }

@@ -4,7 +4,7 @@
 /// given by preset or file.
 #pragma once
 
-#include "io/AssetExport.h"
+#include "io/asset/AssetExport.h"
 #include "io/Ingest.h"
 #include "pipeline/GaussianAsset.h"
 #include "render/Classifier.h"

@@ -1,6 +1,6 @@
 #include "workflow/TeamFit.h"
 
-#include "io/AssetFile.h"
+#include "io/asset/AssetFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/GaussianField.h"
 
