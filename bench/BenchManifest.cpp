@@ -21,9 +21,9 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 const std::vector<std::string>& benchMethods() {
-    static const std::vector<std::string> methods = {"gvr",       "gvr+bound", "A1",           "A2",       "A3",
-                                                     "A4",        "A5",        "zfp-accuracy", "zfp-rate", "vdb-blosc",
-                                                     "vdb-half",  "down2",     "down3",        "down4"};
+    static const std::vector<std::string> methods = {"gvr",      "gvr+bound", "A1",           "A2",       "A3",
+                                                     "A4",       "A5",        "zfp-accuracy", "zfp-rate", "vdb-blosc",
+                                                     "vdb-half", "down2",     "down3",        "down4"};
     return methods;
 }
 
@@ -41,7 +41,8 @@ bool isRatioFree(const std::string& method) {
 }
 
 bool isFitMethod(const std::string& method) {
-    return method == "gvr" || method == "gvr+bound" || (method.size() == 2 && method[0] == 'A' && method[1] >= '1' && method[1] <= '5');
+    return method == "gvr" || method == "gvr+bound" ||
+           (method.size() == 2 && method[0] == 'A' && method[1] >= '1' && method[1] <= '5');
 }
 
 namespace {
@@ -128,7 +129,8 @@ public:
     /// A count: 0.5 views once became 0 and a render PSNR of 0.
     std::int64_t wholeNumber(const json& value, const std::string& where, double most = 1e6) const {
         const double number = positive(value, where);
-        if (number != std::floor(number) || number > most) fail(where, "must be a whole number up to " + std::to_string(std::int64_t(most)));
+        if (number != std::floor(number) || number > most)
+            fail(where, "must be a whole number up to " + std::to_string(std::int64_t(most)));
         return std::int64_t(number);
     }
 
@@ -208,7 +210,8 @@ public:
             if (std::find(known.begin(), known.end(), m) == known.end()) {
                 std::string list;
                 for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-                fail("methods", "unknown method '" + m + "'; known: " + list + " (and codecs declared under \"codecs\")");
+                fail("methods",
+                     "unknown method '" + m + "'; known: " + list + " (and codecs declared under \"codecs\")");
             }
         }
         if (out.empty()) fail("methods", "must name at least one method");
@@ -225,7 +228,8 @@ public:
     ExternalCodec codec(const std::string& name, const json& spec) const {
         const std::string where = "codecs." + name;
         const auto& builtIn = benchMethods();
-        if (std::find(builtIn.begin(), builtIn.end(), name) != builtIn.end()) fail(where, "is a built-in method's name");
+        if (std::find(builtIn.begin(), builtIn.end(), name) != builtIn.end())
+            fail(where, "is a built-in method's name");
         checkName(name, where);
         onlyKeys(spec, where, {"compress", "decompress", "param", "version", "timeout"});
         ExternalCodec codec;
@@ -335,7 +339,8 @@ std::vector<BenchUnit> benchUnits(const BenchManifest& manifest, int shard, int 
     for (const ExternalCodec& codec : manifest.codecs) order.push_back(codec.name);
     std::vector<std::string> chosen;
     for (const std::string& m : order) {
-        if (std::find(manifest.methods.begin(), manifest.methods.end(), m) != manifest.methods.end()) chosen.push_back(m);
+        if (std::find(manifest.methods.begin(), manifest.methods.end(), m) != manifest.methods.end())
+            chosen.push_back(m);
     }
     std::vector<BenchUnit> all;
     for (std::size_t v = 0; v < manifest.volumes.size(); ++v) {
@@ -360,7 +365,8 @@ std::vector<BenchUnit> benchUnits(const BenchManifest& manifest, int shard, int 
 }
 
 const ExternalCodec* BenchManifest::codec(const std::string& method) const {
-    const auto found = std::find_if(codecs.begin(), codecs.end(), [&](const ExternalCodec& c) { return c.name == method; });
+    const auto found =
+        std::find_if(codecs.begin(), codecs.end(), [&](const ExternalCodec& c) { return c.name == method; });
     return found == codecs.end() ? nullptr : &*found;
 }
 

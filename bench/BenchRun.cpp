@@ -2,13 +2,13 @@
 
 #include "bench/ChildProcess.h"
 #include "bench/ExternalCodec.h"
-#include "workflow/BaselineCodecs.h"
-#include "workflow/FramePath.h"
 #include "io/formats/GridFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/FloatVolume.h"
 #include "pipeline/VolumeMetadata.h"
 #include "render/RayMarcher.h"
+#include "workflow/BaselineCodecs.h"
+#include "workflow/FramePath.h"
 
 #include <nlohmann/json.hpp>
 
@@ -64,7 +64,9 @@ std::vector<std::string> framePaths(const std::string& folder, const std::string
 class VolumeRunner {
 public:
     VolumeRunner(const BenchContext& context, const BenchVolume& volume)
-        : mContext(context), mVolume(volume), mPlan(context.manifest->render),
+        : mContext(context),
+          mVolume(volume),
+          mPlan(context.manifest->render),
           mWork(context.folder + "/work/" + volume.name) {}
 
     void run(const std::vector<BenchUnit>& units) {
@@ -89,7 +91,8 @@ public:
             }
         }
         std::error_code ignored;
-        if (pending) fs::remove_all(mWork + "/raw", ignored);  // as large as the volume in float32, and rewritten each run
+        if (pending)
+            fs::remove_all(mWork + "/raw", ignored);  // as large as the volume in float32, and rewritten each run
     }
 
 private:
@@ -114,8 +117,8 @@ private:
             for (const std::string prefix : {"gvr: error: ", "gvr: "}) {
                 if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
             }
-            throw StepFailure(step + " failed (exit " + std::to_string(result.exitCode) + "): " +
-                              (message.empty() ? "no message; see " + relative(log) : message));
+            throw StepFailure(step + " failed (exit " + std::to_string(result.exitCode) +
+                              "): " + (message.empty() ? "no message; see " + relative(log) : message));
         }
         const json output = json::parse(result.output, nullptr, /*allow_exceptions=*/false);
         if (output.is_discarded()) throw StepFailure(step + " printed no JSON; see " + relative(log));
@@ -141,7 +144,7 @@ private:
         mTf = mWork + "/tf.json";
         mTruth = framePaths(mWork, "truth", mPlan.views);
         const bool rendered = fs::exists(mTf) && std::all_of(mTruth.begin(), mTruth.end(),
-                                                              [](const std::string& p) { return fs::exists(p); });
+                                                             [](const std::string& p) { return fs::exists(p); });
         if (!rendered) {
             std::vector<std::string> args = renderArgs(mSource, mWork + "/truth.png");
             // The anti-aliased reference, several rays a pixel: every render-quality figure's.
@@ -166,8 +169,13 @@ private:
     }
 
     std::vector<std::string> renderArgs(const std::string& input, const std::string& output) const {
-        return {"render", input, "-o", output, "--orbit", std::to_string(mPlan.views), "--azimuth", "0",
-                "--elevation", std::to_string(mPlan.elevation), "--size", mPlan.size, "-q"};
+        return {"render",      input,
+                "-o",          output,
+                "--orbit",     std::to_string(mPlan.views),
+                "--azimuth",   "0",
+                "--elevation", std::to_string(mPlan.elevation),
+                "--size",      mPlan.size,
+                "-q"};
     }
 
     BenchRow baseRow(const BenchUnit& unit, const std::string& method) const {
@@ -214,8 +222,12 @@ private:
         Reconstruction r;
         r.fitLog = folder + "/fit.csv";
         const bool bounded = method == "gvr+bound";
-        std::vector<std::string> args = {"fit", mSource, "-o", asset, "--ratio", ratioText(unit.ratio), "--ablation",
-                                         method == "gvr" || bounded ? "full" : method, "--log", r.fitLog, "-q"};
+        std::vector<std::string> args = {"fit",        mSource,
+                                         "-o",         asset,
+                                         "--ratio",    ratioText(unit.ratio),
+                                         "--ablation", method == "gvr" || bounded ? "full" : method,
+                                         "--log",      r.fitLog,
+                                         "-q"};
         if (bounded) args.insert(args.end(), {"--max-error", "auto"});
         const FitBudget& budget = mVolume.fit;
         if (budget.iterations) {
@@ -417,7 +429,7 @@ private:
     double mRawBytes = 0, mVoxels = 0;
     int mChannels = 1;
     RawChannels mRaw;
-    FloatVolume mRawPlacement;  ///< dims, channels and placement of mRaw; no values
+    FloatVolume mRawPlacement;                 ///< dims, channels and placement of mRaw; no values
     openvdb::GridBase::ConstPtr mSourceShell;  ///< the source's name, transform and metadata
 };
 

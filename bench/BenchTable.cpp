@@ -1,16 +1,15 @@
 #include "bench/BenchTable.h"
 
-#include "io/guard/AtomicFile.h"
-#include "workflow/ReportNumbers.h"
 #include "io/formats/JsonText.h"
+#include "io/guard/AtomicFile.h"
 #include "pipeline/Error.h"
-
-#include <nlohmann/json.hpp>
+#include "workflow/ReportNumbers.h"
 
 #include <fcntl.h>
+#include <nlohmann/json.hpp>
 #include <sys/file.h>
-#include <zlib.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,10 +26,10 @@ namespace fs = std::filesystem;
 
 const std::vector<std::string>& benchColumns() {
     static const std::vector<std::string> columns = {
-        "volume",  "ratio",         "method",      "status",      "message",     "bytes",
-        "ratio_raw", "ratio_float32", "bits_per_voxel", "psnr",    "fg_psnr",     "ssim",
-        "ms_ssim", "max_error",     "render_psnr",   "render_ssim", "compress_s",  "decompress_s", "peak_rss_mib",
-        "render_fps", "detail",     "fit_log",     "views",       "truth_views"};
+        "volume",       "ratio",         "method",         "status",      "message",    "bytes",
+        "ratio_raw",    "ratio_float32", "bits_per_voxel", "psnr",        "fg_psnr",    "ssim",
+        "ms_ssim",      "max_error",     "render_psnr",    "render_ssim", "compress_s", "decompress_s",
+        "peak_rss_mib", "render_fps",    "detail",         "fit_log",     "views",      "truth_views"};
     return columns;
 }
 
@@ -169,7 +168,8 @@ void checkRowCells(const std::string& path, const BenchRow& row, std::size_t ind
     }
     for (const std::string& column : benchColumns()) {
         if (textColumns().count(column) || isListColumn(column) || row.get(column).empty()) continue;
-        if (!row.number(column)) throw InputError(path, where + ": " + column + " is '" + row.get(column) + "', not a number");
+        if (!row.number(column))
+            throw InputError(path, where + ": " + column + " is '" + row.get(column) + "', not a number");
     }
     if (status == "ok" && !(row.number("bytes").value_or(0.0) > 0.0)) {
         throw InputError(path, where + " is measured but has no size in bytes");
@@ -185,7 +185,8 @@ constexpr std::uintmax_t kLargestResultsCsv = 64u << 20;
 std::vector<BenchRow> readResultsCsv(const std::string& path, std::size_t* tornBytes) {
     std::error_code error;
     const fs::file_status status = fs::symlink_status(path, error);
-    if (fs::is_symlink(status)) throw InputError(path, "is a symbolic link; the bench reads and writes only files it made");
+    if (fs::is_symlink(status))
+        throw InputError(path, "is a symbolic link; the bench reads and writes only files it made");
     if (fs::exists(status) && !fs::is_regular_file(status)) throw InputError(path, "is not a regular file");
     if (fs::exists(status) && fs::file_size(path) > kLargestResultsCsv) {
         throw InputError(path, "is " + std::to_string(fs::file_size(path)) + " bytes, more than a bench writes (" +
@@ -298,16 +299,19 @@ void checkSameManifest(const std::string& folder, const std::string& resultsJson
                                      "); resume with that manifest, or run the edited one into another folder");
     }
     std::error_code error;
-    if (!earlier.digest.empty() || earlier.path == manifest.path || fs::equivalent(earlier.path, manifest.path, error)) {
+    if (!earlier.digest.empty() || earlier.path == manifest.path ||
+        fs::equivalent(earlier.path, manifest.path, error)) {
         return;
     }
-    throw InputError(folder, "holds the results of " + earlier.path + "; resume it with that manifest, or choose another folder");
+    throw InputError(
+        folder, "holds the results of " + earlier.path + "; resume it with that manifest, or choose another folder");
 }
 
 /// What a bench leaves in its results folder: each is a file or folder it made, never a link.
 const std::vector<std::string>& ownEntries() {
-    static const std::vector<std::string> entries = {"results.csv", "results.json", "codecs.json", "codecs.log", "run.json",
-                                                     "bench_report.py", "report.md", "report.log", "plots", "runs", "work"};
+    static const std::vector<std::string> entries = {
+        "results.csv", "results.json", "codecs.json", "codecs.log", "run.json", "bench_report.py",
+        "report.md",   "report.log",   "plots",       "runs",       "work"};
     return entries;
 }
 
@@ -318,7 +322,7 @@ void checkOwnEntries(const std::string& folder) {
         const bool isFolder = entry == "plots" || entry == "runs" || entry == "work";
         if (fs::exists(path) && (isFolder ? !fs::is_directory(path) : !fs::is_regular_file(path))) {
             throw InputError(path.string(), std::string("is not a ") + (isFolder ? "folder" : "regular file") +
-                                                 " as the bench writes it");
+                                                " as the bench writes it");
         }
     }
 }
@@ -349,8 +353,8 @@ void refuseOtherMethods(const std::string& path, const std::vector<BenchRow>& ro
 
 }  // namespace
 
-ResultsTable::ResultsTable(const std::string& folder, const std::string& manifestPath, bool resume,
-                           bool retryFailed, const std::vector<std::string>& knownMethods)
+ResultsTable::ResultsTable(const std::string& folder, const std::string& manifestPath, bool resume, bool retryFailed,
+                           const std::vector<std::string>& knownMethods)
     : mFolder(folder), mManifest(manifestRecordOf(manifestPath)) {
     fs::create_directories(folder);
     mLock = lockFolder(folder);

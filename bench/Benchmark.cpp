@@ -5,16 +5,15 @@
 #include "bench/BenchRun.h"
 #include "bench/ChildProcess.h"
 #include "bench/ExternalCodec.h"
-#include "io/guard/AtomicFile.h"
 #include "io/formats/JsonText.h"
+#include "io/guard/AtomicFile.h"
 #include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
 
-#include <cstdlib>
-
 #include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -78,11 +77,13 @@ void runGroups(const BenchContext& context, const std::vector<std::vector<BenchU
 }
 
 std::size_t failedRows(const std::vector<BenchRow>& rows) {
-    return std::size_t(std::count_if(rows.begin(), rows.end(), [](const BenchRow& r) { return r.get("status") == "failed"; }));
+    return std::size_t(
+        std::count_if(rows.begin(), rows.end(), [](const BenchRow& r) { return r.get("status") == "failed"; }));
 }
 
 std::size_t skippedRows(const std::vector<BenchRow>& rows) {
-    return std::size_t(std::count_if(rows.begin(), rows.end(), [](const BenchRow& r) { return r.get("status") == "skipped"; }));
+    return std::size_t(
+        std::count_if(rows.begin(), rows.end(), [](const BenchRow& r) { return r.get("status") == "skipped"; }));
 }
 
 void writeJsonFile(const std::string& path, const nlohmann::json& document) {
@@ -123,9 +124,12 @@ void recordCodecs(const BenchManifest& manifest, const std::string& folder,
                           (args->front().find('/') == std::string::npos ? " on PATH" : "") + "; its rows are skipped");
             }
         }
-        record[codec.name] = {{"compress", codec.compress},   {"decompress", codec.decompress},
-                              {"param", {codec.paramMin, codec.paramMax}}, {"timeout_s", codec.timeoutSeconds},
-                              {"programs", programs},         {"version", versionOf(codec, folder)}};
+        record[codec.name] = {{"compress", codec.compress},
+                              {"decompress", codec.decompress},
+                              {"param", {codec.paramMin, codec.paramMax}},
+                              {"timeout_s", codec.timeoutSeconds},
+                              {"programs", programs},
+                              {"version", versionOf(codec, folder)}};
     }
     writeJsonFile(folder + "/codecs.json", record);
 }
@@ -147,13 +151,16 @@ void recordRun(const BenchManifest& manifest, const BenchOptions& options, const
     double load[1] = {0.0};
     nlohmann::json budgets = nlohmann::json::object();
     for (const BenchVolume& volume : manifest.volumes) {
-        budgets[volume.name] = {{"seconds", volume.fit.iterations ? nlohmann::json(nullptr) : nlohmann::json(volume.fit.seconds)},
-                                {"iterations", volume.fit.iterations ? nlohmann::json(*volume.fit.iterations) : nlohmann::json(nullptr)},
-                                {"args", volume.fit.args}};
+        budgets[volume.name] = {
+            {"seconds", volume.fit.iterations ? nlohmann::json(nullptr) : nlohmann::json(volume.fit.seconds)},
+            {"iterations", volume.fit.iterations ? nlohmann::json(*volume.fit.iterations) : nlohmann::json(nullptr)},
+            {"args", volume.fit.args}};
     }
     const nlohmann::json run = {
-        {"machine", {{"cpu", processorModel()}, {"cores", std::thread::hardware_concurrency()},
-                     {"load_average_1min", getloadavg(load, 1) == 1 ? nlohmann::json(load[0]) : nlohmann::json(nullptr)}}},
+        {"machine",
+         {{"cpu", processorModel()},
+          {"cores", std::thread::hardware_concurrency()},
+          {"load_average_1min", getloadavg(load, 1) == 1 ? nlohmann::json(load[0]) : nlohmann::json(nullptr)}}},
         {"jobs", options.jobs},
         {"shard", std::to_string(options.shard) + "/" + std::to_string(options.shards)},
         {"fit", budgets}};
@@ -166,7 +173,8 @@ nlohmann::json mergedRuns(const std::vector<std::string>& folders) {
     for (const std::string& dir : folders) {
         std::ifstream in(fs::path(dir) / "run.json");
         const nlohmann::json record = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-        if (record.is_discarded() || !record.is_object() || !record.contains("runs") || !record["runs"].is_array()) continue;
+        if (record.is_discarded() || !record.is_object() || !record.contains("runs") || !record["runs"].is_array())
+            continue;
         for (const nlohmann::json& run : record["runs"]) runs.push_back(run);
     }
     return {{"runs", runs}};
@@ -240,7 +248,8 @@ void checkOneManifest(const std::vector<std::string>& folders) {
 std::string writeBenchReport(const std::string& folder) {
     const std::string script = writeReportScript(folder);
     const std::string python = "/usr/bin/python3";
-    if (!fs::exists(python)) throw InputError(python, "not found: install python3 and python3-matplotlib for the report");
+    if (!fs::exists(python))
+        throw InputError(python, "not found: install python3 and python3-matplotlib for the report");
     const ChildResult result = runChild({python, script, folder}, folder + "/report.log");
     if (!result.ok()) throw InputError(folder + "/report.md", "the report script failed: " + result.lastError);
     return result.output;
@@ -286,7 +295,8 @@ BenchSummary runBenchmark(const BenchOptions& options) {
 
 BenchSummary mergeBenchResults(const std::vector<std::string>& folders, const std::string& folder) {
     const fs::path out = fs::absolute(folder).lexically_normal();
-    if (fs::exists(out / "results.csv")) throw InputError(out.string(), "already holds results; merge into a new folder");
+    if (fs::exists(out / "results.csv"))
+        throw InputError(out.string(), "already holds results; merge into a new folder");
     BenchSummary summary;
     summary.folder = out.string();
     checkOneManifest(folders);

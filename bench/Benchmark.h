@@ -17,13 +17,13 @@
 namespace gvr {
 
 struct BenchOptions {
-    std::string manifest;    ///< .json or .toml (see BenchManifest.h)
-    std::string folder;      ///< the results folder; created when missing
-    std::string executable;  ///< the gvr command that runs each step
+    std::string manifest;       ///< .json or .toml (see BenchManifest.h)
+    std::string folder;         ///< the results folder; created when missing
+    std::string executable;     ///< the gvr command that runs each step
     int shard = 0, shards = 1;  ///< run units shard, shard + shards, ... (0 <= shard < shards)
-    unsigned jobs = 1;       ///< volumes at once; each fit then gets cores / jobs threads
-    bool resume = false;     ///< carry on in a folder that holds results
-    bool retryFailed = false;  ///< with resume: run the failed rows again
+    unsigned jobs = 1;          ///< volumes at once; each fit then gets cores / jobs threads
+    bool resume = false;        ///< carry on in a folder that holds results
+    bool retryFailed = false;   ///< with resume: run the failed rows again
     /// Called after each finished run, from the thread that ran it (one at a time),
     /// with the runs finished so far and those this call had to do.
     std::function<void(const BenchRow& row, std::size_t done, std::size_t pending)> onRow;

@@ -136,7 +136,8 @@ ChildResult runChild(const std::vector<std::string>& argv, const std::string& lo
     fcntl(pipeFds[0], F_SETFL, O_NONBLOCK);
     const auto start = Clock::now();
     std::optional<Clock::time_point> deadline;
-    if (timeoutSeconds > 0) deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeoutSeconds));
+    if (timeoutSeconds > 0)
+        deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeoutSeconds));
     const pid_t parent = getpid();
     const pid_t pid = fork();
     if (pid == 0) becomeChild(cArgs.data(), nullFd, pipeFds[1], logFd, parent, deadline.has_value());
@@ -166,8 +167,6 @@ ChildResult runChild(const std::vector<std::string>& argv, const std::string& lo
     return result;
 }
 
-std::string currentExecutable() {
-    return std::filesystem::read_symlink("/proc/self/exe").string();
-}
+std::string currentExecutable() { return std::filesystem::read_symlink("/proc/self/exe").string(); }
 
 }  // namespace gvr

@@ -54,11 +54,14 @@ struct CommandRuns {
 class CodecRunner {
 public:
     CodecRunner(const ExternalCodec& codec, const RawChannels& raw, std::string folder, std::string log)
-        : mCodec(codec), mRaw(raw), mFolder(std::move(folder)), mLog(std::move(log)),
+        : mCodec(codec),
+          mRaw(raw),
+          mFolder(std::move(folder)),
+          mLog(std::move(log)),
           mCompress(withProgramFound("compress", codec.compress)),
           mDecompress(withProgramFound("decompress", codec.decompress)),
-          mDeadline(Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                        std::chrono::duration<double>(codec.timeoutSeconds))) {}
+          mDeadline(Clock::now() +
+                    std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(codec.timeoutSeconds))) {}
 
     struct Trial {
         double param = 0;
@@ -168,8 +171,8 @@ private:
                                  std::to_string(mRaw.dims.z());
         if (error) throw CodecFailure("decompress (" + where(channel, param) + ") wrote no file " + path);
         if (size != expected) {
-            throw CodecFailure("decompress (" + where(channel, param) + ") wrote " + std::to_string(size) +
-                               " bytes; " + dims + " float32 voxels are " + std::to_string(expected));
+            throw CodecFailure("decompress (" + where(channel, param) + ") wrote " + std::to_string(size) + " bytes; " +
+                               dims + " float32 voxels are " + std::to_string(expected));
         }
         std::ifstream in(path, std::ios::binary);
         if (!in.read(reinterpret_cast<char*>(values.data()), std::streamsize(expected))) {
@@ -186,7 +189,7 @@ private:
     const RawChannels& mRaw;
     const std::string mFolder, mLog;
     const std::vector<std::string> mCompress, mDecompress;  ///< the templates, programs found
-    const Clock::time_point mDeadline;  ///< for the whole row
+    const Clock::time_point mDeadline;                      ///< for the whole row
 };
 
 using Trial = CodecRunner::Trial;
@@ -298,8 +301,9 @@ CodecResult runExternalCodec(const ExternalCodec& codec, const RawChannels& raw,
         const std::optional<double> x = nextTrial(trials, targetBytes, lo, hi);
         if (!x) break;
         trials.push_back(runner.compress(std::exp(*x), trialFolder));
-        std::ofstream(logPath, std::ios::app) << codec.name << ": param " << parameterText(trials.back().param) << " -> "
-                                              << trials.back().bytes << " bytes (target " << targetBytes << ")\n";
+        std::ofstream(logPath, std::ios::app)
+            << codec.name << ": param " << parameterText(trials.back().param) << " -> " << trials.back().bytes
+            << " bytes (target " << targetBytes << ")\n";
         if (!best || std::abs(miss(trials.back(), targetBytes)) < std::abs(miss(*best, targetBytes))) {
             best = trials.back();
             for (std::size_t c = 0; c < raw.files.size(); ++c) {

@@ -30,7 +30,7 @@
 namespace gvr {
 
 struct ExternalCodec {
-    std::string name;  ///< the method name in manifests and reports
+    std::string name;                               ///< the method name in manifests and reports
     std::vector<std::string> compress, decompress;  ///< argument vectors with placeholders; no shell
     /// The parameter's search range (both > 0; searched on its logarithm). The
     /// compressed size must change monotonically across it, in either direction.
@@ -65,9 +65,9 @@ struct RawChannels {
 RawChannels writeRawChannels(const FloatVolume& volume, const std::string& folder);
 
 struct CodecResult {
-    std::uint64_t bytes = 0;   ///< every channel's compressed file, added
-    double param = 0;          ///< the parameter that gave them
-    bool matched = false;      ///< within kTargetBytesSlack of the target
+    std::uint64_t bytes = 0;                                            ///< every channel's compressed file, added
+    double param = 0;                                                   ///< the parameter that gave them
+    bool matched = false;                                               ///< within kTargetBytesSlack of the target
     double compressSeconds = 0, decompressSeconds = 0, peakRssMiB = 0;  ///< of the kept run
     std::vector<float> values;  ///< decompressed, channels interleaved as FloatVolume holds them
 };

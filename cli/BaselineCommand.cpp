@@ -3,14 +3,14 @@
 
 #include "cli/Commands.h"
 #include "cli/Diagnostics.h"
+#include "cli/GridSummary.h"
 #include "cli/ProgressBar.h"
 #include "cli/SourceOptions.h"
-#include "io/guard/AtomicFile.h"
-#include "workflow/BaselineCodecs.h"
 #include "io/formats/GridFile.h"
-#include "cli/GridSummary.h"
 #include "io/formats/JsonText.h"
+#include "io/guard/AtomicFile.h"
 #include "pipeline/Error.h"
+#include "workflow/BaselineCodecs.h"
 
 #include <nlohmann/json.hpp>
 
@@ -30,10 +30,14 @@ struct BaselineFlags {
 };
 
 nlohmann::json toJson(const BaselineFlags& flags, const BaselineResult& r) {
-    nlohmann::json out = {{"method", flags.method},          {"stream", flags.stream},
-                          {"output", flags.output},          {"bytes", r.streamBytes},
-                          {"bits_per_voxel", r.bitsPerValue()}, {"compress_s", r.compressSeconds},
-                          {"decompress_s", r.decompressSeconds}, {"voxels", r.voxels},
+    nlohmann::json out = {{"method", flags.method},
+                          {"stream", flags.stream},
+                          {"output", flags.output},
+                          {"bytes", r.streamBytes},
+                          {"bits_per_voxel", r.bitsPerValue()},
+                          {"compress_s", r.compressSeconds},
+                          {"decompress_s", r.decompressSeconds},
+                          {"voxels", r.voxels},
                           {"channels", r.channels}};
     if (r.tolerance) out["tolerance"] = *r.tolerance;
     if (r.rate) out["rate"] = *r.rate;
@@ -81,7 +85,8 @@ void runBaselineCommand(BaselineFlags& flags) {
         throw InputError("--stream", "must be another file than -o " + flags.output);
     }
     const IngestResult source = loadOrIngest(flags.input, toIngestOptions(flags.source));
-    for (const std::string& warning : source.warnings) diagnostics() << "gvr: warning: " << inCommandLineTerms(warning) << "\n";
+    for (const std::string& warning : source.warnings)
+        diagnostics() << "gvr: warning: " << inCommandLineTerms(warning) << "\n";
     BaselineResult result;
     {
         ProgressBar bar(flags.method, !flags.quiet);
@@ -101,15 +106,18 @@ void runBaselineCommand(BaselineFlags& flags) {
 
 void addBaselineCommand(CLI::App& app) {
     auto flags = std::make_shared<BaselineFlags>();
-    CLI::App* command = app.add_subcommand(
-        "baseline", "Compress a volume with a reference codec (zfp, OpenVDB Blosc or half, downsampling), "
-                    "then write what decodes from it as a grid on the source's lattice, for eval and render");
+    CLI::App* command =
+        app.add_subcommand("baseline",
+                           "Compress a volume with a reference codec (zfp, OpenVDB Blosc or half, downsampling), "
+                           "then write what decodes from it as a grid on the source's lattice, for eval and render");
     command->add_option("input", flags->input, ".vdb grid, or any volume ingest reads")->required();
-    command->add_option("--method", flags->method,
-                        "zfp-accuracy, zfp-rate, vdb-blosc, vdb-half or downsample")->required();
+    command->add_option("--method", flags->method, "zfp-accuracy, zfp-rate, vdb-blosc, vdb-half or downsample")
+        ->required();
     command->add_option("-o,--output", flags->output, "Reconstruction to write (.vdb)")->required();
-    command->add_option("--stream", flags->stream,
-                        "Compressed stream to write: a zfp stream, or a .vdb for vdb-* and downsample")->required();
+    command
+        ->add_option("--stream", flags->stream,
+                     "Compressed stream to write: a zfp stream, or a .vdb for vdb-* and downsample")
+        ->required();
     command->add_option("--tolerance", flags->settings.tolerance,
                         "zfp-accuracy: largest absolute error, physical units");
     command->add_option("--target-bytes", flags->settings.targetBytes,

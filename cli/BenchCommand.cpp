@@ -5,10 +5,10 @@
 #include "bench/ChildProcess.h"
 #include "cli/Commands.h"
 #include "cli/Diagnostics.h"
-#include "io/guard/AtomicFile.h"
-#include "workflow/ReportNumbers.h"
 #include "io/formats/JsonText.h"
+#include "io/guard/AtomicFile.h"
 #include "pipeline/Error.h"
+#include "workflow/ReportNumbers.h"
 
 #include <nlohmann/json.hpp>
 
@@ -48,8 +48,9 @@ std::string describeRow(const BenchRow& row) {
     if (row.get("status") == "skipped") return text.str() + "skipped: " + row.get("message");
     if (row.get("status") != "ok") return text.str() + "FAILED: " + row.get("message");
     text << formatDb(row.number("psnr").value_or(NAN)) << " dB at " << std::fixed << std::setprecision(2)
-         << row.number("ratio_raw").value_or(NAN) << ":1 vs raw, render " << formatDb(row.number("render_psnr").value_or(NAN))
-         << " dB, compress " << std::setprecision(1) << row.number("compress_s").value_or(NAN) << " s";
+         << row.number("ratio_raw").value_or(NAN) << ":1 vs raw, render "
+         << formatDb(row.number("render_psnr").value_or(NAN)) << " dB, compress " << std::setprecision(1)
+         << row.number("compress_s").value_or(NAN) << " s";
     return text.str();
 }
 
@@ -89,8 +90,8 @@ void runBench(const BenchFlags& flags) {
     }
     // A long run is often stopped by hand: the line says that nothing is lost.
     const SaidOnSignal howToCarryOn("gvr bench: stopped; the runs that ended are kept in " + flags.output +
-                                    "/results.csv; carry on with: gvr bench " + flags.manifest + " -o " + flags.output +
-                                    " --resume",
+                                        "/results.csv; carry on with: gvr bench " + flags.manifest + " -o " +
+                                        flags.output + " --resume",
                                     diagnosticsFd());
     const BenchSummary summary = runBenchmark(options);
     diagnostics() << summary.reportOutput;
@@ -100,7 +101,8 @@ void runBench(const BenchFlags& flags) {
 void mergeResults(const BenchFlags& flags) {
     const BenchSummary summary = mergeBenchResults(flags.merge, flags.output);
     if (summary.duplicates > 0 && !flags.quiet) {
-        diagnostics() << "gvr bench: " << summary.duplicates << " rows were in more than one folder; kept the first of each\n";
+        diagnostics() << "gvr bench: " << summary.duplicates
+                      << " rows were in more than one folder; kept the first of each\n";
     }
     diagnostics() << summary.reportOutput;
     printSummary(flags, summary);
@@ -116,18 +118,25 @@ void addBenchCommand(CLI::App& app) {
         "ZFP fixed-accuracy and fixed-rate, OpenVDB Blosc and half, downsampling x2/3/4, and external codecs such "
         "as SZ3 and SPERR declared in the manifest), record each run in "
         "results.csv/json as it ends, and write report.md with paper-style tables and PNG plots");
-    command->add_option("manifest", flags->manifest, "Manifest (.json or .toml) listing volumes, ratios, methods, "
-                                                     "fit budgets and views");
+    command->add_option("manifest", flags->manifest,
+                        "Manifest (.json or .toml) listing volumes, ratios, methods, "
+                        "fit budgets and views");
     command->add_option("-o,--output", flags->output, "Results folder")->required();
     CLI::Option* resume =
         command->add_flag("--resume", flags->resume, "Carry on in a results folder, skipping the runs it already has");
-    command->add_flag("--retry-failed", flags->retryFailed, "With --resume: run the failed rows again too")->needs(resume);
-    command->add_option("--shard", flags->shard,
-                        "I/N: run only units I, I+N, I+2N, ... of the manifest (0 <= I < N), e.g. one per machine "
-                        "or job-array task; join the folders afterwards with --merge")->capture_default_str();
-    command->add_option("--jobs", flags->jobs,
-                        "Volumes to run at once on this machine; each fit then gets cores/J threads, so times are "
-                        "not comparable with a --jobs 1 run")->capture_default_str()->check(CLI::Range(1u, 256u));
+    command->add_flag("--retry-failed", flags->retryFailed, "With --resume: run the failed rows again too")
+        ->needs(resume);
+    command
+        ->add_option("--shard", flags->shard,
+                     "I/N: run only units I, I+N, I+2N, ... of the manifest (0 <= I < N), e.g. one per machine "
+                     "or job-array task; join the folders afterwards with --merge")
+        ->capture_default_str();
+    command
+        ->add_option("--jobs", flags->jobs,
+                     "Volumes to run at once on this machine; each fit then gets cores/J threads, so times are "
+                     "not comparable with a --jobs 1 run")
+        ->capture_default_str()
+        ->check(CLI::Range(1u, 256u));
     command->add_option("--merge", flags->merge, "Join the results folders of several shards into -o, then report")
         ->expected(1, -1);
     command->add_flag("--json", flags->json, "Print the summary as JSON");

@@ -2,12 +2,12 @@
 
 #include "cli/Commands.h"
 #include "cli/Diagnostics.h"
+#include "cli/GridSummary.h"
 #include "cli/LayersOption.h"
 #include "cli/ProgressBar.h"
 #include "cli/VolumeOutputOptions.h"
 #include "io/asset/AssetExport.h"
 #include "io/asset/AssetFile.h"
-#include "cli/GridSummary.h"
 #include "io/formats/JsonText.h"
 #include "io/formats/TransferFunctionFile.h"
 #include "pipeline/Error.h"
@@ -67,8 +67,9 @@ void runExport(const ExportFlags& flags) {
     settings.layers = parseAssetLayers(flags.layers, "--layers");
     const bool bounded = readsResidualLayer(asset, settings.layers);
     if (bounded && flags.threshold) {
-        throw InputError("--threshold", "the residual layer keeps every voxel within its bound, so there is "
-                                        "nothing to cut; add --layers gaussians to cut the Gaussians alone");
+        throw InputError("--threshold",
+                         "the residual layer keeps every voxel within its bound, so there is "
+                         "nothing to cut; add --layers gaussians to cut the Gaussians alone");
     }
     settings.lattice = chosenLattice(flags, asset);
     settings.threshold = flags.threshold;
@@ -112,18 +113,20 @@ void runExport(const ExportFlags& flags) {
 
 void addExportCommand(CLI::App& app) {
     auto flags = std::make_shared<ExportFlags>();
-    CLI::App* command = app.add_subcommand(
-        "export", "Evaluate a Gaussian asset at voxel centres and write the reconstruction as OpenVDB "
-                  "(Blender, Houdini), in the source's physical units");
+    CLI::App* command =
+        app.add_subcommand("export",
+                           "Evaluate a Gaussian asset at voxel centres and write the reconstruction as OpenVDB "
+                           "(Blender, Houdini), in the source's physical units");
     command->add_option("asset", flags->input, "Gaussian asset from gvr fit")->required();
     addVolumeOutputOptions(*command, flags->outputs, flags->float32);
     auto* voxelSize = command->add_option("--voxel-size", flags->voxelSize,
                                           "Voxel size in world mm along each of the source's axes "
                                           "(default: the source grid)");
-    auto* resolution = command->add_option("--resolution", flags->resolution,
-                                           "Voxels along the longest world axis")->excludes(voxelSize);
+    auto* resolution = command->add_option("--resolution", flags->resolution, "Voxels along the longest world axis")
+                           ->excludes(voxelSize);
     command->add_option("--like", flags->like, "Sample on the grid of this volume (.vdb, or anything ingest reads)")
-        ->excludes(voxelSize)->excludes(resolution);
+        ->excludes(voxelSize)
+        ->excludes(resolution);
     command->add_option("--threshold", flags->threshold,
                         "Voxels at or below this (physical units; luminance for RGB) stay inactive "
                         "(default: midway between the source's background and its ingest threshold, the "
@@ -132,16 +135,19 @@ void addExportCommand(CLI::App& app) {
                         "Export only these structures of an asset fitted with --labels: IDs or names, comma-separated");
     command->add_option("--hide", flags->hide, "Leave these structures out (after --show)");
     command->add_option("--names", flags->names, "Colour grid name: blender (color) or houdini (Cd)")
-        ->check(CLI::IsMember({"blender", "houdini"}))->capture_default_str();
+        ->check(CLI::IsMember({"blender", "houdini"}))
+        ->capture_default_str();
     command->add_option("--density-from", flags->densityFrom,
                         "RGB: derive density from this transfer function file (its opacity at the "
                         "luminance) instead of the normalised luminance");
-    auto* dcc = command->add_flag("--dcc", flags->dcc,
-                      "For Blender and Houdini: density 0..1 through the transfer function, colour 0..1, one "
-                      "unit a metre (default: physical values in millimetres, as eval compares them)");
-    command->add_option("--tf", flags->tf,
-                        "With --dcc: transfer function, a preset (ct, ct-bone, mri, rgb) or a JSON file as render "
-                        "takes it (default: the preset for the data)")
+    auto* dcc =
+        command->add_flag("--dcc", flags->dcc,
+                          "For Blender and Houdini: density 0..1 through the transfer function, colour 0..1, one "
+                          "unit a metre (default: physical values in millimetres, as eval compares them)");
+    command
+        ->add_option("--tf", flags->tf,
+                     "With --dcc: transfer function, a preset (ct, ct-bone, mri, rgb) or a JSON file as render "
+                     "takes it (default: the preset for the data)")
         ->needs(dcc);
     addLayersOption(*command, flags->layers, "on the source's grid");
     addRemovedFormatOption(*command, flags->removedFormat);

@@ -1,8 +1,8 @@
 #include "cli/FitLog.h"
 
-#include "workflow/ReportNumbers.h"
 #include "pipeline/Error.h"
 #include "pipeline/ProcessMemory.h"
+#include "workflow/ReportNumbers.h"
 
 #include <filesystem>
 

@@ -92,8 +92,8 @@ GridSummary summarizeGrid(const openvdb::GridBase& grid) {
     summary.activeVoxels = grid.activeVoxelCount();
     summary.memoryBytes = grid.memUsage();
     ActiveRange range;
-    using Supported = openvdb::TypeList<openvdb::FloatGrid, openvdb::DoubleGrid, openvdb::Int32Grid,
-                                        openvdb::Vec3SGrid>;
+    using Supported =
+        openvdb::TypeList<openvdb::FloatGrid, openvdb::DoubleGrid, openvdb::Int32Grid, openvdb::Vec3SGrid>;
     if (grid.apply<Supported>(range) && summary.activeVoxels > 0) {
         summary.valueMin = range.min;
         summary.valueMax = range.max;
@@ -133,10 +133,9 @@ std::string toText(const GridSummary& s) {
     out << "grid '" << s.name << "' (" << s.valueType << ", " << s.gridClass << ")\n"
         << "  dimensions:    " << s.dims.x() << " x " << s.dims.y() << " x " << s.dims.z()
         << " voxels (active bounding box)\n"
-        << "  spacing:       " << fixed(s.spacingMm.x(), 6) << " x " << fixed(s.spacingMm.y(), 6)
-        << " x " << fixed(s.spacingMm.z(), 6) << " mm\n"
-        << "  value range:   " << fixed(s.valueMin, 6) << " .. " << fixed(s.valueMax, 6)
-        << " (active voxels)\n"
+        << "  spacing:       " << fixed(s.spacingMm.x(), 6) << " x " << fixed(s.spacingMm.y(), 6) << " x "
+        << fixed(s.spacingMm.z(), 6) << " mm\n"
+        << "  value range:   " << fixed(s.valueMin, 6) << " .. " << fixed(s.valueMax, 6) << " (active voxels)\n"
         << "  active voxels: " << s.activeVoxels;
     if (boxVoxels > 0) out << " (" << fixed(100.0 * s.activeVoxels / boxVoxels, 3) << " % of the box)";
     out << "\n  memory:        " << formatBytes(s.memoryBytes) << "\n";

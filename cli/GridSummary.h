@@ -13,13 +13,13 @@ namespace gvr {
 
 struct GridSummary {
     std::string name;
-    std::string valueType;  ///< "float", "vec3s", ...
-    std::string gridClass;  ///< "fog volume", "level set" or "unknown"
-    openvdb::Coord dims{0, 0, 0};           ///< active bounding box, in voxels
-    openvdb::Vec3d spacingMm{0.0};          ///< world length of each index axis
-    double valueMin = 0, valueMax = 0;      ///< over active voxels (all components for vectors)
+    std::string valueType;              ///< "float", "vec3s", ...
+    std::string gridClass;              ///< "fog volume", "level set" or "unknown"
+    openvdb::Coord dims{0, 0, 0};       ///< active bounding box, in voxels
+    openvdb::Vec3d spacingMm{0.0};      ///< world length of each index axis
+    double valueMin = 0, valueMax = 0;  ///< over active voxels (all components for vectors)
     std::uint64_t activeVoxels = 0;
-    std::uint64_t memoryBytes = 0;          ///< in memory, as OpenVDB counts it
+    std::uint64_t memoryBytes = 0;  ///< in memory, as OpenVDB counts it
     /// The grid's metadata, typed: numbers as numbers, vectors as arrays.
     nlohmann::json metadata = nlohmann::json::object();
     /// world = affine * (i, j, k, 1): index space to world millimetres, the column

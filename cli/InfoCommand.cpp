@@ -1,12 +1,12 @@
 // gvr info FILE: what a .vdb holds, or what ingest would make of a source volume.
 
-#include "io/formats/FileKind.h"
 #include "cli/Commands.h"
 #include "cli/Diagnostics.h"
+#include "cli/GridSummary.h"
 #include "cli/SourceOptions.h"
 #include "io/asset/AssetFile.h"
+#include "io/formats/FileKind.h"
 #include "io/formats/GridFile.h"
-#include "cli/GridSummary.h"
 #include "io/formats/JsonText.h"
 
 #include <filesystem>
@@ -39,7 +39,8 @@ std::uint64_t sizeOnDisk(const std::string& path) {
 nlohmann::json layersJson(const GaussianAsset& asset) {
     nlohmann::json layers = nlohmann::json::array({{{"name", "gaussians"}}});
     if (asset.residual) {
-        layers.push_back({{"name", "residual"}, {"max_error", asset.residual->bound},
+        layers.push_back({{"name", "residual"},
+                          {"max_error", asset.residual->bound},
                           {"domain", asset.residual->domain.integers ? "stored samples" : "values"},
                           {"exact_voxels", asset.residual->exactVoxels()}});
     }
@@ -87,12 +88,12 @@ void printAssetInfo(const InfoFlags& flags) {
     std::cout << flags.input << ": gvr Gaussian asset (format version " << asset.formatVersion << ")\n"
               << "  gaussians:    " << asset.params.count() << " (" << asset.params.channels
               << (asset.params.channels == 1 ? " channel, grey" : " channels, RGB") << ")\n"
-              << "  file:         " << formatBytes(fileBytes) << " (" << fileBytes << " bytes, "
-              << perGaussian << " per Gaussian, header included)\n"
-              << "  compression:  " << vsRaw << ":1 against the raw source (" << formatBytes(rawBytes)
-              << " of " << source.sourceType << "), " << vsFloat << ":1 against float32\n"
-              << "  source:       " << source.sourceFile << ", " << source.dims.x() << " x "
-              << source.dims.y() << " x " << source.dims.z() << " voxels\n"
+              << "  file:         " << formatBytes(fileBytes) << " (" << fileBytes << " bytes, " << perGaussian
+              << " per Gaussian, header included)\n"
+              << "  compression:  " << vsRaw << ":1 against the raw source (" << formatBytes(rawBytes) << " of "
+              << source.sourceType << "), " << vsFloat << ":1 against float32\n"
+              << "  source:       " << source.sourceFile << ", " << source.dims.x() << " x " << source.dims.y() << " x "
+              << source.dims.z() << " voxels\n"
               << "  cutoff:       " << asset.cutoffSigmas << " standard deviations\n"
               << "  layers:       " << layersText(asset) << "\n"
               << "  fit settings: " << jsonText(asset.fitSettings) << "\n";
@@ -138,9 +139,10 @@ void runInfo(const InfoFlags& flags) {
 
 void addInfoCommand(CLI::App& app) {
     auto flags = std::make_shared<InfoFlags>();
-    CLI::App* command = app.add_subcommand(
-        "info", "Describe a .vdb file or a Gaussian asset, or show what ingest would make of a "
-                "source volume (nothing is written)");
+    CLI::App* command =
+        app.add_subcommand("info",
+                           "Describe a .vdb file or a Gaussian asset, or show what ingest would make of a "
+                           "source volume (nothing is written)");
     command->add_option("input", flags->input, "A .vdb file, a Gaussian asset, or any volume ingest reads")->required();
     addSourceFlags(*command, flags->source);
     command->add_flag("--json", flags->json, "Print the report as JSON");

@@ -2,16 +2,16 @@
 
 #include "cli/Commands.h"
 #include "cli/Diagnostics.h"
+#include "cli/GridSummary.h"
 #include "cli/ProgressBar.h"
 #include "cli/SourceOptions.h"
 #include "cli/VolumeOutputOptions.h"
-#include "workflow/ReportNumbers.h"
-#include "cli/GridSummary.h"
-#include "io/formats/JsonText.h"
 #include "io/LabelGrid.h"
+#include "io/formats/JsonText.h"
 #include "pipeline/Error.h"
 #include "pipeline/ProcessMemory.h"
 #include "pipeline/VolumeMetadata.h"
+#include "workflow/ReportNumbers.h"
 
 #include <chrono>
 #include <iomanip>
@@ -51,7 +51,8 @@ void refuseLabelsWithoutVdb(const IngestFlags& flags) {
 
 /// A NIfTI reads as a copy of the source: say so when it holds the thresholded grid
 /// instead (a chest CT's 21.7 M voxels of air and padding became -986.5 HU).
-void warnOfAThresholdedCopy(const IngestFlags& flags, const openvdb::GridBase& grid, std::vector<std::string>& warnings) {
+void warnOfAThresholdedCopy(const IngestFlags& flags, const openvdb::GridBase& grid,
+                            std::vector<std::string>& warnings) {
     const auto metadata = readVolumeMetadata(grid);
     const std::uint64_t dropped = volumeBox(grid).volume() - grid.activeVoxelCount();
     if (!metadata || (!metadata->threshold && !metadata->thresholdAbove) || dropped == 0) return;
@@ -125,12 +126,12 @@ void runIngest(const IngestFlags& flags) {
 
 void addIngestCommand(CLI::App& app) {
     auto flags = std::make_shared<IngestFlags>();
-    CLI::App* command = app.add_subcommand(
-        "ingest",
-        "Read a volume (NIfTI, DICOM folder, image stack or multi-page TIFF, raw, MetaImage, "
-        "MGH/MGZ, VDB) into a sparse OpenVDB grid in physical units and world millimetres");
-    command->add_option("input", flags->input,
-                        "Volume file, DICOM or image folder, or quoted glob such as 'slices/*.png'")
+    CLI::App* command =
+        app.add_subcommand("ingest",
+                           "Read a volume (NIfTI, DICOM folder, image stack or multi-page TIFF, raw, MetaImage, "
+                           "MGH/MGZ, VDB) into a sparse OpenVDB grid in physical units and world millimetres");
+    command
+        ->add_option("input", flags->input, "Volume file, DICOM or image folder, or quoted glob such as 'slices/*.png'")
         ->required();
     addVolumeOutputOptions(*command, flags->outputs, flags->float32);
     addRemovedFormatOption(*command, flags->removedFormat);
@@ -140,8 +141,9 @@ void addIngestCommand(CLI::App& app) {
                         "as an Int32 grid \"labels\" for fit --labels, render --show and eval --labels");
     command->add_option("--label-names", flags->labelNames,
                         "Label names, one \"ID NAME ...\" per line (AAL .txt, FreeSurfer LUT)");
-    command->add_flag("--resample-labels", flags->resampleLabels,
-                      "Resample labels on a different grid onto the image's (nearest neighbour) instead of refusing them");
+    command->add_flag(
+        "--resample-labels", flags->resampleLabels,
+        "Resample labels on a different grid onto the image's (nearest neighbour) instead of refusing them");
     command->add_flag("--json", flags->json, "Print the result as JSON");
     command->add_flag("-q,--quiet", flags->quiet, "No progress bars");
     command->callback([flags] { runIngest(*flags); });

@@ -1,10 +1,10 @@
 // gvr merge PARTS... -o ASSET: the parts of a bricked fit (gvr fit --brick I --of N) as one asset.
 
 #include "cli/Commands.h"
-#include "io/asset/AssetFile.h"
-#include "io/guard/AtomicFile.h"
 #include "cli/GridSummary.h"
+#include "io/asset/AssetFile.h"
 #include "io/formats/JsonText.h"
+#include "io/guard/AtomicFile.h"
 #include "workflow/BrickedFit.h"
 
 #include <filesystem>
@@ -29,8 +29,10 @@ void runMerge(const MergeFlags& flags) {
     writeAsset(flags.output, asset);
     const std::uint64_t fileBytes = std::filesystem::file_size(flags.output);
     if (flags.json) {
-        const nlohmann::json report{{"output", flags.output}, {"parts", flags.parts.size()},
-                                    {"gaussians", asset.params.count()}, {"file_bytes", fileBytes},
+        const nlohmann::json report{{"output", flags.output},
+                                    {"parts", flags.parts.size()},
+                                    {"gaussians", asset.params.count()},
+                                    {"file_bytes", fileBytes},
                                     {"dropped_to_fit_budget", dropped}};
         std::cout << jsonText(report, 2) << "\n";
         return;
@@ -44,8 +46,9 @@ void runMerge(const MergeFlags& flags) {
 void addMergeCommand(CLI::App& app) {
     auto flags = std::make_shared<MergeFlags>();
     CLI::App* command = app.add_subcommand(
-        "merge", "Join the parts that gvr fit --brick I --of N wrote (one per brick, any order) into one asset, "
-                 "trimmed to the fit's byte budget: the same asset, byte for byte, as gvr fit --bricks N");
+        "merge",
+        "Join the parts that gvr fit --brick I --of N wrote (one per brick, any order) into one asset, "
+        "trimmed to the fit's byte budget: the same asset, byte for byte, as gvr fit --bricks N");
     command->add_option("parts", flags->parts, "Part assets, one per brick")->required()->check(CLI::ExistingFile);
     command->add_option("-o,--output", flags->output, "Asset file to write")->required();
     command->add_flag("--json", flags->json, "Print the result as JSON");

@@ -22,13 +22,13 @@ void refuseNegativeUnsignedValues(CLI::App& app) {
     for (CLI::Option* option : app.get_options()) {
         if (isUnsigned(*option)) option->check(kNotNegative);
     }
-    for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; })) refuseNegativeUnsignedValues(*command);
+    for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; }))
+        refuseNegativeUnsignedValues(*command);
 }
 
 void useOneLineUsageErrors(CLI::App& app) {
-    app.failure_message([](const CLI::App*, const CLI::Error& error) {
-        return "gvr: error: " + std::string(error.what()) + "\n";
-    });
+    app.failure_message(
+        [](const CLI::App*, const CLI::Error& error) { return "gvr: error: " + std::string(error.what()) + "\n"; });
 }
 
 }  // namespace gvr

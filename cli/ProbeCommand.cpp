@@ -78,9 +78,12 @@ void runProbe(const ProbeFlags& flags) {
                         {"gaussians", samples[n].gaussians}});
     }
     if (flags.json) {
-        std::cout << jsonText({{"asset", flags.input}, {"layers", flags.layers},
+        std::cout << jsonText({{"asset", flags.input},
+                               {"layers", flags.layers},
                                {"max_error", bounded ? nlohmann::json(asset.residual->bound) : nlohmann::json()},
-                               {"points", rows}}, 2) << "\n";
+                               {"points", rows}},
+                              2)
+                  << "\n";
         return;
     }
     const std::string from = bounded ? " Gaussians and the residual layer\n" : " Gaussians\n";
@@ -94,12 +97,14 @@ void runProbe(const ProbeFlags& flags) {
 
 void addProbeCommand(CLI::App& app) {
     auto flags = std::make_shared<ProbeFlags>();
-    CLI::App* command = app.add_subcommand(
-        "probe", "Evaluate a Gaussian asset at points given in world millimetres (or source voxel indices), "
-                 "in the source's physical units");
+    CLI::App* command =
+        app.add_subcommand("probe",
+                           "Evaluate a Gaussian asset at points given in world millimetres (or source voxel indices), "
+                           "in the source's physical units");
     command->add_option("asset", flags->input, "Gaussian asset from gvr fit")->required();
-    command->add_option("--world", flags->worldPoints,
-                        "A point X,Y,Z in world millimetres, the source's scanner space (repeatable)")
+    command
+        ->add_option("--world", flags->worldPoints,
+                     "A point X,Y,Z in world millimetres, the source's scanner space (repeatable)")
         ->allow_extra_args(false);
     command->add_option("--index", flags->indexPoints, "A point I,J,K in source voxel indices (repeatable)")
         ->allow_extra_args(false);

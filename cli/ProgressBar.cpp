@@ -13,15 +13,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double secondsBetween(Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double>(b - a).count();
-}
+double secondsBetween(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
 }  // namespace
 
 ProgressBar::ProgressBar(std::string label, bool enabled)
-    : mLabel(std::move(label)), mEnabled(enabled && isatty(diagnosticsFd())),
-      mStart(Clock::now()), mLastDraw(mStart) {}
+    : mLabel(std::move(label)), mEnabled(enabled && isatty(diagnosticsFd())), mStart(Clock::now()), mLastDraw(mStart) {}
 
 ProgressBar::~ProgressBar() {
     if (mDrawn) std::fputc('\n', diagnosticsFile());
@@ -45,8 +42,8 @@ void ProgressBar::draw(double fraction, const std::string& detail) {
     const double elapsed = secondsBetween(mStart, Clock::now());
     const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
     std::fprintf(diagnosticsFile(), "\r%-14s [%.*s%*s] %5.1f %%  %6.1f s elapsed, ETA %6.1f s  %s\033[K",
-                 mLabel.c_str(), filled, "##############################", kWidth - filled, "",
-                 100.0 * fraction, elapsed, eta, detail.c_str());
+                 mLabel.c_str(), filled, "##############################", kWidth - filled, "", 100.0 * fraction,
+                 elapsed, eta, detail.c_str());
     std::fflush(diagnosticsFile());
     mDrawn = true;
 }

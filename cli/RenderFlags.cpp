@@ -13,23 +13,26 @@ void addStackFlags(CLI::App& command, ShearWarpSettings& settings, bool* automat
         "axes: slice stacks across the world axis nearest the view, each built once and kept "
         "(an orbit builds two or three); view: a stack across the view, rebuilt beyond --reuse-angle";
     // By name only: an enum option would also take its numbers, "--stacks 1" for view.
-    command.add_option_function<std::string>(
-               "--stacks",
-               [&settings, automatic](const std::string& name) {
-                   if (automatic) *automatic = name == "auto";
-                   settings.stacks = name == "view" ? StackOrientation::View : StackOrientation::Axes;
-               },
-               automatic ? "auto: view for a single image, axes for an orbit; " + axesAndView : axesAndView)
+    command
+        .add_option_function<std::string>(
+            "--stacks",
+            [&settings, automatic](const std::string& name) {
+                if (automatic) *automatic = name == "auto";
+                settings.stacks = name == "view" ? StackOrientation::View : StackOrientation::Axes;
+            },
+            automatic ? "auto: view for a single image, axes for an orbit; " + axesAndView : axesAndView)
         ->check(automatic ? CLI::IsMember({"auto", "axes", "view"}) : CLI::IsMember({"axes", "view"}))
         ->type_name(automatic ? "auto|axes|view" : "axes|view")
         ->default_str(automatic ? "auto" : "axes");
-    command.add_option("--reuse-angle", settings.reuseAngleDeg,
-                       "With --stacks view: reuse the stack while the view is within this many degrees")
+    command
+        .add_option("--reuse-angle", settings.reuseAngleDeg,
+                    "With --stacks view: reuse the stack while the view is within this many degrees")
         ->capture_default_str();
-    command.add_option("--supersample", settings.supersampling,
-                       "Stack samples along each side of an image pixel (of a voxel, zoomed in), 1 to 4, averaged "
-                       "over each pixel by the warp: 1.5 anti-aliases (on grids, past the one-ray ray marcher); 1 is "
-                       "up to about twice as fast. Never coarser than the voxels, where the view shrinks the volume")
+    command
+        .add_option("--supersample", settings.supersampling,
+                    "Stack samples along each side of an image pixel (of a voxel, zoomed in), 1 to 4, averaged "
+                    "over each pixel by the warp: 1.5 anti-aliases (on grids, past the one-ray ray marcher); 1 is "
+                    "up to about twice as fast. Never coarser than the voxels, where the view shrinks the volume")
         ->capture_default_str();
     command
         .add_option_function<std::string>(

@@ -15,7 +15,6 @@ namespace gvr {
 /// auto, its default then, and *automatic says whether it was chosen (see automaticStacks).
 void addStackFlags(CLI::App& command, ShearWarpSettings& settings, bool* automatic = nullptr);
 
-
 /// "512x384" as --size gives it: width and height in pixels, each 1 to kMaxImageSide.
 /// @throw InputError naming --size.
 std::pair<int, int> parseImageSize(const std::string& text);

@@ -20,14 +20,16 @@ unsigned char toByte(float value) { return static_cast<unsigned char>(std::clamp
 }  // namespace
 
 SdlWindow::SdlWindow(const std::string& title, int width, int height) {
-    if (SDL_Init(SDL_INIT_VIDEO) != 0) throw InputError("display", std::string("no window can open: ") + SDL_GetError());
+    if (SDL_Init(SDL_INIT_VIDEO) != 0)
+        throw InputError("display", std::string("no window can open: ") + SDL_GetError());
     // Without a display SDL falls back to drawing off screen: a window nobody sees
     // and nobody can close. Only a user who asks for that driver gets it.
     const std::string driver = SDL_GetCurrentVideoDriver();
     if ((driver == "offscreen" || driver == "dummy") && !SDL_getenv("SDL_VIDEODRIVER")) {
         SDL_Quit();
-        throw InputError("display", "none found (DISPLAY and WAYLAND_DISPLAY unset or unreachable); run gvr view on a "
-                                    "desktop, over ssh -X, or under xvfb-run");
+        throw InputError("display",
+                         "none found (DISPLAY and WAYLAND_DISPLAY unset or unreachable); run gvr view on a "
+                         "desktop, over ssh -X, or under xvfb-run");
     }
     mWindow = SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, width, height,
                                SDL_WINDOW_RESIZABLE);

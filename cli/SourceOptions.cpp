@@ -10,15 +10,15 @@ namespace gvr {
 void addSourceFlags(CLI::App& command, SourceFlags& flags, bool withThreshold) {
     command.add_option("--volume", flags.volume, "Volume of a 4D NIfTI or frame of an MGH to read")
         ->check(CLI::Range(0, 1 << 30));
-    command.add_option("--spacing", flags.spacing,
-                       "Voxel size X,Y,Z in mm for stacks and raw data (default 1,1,1)")
-        ->delimiter(',')->expected(3);
+    command.add_option("--spacing", flags.spacing, "Voxel size X,Y,Z in mm for stacks and raw data (default 1,1,1)")
+        ->delimiter(',')
+        ->expected(3);
     command.add_option("--raw-dims", flags.rawDims, "Read INPUT as raw samples of X,Y,Z voxels")
-        ->delimiter(',')->expected(3);
+        ->delimiter(',')
+        ->expected(3);
     command.add_option("--raw-type", flags.rawType,
                        "Raw sample type: uint8, int8, uint16, int16, uint32, int32, float32, float64");
-    command.add_option("--endian", flags.endian, "Raw byte order")
-        ->check(CLI::IsMember({"little", "big"}));
+    command.add_option("--endian", flags.endian, "Raw byte order")->check(CLI::IsMember({"little", "big"}));
     command.add_option("--header-bytes", flags.headerBytes, "Bytes to skip before raw samples");
     command.add_option("--raw-channels", flags.rawChannels, "Raw channels per voxel: 1 grey, 3 RGB")
         ->check(CLI::IsMember({1, 3}));
@@ -35,8 +35,9 @@ void addSourceFlags(CLI::App& command, SourceFlags& flags, bool withThreshold) {
     command.add_option("--flip", flags.flip,
                        "Mirror index axes, comma-separated: i (columns), j (rows), k (slices); e.g. j,k turns a "
                        "stack read head-down upright. The world follows the data");
-    command.add_option("--nan-to", flags.nanTo, "Replace NaN/Inf samples with this value "
-                                                "(default: reject the file)");
+    command.add_option("--nan-to", flags.nanTo,
+                       "Replace NaN/Inf samples with this value "
+                       "(default: reject the file)");
     command.add_option("--modality", flags.modality, "Override the modality (CT, MR, ...)");
     command.add_flag("--data-files-anywhere", flags.dataFilesAnywhere,
                      "Let a header (MetaImage ElementDataFile) name a data file outside its own folder");

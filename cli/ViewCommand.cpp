@@ -17,7 +17,6 @@
 #include "workflow/RenderInput.h"
 
 #include <SDL.h>
-
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -67,7 +66,8 @@ struct ViewState {
 class Viewer {
 public:
     Viewer(const ViewFlags& flags, RenderInput input)
-        : mFlags(flags), mInput(std::move(input)),
+        : mFlags(flags),
+          mInput(std::move(input)),
           mCorners(worldCorners(mInput.volume->worldFromIndex(), mInput.volume->box())) {
         mState.view = {flags.azimuth, flags.elevation};
         mState.tf = flags.tf.empty() ? defaultPreset(mInput.volume->channels(), mInput.volume->statistics()) : flags.tf;
@@ -116,8 +116,8 @@ public:
                 {"builds_cancelled", mSession->buildsCancelled()},
                 {"stale_frames", mStaleFrames},
                 {"screenshots", mScreenshots},
-                {"view", {{"azimuth", mState.view.azimuthDeg}, {"elevation", mState.view.elevationDeg},
-                          {"zoom", mState.zoom}}},
+                {"view",
+                 {{"azimuth", mState.view.azimuthDeg}, {"elevation", mState.view.elevationDeg}, {"zoom", mState.zoom}}},
                 {"tf", mState.tf},
                 {"opacity_scale", mState.opacity}};
     }
@@ -134,7 +134,8 @@ private:
 
     /// Restarts the wait for rest when the camera or the window has changed since the last look.
     void noteMove() {
-        const auto looks = std::make_tuple(mState.view.azimuthDeg, mState.view.elevationDeg, mState.zoom, mWidth, mHeight);
+        const auto looks =
+            std::make_tuple(mState.view.azimuthDeg, mState.view.elevationDeg, mState.zoom, mWidth, mHeight);
         if (looks == mLastLooks) return;
         mLastLooks = looks;
         mLastMove = std::chrono::steady_clock::now();
@@ -155,7 +156,8 @@ private:
             std::string hide;
             for (int id : mState.hidden) hide += (hide.empty() ? "" : ",") + std::to_string(id);
             const GaussianAsset shown = selectStructures(*mInput.asset, "", hide, mFlags.input);
-            scene->volumes.push_back(std::make_unique<GaussianRenderVolume>(shown, mFlags.shearWarp.minimumFootprintVoxels()));
+            scene->volumes.push_back(
+                std::make_unique<GaussianRenderVolume>(shown, mFlags.shearWarp.minimumFootprintVoxels()));
             volume = scene->volumes.back().get();
         }
         LabelStyle scaled;
@@ -186,8 +188,8 @@ private:
             if (event.type == SDL_QUIT) mQuit = true;
             if (event.type == SDL_MOUSEMOTION && (event.motion.state & SDL_BUTTON_LMASK)) {
                 mState.view.azimuthDeg += event.motion.xrel * kDegreesPerPixel;
-                mState.view.elevationDeg = std::clamp(mState.view.elevationDeg + event.motion.yrel * kDegreesPerPixel,
-                                                      -89.0, 89.0);
+                mState.view.elevationDeg =
+                    std::clamp(mState.view.elevationDeg + event.motion.yrel * kDegreesPerPixel, -89.0, 89.0);
             }
             if (event.type == SDL_MOUSEWHEEL) mState.zoom *= std::pow(kZoomPerNotch, event.wheel.y);
             if (event.type == SDL_KEYDOWN) handleKey(event.key.keysym.sym);
@@ -198,14 +200,34 @@ private:
     void handleKey(SDL_Keycode key) {
         switch (key) {
             case SDLK_q:
-            case SDLK_ESCAPE: mQuit = true; break;
-            case SDLK_r: mState.view = mInitial.view; mState.zoom = mInitial.zoom; break;
-            case SDLK_h: mState.hud = !mState.hud; break;
-            case SDLK_s: screenshot(); break;
-            case SDLK_t: nextPreset(); break;
-            case SDLK_RIGHTBRACKET: mState.opacity *= 1.25; changeScene(); break;
-            case SDLK_LEFTBRACKET: mState.opacity /= 1.25; changeScene(); break;
-            case SDLK_0: mState.hidden.clear(); changeScene(); break;
+            case SDLK_ESCAPE:
+                mQuit = true;
+                break;
+            case SDLK_r:
+                mState.view = mInitial.view;
+                mState.zoom = mInitial.zoom;
+                break;
+            case SDLK_h:
+                mState.hud = !mState.hud;
+                break;
+            case SDLK_s:
+                screenshot();
+                break;
+            case SDLK_t:
+                nextPreset();
+                break;
+            case SDLK_RIGHTBRACKET:
+                mState.opacity *= 1.25;
+                changeScene();
+                break;
+            case SDLK_LEFTBRACKET:
+                mState.opacity /= 1.25;
+                changeScene();
+                break;
+            case SDLK_0:
+                mState.hidden.clear();
+                changeScene();
+                break;
             default:
                 if (key >= SDLK_1 && key <= SDLK_9) toggleStructure(int(key - SDLK_1));
         }
@@ -263,16 +285,16 @@ private:
         std::ostringstream rate, stack, view;
         rate << std::fixed << std::setprecision(1) << 1000.0 / std::max(mSmoothedMs, 1e-3) << " FPS, "
              << std::setprecision(1) << mSmoothedMs << " ms a frame";
-        stack << (frame.still   ? "stack: the still"
-                  : frame.stale ? "stack: building for this view..."
+        stack << (frame.still    ? "stack: the still"
+                  : frame.stale  ? "stack: building for this view..."
                   : frame.reused ? "stack: reused"
                                  : "stack: rebuilt")
-              << (mSession->buildingStill() && !frame.still ? " (the still builds)" : "")
-              << "; last build " << std::fixed << std::setprecision(0) << mLastBuild.buildMs << " ms, "
-              << mLastBuild.gaussiansTouched << " Gaussians touched";
-        view << std::fixed << "tf " << mState.tf << " (t), opacity x" << std::setprecision(2)
-             << mState.opacity << " ([ ]), azimuth " << std::setprecision(0) << mState.view.azimuthDeg
-             << ", elevation " << mState.view.elevationDeg << ", zoom x" << std::setprecision(2) << mState.zoom;
+              << (mSession->buildingStill() && !frame.still ? " (the still builds)" : "") << "; last build "
+              << std::fixed << std::setprecision(0) << mLastBuild.buildMs << " ms, " << mLastBuild.gaussiansTouched
+              << " Gaussians touched";
+        view << std::fixed << "tf " << mState.tf << " (t), opacity x" << std::setprecision(2) << mState.opacity
+             << " ([ ]), azimuth " << std::setprecision(0) << mState.view.azimuthDeg << ", elevation "
+             << mState.view.elevationDeg << ", zoom x" << std::setprecision(2) << mState.zoom;
         std::vector<std::string> lines = {rate.str(), stack.str(), view.str()};
         if (!mMismatch.empty()) lines.push_back("warning: " + mMismatch);
         const auto list = structures();
@@ -307,14 +329,15 @@ void runView(const ViewFlags& flags) {
     PhaseTimes setup;
     const std::string problem = flags.shearWarp.validate();
     if (!problem.empty()) throw InputError("gvr view", problem);
-    if (flags.stillSupersampling != 0.0 && !stillSettingsFor(flags.shearWarp, flags.stillSupersampling).validate().empty()) {
+    if (flags.stillSupersampling != 0.0 &&
+        !stillSettingsFor(flags.shearWarp, flags.stillSupersampling).validate().empty()) {
         throw InputError("gvr view", "--still-supersample must be 0 (no still) or from 1 to 4");
     }
     const auto [width, height] = parseImageSize(flags.size);
-    if (flags.input.empty() || !std::filesystem::exists(flags.input)) throw InputError(flags.input, "no such file or folder");
+    if (flags.input.empty() || !std::filesystem::exists(flags.input))
+        throw InputError(flags.input, "no such file or folder");
     RenderInput input = loadRenderInput(flags.input, flags.show, flags.hide, parseAssetLayers(flags.layers, "--layers"),
-                                        flags.shearWarp.minimumFootprintVoxels(),
-                                        toIngestOptions(flags.source));
+                                        flags.shearWarp.minimumFootprintVoxels(), toIngestOptions(flags.source));
     setup.lap("read");
     Viewer viewer(flags, std::move(input));  // a bad --tf fails before a window opens
     setup.lap("classify");
@@ -338,13 +361,15 @@ void addViewCommand(CLI::App& app) {
         "renderer on the CPU. Drag to orbit, wheel to zoom, r resets, t cycles the presets, [ and ] scale the "
         "opacity, 1-9 show or hide structures, 0 shows all, s saves a screenshot PNG, h hides the HUD, q quits");
     command->add_option("input", flags->input, "Gaussian asset, .vdb grid, or any volume ingest reads")->required();
-    command->add_option("--tf", flags->tf, "Transfer function: ct, ct-bone, mri, rgb, or a JSON file "
-                                           "(default: rgb for colour, ct for HU, else mri)");
+    command->add_option("--tf", flags->tf,
+                        "Transfer function: ct, ct-bone, mri, rgb, or a JSON file "
+                        "(default: rgb for colour, ct for HU, else mri)");
     command->add_option("--show", flags->show, "Only these structures of an asset fitted with --labels");
     command->add_option("--hide", flags->hide, "Leave these structures out (after --show)");
     addLayersOption(*command, flags->layers, "at its voxels; hidden structures leave the Gaussians alone");
     command->add_option("--size", flags->size, "Window size WIDTHxHEIGHT in pixels")->capture_default_str();
-    command->add_option("--azimuth", flags->azimuth, "Starting azimuth in degrees, as gvr render's")->capture_default_str();
+    command->add_option("--azimuth", flags->azimuth, "Starting azimuth in degrees, as gvr render's")
+        ->capture_default_str();
     command->add_option("--elevation", flags->elevation, "Starting elevation in degrees")->capture_default_str();
     // The frame rate first: a window redraws as the mouse moves, and a still from
     // gvr render is where fidelity pays.
@@ -357,7 +382,8 @@ void addViewCommand(CLI::App& app) {
                      "past the one-ray ray marcher); screenshots show it. 0 (or --supersample's value): keep the "
                      "moving frames")
         ->capture_default_str();
-    command->add_option("--screenshots", flags->screenshots, "Folder for the screenshots (key s)")->capture_default_str();
+    command->add_option("--screenshots", flags->screenshots, "Folder for the screenshots (key s)")
+        ->capture_default_str();
     command->add_option("--frames", flags->frames, "Close after this many frames (0: when the window closes)");
     addSourceFlags(*command, flags->source);
     command->add_flag("--json", flags->json,

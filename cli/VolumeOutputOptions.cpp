@@ -27,9 +27,10 @@ std::string describeStorage(const NiftiStorage& storage) {
 }  // namespace
 
 void addVolumeOutputOptions(CLI::App& command, std::vector<std::string>& outputs, bool& float32) {
-    command.add_option("-o,--output", outputs,
-                       "Output file; its extension chooses the format: .vdb (OpenVDB grids), .nii or .nii.gz "
-                       "(NIfTI in the source's datatype and codes). Repeat -o for both")
+    command
+        .add_option("-o,--output", outputs,
+                    "Output file; its extension chooses the format: .vdb (OpenVDB grids), .nii or .nii.gz "
+                    "(NIfTI in the source's datatype and codes). Repeat -o for both")
         ->required();
     command.add_flag("--float32", float32, "NIfTI: store float32 samples instead of the source's datatype");
 }
@@ -40,14 +41,16 @@ void addRemovedFormatOption(CLI::App& command, std::string& format) {
 
 void rejectRemovedFormat(const std::string& format) {
     if (format.empty()) return;
-    throw InputError("--format", "was removed: the extension of -o chooses the format; for a VDB and a NIfTI "
-                                 "pass -o OUT.vdb -o OUT.nii.gz");
+    throw InputError("--format",
+                     "was removed: the extension of -o chooses the format; for a VDB and a NIfTI "
+                     "pass -o OUT.vdb -o OUT.nii.gz");
 }
 
 nlohmann::json toJson(const std::vector<WrittenVolume>& written, const NiftiStorage& storage) {
     nlohmann::json files = nlohmann::json::array();
     for (const WrittenVolume& file : written) {
-        nlohmann::json entry = {{"path", file.path}, {"format", formatName(file.format)}, {"file_bytes", file.fileBytes}};
+        nlohmann::json entry = {
+            {"path", file.path}, {"format", formatName(file.format)}, {"file_bytes", file.fileBytes}};
         if (file.format == VolumeFileFormat::Nifti) {
             entry["datatype"] = sampleTypeName(storage.type);
             entry["scl_slope"] = storage.slope;

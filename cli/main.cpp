@@ -62,7 +62,8 @@ void addHelpCommand(CLI::App& app) {
             names.push_back(command->get_name());
         }
         const std::string near = gvr::closestName(*topic, names);
-        throw gvr::InputError("help", "no command '" + *topic + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?"));
+        throw gvr::InputError("help",
+                              "no command '" + *topic + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?"));
     });
 }
 
@@ -71,8 +72,9 @@ void addHelpCommand(CLI::App& app) {
 int main(int argc, char** argv) {
     gvr::divertLibraryOutput();
     gvr::removeTemporariesOnSignals();
-    CLI::App app{"gvr: turn medical volumes into sparse OpenVDB grids and compact Gaussian assets, "
-                 "evaluate and render them"};
+    CLI::App app{
+        "gvr: turn medical volumes into sparse OpenVDB grids and compact Gaussian assets, "
+        "evaluate and render them"};
     app.name("gvr");  // not argv[0], a build path, in every usage line
     app.require_subcommand(1);
     app.set_version_flag("-V,--version", "gvr " GVR_VERSION);
@@ -82,7 +84,8 @@ int main(int argc, char** argv) {
     gvr::refuseNegativeUnsignedValues(app);
     gvr::useOneLineUsageErrors(app);
     bool verbose = false;
-    app.add_flag("--verbose", verbose, "Also print what the libraries (libpng, nifticlib, GDCM) wrote, after gvr's own output");
+    app.add_flag("--verbose", verbose,
+                 "Also print what the libraries (libpng, nifticlib, GDCM) wrote, after gvr's own output");
     const int code = run(app, argc, argv);
     if (verbose) gvr::showLibraryOutput();
     return code;

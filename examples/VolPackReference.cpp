@@ -6,8 +6,8 @@
 #include <array>
 #include <chrono>
 #include <climits>
-#include <cstddef>
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -27,9 +27,7 @@ constexpr int kScalarParam = 0, kGradientParam = 1;  // factors of the opacity p
 
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // A VolPack context and the tables it reads. VolPack keeps pointers to these tables and
 // to the image without copying them, so they must live exactly as long as the context.
@@ -46,8 +44,8 @@ public:
 
     void check(vpResult result, const char* call) {
         if (result != VP_OK) {
-            throw std::runtime_error(std::string("VolPack: ") + call + " failed: " +
-                                     vpGetErrorString(vpGetError(mContext)));
+            throw std::runtime_error(std::string("VolPack: ") + call +
+                                     " failed: " + vpGetErrorString(vpGetError(mContext)));
         }
     }
 

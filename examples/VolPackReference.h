@@ -14,13 +14,14 @@ namespace gvr {
 /// A dense 8-bit scalar volume as VolPack takes it.
 struct VolPackVolume {
     int nx = 0, ny = 0, nz = 0;
-    std::vector<std::uint8_t> voxels;  ///< nx*ny*nz values, x fastest, then y, then z
+    std::vector<std::uint8_t> voxels;       ///< nx*ny*nz values, x fastest, then y, then z
     double spacingMm[3] = {1.0, 1.0, 1.0};  ///< voxel size along x, y, z
 };
 
 struct VolPackResult {
-    double classifySeconds = 0;   ///< building the classified (run-length encoded) volume, including gradient/normal computation
-    double framesPerSecond = 0;   ///< renders of the classified volume, averaged over `frames` views
+    double classifySeconds =
+        0;  ///< building the classified (run-length encoded) volume, including gradient/normal computation
+    double framesPerSecond = 0;  ///< renders of the classified volume, averaged over `frames` views
     int frames = 0;
     std::vector<std::uint8_t> lastImage;  ///< width*height luminance of the last frame, row 0 at the top
 };
@@ -42,7 +43,7 @@ struct VolPackResult {
 ///
 /// @throw std::invalid_argument if the volume, the image size or the table is unusable.
 /// @throw std::runtime_error with VolPack's error string on failure.
-VolPackResult renderWithVolPack(const VolPackVolume& volume, int width, int height, int frames,
-                                double stepDeg, double elevationDeg, const std::vector<float>& opacityByValue = {});
+VolPackResult renderWithVolPack(const VolPackVolume& volume, int width, int height, int frames, double stepDeg,
+                                double elevationDeg, const std::vector<float>& opacityByValue = {});
 
 }  // namespace gvr

@@ -62,15 +62,19 @@ void sweep(const char* attribute, const std::vector<double>& settings,
 /// Each attribute's bit depth on its own, the others kept fine.
 void sweepEveryAttribute(const GaussianAsset& asset, const VolumeTarget& target, double reference) {
     std::printf("| attribute | setting | bytes per Gaussian | PSNR dB | vs as read |\n|---|---|---|---|---|\n");
-    sweep("mean step (voxels)", {1.0 / 4, 1.0 / 8, 1.0 / 16, 1.0 / 32},
-          [](AssetEncoding& e, double v) { e.meanStep = float(v); },
-          [](const AttributeBytes& b) { return b.position; }, asset, target, reference);
-    sweep("rotation bits", {6, 7, 8, 9, 10}, [](AssetEncoding& e, double v) { e.rotationBits = int(v); },
-          [](const AttributeBytes& b) { return b.rotation; }, asset, target, reference);
-    sweep("log-scale bits", {5, 6, 7, 8, 10}, [](AssetEncoding& e, double v) { e.logScaleBits = int(v); },
-          [](const AttributeBytes& b) { return b.logScales; }, asset, target, reference);
-    sweep("amplitude bits", {8, 9, 10, 11, 12, 14}, [](AssetEncoding& e, double v) { e.amplitudeBits = int(v); },
-          [](const AttributeBytes& b) { return b.amplitudes; }, asset, target, reference);
+    sweep(
+        "mean step (voxels)", {1.0 / 4, 1.0 / 8, 1.0 / 16, 1.0 / 32},
+        [](AssetEncoding& e, double v) { e.meanStep = float(v); }, [](const AttributeBytes& b) { return b.position; },
+        asset, target, reference);
+    sweep(
+        "rotation bits", {6, 7, 8, 9, 10}, [](AssetEncoding& e, double v) { e.rotationBits = int(v); },
+        [](const AttributeBytes& b) { return b.rotation; }, asset, target, reference);
+    sweep(
+        "log-scale bits", {5, 6, 7, 8, 10}, [](AssetEncoding& e, double v) { e.logScaleBits = int(v); },
+        [](const AttributeBytes& b) { return b.logScales; }, asset, target, reference);
+    sweep(
+        "amplitude bits", {8, 9, 10, 11, 12, 14}, [](AssetEncoding& e, double v) { e.amplitudeBits = int(v); },
+        [](const AttributeBytes& b) { return b.amplitudes; }, asset, target, reference);
 }
 
 }  // namespace

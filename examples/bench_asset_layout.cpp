@@ -72,9 +72,10 @@ int main(int argc, char** argv) {
         const std::string scratch = (std::filesystem::temp_directory_path() / "gvr_layout_bench.vdb").string();
         for (double voxelSize : {1.0, 2.0, 4.0, 8.0}) {
             const std::uint64_t bytes = pointDataGridBytes(asset.params, voxelSize, scratch);
-            std::printf("  PointDataGrid, voxel %.0f (16-bit fixed positions, half attributes, Blosc): "
-                        "%llu bytes, %.2f B/Gaussian, %.2fx the gvr asset\n",
-                        voxelSize, (unsigned long long)bytes, bytes / n, double(bytes) / own);
+            std::printf(
+                "  PointDataGrid, voxel %.0f (16-bit fixed positions, half attributes, Blosc): "
+                "%llu bytes, %.2f B/Gaussian, %.2fx the gvr asset\n",
+                voxelSize, (unsigned long long)bytes, bytes / n, double(bytes) / own);
         }
         std::filesystem::remove(scratch);
     } catch (const std::exception& error) {

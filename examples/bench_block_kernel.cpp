@@ -62,13 +62,15 @@ void measure(const char* label, const GaussianParameters& params, const VolumeTa
     for (int r = 0; r < kRepeats; ++r) {
         for (auto [kernel, timing] : {std::pair{BlockKernel::Best, &eight}, std::pair{BlockKernel::FourLanes, &four}}) {
             std::uint64_t voxels = 0;
-            timing->seconds = std::min(timing->seconds, timeOneCall(field, bins, target, blocks, kernel, chunks, voxels));
+            timing->seconds =
+                std::min(timing->seconds, timeOneCall(field, bins, target, blocks, kernel, chunks, voxels));
             timing->voxels = voxels;
         }
     }
     const auto perSecond = [](const Timing& t) { return double(t.voxels) / t.seconds / 1e6; };
     std::printf("| %s | %zu | %zu | %.1f | %.2f | %.1f | %.2f | %.2fx |\n", label, params.count(), blocks.size(),
-                1e3 * eight.seconds, perSecond(eight), 1e3 * four.seconds, perSecond(four), four.seconds / eight.seconds);
+                1e3 * eight.seconds, perSecond(eight), 1e3 * four.seconds, perSecond(four),
+                four.seconds / eight.seconds);
     std::fflush(stdout);
 }
 
@@ -89,10 +91,13 @@ int main(int argc, char** argv) {
         const VolumeTarget target(chooseVolumeGrid(*grids, argv[1]), argv[1]);
         std::vector<std::string> sets(argv + 2, argv + argc);
         if (sets.empty()) sets = {"10000", "40000", "100000", "400000"};
-        std::printf("%s, the fit's defaults (batch %.0f voxels a Gaussian, at least %zu; every %d-th row); fastest of %d calls\n\n",
-                    argv[1], kBatchPerGaussian, kLeastVoxelBatch, FitSettings{}.rowStride, kRepeats);
-        std::printf("| Gaussians from | count | blocks | 8 lanes: ms | M voxels/s | 4 lanes: ms | M voxels/s | 8 against 4 |\n"
-                    "|---|---|---|---|---|---|---|---|\n");
+        std::printf(
+            "%s, the fit's defaults (batch %.0f voxels a Gaussian, at least %zu; every %d-th row); fastest of %d "
+            "calls\n\n",
+            argv[1], kBatchPerGaussian, kLeastVoxelBatch, FitSettings{}.rowStride, kRepeats);
+        std::printf(
+            "| Gaussians from | count | blocks | 8 lanes: ms | M voxels/s | 4 lanes: ms | M voxels/s | 8 against 4 |\n"
+            "|---|---|---|---|---|---|---|---|\n");
         for (const std::string& set : sets) {
             if (isCount(set)) {
                 SeedSettings seeds;

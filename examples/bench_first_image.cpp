@@ -27,7 +27,8 @@ constexpr int kSize = 512;
 
 int run(const std::string& path, int repeats) {
     auto start = std::chrono::steady_clock::now();
-    const RenderInput input = loadRenderInput(path, "", "", AssetLayers::All, ShearWarpSettings{}.minimumFootprintVoxels(), {});
+    const RenderInput input =
+        loadRenderInput(path, "", "", AssetLayers::All, ShearWarpSettings{}.minimumFootprintVoxels(), {});
     const double readMs = millisecondsSince(start);
     start = std::chrono::steady_clock::now();
     auto scene = std::make_shared<StyledLayers>();

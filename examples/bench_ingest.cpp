@@ -48,18 +48,18 @@ int benchOne(const std::string& input) {
     const double baselineMiB = residentMiB();
     const auto start = std::chrono::steady_clock::now();
     const gvr::IngestResult result = gvr::ingest(input, gvr::IngestOptions{});
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const auto metadata = result.grid->metaValue<openvdb::Vec3i>("gvr_dims");
     const int channels = result.grid->metaValue<int>("gvr_channels");
     const double floatMiB = double(metadata.x()) * metadata.y() * metadata.z() * channels * 4 / 1048576.0;
     const double peakMiB = peakResidentMiB();
-    std::printf("%-45s %4dx%4dx%4d  %7.2f s  %8.1f MB/s decoded float32  %7.1f MB/s from disk\n"
-                "%-45s peak RSS %.0f MiB (%.0f MiB above start) = %.2fx the float32 volume "
-                "(%.0f MiB); target <= 2x\n",
-                input.c_str(), metadata.x(), metadata.y(), metadata.z(), seconds,
-                floatMiB * 1.048576 / seconds, bytesOnDisk(input) / 1e6 / seconds, "",
-                peakMiB, peakMiB - baselineMiB, (peakMiB - baselineMiB) / floatMiB, floatMiB);
+    std::printf(
+        "%-45s %4dx%4dx%4d  %7.2f s  %8.1f MB/s decoded float32  %7.1f MB/s from disk\n"
+        "%-45s peak RSS %.0f MiB (%.0f MiB above start) = %.2fx the float32 volume "
+        "(%.0f MiB); target <= 2x\n",
+        input.c_str(), metadata.x(), metadata.y(), metadata.z(), seconds, floatMiB * 1.048576 / seconds,
+        bytesOnDisk(input) / 1e6 / seconds, "", peakMiB, peakMiB - baselineMiB, (peakMiB - baselineMiB) / floatMiB,
+        floatMiB);
     return 0;
 }
 

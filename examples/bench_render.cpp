@@ -140,7 +140,8 @@ References referencesFor(const GridRenderVolume& original, const GaussianRenderV
 }
 
 /// Mean and worst render PSNR of @a images against @a references, view by view.
-std::pair<double, double> meanAndWorstDb(const std::vector<Framebuffer>& references, const std::vector<Framebuffer>& images) {
+std::pair<double, double> meanAndWorstDb(const std::vector<Framebuffer>& references,
+                                         const std::vector<Framebuffer>& images) {
     double mean = 0.0, worst = INFINITY;
     for (std::size_t v = 0; v < references.size(); ++v) {
         const double db = imagePsnr(references[v], images[v]);
@@ -178,12 +179,13 @@ void compare(const char* label, const GaussianRenderVolume& gaussians, const Gri
              const VolPackVolume& bytes, const Classifier& classifier) {
     std::printf("%s classification\n", label);
     const References references = referencesFor(original, gaussians, classifier);
-    std::printf("   ray marcher, one ray a pixel (step 0.5 voxel, early termination, VDB skipping): %.0f ms a frame; "
-                "against the anti-aliased one (%d x %d rays a pixel): %.1f dB on the original grid, %.1f dB on the "
-                "Gaussians' export (the targets of shear-warp's two figures against it below)\n",
-                references.marchMs, kReferenceRaysPerSide, kReferenceRaysPerSide,
-                meanAndWorstDb(references.antialiased, references.original).first,
-                meanAndWorstDb(references.gaussiansAntialiased, references.gaussians).first);
+    std::printf(
+        "   ray marcher, one ray a pixel (step 0.5 voxel, early termination, VDB skipping): %.0f ms a frame; "
+        "against the anti-aliased one (%d x %d rays a pixel): %.1f dB on the original grid, %.1f dB on the "
+        "Gaussians' export (the targets of shear-warp's two figures against it below)\n",
+        references.marchMs, kReferenceRaysPerSide, kReferenceRaysPerSide,
+        meanAndWorstDb(references.antialiased, references.original).first,
+        meanAndWorstDb(references.gaussiansAntialiased, references.gaussians).first);
     std::vector<double> axisReuseMs;
     const double voxelSupersampling = std::max(1.0, cameraAt(original, 0.0).pixelMm / original.voxelMm());
     for (const ShearWarpSettings& settings : settingsCompared(voxelSupersampling)) {
@@ -192,23 +194,26 @@ void compare(const char* label, const GaussianRenderVolume& gaussians, const Gri
         if (settings.stacks == StackOrientation::Axes) axisReuseMs.push_back(ours.reuseMs);
         const auto [gaussianDb, worstDb] = meanAndWorstDb(references.original, ours.reuseImages);
         std::printf("   %s stacks, supersample %.2f\n", nameOf(settings.stacks), settings.supersampling);
-        std::printf("      Gaussians: reused frame %.1f ms = %.1f FPS, build %.0f ms; %.1f dB mean, %.1f dB worst "
-                    "against the ray marcher on the original; %.1fx its speed; %.1f dB against the anti-aliased "
-                    "ray marcher on the Gaussians (the renderer's own error)\n", ours.reuseMs, 1000.0 / ours.reuseMs,
-                    ours.rebuildMs, gaussianDb, worstDb, references.marchMs / ours.reuseMs,
-                    meanAndWorstDb(references.gaussiansAntialiased, ours.reuseImages).first);
-        std::printf("      dense grid: reused frame %.1f ms, build %.0f ms; %.1f dB against the anti-aliased ray "
-                    "marcher (the renderer's own error)\n", dense.reuseMs, dense.rebuildMs,
-                    meanAndWorstDb(references.antialiased, dense.reuseImages).first);
+        std::printf(
+            "      Gaussians: reused frame %.1f ms = %.1f FPS, build %.0f ms; %.1f dB mean, %.1f dB worst "
+            "against the ray marcher on the original; %.1fx its speed; %.1f dB against the anti-aliased "
+            "ray marcher on the Gaussians (the renderer's own error)\n",
+            ours.reuseMs, 1000.0 / ours.reuseMs, ours.rebuildMs, gaussianDb, worstDb, references.marchMs / ours.reuseMs,
+            meanAndWorstDb(references.gaussiansAntialiased, ours.reuseImages).first);
+        std::printf(
+            "      dense grid: reused frame %.1f ms, build %.0f ms; %.1f dB against the anti-aliased ray "
+            "marcher (the renderer's own error)\n",
+            dense.reuseMs, dense.rebuildMs, meanAndWorstDb(references.antialiased, dense.reuseImages).first);
     }
     const VolPackResult volpack =
         renderWithVolPack(bytes, kSize, kSize, kReuseFrames, 1.0, kElevation, opacityByValue(classifier));
     const auto overVolPack = [&](double reuseMs) { return (1000.0 / reuseMs) / volpack.framesPerSecond; };
-    std::printf("   VolPack, one thread, the same opacities per voxel: %.1f FPS after a %.2f s classification; "
-                "Gaussian shear-warp (axis stacks, two threads) over VolPack: %.2fx the frames per second "
-                "supersampled, %.2fx with one sample a voxel (as VolPack), %.2fx with one sample a pixel\n\n",
-                volpack.framesPerSecond, volpack.classifySeconds, overVolPack(axisReuseMs[0]),
-                overVolPack(axisReuseMs[2]), overVolPack(axisReuseMs[1]));
+    std::printf(
+        "   VolPack, one thread, the same opacities per voxel: %.1f FPS after a %.2f s classification; "
+        "Gaussian shear-warp (axis stacks, two threads) over VolPack: %.2fx the frames per second "
+        "supersampled, %.2fx with one sample a voxel (as VolPack), %.2fx with one sample a pixel\n\n",
+        volpack.framesPerSecond, volpack.classifySeconds, overVolPack(axisReuseMs[0]), overVolPack(axisReuseMs[2]),
+        overVolPack(axisReuseMs[1]));
 }
 
 int run(const std::string& assetPath, const std::string& gridPath) {
@@ -224,7 +229,9 @@ int run(const std::string& assetPath, const std::string& gridPath) {
     // Surface-like: opaque soon above the air.
     const Classifier surface(TransferFunction({{20.0, {0.90f, 0.80f, 0.70f, 0.0f}},
                                                {60.0, {0.95f, 0.90f, 0.85f, 0.9f}},
-                                               {255.0, {1.0f, 1.0f, 1.0f, 1.0f}}}, "bench"), 1);
+                                               {255.0, {1.0f, 1.0f, 1.0f, 1.0f}}},
+                                              "bench"),
+                             1);
     compare("surface (opacity 0 at 20, 0.9 at 60, 1 at 255 of 255, per voxel)", gaussians, original, bytes, surface);
     const Classifier translucent(TransferFunction({{40.0, {0, 0, 0, 0}}, {250.0, {1, 1, 1, 0.12f}}}, "bench"), 1);
     compare("translucent (opacity 0 at 40 to 0.12 at 250)", gaussians, original, bytes, translucent);

@@ -7,11 +7,11 @@
 // Every step is one call; the `gvr` command does the same with progress bars,
 // flags and error messages around them. Read top to bottom.
 
+#include "io/Ingest.h"
 #include "io/asset/AssetExport.h"
 #include "io/asset/AssetFile.h"
 #include "io/formats/GridFile.h"
 #include "io/formats/ImageFile.h"
-#include "io/Ingest.h"
 #include "render/ShearWarp.h"
 #include "workflow/FitToBudget.h"
 #include "workflow/RenderInput.h"

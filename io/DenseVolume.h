@@ -41,9 +41,13 @@ struct DenseVolume {
     std::uint64_t sampleBytes() const { return voxelCount() * channels * bytesPerSample(type); }
 
     template <typename T>
-    const T* data() const { return reinterpret_cast<const T*>(samples.data()); }
+    const T* data() const {
+        return reinterpret_cast<const T*>(samples.data());
+    }
     template <typename T>
-    T* data() { return reinterpret_cast<T*>(samples.data()); }
+    T* data() {
+        return reinterpret_cast<T*>(samples.data());
+    }
 };
 
 /// Builds OpenVDB's matrix from the usual 3x4 affine, where

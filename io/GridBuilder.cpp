@@ -16,8 +16,8 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <optional>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 namespace gvr {
@@ -34,8 +34,11 @@ template <typename T>
 class PhysicalValues {
 public:
     PhysicalValues(const DenseVolume& volume, std::optional<float> nanTo)
-        : mData(volume.data<T>()), mChannels(volume.channels), mSlope(volume.slope),
-          mIntercept(volume.intercept), mNanTo(nanTo) {
+        : mData(volume.data<T>()),
+          mChannels(volume.channels),
+          mSlope(volume.slope),
+          mIntercept(volume.intercept),
+          mNanTo(nanTo) {
         if constexpr (kTabulated) {
             mTable.resize(std::size_t(1) << (8 * sizeof(T)));
             for (std::size_t stored = 0; stored < mTable.size(); ++stored) {
@@ -205,12 +208,11 @@ ValueT voxelValue(const Values& values, std::size_t voxel) {
 template <typename LeafT, typename Values>
 std::unique_ptr<LeafT> buildLeaf(const Values& values, const DenseVolume& slab, std::int64_t firstSlice,
                                  const Coord& origin, double cut, double cutAbove,
-                                 const typename LeafT::ValueType& background,
-                                 bool replacesNonFinite, SlabTally& tally) {
+                                 const typename LeafT::ValueType& background, bool replacesNonFinite,
+                                 SlabTally& tally) {
     std::unique_ptr<LeafT> leaf;  // made at the first active voxel: most leaves of a large volume stay empty
-    const Coord end = Coord::minComponent(
-        origin + Coord(LeafT::DIM),
-        Coord(int(slab.dims[0]), int(slab.dims[1]), int(firstSlice + slab.dims[2])));
+    const Coord end = Coord::minComponent(origin + Coord(LeafT::DIM),
+                                          Coord(int(slab.dims[0]), int(slab.dims[1]), int(firstSlice + slab.dims[2])));
     for (int k = origin.z(); k < end.z(); ++k) {
         for (int j = origin.y(); j < end.y(); ++j) {
             std::size_t voxel = (std::size_t(k - firstSlice) * slab.dims[1] + j) * slab.dims[0] + origin.x();
@@ -241,8 +243,8 @@ std::unique_ptr<LeafT> buildLeaf(const Values& values, const DenseVolume& slab, 
 /// order so that the sums do not depend on the threads. A slab starts on a leaf
 /// boundary, so no leaf is shared with another slab.
 template <typename GridT, typename Values>
-SlabTally addSlabLeaves(GridT& grid, const Values& values, const DenseVolume& slab, std::int64_t firstSlice,
-                        double cut, double cutAbove, bool replacesNonFinite, ProgressCounter& counter) {
+SlabTally addSlabLeaves(GridT& grid, const Values& values, const DenseVolume& slab, std::int64_t firstSlice, double cut,
+                        double cutAbove, bool replacesNonFinite, ProgressCounter& counter) {
     using LeafT = typename GridT::TreeType::LeafNodeType;
     const Coord first(0, 0, int(firstSlice));
     const std::vector<Coord> origins = blockOrigins(openvdb::CoordBBox(
@@ -256,12 +258,13 @@ SlabTally addSlabLeaves(GridT& grid, const Values& values, const DenseVolume& sl
     };
     std::vector<SlabTally> tallies(origins.size());
     const typename GridT::ValueType placeholder = grid.background();
-    addLeaves(grid, origins,
-              [&](const Coord& origin) {
-                  return buildLeaf<LeafT>(values, slab, firstSlice, origin, cut, cutAbove, placeholder, replacesNonFinite,
-                                          tallies[indexOf(origin)]);
-              },
-              counter);
+    addLeaves(
+        grid, origins,
+        [&](const Coord& origin) {
+            return buildLeaf<LeafT>(values, slab, firstSlice, origin, cut, cutAbove, placeholder, replacesNonFinite,
+                                    tallies[indexOf(origin)]);
+        },
+        counter);
     SlabTally total;
     for (const SlabTally& tally : tallies) total.add(tally);
     return total;
@@ -322,7 +325,8 @@ template <typename T, typename GridT>
 class SlabBuild {
 public:
     SlabBuild(const DenseVolume& layout, const GridBuildSettings& settings, const ProgressFn& progress)
-        : mLayout(layout), mSettings(settings),
+        : mLayout(layout),
+          mSettings(settings),
           mGrid(GridT::create()),  // its background is set once the inactive voxels are known
           mCounter(progress, leafCount(layout)) {}
 
@@ -334,9 +338,8 @@ public:
             mRecords.push_back(addSlab(readSlab(first, count), first, count));
         }
         if (mRange.nonFinite > 0) {
-            throw InputError(mSettings.sourceFile,
-                             std::to_string(mRange.nonFinite) +
-                                 " voxels are NaN or Inf; pass `nan_to=VALUE` to replace them");
+            throw InputError(mSettings.sourceFile, std::to_string(mRange.nonFinite) +
+                                                       " voxels are NaN or Inf; pass `nan_to=VALUE` to replace them");
         }
         for (SlabRecord& record : mRecords) {
             if (record.cut != finalCut()) record = rebuildSlab(readSlab(record.first, record.count), record);
@@ -408,8 +411,8 @@ private:
 
     /// The median of the grid's values on the volume's faces, channel by channel.
     openvdb::Vec3d facesMedian() const {
-        const openvdb::CoordBBox box(Coord(0), Coord(int(mLayout.dims[0]) - 1, int(mLayout.dims[1]) - 1,
-                                                     int(mLayout.dims[2]) - 1));
+        const openvdb::CoordBBox box(
+            Coord(0), Coord(int(mLayout.dims[0]) - 1, int(mLayout.dims[1]) - 1, int(mLayout.dims[2]) - 1));
         const auto accessor = mGrid->getConstAccessor();
         openvdb::Vec3d median(0.0);
         for (int c = 0; c < mLayout.channels; ++c) {
@@ -450,7 +453,8 @@ private:
         if (!mSettings.threshold) mRange = mRange.merged(scanRange(values, slab.voxelCount(), replacesNonFinite));
         mRounded += countRounded(values, slab.voxelCount());
         SlabRecord record{first, count, finalCut(), {}};
-        const SlabTally tally = addSlabLeaves(*mGrid, values, slab, first, record.cut, cutAbove(), replacesNonFinite, mCounter);
+        const SlabTally tally =
+            addSlabLeaves(*mGrid, values, slab, first, record.cut, cutAbove(), replacesNonFinite, mCounter);
         if (mSettings.threshold) mRange = mRange.merged(tally.range);
         record.inactive = tally.inactive;
         return record;
@@ -461,9 +465,9 @@ private:
         record.cut = finalCut();
         const ProgressFn none;  // the first pass already counted these leaves
         ProgressCounter silent(none, 0);
-        record.inactive =
-            addSlabLeaves(*mGrid, values, slab, record.first, record.cut, cutAbove(), mSettings.nanTo.has_value(), silent)
-                .inactive;
+        record.inactive = addSlabLeaves(*mGrid, values, slab, record.first, record.cut, cutAbove(),
+                                        mSettings.nanTo.has_value(), silent)
+                              .inactive;
         return record;
     }
 
@@ -547,12 +551,13 @@ openvdb::GridBase::Ptr buildFromSlabs(const DenseVolume& layout, std::int64_t sl
                                       const GridBuildSettings& settings, const ProgressFn& progress) {
     settings.validate();
     if (layout.channels != 1 && layout.channels != 3) {
-        throw InputError(settings.sourceFile, "has " + std::to_string(layout.channels) +
-                                                  " channels; gvr handles grey (1) or RGB (3)");
+        throw InputError(settings.sourceFile,
+                         "has " + std::to_string(layout.channels) + " channels; gvr handles grey (1) or RGB (3)");
     }
     return dispatchSampleType(layout.type, [&](auto sample) {
         using T = decltype(sample);
-        if (layout.channels == 1) return buildTyped<T, openvdb::FloatGrid>(layout, slabSlices, readSlab, settings, progress);
+        if (layout.channels == 1)
+            return buildTyped<T, openvdb::FloatGrid>(layout, slabSlices, readSlab, settings, progress);
         return buildTyped<T, openvdb::Vec3SGrid>(layout, slabSlices, readSlab, settings, progress);
     });
 }

@@ -1,12 +1,12 @@
 #include "io/Ingest.h"
 
+#include "io/LabelGrid.h"
 #include "io/formats/FileKind.h"
 #include "io/formats/GridFile.h"
-#include "io/LabelGrid.h"
 #include "io/guard/MemoryBudget.h"
-#include "pipeline/ThresholdHoles.h"
 #include "pipeline/Error.h"
 #include "pipeline/FiniteValues.h"
+#include "pipeline/ThresholdHoles.h"
 
 #include <filesystem>
 #include <iomanip>

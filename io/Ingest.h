@@ -9,7 +9,7 @@ namespace gvr {
 
 struct IngestOptions {
     ReadOptions read;
-    GridBuildSettings build;  ///< sourceFile is filled in from the input path
+    GridBuildSettings build;   ///< sourceFile is filled in from the input path
     ProgressFn buildProgress;  ///< the reading phase reports through read.progress
     /// A label volume (an atlas such as aal.nii.gz, any format ingest reads) to place
     /// on the image's voxels, as `gvr ingest --labels` does.

@@ -1,7 +1,7 @@
 #include "io/LabelGrid.h"
 
-#include "io/guard/InputFile.h"
 #include "io/formats/JsonText.h"
+#include "io/guard/InputFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/SampleType.h"
 #include "pipeline/VolumeMetadata.h"
@@ -27,7 +27,8 @@ bool isInt32(double value) {
 
 /// Label values in the file's own voxel order. @throw InputError for non-integers.
 std::vector<std::int32_t> integerLabels(const DenseVolume& volume, const std::string& path) {
-    if (volume.channels != 1) throw InputError(path, "a label volume must have one channel, not " + std::to_string(volume.channels));
+    if (volume.channels != 1)
+        throw InputError(path, "a label volume must have one channel, not " + std::to_string(volume.channels));
     std::vector<std::int32_t> labels(volume.voxelCount());
     dispatchSampleType(volume.type, [&](auto sample) {
         using T = decltype(sample);
@@ -98,8 +99,8 @@ LabelTable readLabelNames(const std::string& path) {
             throw InputError(path, "line " + std::to_string(number) + " is not \"ID NAME ...\": " + line);
         }
         if (!isInt32(double(value))) {
-            throw InputError(path, "line " + std::to_string(number) + " names label " + id +
-                                       ", beyond the 32-bit labels gvr keeps");
+            throw InputError(
+                path, "line " + std::to_string(number) + " names label " + id + ", beyond the 32-bit labels gvr keeps");
         }
         if (value != 0) table.names[int(value)] = name;
     }

@@ -116,7 +116,8 @@ private:
         const int channels = mField.channels();
         std::array<double, 3 * kBlockVoxels> w{};
         for (const Entry& entry : entries) {
-            for (int c = 0; c < channels; ++c) w[entry.voxel * channels + c] += entry.e * v[entry.gaussian * channels + c];
+            for (int c = 0; c < channels; ++c)
+                w[entry.voxel * channels + c] += entry.e * v[entry.gaussian * channels + c];
         }
         std::int32_t trainable[kBlockVoxels];
         mGrid.trainableMask(block, trainable);
@@ -141,7 +142,8 @@ private:
             }
         }
         for (const Entry& entry : entries) {
-            for (int c = 0; c < channels; ++c) out[entry.gaussian * channels + c] += entry.e * w[entry.voxel * channels + c];
+            for (int c = 0; c < channels; ++c)
+                out[entry.gaussian * channels + c] += entry.e * w[entry.voxel * channels + c];
         }
         return squared;
     }
@@ -161,7 +163,8 @@ std::vector<double> amplitudesOf(const GaussianParameters& params) {
     std::vector<double> a(params.count() * std::size_t(params.channels));
     for (std::size_t i = 0; i < params.count(); ++i) {
         const float opacity = sigmoid(*params.at(kOpacityLogits, i));
-        for (int c = 0; c < params.channels; ++c) a[i * params.channels + c] = double(opacity) * params.at(kColours, i)[c];
+        for (int c = 0; c < params.channels; ++c)
+            a[i * params.channels + c] = double(opacity) * params.at(kColours, i)[c];
     }
     return a;
 }
@@ -169,7 +172,8 @@ std::vector<double> amplitudesOf(const GaussianParameters& params) {
 void setAmplitudes(GaussianParameters& params, const std::vector<double>& a) {
     for (std::size_t i = 0; i < params.count(); ++i) {
         const double opacity = sigmoid(*params.at(kOpacityLogits, i));
-        for (int c = 0; c < params.channels; ++c) params.at(kColours, i)[c] = float(a[i * params.channels + c] / opacity);
+        for (int c = 0; c < params.channels; ++c)
+            params.at(kColours, i)[c] = float(a[i * params.channels + c] / opacity);
     }
 }
 
@@ -228,7 +232,8 @@ AmplitudeSolveReport solveAmplitudes(GaussianParameters& params, const VolumeTar
     matrix.apply(a, /*residual=*/true, squared);
     passDone();
     report.mseAfter = squared / values;
-    if (report.mseAfter < report.mseBefore && std::all_of(a.begin(), a.end(), [](double v) { return std::isfinite(v); })) {
+    if (report.mseAfter < report.mseBefore &&
+        std::all_of(a.begin(), a.end(), [](double v) { return std::isfinite(v); })) {
         setAmplitudes(params, a);
     } else {
         report.mseAfter = report.mseBefore;

@@ -16,7 +16,8 @@ constexpr int kBlockVoxels = kBlockDim * kBlockDim * kBlockDim;
 
 /// Offset of @a ijk inside its block: z fastest, as openvdb::tree::LeafNode numbers voxels.
 inline int blockOffset(const openvdb::Coord& ijk) {
-    return ((ijk.x() & (kBlockDim - 1)) * kBlockDim + (ijk.y() & (kBlockDim - 1))) * kBlockDim + (ijk.z() & (kBlockDim - 1));
+    return ((ijk.x() & (kBlockDim - 1)) * kBlockDim + (ijk.y() & (kBlockDim - 1))) * kBlockDim +
+           (ijk.z() & (kBlockDim - 1));
 }
 
 /// The voxel at @a offset (blockOffset's numbering) of the block at @a origin.
@@ -42,8 +43,7 @@ public:
         return {d.x() / kBlockDim, d.y() / kBlockDim, d.z() / kBlockDim};
     }
     std::size_t slotOf(int x, int y, int z) const {
-        return (std::size_t(z) * std::size_t(mCounts.y()) + std::size_t(y)) * std::size_t(mCounts.x()) +
-               std::size_t(x);
+        return (std::size_t(z) * std::size_t(mCounts.y()) + std::size_t(y)) * std::size_t(mCounts.x()) + std::size_t(x);
     }
     std::size_t slotOf(const openvdb::Coord& block) const { return slotOf(block.x(), block.y(), block.z()); }
     openvdb::Coord originOf(std::size_t slot) const {

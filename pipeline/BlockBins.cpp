@@ -11,11 +11,13 @@ namespace gvr {
 void BlockBins::findTruncatedBounds(const GaussianField& field) {
     const std::vector<ActiveGaussian>& gaussians = field.gaussians();
     mTruncated.resize(gaussians.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, gaussians.size(), 4096), [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            truncatedBounds(gaussians[i], field.cutoffSigmas(), mTruncated[i].lower.data(), mTruncated[i].upper.data());
-        }
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, gaussians.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                              truncatedBounds(gaussians[i], field.cutoffSigmas(), mTruncated[i].lower.data(),
+                                              mTruncated[i].upper.data());
+                          }
+                      });
 }
 
 void BlockBins::clear() {
@@ -28,23 +30,24 @@ void BlockBins::build(const GaussianField& field) {
     findTruncatedBounds(field);
     mBinned = field.bvh().boxes();
     mBins.resize(mGrid.blockCount());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mBins.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
-        std::vector<std::uint32_t> hits;
-        for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            const openvdb::Coord o = mGrid.origin(std::uint32_t(b));
-            const float lower[3] = {o.x() - 0.5f, o.y() - 0.5f, o.z() - 0.5f};
-            const float upper[3] = {o.x() + kBlockDim - 0.5f, o.y() + kBlockDim - 0.5f, o.z() + kBlockDim - 0.5f};
-            if (mBinned.empty()) {
-                hits.clear();
-            } else {
-                field.bvh().overlapping(lower, upper, hits);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, mBins.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
+            std::vector<std::uint32_t> hits;
+            for (std::size_t b = range.begin(); b != range.end(); ++b) {
+                const openvdb::Coord o = mGrid.origin(std::uint32_t(b));
+                const float lower[3] = {o.x() - 0.5f, o.y() - 0.5f, o.z() - 0.5f};
+                const float upper[3] = {o.x() + kBlockDim - 0.5f, o.y() + kBlockDim - 0.5f, o.z() + kBlockDim - 0.5f};
+                if (mBinned.empty()) {
+                    hits.clear();
+                } else {
+                    field.bvh().overlapping(lower, upper, hits);
+                }
+                std::sort(hits.begin(), hits.end());
+                // A fresh list of the exact size: reusing the old one would keep the
+                // capacity of its largest size, which early, wide Gaussians set.
+                mBins[b] = std::vector<std::uint32_t>(hits.begin(), hits.end());
             }
-            std::sort(hits.begin(), hits.end());
-            // A fresh list of the exact size: reusing the old one would keep the
-            // capacity of its largest size, which early, wide Gaussians set.
-            mBins[b] = std::vector<std::uint32_t>(hits.begin(), hits.end());
-        }
-    });
+        });
 }
 
 std::size_t BlockBins::follow(const GaussianField& field) {
@@ -55,7 +58,8 @@ std::size_t BlockBins::follow(const GaussianField& field) {
         const Box& tight = mTruncated[i];
         const Box& binned = mBinned[i];
         bool inside = true;
-        for (int a = 0; a < 3; ++a) inside = inside && tight.lower[a] >= binned.lower[a] && tight.upper[a] <= binned.upper[a];
+        for (int a = 0; a < 3; ++a)
+            inside = inside && tight.lower[a] >= binned.lower[a] && tight.upper[a] <= binned.upper[a];
         if (inside) continue;
         ++moved;
         Box grown = tight;
@@ -90,9 +94,10 @@ void BlockBins::addToBlocks(std::uint32_t gaussian, const Box& box) {
 }
 
 const std::vector<std::uint32_t>& BlockBins::gaussiansNear(const float x[3]) const {
-    const openvdb::Coord nearest(int(std::floor(x[0] + 0.5f)), int(std::floor(x[1] + 0.5f)), int(std::floor(x[2] + 0.5f)));
-    return mBins[mGrid.blockOf(openvdb::Coord::minComponent(openvdb::Coord::maxComponent(nearest, mGrid.box().min()),
-                                                            mGrid.box().max()))];
+    const openvdb::Coord nearest(int(std::floor(x[0] + 0.5f)), int(std::floor(x[1] + 0.5f)),
+                                 int(std::floor(x[2] + 0.5f)));
+    return mBins[mGrid.blockOf(
+        openvdb::Coord::minComponent(openvdb::Coord::maxComponent(nearest, mGrid.box().min()), mGrid.box().max()))];
 }
 
 std::size_t BlockBins::pairCount() const {

@@ -59,8 +59,8 @@ private:
     const BlockGrid& mGrid;
     float mSlackVoxels, mSlackFraction;
     std::vector<std::vector<std::uint32_t>> mBins;  ///< by block
-    std::vector<Box> mBinned;                        ///< by Gaussian: the box it is binned with
-    std::vector<Box> mTruncated;                     ///< by Gaussian: its truncated bounds
+    std::vector<Box> mBinned;                       ///< by Gaussian: the box it is binned with
+    std::vector<Box> mTruncated;                    ///< by Gaussian: its truncated bounds
 };
 
 }  // namespace gvr

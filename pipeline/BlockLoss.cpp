@@ -185,8 +185,7 @@ __attribute__((always_inline)) inline GradientSums aboutTheMean(const double cen
 
 /// Residuals over the block's sampled rows into work.upstream (dL/df, zero where a
 /// voxel is not trainable). @return sum of squared residuals.
-double residuals(const PassInputs& pass, const SampledBlock& sampled, BlockWork& work,
-                 BlockOutcome& outcome) {
+double residuals(const PassInputs& pass, const SampledBlock& sampled, BlockWork& work, BlockOutcome& outcome) {
     const int channels = pass.field.channels();
     const int rowStride = pass.settings.rowStride;
     const float gain = float(2.0 * pass.settings.scale * sampled.weight);
@@ -242,9 +241,12 @@ __attribute__((always_inline)) inline double evaluateBlockWith(const PassInputs&
         float amplitude[3];
         std::copy(g.amplitude, g.amplitude + channels, amplitude);
         const std::uint32_t first = std::uint32_t(work.terms.size());
-        addPairTerms<Floats>(quad, xs, ys, sampled, pass.settings.rowStride, field.cutoff2(), amplitude, channels, work);
+        addPairTerms<Floats>(quad, xs, ys, sampled, pass.settings.rowStride, field.cutoff2(), amplitude, channels,
+                             work);
         if (work.terms.size() == first) continue;
-        work.pairs.push_back({index, first, std::uint32_t(work.terms.size()),
+        work.pairs.push_back({index,
+                              first,
+                              std::uint32_t(work.terms.size()),
                               {originOffset[0] + kCentre, originOffset[1] + kCentre, originOffset[2] + kCentre}});
     }
     pass.target.blockValues(origin, work.target);
@@ -254,19 +256,20 @@ __attribute__((always_inline)) inline double evaluateBlockWith(const PassInputs&
         const ActiveGaussian& g = field.gaussians()[pair.gaussian];
         float amplitude[3];
         std::copy(g.amplitude, g.amplitude + channels, amplitude);
-        gradients->sumsOf(chunk, pair.gaussian) += aboutTheMean(pair.centreOffset, pairMoments<Floats>(pair, amplitude, channels, work));
+        gradients->sumsOf(chunk, pair.gaussian) +=
+            aboutTheMean(pair.centreOffset, pairMoments<Floats>(pair, amplitude, channels, work));
     }
     return squared;
 }
 
-__attribute__((target("avx2,fma"))) double evaluateBlockAvx2Fma(const PassInputs& pass, const SampledBlock& sampled, BlockWork& work,
-                                                         BlockOutcome& outcome, GradientChunks* gradients,
-                                                         std::size_t chunk) {
+__attribute__((target("avx2,fma"))) double evaluateBlockAvx2Fma(const PassInputs& pass, const SampledBlock& sampled,
+                                                                BlockWork& work, BlockOutcome& outcome,
+                                                                GradientChunks* gradients, std::size_t chunk) {
     return evaluateBlockWith<Floats8>(pass, sampled, work, outcome, gradients, chunk);
 }
 
-double evaluateBlockFourLanes(const PassInputs& pass, const SampledBlock& sampled, BlockWork& work, BlockOutcome& outcome,
-                              GradientChunks* gradients, std::size_t chunk) {
+double evaluateBlockFourLanes(const PassInputs& pass, const SampledBlock& sampled, BlockWork& work,
+                              BlockOutcome& outcome, GradientChunks* gradients, std::size_t chunk) {
     return evaluateBlockWith<Floats4>(pass, sampled, work, outcome, gradients, chunk);
 }
 

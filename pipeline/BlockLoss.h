@@ -21,8 +21,8 @@ namespace gvr {
 
 /// What one sampled block showed.
 struct BlockOutcome {
-    double squared = 0.0;        ///< sum of |f - t|^2 over the voxels evaluated (channels summed)
-    std::uint32_t voxels = 0;    ///< trainable voxels evaluated
+    double squared = 0.0;      ///< sum of |f - t|^2 over the voxels evaluated (channels summed)
+    std::uint32_t voxels = 0;  ///< trainable voxels evaluated
 };
 
 enum class BlockKernel {

@@ -27,7 +27,8 @@ BlockSampler::BlockSampler(const BlockGrid& grid, const ImportanceSettings& sett
 
 void BlockSampler::rebuildTotal() {
     mTotal = 0.0;
-    for (std::uint32_t b = 0; b < mError.size(); ++b) mTotal += (mError[b] + mSettings.epsilon) * mGrid.trainableVoxels(b);
+    for (std::uint32_t b = 0; b < mError.size(); ++b)
+        mTotal += (mError[b] + mSettings.epsilon) * mGrid.trainableVoxels(b);
 }
 
 double BlockSampler::inclusionProbability(std::uint32_t block, double voxels) const {

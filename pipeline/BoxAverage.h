@@ -14,8 +14,8 @@ namespace gvr {
 /// fine sample (x, y, z)'s channels to sums, and store(i, j, k, means) takes the means.
 /// Sums are in double, in z, y, x order, the same for any number of threads.
 template <typename AddFine, typename Store>
-void forEachBoxAverage(const openvdb::Coord& coarseDims, const openvdb::Coord& factor,
-                       const openvdb::Coord& fineDims, int channels, const AddFine& addFine, const Store& store) {
+void forEachBoxAverage(const openvdb::Coord& coarseDims, const openvdb::Coord& factor, const openvdb::Coord& fineDims,
+                       int channels, const AddFine& addFine, const Store& store) {
     tbb::parallel_for(0, coarseDims.z(), [&](int k) {
         for (int j = 0; j < coarseDims.y(); ++j) {
             for (int i = 0; i < coarseDims.x(); ++i) {

@@ -60,8 +60,7 @@ openvdb::Coord brickLattice(const openvdb::CoordBBox& box, std::size_t count) {
     return best;
 }
 
-std::vector<Brick> planBricks(const VolumeTarget& target, const openvdb::Coord& lattice, int halo,
-                              std::size_t total) {
+std::vector<Brick> planBricks(const VolumeTarget& target, const openvdb::Coord& lattice, int halo, std::size_t total) {
     const openvdb::CoordBBox& volume = target.box();
     std::vector<Brick> bricks;
     for (int k = 0; k < lattice.z(); ++k) {

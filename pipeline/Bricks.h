@@ -46,8 +46,7 @@ openvdb::Coord brickLattice(const openvdb::CoordBBox& box, std::size_t count);
 /// The bricks of @a target.box() on @a lattice, in x-fastest order, with their
 /// active voxels counted and exactly @a total Gaussians split among them in
 /// proportion to the active voxels of their cores.
-std::vector<Brick> planBricks(const VolumeTarget& target, const openvdb::Coord& lattice, int halo,
-                              std::size_t total);
+std::vector<Brick> planBricks(const VolumeTarget& target, const openvdb::Coord& lattice, int halo, std::size_t total);
 
 /// The voxels within @a width voxels of a face between two of @a bricks (a plan's
 /// bricks, which tile their volume): where a seam would show.
@@ -66,7 +65,6 @@ private:
 /// samples per iteration (voxels, slice pixels, held-out voxels) are the brick's
 /// share of settings' by volume. settings.gaussians is ignored.
 GaussianParameters fitBrick(const openvdb::GridBase::ConstPtr& grid, const std::string& name, const Brick& brick,
-                            const FitSettings& settings, const FitObserver& observer = {},
-                            FitReport* report = nullptr);
+                            const FitSettings& settings, const FitObserver& observer = {}, FitReport* report = nullptr);
 
 }  // namespace gvr

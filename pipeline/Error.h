@@ -21,7 +21,8 @@ private:
     /// error"); the message stays one line.
     static std::string oneLine(std::string text) {
         while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
-        for (std::size_t at = text.find_first_of("\r\n"); at != std::string::npos; at = text.find_first_of("\r\n", at)) {
+        for (std::size_t at = text.find_first_of("\r\n"); at != std::string::npos;
+             at = text.find_first_of("\r\n", at)) {
             const bool windowsBreak = text.compare(at, 2, "\r\n") == 0;
             text.replace(at, windowsBreak ? 2 : 1, "; ");
         }

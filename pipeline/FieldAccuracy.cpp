@@ -54,15 +54,15 @@ void measureBlock(const LatticeSampler& sampler, const VolumeTarget& target, con
 
 }  // namespace
 
-std::vector<SliceSums> measureSliceSums(const GaussianField& field, const VolumeTarget& target,
-                                           openvdb::CoordBBox part, const ProgressFn& progress,
-                                           const VoxelMarking& marked, const ThresholdCut& cut) {
+std::vector<SliceSums> measureSliceSums(const GaussianField& field, const VolumeTarget& target, openvdb::CoordBBox part,
+                                        const ProgressFn& progress, const VoxelMarking& marked,
+                                        const ThresholdCut& cut) {
     part.intersect(target.box());
     std::vector<SliceSums> slices(part.empty() ? 0 : std::size_t(part.dim().z()));
     if (slices.empty()) return slices;
     // Export's own evaluation, block by block, so that the numbers are export's.
-    const LatticeSampler sampler(field, openvdb::math::Mat4d::identity(), Lattice{openvdb::math::Mat4d::identity(), part},
-                                 target.box());
+    const LatticeSampler sampler(field, openvdb::math::Mat4d::identity(),
+                                 Lattice{openvdb::math::Mat4d::identity(), part}, target.box());
     // One task per layer of blocks: each owns the slices it covers, so the sums do
     // not depend on the thread count.
     std::vector<std::vector<openvdb::Coord>> layers;
@@ -72,7 +72,8 @@ std::vector<SliceSums> measureSliceSums(const GaussianField& field, const Volume
     }
     ProgressCounter counter(progress, layers.size());
     tbb::parallel_for(std::size_t(0), layers.size(), [&](std::size_t layer) {
-        for (const openvdb::Coord& origin : layers[layer]) measureBlock(sampler, target, origin, part, marked, cut, slices);
+        for (const openvdb::Coord& origin : layers[layer])
+            measureBlock(sampler, target, origin, part, marked, cut, slices);
         counter.advance();
     });
     return slices;
@@ -83,8 +84,8 @@ double estimateMeasurementSeconds(const GaussianField& field, const VolumeTarget
     const openvdb::CoordBBox box = target.box();
     if (box.empty() || stride == 0) return 0.0;
     const Clock::time_point start = Clock::now();
-    const LatticeSampler sampler(field, openvdb::math::Mat4d::identity(), Lattice{openvdb::math::Mat4d::identity(), box},
-                                 box);
+    const LatticeSampler sampler(field, openvdb::math::Mat4d::identity(),
+                                 Lattice{openvdb::math::Mat4d::identity(), box}, box);
     const double setUp = std::chrono::duration<double>(Clock::now() - start).count();
     const std::vector<openvdb::Coord> origins = blockOrigins(box);
     std::vector<openvdb::Coord> sample;
@@ -137,7 +138,7 @@ FieldAccuracy fieldAccuracyOf(const std::vector<SliceSums>& slices, const Volume
 }
 
 FieldAccuracy measureFieldAccuracy(const GaussianField& field, const VolumeTarget& target, const ProgressFn& progress,
-                               const VoxelMarking& marked, const ThresholdCut& cut) {
+                                   const VoxelMarking& marked, const ThresholdCut& cut) {
     return fieldAccuracyOf(measureSliceSums(field, target, target.box(), progress, marked, cut), target);
 }
 

@@ -46,8 +46,8 @@ struct SliceSums {
 /// z-slices, and applies @a cut as export does; the result does not depend on
 /// the thread count.
 FieldAccuracy measureFieldAccuracy(const GaussianField& field, const VolumeTarget& target,
-                               const ProgressFn& progress = {}, const VoxelMarking& marked = {},
-                               const ThresholdCut& cut = {});
+                                   const ProgressFn& progress = {}, const VoxelMarking& marked = {},
+                                   const ThresholdCut& cut = {});
 
 /// About how long measureFieldAccuracy() takes on @a field: the same work timed
 /// over every @a stride-th block of target.box(), scaled up. A fit with a time
@@ -57,9 +57,9 @@ double estimateMeasurementSeconds(const GaussianField& field, const VolumeTarget
 /// The part of measureFieldAccuracy() inside @a part (clipped to target.box()): one
 /// entry per z-slice of the clipped part, lowest z first, for a measurement shared
 /// out by region (an MPI rank's bricks, say).
-std::vector<SliceSums> measureSliceSums(const GaussianField& field, const VolumeTarget& target,
-                                           openvdb::CoordBBox part, const ProgressFn& progress = {},
-                                           const VoxelMarking& marked = {}, const ThresholdCut& cut = {});
+std::vector<SliceSums> measureSliceSums(const GaussianField& field, const VolumeTarget& target, openvdb::CoordBBox part,
+                                        const ProgressFn& progress = {}, const VoxelMarking& marked = {},
+                                        const ThresholdCut& cut = {});
 
 /// The error of the whole box from the sums of each of its z-slices, lowest first.
 FieldAccuracy fieldAccuracyOf(const std::vector<SliceSums>& slices, const VolumeTarget& target);

@@ -18,7 +18,9 @@ public:
     static_assert(LeafT::DIM == kBlockDim, "blocks are OpenVDB leaves");
 
     LeafSampler(const LatticeSampler& sampler, const FieldToGridSettings& settings)
-        : mSampler(sampler), mSettings(settings), mChannels(sampler.channels()),
+        : mSampler(sampler),
+          mSettings(settings),
+          mChannels(sampler.channels()),
           mCut(settings.mapping, mChannels, settings.threshold, settings.thresholdAbove) {}
 
     std::unique_ptr<LeafT> operator()(const openvdb::Coord& origin) const {
@@ -47,8 +49,10 @@ public:
 
 private:
     static ValueT valueOf(const float* physical) {
-        if constexpr (std::is_same_v<ValueT, openvdb::Vec3s>) return ValueT(physical[0], physical[1], physical[2]);
-        else return physical[0];
+        if constexpr (std::is_same_v<ValueT, openvdb::Vec3s>)
+            return ValueT(physical[0], physical[1], physical[2]);
+        else
+            return physical[0];
     }
 
     const LatticeSampler& mSampler;

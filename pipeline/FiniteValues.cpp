@@ -68,7 +68,8 @@ Found nonFiniteValues(const GridT& grid, const std::optional<openvdb::CoordBBox>
 }
 
 template <typename GridT>
-void requireFiniteValuesOf(const GridT& grid, const std::string& name, const std::optional<openvdb::CoordBBox>& region) {
+void requireFiniteValuesOf(const GridT& grid, const std::string& name,
+                           const std::optional<openvdb::CoordBBox>& region) {
     const std::string which = "grid '" + grid.getName() + "'";
     if (!finite(grid.background())) {
         throw InputError(name, which + " has a NaN or infinite background; ingest it again with `nan_to=VALUE`");

@@ -25,7 +25,8 @@ std::string FitSettings::validate() const {
     if (rebinEvery == 0) return "`rebin_every` must be positive";
     if (rowStride < 1 || rowStride > 64) return "`row_stride` must lie in [1, 64]";
     if (!(importance.uniformShare >= 0.0 && importance.uniformShare <= 1.0)) return "`mc_lambda` must lie in [0, 1]";
-    if (!(importance.epsilon > 0.0) || !std::isfinite(importance.epsilon)) return "`mc_epsilon` must be a positive number";
+    if (!(importance.epsilon > 0.0) || !std::isfinite(importance.epsilon))
+        return "`mc_epsilon` must be a positive number";
     if (slicePixels == 0 && schedule != SliceSchedule::None) return "`slice_pixels` must be positive";
     if (!(sliceMax >= 0.0 && sliceMax <= 1.0)) return "`slice_max` must lie in [0, 1]";
     if (!std::isfinite(sliceGamma)) return "`slice_gamma` must be a finite fraction of the budget";
@@ -91,12 +92,14 @@ Ablation ablationFromName(const std::string& name) {
 double sliceWeight(const FitSettings& settings, double t) {
     const auto logistic = [](double x) { return 1.0 / (1.0 + std::exp(-x)); };
     switch (settings.schedule) {
-        case SliceSchedule::None: return 0.0;
+        case SliceSchedule::None:
+            return 0.0;
         case SliceSchedule::VoxelsThenSlices:
             return settings.sliceMax * logistic((t - settings.sliceGamma) / settings.sliceBeta);
         case SliceSchedule::SlicesThenVoxels:
             return logistic(-(t - settings.sliceGamma) / settings.sliceBeta);
-        case SliceSchedule::SlicesOnly: return 1.0;
+        case SliceSchedule::SlicesOnly:
+            return 1.0;
     }
     return 0.0;
 }

@@ -38,8 +38,8 @@ struct FitSettings {
     /// starts again with as many Gaussians (up to m) as the time can give about this
     /// many voxel samples each, and checks that once more.
     double minSamplesPerGaussian = 0.0;
-    std::size_t iterations = 0; ///< stop after this many (0: no limit)
-    double seconds = 0.0;       ///< stop after this long (0: no limit); one of the two must be set
+    std::size_t iterations = 0;  ///< stop after this many (0: no limit)
+    double seconds = 0.0;        ///< stop after this long (0: no limit); one of the two must be set
     std::uint64_t seed = 1;
 
     double gradientSeedShare = 0.6;

@@ -46,7 +46,8 @@ SampleSet voxelSampleSet(const VolumeTarget& target, const std::vector<openvdb::
     SampleSet set;
     set.points.resize(voxels.size());
     set.weights.assign(voxels.size(), 1.0f / float(voxels.size()));
-    for (std::size_t s = 0; s < voxels.size(); ++s) set.points[s] = {float(voxels[s].x()), float(voxels[s].y()), float(voxels[s].z())};
+    for (std::size_t s = 0; s < voxels.size(); ++s)
+        set.points[s] = {float(voxels[s].x()), float(voxels[s].y()), float(voxels[s].z())};
     fillVoxelTargets(target, set);
     return set;
 }
@@ -85,9 +86,8 @@ std::vector<std::uint32_t> spatialOrder(const GaussianParameters& params, const 
     });
     std::vector<std::uint32_t> order(count);
     for (std::uint32_t i = 0; i < count; ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-        return codes[a] < codes[b] || (codes[a] == codes[b] && a < b);
-    });
+    std::sort(order.begin(), order.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return codes[a] < codes[b] || (codes[a] == codes[b] && a < b); });
     return order;
 }
 
@@ -125,7 +125,9 @@ void repair(GaussianParameters& params, std::size_t i, const openvdb::Vec3f& low
 class FitLoop {
 public:
     FitLoop(const VolumeTarget& target, const FitSettings& settings)
-        : mTarget(target), mSettings(settings), mStart(Clock::now()),
+        : mTarget(target),
+          mSettings(settings),
+          mStart(Clock::now()),
           mHeldOut(heldOutVoxels(target, settings.heldOutVoxels, streamSeed(settings.seed, kHeldOut, 0))),
           mGrid(target.box(), mHeldOut),  // an honest PSNR curve: training never sees them
           mSampler(mGrid, samplerSettings(settings), settings.rowStride),
@@ -144,9 +146,7 @@ private:
 
     /// The part of a time budget for Adam: the amplitude solve gets what it needs up
     /// to its share, and what follows the fit its estimated time.
-    double adamSeconds() const {
-        return std::max(mSettings.seconds - solveSeconds() - closingSeconds(), 0.0);
-    }
+    double adamSeconds() const { return std::max(mSettings.seconds - solveSeconds() - closingSeconds(), 0.0); }
 
     /// Time kept for the amplitude solve: its share of the budget, or less when its
     /// passes need less, and the coding of the stored geometry before it. Each CG
@@ -184,7 +184,8 @@ private:
     /// its first pass, one iteration and its closing pass, each about a measurement.
     bool solving() const {
         if (mSettings.amplitudeSolveIterations == 0) return false;
-        return mSettings.seconds <= 0.0 || mSettings.amplitudeSolveShare * mSettings.seconds >= 3.0 * mMeasurementSeconds;
+        return mSettings.seconds <= 0.0 ||
+               mSettings.amplitudeSolveShare * mSettings.seconds >= 3.0 * mMeasurementSeconds;
     }
 
     /// Why the amplitude solve does not run, in words for the report; empty if it does.
@@ -192,8 +193,9 @@ private:
         if (solving()) return "";
         if (mSettings.amplitudeSolveIterations == 0) return "no solve iterations were asked for";
         std::ostringstream why;
-        why << std::setprecision(2) << "its share of the time budget, " << mSettings.amplitudeSolveShare * mSettings.seconds
-            << " s, holds fewer than the 3 dense passes it needs (" << mMeasurementSeconds << " s each)";
+        why << std::setprecision(2) << "its share of the time budget, "
+            << mSettings.amplitudeSolveShare * mSettings.seconds << " s, holds fewer than the 3 dense passes it needs ("
+            << mMeasurementSeconds << " s each)";
         return why.str();
     }
 
@@ -284,8 +286,8 @@ private:
     GradientChunks mChunks;
     std::vector<SampledBlock> mBlocks;
     std::vector<BlockOutcome> mOutcomes;
-    bool mRebin = true;              ///< the count or the numbering changed: bin afresh
-    std::size_t mBinnedAt = 0;       ///< iteration of the last binning
+    bool mRebin = true;         ///< the count or the numbering changed: bin afresh
+    std::size_t mBinnedAt = 0;  ///< iteration of the last binning
     std::unique_ptr<Adam> mAdam;
     std::size_t mBatch = 0;  ///< voxel samples a step, for the count initialised
     FitReport mReport;
@@ -374,8 +376,9 @@ void FitLoop::fillTheByteBudget(double fraction) {
 std::vector<RespawnSite> FitLoop::largestResidualSites(std::size_t count, std::uint64_t seed) const {
     std::vector<openvdb::Coord> voxels = drawUniformVoxels(mTarget.box(), kCandidatesPerSite * count, seed);
     // A Gaussian fitted to a held-out voxel's residual would flatter the curve.
-    voxels.erase(std::remove_if(voxels.begin(), voxels.end(), [&](const openvdb::Coord& v) { return !mGrid.trainable(v); }),
-                 voxels.end());
+    voxels.erase(
+        std::remove_if(voxels.begin(), voxels.end(), [&](const openvdb::Coord& v) { return !mGrid.trainable(v); }),
+        voxels.end());
     const SampleSet candidates = voxelSampleSet(mTarget, voxels);
     const std::vector<float> residual = residualsAt(mField, candidates, &mBins);
     const int channels = mTarget.channels();
@@ -386,8 +389,9 @@ std::vector<RespawnSite> FitLoop::largestResidualSites(std::size_t count, std::u
         if (largest[s] >= mSettings.pruneAmplitude) order.push_back(s);
     }
     count = std::min(count, order.size());
-    std::partial_sort(order.begin(), order.begin() + count, order.end(),
-                      [&](std::size_t a, std::size_t b) { return largest[a] > largest[b] || (largest[a] == largest[b] && a < b); });
+    std::partial_sort(order.begin(), order.begin() + count, order.end(), [&](std::size_t a, std::size_t b) {
+        return largest[a] > largest[b] || (largest[a] == largest[b] && a < b);
+    });
     std::vector<RespawnSite> sites(count);
     for (std::size_t k = 0; k < count; ++k) {
         const std::size_t s = order[k];
@@ -408,7 +412,8 @@ std::size_t FitLoop::trainableCount() const {
     if (mPaces.size() >= 2) {
         const Pace& first = mPaces[0];
         const Pace& last = mPaces.back();
-        b = std::max((first.secondsPerSample - last.secondsPerSample) / (double(first.count) - double(last.count)), 0.0);
+        b = std::max((first.secondsPerSample - last.secondsPerSample) / (double(first.count) - double(last.count)),
+                     0.0);
         a = std::max(last.secondsPerSample - b * double(last.count), 1e-12);
     }
     const double count = b > 0.0 ? (-a + std::sqrt(a * a + 4.0 * b * seconds)) / (2.0 * b) : seconds / a;
@@ -426,8 +431,7 @@ void FitLoop::fitCountToTheTime() {
         mPacing = false;
         return;
     }
-    const std::size_t trainable =
-        std::min(trainableCount(), std::size_t(kMaxPaceGrowth * double(mParams.count())));
+    const std::size_t trainable = std::min(trainableCount(), std::size_t(kMaxPaceGrowth * double(mParams.count())));
     const double change = double(trainable) / double(mParams.count());
     // Small changes are not worth a restart, except to reach the byte budget's count.
     const bool reachesTheAllowance = trainable == mSettings.gaussians && trainable != mParams.count();
@@ -489,8 +493,8 @@ double FitLoop::step(std::size_t iteration, double fraction, FitProgress& progre
     double loss = 0.0;
     if (voxelShare > 0.0) loss += voxelLoss(iteration, voxelShare);
     if (slicePassRuns(mSettings, fraction)) {
-        const SampleSet slice = sliceSampleSet(mTarget, mSettings.slicePixels,
-                                               streamSeed(mSettings.seed, kSlices, iteration));
+        const SampleSet slice =
+            sliceSampleSet(mTarget, mSettings.slicePixels, streamSeed(mSettings.seed, kSlices, iteration));
         loss += weightedSquaredError(mField, slice, sliceShare, &mChunks, &mBins);
     }
     progress.sliceWeight = sliceShare;
@@ -540,7 +544,8 @@ FitLoop::Update FitLoop::updateEveryGaussian(std::size_t iteration) {
 
 double FitLoop::heldOutPsnr(const SampleSet& heldOut) const {
     // The loss sums channels; PSNR uses the mean over channels.
-    return psnrFromMse(weightedSquaredError(mField, heldOut, 1.0, nullptr, &mBins) / mTarget.channels(), mTarget.peak());
+    return psnrFromMse(weightedSquaredError(mField, heldOut, 1.0, nullptr, &mBins) / mTarget.channels(),
+                       mTarget.peak());
 }
 
 void FitLoop::solveAmplitudesAtTheEnd(const std::vector<openvdb::Coord>& heldOutCoords, const SampleSet& heldOut,
@@ -610,9 +615,9 @@ GaussianParameters FitLoop::run(const FitObserver& observer, FitReport& report) 
             // those left a fit sites short, and its file above the ratio asked
             // (docs/benchmarks.md, "The file holds the ratio").
             const std::size_t negligible = negligibleCount(mParams, mSettings.pruneAmplitude);
-            const PruneResult pruned = pruneAndRespawn(
-                mParams, *mAdam, mSettings.pruneAmplitude,
-                largestResidualSites(negligible, streamSeed(mSettings.seed, kRespawns, iteration)));
+            const PruneResult pruned =
+                pruneAndRespawn(mParams, *mAdam, mSettings.pruneAmplitude,
+                                largestResidualSites(negligible, streamSeed(mSettings.seed, kRespawns, iteration)));
             mReport.pruned += pruned.removed;
             mReport.respawned += pruned.respawned;
             mRebin = mRebin || pruned.removed > 0;
@@ -648,8 +653,8 @@ double psnrFromMse(double mse, double peak) {
     return 20.0 * std::log10(peak) - 10.0 * std::log10(mse);
 }
 
-GaussianParameters fitGaussians(const VolumeTarget& target, const FitSettings& settings,
-                                const FitObserver& observer, FitReport* report) {
+GaussianParameters fitGaussians(const VolumeTarget& target, const FitSettings& settings, const FitObserver& observer,
+                                FitReport* report) {
     const std::string problem = settings.validate();
     if (!problem.empty()) throw InputError("fit settings", problem);
     FitReport ignored;

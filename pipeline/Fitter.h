@@ -23,7 +23,7 @@ struct FitProgress {
     double sliceWeight = 0.0;    ///< lambda_s at this iteration
     double gradientShare = 0.0;  ///< of the Gaussians, the share that got a gradient
     bool heldOutEvaluated = false;
-    double heldOutPsnr = 0.0;    ///< dB, on the fixed held-out voxels; peak = target.peak()
+    double heldOutPsnr = 0.0;  ///< dB, on the fixed held-out voxels; peak = target.peak()
     std::size_t gaussians = 0;
     std::size_t skippedSteps = 0;  ///< steps dropped for a non-finite gradient or result
     /// Set while the fit sets up, before an iteration: how far the seeding is, in [0, 1].

@@ -76,8 +76,9 @@ FloatVolume resampleTrilinear(const FloatVolume& source, const openvdb::Coord& d
                 for (int a = 0; a < 3; ++a) x[a] = std::clamp(x[a], -1.0, double(source.dims[a]));
                 float* value = out.at(i, j, k);
                 forEachTrilinearCorner(x, [&](const openvdb::Coord& corner, double weight) {
-                    const float* sample = source.at(clampTo(corner.x(), source.dims.x()), clampTo(corner.y(), source.dims.y()),
-                                                    clampTo(corner.z(), source.dims.z()));
+                    const float* sample =
+                        source.at(clampTo(corner.x(), source.dims.x()), clampTo(corner.y(), source.dims.y()),
+                                  clampTo(corner.z(), source.dims.z()));
                     for (int c = 0; c < source.channels; ++c) value[c] += float(weight * sample[c]);
                 });
             }

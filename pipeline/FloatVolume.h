@@ -25,9 +25,7 @@ struct FloatVolume {
     FloatVolume(const openvdb::Coord& dims, int channels);  ///< zero-filled
 
     std::size_t voxelCount() const { return std::size_t(dims.x()) * dims.y() * dims.z(); }
-    std::size_t indexOf(int i, int j, int k) const {
-        return (std::size_t(k) * dims.y() + j) * dims.x() + i;
-    }
+    std::size_t indexOf(int i, int j, int k) const { return (std::size_t(k) * dims.y() + j) * dims.x() + i; }
     float* at(int i, int j, int k) { return values.data() + indexOf(i, j, k) * channels; }
     const float* at(int i, int j, int k) const { return values.data() + indexOf(i, j, k) * channels; }
 };

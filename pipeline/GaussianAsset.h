@@ -31,7 +31,7 @@ struct GaussianAsset {
     ValueMapping mapping;
     VolumeMetadata source;
     nlohmann::json fitSettings = nlohmann::json::object();
-    AssetEncoding encoding;          ///< bit depths for storing
+    AssetEncoding encoding;  ///< bit depths for storing
     /// The error-bounded layer over the Gaussians on the source's lattice, or null
     /// (pipeline/ResidualLayer.h). Shared: copies of an asset do not copy its codes.
     std::shared_ptr<const ResidualLayer> residual;

@@ -18,8 +18,8 @@ struct Box {
     std::array<float, 3> lower, upper;
 
     bool contains(const float x[3]) const {
-        return x[0] >= lower[0] && x[0] <= upper[0] && x[1] >= lower[1] && x[1] <= upper[1] &&
-               x[2] >= lower[2] && x[2] <= upper[2];
+        return x[0] >= lower[0] && x[0] <= upper[0] && x[1] >= lower[1] && x[1] <= upper[1] && x[2] >= lower[2] &&
+               x[2] <= upper[2];
     }
     bool overlaps(const float otherLower[3], const float otherUpper[3]) const {
         for (int a = 0; a < 3; ++a) {

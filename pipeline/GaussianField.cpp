@@ -6,8 +6,8 @@
 
 namespace gvr {
 
-void GaussianField::rebuild(const GaussianParameters& params, float cutoffSigmas, bool fastBuild,
-                            float slackVoxels, float slackFraction) {
+void GaussianField::rebuild(const GaussianParameters& params, float cutoffSigmas, bool fastBuild, float slackVoxels,
+                            float slackFraction) {
     mChannels = params.channels;
     mCutoffSigmas = cutoffSigmas;
     mCutoff2 = cutoffSigmas * cutoffSigmas;

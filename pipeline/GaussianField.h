@@ -22,8 +22,8 @@ public:
     /// Activates every Gaussian and rebuilds the BVH over their truncated bounds,
     /// each grown by @a slackVoxels plus @a slackFraction of its half-extent, so
     /// that small moves need no rebuild (see update()).
-    void rebuild(const GaussianParameters& params, float cutoffSigmas, bool fastBuild = false,
-                 float slackVoxels = 0.0f, float slackFraction = 0.0f);
+    void rebuild(const GaussianParameters& params, float cutoffSigmas, bool fastBuild = false, float slackVoxels = 0.0f,
+                 float slackFraction = 0.0f);
 
     /// Re-activates the Gaussians of @a params (the same count as at the last
     /// rebuild) and keeps the BVH. Queries stay exact because every Gaussian's
@@ -36,7 +36,9 @@ public:
     /// rebuild) and leaves the BVH as it was, even where the Gaussian has left its
     /// box: for callers that follow the moves themselves (BlockBins::follow), never
     /// for queries of the BVH. Calls for different Gaussians may run at the same time.
-    void reactivate(const GaussianParameters& params, std::size_t index) { mGaussians[index] = activate(params, index); }
+    void reactivate(const GaussianParameters& params, std::size_t index) {
+        mGaussians[index] = activate(params, index);
+    }
 
     /// f at @a x into value[0..channels). @a hits is scratch space, one per thread;
     /// it is left holding the indices of the Gaussians that reach x.
@@ -53,7 +55,8 @@ public:
     const std::vector<ActiveGaussian>& gaussians() const { return mGaussians; }
     /// @throw std::logic_error after releaseBvh(), until the next rebuild().
     const GaussianBvh& bvh() const {
-        if (mBvh.size() != mGaussians.size()) throw std::logic_error("GaussianField: its BVH was released; rebuild() first");
+        if (mBvh.size() != mGaussians.size())
+            throw std::logic_error("GaussianField: its BVH was released; rebuild() first");
         return mBvh;
     }
 

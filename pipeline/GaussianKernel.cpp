@@ -9,9 +9,15 @@ float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
 
 void rotationFromQuaternion(const float q[4], float r[9]) {
     const float w = q[0], x = q[1], y = q[2], z = q[3];
-    r[0] = 1 - 2 * (y * y + z * z); r[1] = 2 * (x * y - w * z);     r[2] = 2 * (x * z + w * y);
-    r[3] = 2 * (x * y + w * z);     r[4] = 1 - 2 * (x * x + z * z); r[5] = 2 * (y * z - w * x);
-    r[6] = 2 * (x * z - w * y);     r[7] = 2 * (y * z + w * x);     r[8] = 1 - 2 * (x * x + y * y);
+    r[0] = 1 - 2 * (y * y + z * z);
+    r[1] = 2 * (x * y - w * z);
+    r[2] = 2 * (x * z + w * y);
+    r[3] = 2 * (x * y + w * z);
+    r[4] = 1 - 2 * (x * x + z * z);
+    r[5] = 2 * (y * z - w * x);
+    r[6] = 2 * (x * z - w * y);
+    r[7] = 2 * (y * z + w * x);
+    r[8] = 1 - 2 * (x * x + y * y);
 }
 
 UnitQuaternion unitQuaternion(const float raw[4]) {
@@ -88,19 +94,16 @@ void quaternionAdjoint(const UnitQuaternion& unit, const float dR[9], float dQua
     // dL/dq_hat: each term is dR_ij/dq times dL/dR_ij, from rotationFromQuaternion.
     const float dHat[4] = {
         2 * (-z * dR[1] + y * dR[2] + z * dR[3] - x * dR[5] - y * dR[6] + x * dR[7]),
-        2 * (y * dR[1] + z * dR[2] + y * dR[3] - 2 * x * dR[4] - w * dR[5] + z * dR[6] +
-             w * dR[7] - 2 * x * dR[8]),
-        2 * (-2 * y * dR[0] + x * dR[1] + w * dR[2] + x * dR[3] + z * dR[5] - w * dR[6] +
-             z * dR[7] - 2 * y * dR[8]),
-        2 * (-2 * z * dR[0] - w * dR[1] + x * dR[2] + w * dR[3] - 2 * z * dR[4] + y * dR[5] +
-             x * dR[6] + y * dR[7])};
+        2 * (y * dR[1] + z * dR[2] + y * dR[3] - 2 * x * dR[4] - w * dR[5] + z * dR[6] + w * dR[7] - 2 * x * dR[8]),
+        2 * (-2 * y * dR[0] + x * dR[1] + w * dR[2] + x * dR[3] + z * dR[5] - w * dR[6] + z * dR[7] - 2 * y * dR[8]),
+        2 * (-2 * z * dR[0] - w * dR[1] + x * dR[2] + w * dR[3] - 2 * z * dR[4] + y * dR[5] + x * dR[6] + y * dR[7])};
     // q_hat = q / |q|:  dL/dq = (dL/dq_hat - q_hat (q_hat . dL/dq_hat)) / |q|
     const float along = w * dHat[0] + x * dHat[1] + y * dHat[2] + z * dHat[3];
     for (int k = 0; k < 4; ++k) dQuat[k] = (dHat[k] - unit.q[k] * along) / unit.norm;
 }
 
-void accumulateGradient(const GaussianParameters& params, const ActiveGaussian& g, std::size_t index,
-                        const float x[3], float cutoff2, const float* upstream, GaussianParameters& gradient) {
+void accumulateGradient(const GaussianParameters& params, const ActiveGaussian& g, std::size_t index, const float x[3],
+                        float cutoff2, const float* upstream, GaussianParameters& gradient) {
     float u[3];
     const float q = mahalanobis2(g, x, u);
     if (q > cutoff2) return;

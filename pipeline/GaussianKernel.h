@@ -27,10 +27,10 @@ constexpr float kMaxLogScale = 9.0f;
 /// and colour) from the parameters, once per Gaussian and step.
 struct ActiveGaussian {
     float mean[3];
-    float rotation[9];     ///< row-major R; column a is the Gaussian's axis a
-    float invVariance[3];  ///< 1 / sigma_a^2, sigma_a the standard deviation along axis a, voxels
+    float rotation[9];           ///< row-major R; column a is the Gaussian's axis a
+    float invVariance[3];        ///< 1 / sigma_a^2, sigma_a the standard deviation along axis a, voxels
     float inverseCovariance[6];  ///< R S^-2 R^T in world axes: xx, yy, zz, xy, xz, yz
-    float amplitude[3];    ///< opacity * colour
+    float amplitude[3];          ///< opacity * colour
 };
 
 float sigmoid(float x);
@@ -67,8 +67,7 @@ inline float mahalanobis2(const ActiveGaussian& g, const float x[3], float u[3])
 }
 
 /// Adds this Gaussian's contribution at x to value[0..channels).
-inline void accumulateValue(const ActiveGaussian& g, const float x[3], float cutoff2, int channels,
-                            float* value) {
+inline void accumulateValue(const ActiveGaussian& g, const float x[3], float cutoff2, int channels, float* value) {
     float u[3];
     const float q = mahalanobis2(g, x, u);
     if (q > cutoff2) return;
@@ -79,16 +78,16 @@ inline void accumulateValue(const ActiveGaussian& g, const float x[3], float cut
 /// Adds dL/d(parameters of Gaussian @a index) to @a gradient at @a index, given
 /// dL/df at x (@a upstream, one per channel); @a g is that Gaussian of @a params,
 /// activated. Zero outside the cutoff, like the value.
-void accumulateGradient(const GaussianParameters& params, const ActiveGaussian& g, std::size_t index,
-                        const float x[3], float cutoff2, const float* upstream, GaussianParameters& gradient);
+void accumulateGradient(const GaussianParameters& params, const ActiveGaussian& g, std::size_t index, const float x[3],
+                        float cutoff2, const float* upstream, GaussianParameters& gradient);
 
 /// One Gaussian's gradient summed over many points, gathered in world axes about
 /// its mean, so that a block's moments add without a rotation and the adjoints of
 /// the rotation and the quaternion run once per Gaussian, not per point or block.
 /// With t = -e/2 sum_c upstream_c amplitude_c = dL/dq at a point, d = x - mean:
 struct GradientSums {
-    float upstreamE[3] = {0, 0, 0};  ///< sum of upstream_c e, per channel
-    float td[3] = {0, 0, 0};         ///< sum of t d_a
+    float upstreamE[3] = {0, 0, 0};     ///< sum of upstream_c e, per channel
+    float td[3] = {0, 0, 0};            ///< sum of t d_a
     float tdd[6] = {0, 0, 0, 0, 0, 0};  ///< sum of t d_a d_b: xx, yy, zz, xy, xz, yz
 
     /// Adds one point inside the cutoff: d = x - mean, e = exp(-q/2).

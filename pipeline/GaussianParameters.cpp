@@ -7,18 +7,22 @@ namespace gvr {
 
 int groupWidth(ParameterGroup group, int channels) {
     switch (group) {
-        case kMeans: return 3;
-        case kRotations: return 4;
-        case kLogScales: return 3;
-        case kOpacityLogits: return 1;
-        default: break;
+        case kMeans:
+            return 3;
+        case kRotations:
+            return 4;
+        case kLogScales:
+            return 3;
+        case kOpacityLogits:
+            return 1;
+        default:
+            break;
     }
     return channels;
 }
 
 const char* groupName(ParameterGroup group) {
-    static const char* names[kGroupCount] = {"means", "rotations", "log_scales", "opacity_logits",
-                                             "colours"};
+    static const char* names[kGroupCount] = {"means", "rotations", "log_scales", "opacity_logits", "colours"};
     return names[group];
 }
 
@@ -56,7 +60,8 @@ void GaussianParameters::permute(const std::vector<std::uint32_t>& order) {
 }
 
 void GaussianParameters::append(const GaussianParameters& more) {
-    for (int g = 0; g < kGroupCount; ++g) values[g].insert(values[g].end(), more.values[g].begin(), more.values[g].end());
+    for (int g = 0; g < kGroupCount; ++g)
+        values[g].insert(values[g].end(), more.values[g].begin(), more.values[g].end());
 }
 
 void GaussianParameters::add(const GaussianParameters& other) {

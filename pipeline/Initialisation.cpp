@@ -163,8 +163,8 @@ private:
 /// so that the seeds do not depend on the thread count.
 constexpr std::size_t kSeedChunks = 256;
 
-std::vector<openvdb::Coord> chooseSeeds(const VolumeTarget& target, std::size_t gradientCount,
-                                        std::size_t uniformCount, std::uint64_t seed, const ProgressFn& progress) {
+std::vector<openvdb::Coord> chooseSeeds(const VolumeTarget& target, std::size_t gradientCount, std::size_t uniformCount,
+                                        std::uint64_t seed, const ProgressFn& progress) {
     const int cell = stratumSize(target, uniformCount);
     const std::vector<openvdb::Coord> blocks = blockOrigins(target.box());
     const std::size_t chunks = std::min(kSeedChunks, std::max<std::size_t>(blocks.size(), 1));
@@ -214,8 +214,7 @@ std::vector<openvdb::Coord> chooseSeeds(const VolumeTarget& target, std::size_t 
 /// where seeds crowd and undershoots where they are sparse. One Jacobi step
 /// fixes the level: divide each seed's value by the coverage (the sum of
 /// opacity * exp(-q/2) over all Gaussians) at its own centre.
-void balanceColours(GaussianParameters& params, const VolumeTarget& target,
-                    const std::vector<openvdb::Coord>& seeds) {
+void balanceColours(GaussianParameters& params, const VolumeTarget& target, const std::vector<openvdb::Coord>& seeds) {
     GaussianParameters unitColour = params;
     std::fill(unitColour.values[kColours].begin(), unitColour.values[kColours].end(), 1.0f);
     unitColour.channels = params.channels;
@@ -264,8 +263,9 @@ GaussianParameters initialiseGaussians(const VolumeTarget& target, const SeedSet
     const double gradientFraction = shareSum > 0.0 ? settings.gradientShare / shareSum : 0.0;
     const std::size_t gradientCount = std::size_t(std::llround(gradientFraction * double(count)));
     const std::vector<openvdb::Coord> seeds =
-        chooseSeeds(target, gradientCount, count - gradientCount, settings.seed,
-                    [&](double fraction) { if (progress) progress(0.5 * fraction); });
+        chooseSeeds(target, gradientCount, count - gradientCount, settings.seed, [&](double fraction) {
+            if (progress) progress(0.5 * fraction);
+        });
     const int stratum = stratumSize(target, count - gradientCount);
     if (progress) progress(0.5);
 

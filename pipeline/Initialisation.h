@@ -11,9 +11,9 @@
 namespace gvr {
 
 struct SeedSettings {
-    std::size_t count = 0;        ///< Gaussians wanted (at most the active voxel count)
-    double gradientShare = 0.6;   ///< drawn with probability proportional to gradient magnitude
-    double uniformShare = 0.4;    ///< drawn uniformly; the two shares are renormalised to sum to 1
+    std::size_t count = 0;       ///< Gaussians wanted (at most the active voxel count)
+    double gradientShare = 0.6;  ///< drawn with probability proportional to gradient magnitude
+    double uniformShare = 0.4;   ///< drawn uniformly; the two shares are renormalised to sum to 1
     std::uint64_t seed = 1;
 };
 

@@ -11,10 +11,12 @@ namespace gvr {
 std::vector<std::size_t> splitBudget(std::size_t total, const std::vector<std::uint64_t>& voxels, std::size_t floor) {
     std::vector<std::size_t> budget(voxels.size());
     std::size_t floors = 0;
-    for (std::size_t s = 0; s < voxels.size(); ++s) floors += budget[s] = std::size_t(std::min<std::uint64_t>(floor, voxels[s]));
+    for (std::size_t s = 0; s < voxels.size(); ++s)
+        floors += budget[s] = std::size_t(std::min<std::uint64_t>(floor, voxels[s]));
     if (floors > total) {
-        throw InputError("`gaussians`", std::to_string(total) + " Gaussians cannot give " + std::to_string(voxels.size()) +
-                                            " structures their floor of " + std::to_string(floor) + " each");
+        throw InputError("`gaussians`", std::to_string(total) + " Gaussians cannot give " +
+                                            std::to_string(voxels.size()) + " structures their floor of " +
+                                            std::to_string(floor) + " each");
     }
     const double allVoxels = double(std::accumulate(voxels.begin(), voxels.end(), std::uint64_t(0)));
     const std::size_t rest = total - floors;
@@ -28,7 +30,8 @@ std::vector<std::size_t> splitBudget(std::size_t total, const std::vector<std::u
     }
     std::vector<std::size_t> order(voxels.size());
     std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return remainder[a] > remainder[b]; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return remainder[a] > remainder[b]; });
     for (std::size_t k = 0; given < rest && !order.empty(); ++k, ++given) ++budget[order[k % order.size()]];
     return budget;
 }

@@ -22,7 +22,8 @@ openvdb::GridBase::Ptr structureGrid(const openvdb::GridBase& image, const std::
     return maskedCopy(dynamic_cast<const openvdb::Vec3SGrid&>(image), voxels);
 }
 
-std::map<int, std::vector<openvdb::Coord>> voxelsByLabel(const openvdb::Int32Grid& labels, const std::vector<int>& ids) {
+std::map<int, std::vector<openvdb::Coord>> voxelsByLabel(const openvdb::Int32Grid& labels,
+                                                         const std::vector<int>& ids) {
     std::map<int, std::vector<openvdb::Coord>> voxels;
     for (int id : ids) voxels[id];
     for (auto it = labels.cbeginValueOn(); it; ++it) {

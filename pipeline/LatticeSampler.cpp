@@ -1,7 +1,7 @@
 #include "pipeline/LatticeSampler.h"
 
-#include "pipeline/Error.h"
 #include "pipeline/BlockKernel.h"
+#include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"
 
 #include <tbb/parallel_for.h>
@@ -30,9 +30,8 @@ int toIndex(double v) { return int(std::clamp(v, -1073741824.0, 1073741824.0)); 
 CoordBBox latticeVoxelsIn(const float lower[3], const float upper[3], const Mat4d& latticeFromField) {
     Vec3d lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
     for (int corner = 0; corner < 8; ++corner) {
-        const Vec3d p = latticeFromField.transform(Vec3d(corner & 1 ? upper[0] : lower[0],
-                                                         corner & 2 ? upper[1] : lower[1],
-                                                         corner & 4 ? upper[2] : lower[2]));
+        const Vec3d p = latticeFromField.transform(Vec3d(
+            corner & 1 ? upper[0] : lower[0], corner & 2 ? upper[1] : lower[1], corner & 4 ? upper[2] : lower[2]));
         lo = openvdb::math::minComponent(lo, p);
         hi = openvdb::math::maxComponent(hi, p);
     }
@@ -44,7 +43,8 @@ CoordBBox latticeVoxelsIn(const float lower[3], const float upper[3], const Mat4
 void fieldBoundsOf(const CoordBBox& voxels, const Mat4d& fieldFromLattice, float lower[3], float upper[3]) {
     Vec3d lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
     for (int corner = 0; corner < 8; ++corner) {
-        const Coord c(corner & 1 ? voxels.max().x() : voxels.min().x(), corner & 2 ? voxels.max().y() : voxels.min().y(),
+        const Coord c(corner & 1 ? voxels.max().x() : voxels.min().x(),
+                      corner & 2 ? voxels.max().y() : voxels.min().y(),
                       corner & 4 ? voxels.max().z() : voxels.min().z());
         const Vec3d p = fieldFromLattice.transform(c.asVec3d());
         lo = openvdb::math::minComponent(lo, p);
@@ -129,10 +129,13 @@ double voxelSizeForResolution(const Mat4d& worldFromIndex, const openvdb::Vec3i&
 
 LatticeSampler::LatticeSampler(const GaussianField& field, const Mat4d& fieldWorldFromIndex, const Lattice& lattice,
                                const CoordBBox& fieldBox)
-    : mField(field), mLattice(lattice), mFieldFromLattice(lattice.worldFromIndex * fieldWorldFromIndex.inverse()),
+    : mField(field),
+      mLattice(lattice),
+      mFieldFromLattice(lattice.worldFromIndex * fieldWorldFromIndex.inverse()),
       mFieldCells(fieldBox.min().asVec3d() - Vec3d(0.5), fieldBox.max().asVec3d() + Vec3d(0.5)),
       mReach(latticeReach(field, fieldWorldFromIndex * lattice.worldFromIndex.inverse(), lattice.box)),
-      mSlots(lattice.box), mLists(mReach, mSlots) {
+      mSlots(lattice.box),
+      mLists(mReach, mSlots) {
     for (int a = 0; a < 3; ++a) mLatticeSteps[a] = mFieldFromLattice.transform3x3(Vec3d(a == 0, a == 1, a == 2));
 }
 
@@ -163,7 +166,8 @@ std::size_t LatticeSampler::reachingGaussians() const {
 bool allVoxelsInside(const CoordBBox& voxels, const Mat4d& cellsFromVoxels, const openvdb::BBoxd& cells) {
     // The box is convex, so its corners tell.
     for (int corner = 0; corner < 8; ++corner) {
-        const Coord c(corner & 1 ? voxels.max().x() : voxels.min().x(), corner & 2 ? voxels.max().y() : voxels.min().y(),
+        const Coord c(corner & 1 ? voxels.max().x() : voxels.min().x(),
+                      corner & 2 ? voxels.max().y() : voxels.min().y(),
                       corner & 4 ? voxels.max().z() : voxels.min().z());
         if (!cells.isInside(cellsFromVoxels.transform(c.asVec3d()))) return false;
     }
@@ -192,30 +196,32 @@ __attribute__((always_inline)) inline void addRowTerms(const BlockQuadratic& qua
     constexpr int kLanes = sizeof(Floats) / sizeof(float);
     const Coord first = reached.min() - origin, last = reached.max() - origin;
     const auto firstY = [&](int) { return first.y(); };
-    forEachRowCrossed(quad, first.x(), last.x(), firstY, last.y(), 1, cutoff2, [&](int x, int y, const RowParabola& row) {
-        const int base = (x * kBlockDim + y) * kBlockDim;
-        float* sumsOfRow = sums + base * channels;
-        for (int part = 0; part < kBlockDim; part += kLanes) {
-            const Floats q = rowQ<Floats>(row, part);
-            Ints keep;
-            std::memcpy(&keep, inCells + base + part, sizeof keep);
-            keep &= q <= cutoff2;
-            int kept = 0;
-            for (int i = 0; i < kLanes; ++i) kept |= keep[i];
-            if (!kept) continue;
-            const Floats term = kernelWhere(q, keep);
-            if (channels == 1) {
-                Floats sum;
-                std::memcpy(&sum, sumsOfRow + part, sizeof sum);
-                sum += amplitude[0] * term;
-                std::memcpy(sumsOfRow + part, &sum, sizeof sum);
-                continue;
-            }
-            for (int i = 0; i < kLanes; ++i) {
-                for (int c = 0; c < channels; ++c) sumsOfRow[(part + i) * channels + c] += amplitude[c] * term[i];
-            }
-        }
-    });
+    forEachRowCrossed(quad, first.x(), last.x(), firstY, last.y(), 1, cutoff2,
+                      [&](int x, int y, const RowParabola& row) {
+                          const int base = (x * kBlockDim + y) * kBlockDim;
+                          float* sumsOfRow = sums + base * channels;
+                          for (int part = 0; part < kBlockDim; part += kLanes) {
+                              const Floats q = rowQ<Floats>(row, part);
+                              Ints keep;
+                              std::memcpy(&keep, inCells + base + part, sizeof keep);
+                              keep &= q <= cutoff2;
+                              int kept = 0;
+                              for (int i = 0; i < kLanes; ++i) kept |= keep[i];
+                              if (!kept) continue;
+                              const Floats term = kernelWhere(q, keep);
+                              if (channels == 1) {
+                                  Floats sum;
+                                  std::memcpy(&sum, sumsOfRow + part, sizeof sum);
+                                  sum += amplitude[0] * term;
+                                  std::memcpy(sumsOfRow + part, &sum, sizeof sum);
+                                  continue;
+                              }
+                              for (int i = 0; i < kLanes; ++i) {
+                                  for (int c = 0; c < channels; ++c)
+                                      sumsOfRow[(part + i) * channels + c] += amplitude[c] * term[i];
+                              }
+                          }
+                      });
 }
 
 /// The same, eight samples at once where the processor has AVX2 (the stack

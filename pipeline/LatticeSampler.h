@@ -28,12 +28,10 @@ Lattice sourceLattice(const openvdb::math::Mat4d& worldFromIndex, const openvdb:
 /// Axes keep their direction, so oblique and sheared volumes stay aligned.
 /// @throw InputError when the voxel size is not positive, exceeds the source's
 ///        longest extent, or would need more than 2^31 voxels along an axis.
-Lattice resizedLattice(const openvdb::math::Mat4d& worldFromIndex, const openvdb::Vec3i& dims,
-                       double voxelSizeMm);
+Lattice resizedLattice(const openvdb::math::Mat4d& worldFromIndex, const openvdb::Vec3i& dims, double voxelSizeMm);
 
 /// The voxel size that puts @a samples voxels along the source's longest axis (in mm).
-double voxelSizeForResolution(const openvdb::math::Mat4d& worldFromIndex, const openvdb::Vec3i& dims,
-                              int samples);
+double voxelSizeForResolution(const openvdb::math::Mat4d& worldFromIndex, const openvdb::Vec3i& dims, int samples);
 
 /// Whether the centre of every voxel of @a voxels, placed by @a cellsFromVoxels,
 /// lies inside @a cells.
@@ -112,8 +110,8 @@ private:
     const GaussianField& mField;
     Lattice mLattice;
     openvdb::math::Mat4d mFieldFromLattice;
-    openvdb::Vec3d mLatticeSteps[3];  ///< field-space step along each lattice axis
-    openvdb::BBoxd mFieldCells;  ///< fieldBox grown by half a voxel: its cells, edge to edge
+    openvdb::Vec3d mLatticeSteps[3];         ///< field-space step along each lattice axis
+    openvdb::BBoxd mFieldCells;              ///< fieldBox grown by half a voxel: its cells, edge to edge
     std::vector<openvdb::CoordBBox> mReach;  ///< lattice voxels each Gaussian can reach
     BlockSlots mSlots;
     BlockLists mLists;

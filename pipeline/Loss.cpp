@@ -30,8 +30,8 @@ GradientSums& GradientChunks::sumsOf(std::size_t c, std::uint32_t index) {
     return fresh;
 }
 
-std::size_t GradientChunks::sumInto(const GaussianField& field, const GaussianParameters& params,
-                                    std::size_t begin, std::size_t end, GaussianParameters& gradient) const {
+std::size_t GradientChunks::sumInto(const GaussianField& field, const GaussianParameters& params, std::size_t begin,
+                                    std::size_t end, GaussianParameters& gradient) const {
     if (gradient.count() != end - begin || gradient.channels != field.channels()) {
         gradient = GaussianParameters(end - begin, field.channels());
     } else {
@@ -66,8 +66,8 @@ struct Contribution {
 /// f(x) into value[] from the Gaussians @a ids[0..count), recording every
 /// contribution inside the cutoff. @a idsAscending: the ids come sorted, as
 /// BlockBins keeps them, so the contributions need no sorting.
-void evaluateRecorded(const GaussianField& field, const float x[3], const std::uint32_t* ids,
-                      std::size_t count, bool idsAscending, float* value, std::vector<Contribution>& contributions) {
+void evaluateRecorded(const GaussianField& field, const float x[3], const std::uint32_t* ids, std::size_t count,
+                      bool idsAscending, float* value, std::vector<Contribution>& contributions) {
     contributions.clear();
     const int channels = field.channels();
     for (int c = 0; c < channels; ++c) value[c] = 0.0f;
@@ -104,9 +104,8 @@ void evaluateAt(const GaussianField& field, const float x[3], const BlockBins* b
 }
 
 /// Sum of w_s |f(x_s) - t_s|^2 over points [begin, end), point by point.
-double pointsSquaredError(const GaussianField& field, const SampleSet& samples, std::size_t begin,
-                          std::size_t end, double scale, GradientChunks* gradients, std::size_t chunk,
-                          const BlockBins* bins) {
+double pointsSquaredError(const GaussianField& field, const SampleSet& samples, std::size_t begin, std::size_t end,
+                          double scale, GradientChunks* gradients, std::size_t chunk, const BlockBins* bins) {
     const int channels = field.channels();
     std::vector<std::uint32_t> hits;
     std::vector<Contribution> contributions;
@@ -134,15 +133,17 @@ double pointsSquaredError(const GaussianField& field, const SampleSet& samples, 
 std::vector<float> residualsAt(const GaussianField& field, const SampleSet& samples, const BlockBins* bins) {
     const int channels = field.channels();
     std::vector<float> out(samples.size() * channels);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size()), [&](const tbb::blocked_range<std::size_t>& range) {
-        std::vector<std::uint32_t> hits;
-        std::vector<Contribution> contributions;
-        float value[3];
-        for (std::size_t s = range.begin(); s < range.end(); ++s) {
-            evaluateAt(field, samples.points[s].data(), bins, hits, contributions, value);
-            for (int c = 0; c < channels; ++c) out[s * channels + c] = samples.targets[s * channels + c] - value[c];
-        }
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size()),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          std::vector<std::uint32_t> hits;
+                          std::vector<Contribution> contributions;
+                          float value[3];
+                          for (std::size_t s = range.begin(); s < range.end(); ++s) {
+                              evaluateAt(field, samples.points[s].data(), bins, hits, contributions, value);
+                              for (int c = 0; c < channels; ++c)
+                                  out[s * channels + c] = samples.targets[s * channels + c] - value[c];
+                          }
+                      });
     return out;
 }
 

@@ -58,8 +58,8 @@ private:
     }
 
     std::array<std::vector<std::unique_ptr<GradientSums[]>>, kChunks> mPages;  ///< by slot, kPageSums a page
-    std::array<std::vector<std::uint32_t>, kChunks> mTouched; ///< slot -> Gaussian
-    std::array<std::vector<std::uint32_t>, kChunks> mSlots;   ///< Gaussian -> slot, or kUntouched
+    std::array<std::vector<std::uint32_t>, kChunks> mTouched;                  ///< slot -> Gaussian
+    std::array<std::vector<std::uint32_t>, kChunks> mSlots;                    ///< Gaussian -> slot, or kUntouched
 };
 
 /// L = scale * sum_s w_s |f(x_s) - t_s|^2 over @a samples, point by point.

@@ -32,9 +32,7 @@ struct Channel {
     int stride = 1;
     std::vector<float> owned;  ///< a coarser scale's samples; `samples` points here
 
-    double at(int i, int j, int k) const {
-        return samples[((std::size_t(k) * dims.y() + j) * dims.x() + i) * stride];
-    }
+    double at(int i, int j, int k) const { return samples[((std::size_t(k) * dims.y() + j) * dims.x() + i) * stride]; }
 };
 
 Channel channelOf(const FloatVolume& volume, int channel) {
@@ -148,8 +146,7 @@ private:
                 rowSsim[j] += cs * (2.0 * m[0] * m[1] + mC1) / (m[0] * m[0] + m[1] * m[1] + mC1);
             }
         });
-        return {std::accumulate(rowSsim.begin(), rowSsim.end(), 0.0),
-                std::accumulate(rowCs.begin(), rowCs.end(), 0.0)};
+        return {std::accumulate(rowSsim.begin(), rowSsim.end(), 0.0), std::accumulate(rowCs.begin(), rowCs.end(), 0.0)};
     }
 
     const Channel& mA;
@@ -209,7 +206,8 @@ double maxAbsoluteError(const FloatVolume& a, const FloatVolume& b, const std::v
     for (std::size_t n = 0; n < a.voxelCount(); ++n) {
         if (!mask.empty() && !mask[n]) continue;
         for (int c = 0; c < a.channels; ++c) {
-            worst = std::max(worst, std::abs(double(a.values[n * a.channels + c]) - double(b.values[n * a.channels + c])));
+            worst =
+                std::max(worst, std::abs(double(a.values[n * a.channels + c]) - double(b.values[n * a.channels + c])));
         }
     }
     return worst;
@@ -227,7 +225,7 @@ bool covered(const FloatVolume& reference, const FloatVolume& test, std::size_t 
 std::pair<double, double> seenDifferences(const FloatVolume& reference, const FloatVolume& test, std::size_t n, int c) {
     const float* a = reference.values.data() + 4 * n;
     const float* b = test.values.data() + 4 * n;
-    const double overBlack = double(a[c]) - b[c];  // premultiplied colour over black is itself
+    const double overBlack = double(a[c]) - b[c];                // premultiplied colour over black is itself
     const double overWhite = overBlack - (double(a[3]) - b[3]);  // plus (1 - alpha) of white
     return {overBlack, overWhite};
 }

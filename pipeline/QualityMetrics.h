@@ -32,8 +32,7 @@ struct SsimSettings {
 
 /// Mean squared error over all samples and channels, or over the voxels whose
 /// @a mask flag is set (mask empty: all voxels). Zero when no voxel counts.
-double meanSquaredError(const FloatVolume& a, const FloatVolume& b,
-                        const std::vector<std::uint8_t>& mask = {});
+double meanSquaredError(const FloatVolume& a, const FloatVolume& b, const std::vector<std::uint8_t>& mask = {});
 
 /// The largest |a - b| over every channel of the voxels in @a mask (all when empty),
 /// in double: the figure an error bound promises.

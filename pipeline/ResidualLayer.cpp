@@ -17,7 +17,7 @@ namespace gvr {
 namespace {
 
 constexpr double kMaxSampleMagnitude = 2147483647.0;  // |k| of an integer domain
-constexpr double kMaxPrediction = 1e15;                // integers stay exact in a double well past this
+constexpr double kMaxPrediction = 1e15;               // integers stay exact in a double well past this
 
 /// The slices [begin, end) of one slab and the volume's shape.
 struct Slab {
@@ -36,8 +36,7 @@ openvdb::Coord blocksOf(const openvdb::Coord& dims) {
 }
 
 std::size_t blockIndex(const openvdb::Coord& blocks, int i, int j, int k, int channels, int c) {
-    const std::size_t block =
-        (std::size_t(k / kBlockDim) * blocks.y() + j / kBlockDim) * blocks.x() + i / kBlockDim;
+    const std::size_t block = (std::size_t(k / kBlockDim) * blocks.y() + j / kBlockDim) * blocks.x() + i / kBlockDim;
     return block * channels + c;
 }
 
@@ -119,8 +118,12 @@ double toDomainValue(const ResidualDomain& domain, float value) {
 class DomainArithmetic {
 public:
     explicit DomainArithmetic(const ResidualLayer& layer)
-        : mDomain(layer.domain), mBound(layer.bound), mStep(layer.step()), mHalf(std::floor(mStep / 2.0)),
-          mLow(layer.low), mHigh(layer.high) {}
+        : mDomain(layer.domain),
+          mBound(layer.bound),
+          mStep(layer.step()),
+          mHalf(std::floor(mStep / 2.0)),
+          mLow(layer.low),
+          mHigh(layer.high) {}
 
     double toDomain(float value) const { return toDomainValue(mDomain, value); }
     float toValue(double domainValue) const {
@@ -181,12 +184,13 @@ double predict(ResidualPredictor predictor, const Slab& slab, const SlabChannel&
     const auto residual = [&](std::size_t n) { return part.values[n] - part.gaussian[n]; };
     const bool anchor = stencil.axis < 0;
     switch (predictor) {
-        case ResidualPredictor::Gaussians: return part.gaussian[at];
+        case ResidualPredictor::Gaussians:
+            return part.gaussian[at];
         case ResidualPredictor::Neighbours:
             return anchor ? previousAnchor(slab, i, j, k, value) : interpolate(slab, i, j, k, stencil, true, value);
         case ResidualPredictor::Both:
-            return part.gaussian[at] +
-                   (anchor ? previousAnchor(slab, i, j, k, residual) : interpolate(slab, i, j, k, stencil, false, residual));
+            return part.gaussian[at] + (anchor ? previousAnchor(slab, i, j, k, residual)
+                                               : interpolate(slab, i, j, k, stencil, false, residual));
     }
     return 0.0;
 }
@@ -211,12 +215,13 @@ namespace {
 
 void checkBound(double bound, const ResidualDomain& domain) {
     if (std::isnan(bound) || bound < 0.0 || std::isinf(bound)) {
-        throw InputError("`max_error`", "must be a finite number of the source's units, at least 0; got " +
-                                            std::to_string(bound));
+        throw InputError("`max_error`",
+                         "must be a finite number of the source's units, at least 0; got " + std::to_string(bound));
     }
     if (bound == 0.0 && !domain.integers) {
-        throw InputError("`max_error`", "0 asks for a lossless copy, which float data has no path to "
-                                        "(its values are not whole stored samples); give a bound above 0");
+        throw InputError("`max_error`",
+                         "0 asks for a lossless copy, which float data has no path to "
+                         "(its values are not whole stored samples); give a bound above 0");
     }
 }
 
@@ -250,8 +255,8 @@ void fillGaussian(SlabChannel& part, const FloatVolume& prediction, const Slab& 
 
 /// Each block's predictor for channel @a c of @a slab: the one whose residuals
 /// from the source's own neighbours cost the fewest bits.
-void choosePredictors(ResidualLayer& layer, const FloatVolume& source, const Slab& slab, int c,
-                      SlabChannel& part, const DomainArithmetic& math) {
+void choosePredictors(ResidualLayer& layer, const FloatVolume& source, const Slab& slab, int c, SlabChannel& part,
+                      const DomainArithmetic& math) {
     const std::size_t first = std::size_t(slab.begin) * slab.nx * slab.ny;
     for (std::size_t v = 0; v < slab.voxels(); ++v) {
         part.values[v] = math.toDomain(source.values[(first + v) * source.channels + c]);
@@ -360,10 +365,12 @@ FloatVolume decodeResidualLayer(const ResidualLayer& layer, const FloatVolume& p
     for (int s = 0; s < slabs; ++s) {
         const Slab slab = slabOf(layer.dims, s);
         const auto begin = layer.codes.begin() + std::ptrdiff_t(slice * slab.begin);
-        firstExact[s + 1] = firstExact[s] + std::size_t(std::count(begin, begin + std::ptrdiff_t(slice * (slab.end - slab.begin)),
-                                                                   kResidualExact));
+        firstExact[s + 1] =
+            firstExact[s] +
+            std::size_t(std::count(begin, begin + std::ptrdiff_t(slice * (slab.end - slab.begin)), kResidualExact));
     }
-    if (firstExact.back() != layer.exact.size()) throw std::runtime_error("the layer's exact values do not match its codes");
+    if (firstExact.back() != layer.exact.size())
+        throw std::runtime_error("the layer's exact values do not match its codes");
     FloatVolume out(layer.dims, layer.channels);
     out.worldFromIndex = prediction.worldFromIndex;
     tbb::parallel_for(0, slabs, [&](int s) {

@@ -28,8 +28,7 @@ std::vector<std::array<float, 3>> drawSlicePoints(const openvdb::CoordBBox& box,
     std::vector<std::array<float, 3>> points;
     points.reserve(pixels);
     for (std::size_t p = 0; p < pixels; ++p) {
-        const openvdb::Vec3d x = centre + u * (2.0 * unit(random) - 1.0) * half +
-                                 v * (2.0 * unit(random) - 1.0) * half;
+        const openvdb::Vec3d x = centre + u * (2.0 * unit(random) - 1.0) * half + v * (2.0 * unit(random) - 1.0) * half;
         if ((x.x() < lower.x() || x.y() < lower.y() || x.z() < lower.z()) ||
             (x.x() > upper.x() || x.y() > upper.y() || x.z() > upper.z())) {
             continue;

@@ -10,7 +10,7 @@
 namespace gvr {
 
 struct TransferPoint {
-    double value = 0.0;                  ///< physical units
+    double value = 0.0;                     ///< physical units
     std::array<float, 4> rgba{0, 0, 0, 0};  ///< each in [0, 1]
 };
 

@@ -1,10 +1,10 @@
 #include "pipeline/VolumeMetadata.h"
 
-#include <algorithm>
-#include <cmath>
-
 #include "pipeline/Error.h"
 #include "pipeline/SampleType.h"
+
+#include <algorithm>
+#include <cmath>
 
 namespace gvr {
 
@@ -60,7 +60,8 @@ void writeVolumeMetadata(const VolumeMetadata& m, openvdb::GridBase& grid) {
         grid.insertMeta("gvr_padding_voxels", openvdb::Int64Metadata(std::int64_t(m.paddingVoxels)));
     }
     if (m.markedPadding) grid.insertMeta("gvr_marked_padding", openvdb::DoubleMetadata(*m.markedPadding));
-    if (m.roundedVoxels > 0) grid.insertMeta("gvr_rounded_voxels", openvdb::Int64Metadata(std::int64_t(m.roundedVoxels)));
+    if (m.roundedVoxels > 0)
+        grid.insertMeta("gvr_rounded_voxels", openvdb::Int64Metadata(std::int64_t(m.roundedVoxels)));
     grid.insertMeta("gvr_stored_slope", openvdb::DoubleMetadata(m.storedSlope));
     grid.insertMeta("gvr_stored_intercept", openvdb::DoubleMetadata(m.storedIntercept));
     if (m.niftiCodes) {
@@ -77,22 +78,22 @@ std::optional<VolumeMetadata> readVolumeMetadata(const openvdb::GridBase& grid) 
     VolumeMetadata m;
     m.sourceType = *sourceType;
     m.dims = *dims;
-    m.sourceFile = findMeta<openvdb::StringMetadata, std::string>(grid, "gvr_source_file")
-                       .value_or("");
-    m.modality = findMeta<openvdb::StringMetadata, std::string>(grid, "gvr_modality")
-                     .value_or("unknown");
+    m.sourceFile = findMeta<openvdb::StringMetadata, std::string>(grid, "gvr_source_file").value_or("");
+    m.modality = findMeta<openvdb::StringMetadata, std::string>(grid, "gvr_modality").value_or("unknown");
     m.channels = findMeta<openvdb::Int32Metadata, int>(grid, "gvr_channels").value_or(1);
-    m.spacingMm = findMeta<openvdb::Vec3DMetadata, openvdb::Vec3d>(grid, "gvr_spacing_mm")
-                      .value_or(openvdb::Vec3d(1.0));
+    m.spacingMm =
+        findMeta<openvdb::Vec3DMetadata, openvdb::Vec3d>(grid, "gvr_spacing_mm").value_or(openvdb::Vec3d(1.0));
     m.valueMin = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_value_min").value_or(0);
     m.valueMax = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_value_max").value_or(0);
     m.background = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_background").value_or(0);
     m.threshold = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_threshold");
     m.thresholdAbove = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_threshold_above");
     m.padding = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_padding_value");
-    m.paddingVoxels = std::uint64_t(findMeta<openvdb::Int64Metadata, std::int64_t>(grid, "gvr_padding_voxels").value_or(0));
+    m.paddingVoxels =
+        std::uint64_t(findMeta<openvdb::Int64Metadata, std::int64_t>(grid, "gvr_padding_voxels").value_or(0));
     m.markedPadding = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_marked_padding");
-    m.roundedVoxels = std::uint64_t(findMeta<openvdb::Int64Metadata, std::int64_t>(grid, "gvr_rounded_voxels").value_or(0));
+    m.roundedVoxels =
+        std::uint64_t(findMeta<openvdb::Int64Metadata, std::int64_t>(grid, "gvr_rounded_voxels").value_or(0));
     m.storedSlope = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_stored_slope").value_or(1.0);
     m.storedIntercept = findMeta<openvdb::DoubleMetadata, double>(grid, "gvr_stored_intercept").value_or(0.0);
     if (auto codes = findMeta<openvdb::Vec3IMetadata, openvdb::Vec3i>(grid, "gvr_nifti_codes")) {

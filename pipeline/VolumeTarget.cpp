@@ -136,14 +136,13 @@ VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& 
     if (finiteRange && (std::abs(top) > double(FLT_MAX) || range.max - range.min > double(FLT_MAX))) {
         std::ostringstream span;
         span << range.min << " to " << range.max;
-        throw InputError(name, "values span " + span.str() +
-                                   ", wider than float32 can hold (3.4e38); rescale the volume to fit it");
+        throw InputError(
+            name, "values span " + span.str() + ", wider than float32 can hold (3.4e38); rescale the volume to fit it");
     }
     mMapping.scale = top > 0.0 && std::isfinite(top) ? top : 1.0;
     for (int c = 0; c < 3; ++c) mMapping.offset[c] = mChannels == 1 ? background[0] : background[c];
-    mPeak = std::isfinite(range.max - range.min) && range.max > range.min
-                ? (range.max - range.min) / mMapping.scale
-                : 1.0;
+    mPeak =
+        std::isfinite(range.max - range.min) && range.max > range.min ? (range.max - range.min) / mMapping.scale : 1.0;
     mActiveVoxels = region ? activeVoxelCount(mBox) : mGrid->activeVoxelCount();
 }
 
@@ -237,8 +236,10 @@ void VolumeTarget::forEachActiveVoxel(const std::function<void(const openvdb::Co
                 for (auto ijk = tile.begin(); ijk; ++ijk) visit(*ijk);
             });
     };
-    if (mFloat) visitTree(mFloat->tree());
-    else visitTree(mColour->tree());
+    if (mFloat)
+        visitTree(mFloat->tree());
+    else
+        visitTree(mColour->tree());
 }
 
 namespace {

@@ -9,7 +9,6 @@
 #include <openvdb/openvdb.h>
 
 #include <bitset>
-
 #include <functional>
 #include <optional>
 

@@ -66,7 +66,8 @@ WorldGaussian inTheWorld(const ActiveGaussian& g, const GaussianAsset& asset, co
         for (int row = 0; row < 3; ++row) sorted(row, 2) = -sorted(row, 2);
     }
     out.rotation = quaternionOf(sorted);
-    for (int c = 0; c < 3; ++c) out.amplitude[c] = c < asset.params.channels ? asset.mapping.scale * g.amplitude[c] : 0.0;
+    for (int c = 0; c < 3; ++c)
+        out.amplitude[c] = c < asset.params.channels ? asset.mapping.scale * g.amplitude[c] : 0.0;
     return out;
 }
 
@@ -76,7 +77,8 @@ std::vector<WorldGaussian> worldGaussians(const GaussianAsset& asset) {
     const Mat3d linear = linearPart(asset.worldFromIndex);
     std::vector<WorldGaussian> out;
     out.reserve(asset.params.count());
-    for (std::size_t i = 0; i < asset.params.count(); ++i) out.push_back(inTheWorld(activate(asset.params, i), asset, linear));
+    for (std::size_t i = 0; i < asset.params.count(); ++i)
+        out.push_back(inTheWorld(activate(asset.params, i), asset, linear));
     return out;
 }
 

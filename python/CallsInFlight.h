@@ -79,7 +79,7 @@ private:
         InFlight() { CallsInFlight::instance().enter(); }
         ~InFlight() { CallsInFlight::instance().leave(); }
     };
-    InFlight mInFlight;                // made first, so left last: after the GIL is back
+    InFlight mInFlight;  // made first, so left last: after the GIL is back
     pybind11::gil_scoped_release mRelease;
 };
 

@@ -2,30 +2,31 @@
 // evaluation, as thin calls into the library the command line uses. Errors in the
 // user's input raise gvr.Error (a ValueError) with the command line's one-line message.
 
-#include "python/CallsInFlight.h"
-
-#include "io/asset/AssetExport.h"
-#include "io/asset/AssetFile.h"
-#include "workflow/ComparisonInput.h"
 #include "io/DenseCopy.h"
 #include "io/GridBuilder.h"
 #include "io/Ingest.h"
-#include "io/formats/JsonText.h"
 #include "io/LabelGrid.h"
+#include "io/asset/AssetExport.h"
+#include "io/asset/AssetFile.h"
+#include "io/formats/JsonText.h"
+#include "io/formats/LabelStyleFile.h"
 #include "io/formats/VolumeOutputs.h"
 #include "pipeline/AssetProbe.h"
 #include "pipeline/Error.h"
 #include "pipeline/FloatVolume.h"
 #include "pipeline/SettingNames.h"
 #include "pipeline/WorldGaussians.h"
+#include "python/CallsInFlight.h"
 #include "render/Camera.h"
 #include "render/ShearWarp.h"
 #include "render/VolumeClassifier.h"
 #include "workflow/BoundedLayer.h"
+#include "workflow/ComparisonInput.h"
 #include "workflow/Evaluate.h"
 #include "workflow/FitToBudget.h"
 #include "workflow/ProbeAsset.h"
 #include "workflow/RenderInput.h"
+#include "workflow/RenderJob.h"
 #include "workflow/TeamFit.h"
 
 #include <pybind11/numpy.h>
@@ -35,10 +36,10 @@
 #include <filesystem>
 #include <iomanip>
 #include <map>
-#include <sstream>
 #include <memory>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <variant>
 
 namespace py = pybind11;
@@ -103,9 +104,8 @@ py::array storableArray(const py::array& array) {
     if (kind == 'f' && size == 2) return as("float32");
     if ((kind == 'i' || kind == 'u') && size == 8) {
         const py::module_ numpy = py::module_::import("numpy");
-        const bool fitsInt32 = array.size() == 0 ||
-                               (numpy.attr("min")(array).cast<double>() >= -2147483648.0 &&
-                                numpy.attr("max")(array).cast<double>() <= 2147483647.0);
+        const bool fitsInt32 = array.size() == 0 || (numpy.attr("min")(array).cast<double>() >= -2147483648.0 &&
+                                                     numpy.attr("max")(array).cast<double>() <= 2147483647.0);
         if (fitsInt32) return as("int32");
         const double largest = numpy.attr("max")(numpy.attr("abs")(array.attr("astype")("float64"))).cast<double>();
         if (largest > 9007199254740992.0) {
@@ -148,14 +148,30 @@ DenseVolume denseFromArray(const py::array& given) {
     if (volume.voxelCount() == 0) throw InputError("array", "is empty");
     allocateSamples(volume, "array");
     switch (volume.type) {
-        case SampleType::UInt8: copySamples<std::uint8_t>(array, volume); break;
-        case SampleType::Int8: copySamples<std::int8_t>(array, volume); break;
-        case SampleType::UInt16: copySamples<std::uint16_t>(array, volume); break;
-        case SampleType::Int16: copySamples<std::int16_t>(array, volume); break;
-        case SampleType::UInt32: copySamples<std::uint32_t>(array, volume); break;
-        case SampleType::Int32: copySamples<std::int32_t>(array, volume); break;
-        case SampleType::Float32: copySamples<float>(array, volume); break;
-        case SampleType::Float64: copySamples<double>(array, volume); break;
+        case SampleType::UInt8:
+            copySamples<std::uint8_t>(array, volume);
+            break;
+        case SampleType::Int8:
+            copySamples<std::int8_t>(array, volume);
+            break;
+        case SampleType::UInt16:
+            copySamples<std::uint16_t>(array, volume);
+            break;
+        case SampleType::Int16:
+            copySamples<std::int16_t>(array, volume);
+            break;
+        case SampleType::UInt32:
+            copySamples<std::uint32_t>(array, volume);
+            break;
+        case SampleType::Int32:
+            copySamples<std::int32_t>(array, volume);
+            break;
+        case SampleType::Float32:
+            copySamples<float>(array, volume);
+            break;
+        case SampleType::Float64:
+            copySamples<double>(array, volume);
+            break;
     }
     return volume;
 }
@@ -184,8 +200,9 @@ openvdb::math::Mat4d matrixFromAffine(const py::object& affine) {
 /// counts 8 bytes a voxel: 2.84:1 against an int16 file, asked for 10:1.
 void warnOfAGuessedSourceType(const py::array& array) {
     if (array.dtype().kind() != 'f' || array.dtype().itemsize() != 8) return;
-    const char* note = "the array is float64, so a fit's ratio counts 8 bytes a voxel; pass source_type= the file's "
-                       "type (for nibabel, str(img.get_data_dtype())), or use Volume.from_nibabel(img)";
+    const char* note =
+        "the array is float64, so a fit's ratio counts 8 bytes a voxel; pass source_type= the file's "
+        "type (for nibabel, str(img.get_data_dtype())), or use Volume.from_nibabel(img)";
     if (PyErr_WarnEx(PyExc_UserWarning, note, 2) != 0) throw py::error_already_set();
 }
 
@@ -234,7 +251,8 @@ Volume volumeFromNibabel(const py::object& image, std::optional<double> threshol
         stored = py::dtype::from_args(py::list(stored.attr("fields").attr("values")())[0].cast<py::tuple>()[0]);
     }
     const std::string sourceType = py::str(stored.attr("name"));
-    return volumeFromNumpy(samples, std::nullopt, py::object(image.attr("affine")), threshold, modality, nanTo, sourceType);
+    return volumeFromNumpy(samples, std::nullopt, py::object(image.attr("affine")), threshold, modality, nanTo,
+                           sourceType);
 }
 
 // ---- numpy out ----
@@ -326,7 +344,8 @@ FitObserver pythonObserver(const std::optional<py::function>& progress, std::opt
             state["seconds"] = p.seconds;
             state["fraction"] = p.fraction;
             state["gaussians"] = p.gaussians;
-            state["held_out_psnr_db"] = p.heldOutEvaluated ? py::object(py::float_(p.heldOutPsnr)) : py::object(py::none());
+            state["held_out_psnr_db"] =
+                p.heldOutEvaluated ? py::object(py::float_(p.heldOutPsnr)) : py::object(py::none());
             state["setting_up"] = p.setUp ? py::object(py::float_(*p.setUp)) : py::object(py::none());
             state["brick"] = brick ? py::object(py::int_(*brick)) : py::object(py::none());
             (*progress)(state);
@@ -360,20 +379,21 @@ BoundRequest boundRequestOf(const MaxError& maxError, std::optional<double> rati
 GaussianAsset withErrorBound(const BudgetedFitResult& result, const BoundRequest& request, const std::string& path,
                              const Volume& volume) {
     const std::string name = path.empty() ? "volume" : path;
-    const FloatVolume source = path.empty() ? comparisonInputOf(volume.grid, name).volume
-                                            : loadComparisonInput(path, IngestOptions{}).volume;
+    const FloatVolume source =
+        path.empty() ? comparisonInputOf(volume.grid, name).volume : loadComparisonInput(path, IngestOptions{}).volume;
     BoundedLayerReport report;
     return decodeAsset(addErrorBound(result.file, name, source, request, report), name);
 }
 
 GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<double> ratio,
-                  std::optional<double> seconds, std::size_t gaussians,
-                  std::size_t iterations, std::uint64_t seed, const std::string& ablation, const std::string& labels,
-                  std::size_t bricks, int halo, const std::optional<py::function>& progress, double minSamples,
+                  std::optional<double> seconds, std::size_t gaussians, std::size_t iterations, std::uint64_t seed,
+                  const std::string& ablation, const std::string& labels, std::size_t bricks, int halo,
+                  const std::optional<py::function>& progress, double minSamples,
                   const std::optional<MaxError>& maxError) {
     // Each pair names one thing twice: say so, rather than let one of them win.
     if (ratio && gaussians > 0) throw InputError("`gaussians`", "cannot be combined with `ratio`: both set the count");
-    if (seconds && iterations > 0) throw InputError("`iterations`", "cannot be combined with `seconds`: both end the fit");
+    if (seconds && iterations > 0)
+        throw InputError("`iterations`", "cannot be combined with `seconds`: both end the fit");
     std::optional<BoundRequest> bound;
     if (maxError) {
         if (bricks > 0) throw InputError("`max_error`", "does not combine with `bricks`");
@@ -394,12 +414,14 @@ GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<
         const WithoutGil released;
         const auto* path = std::get_if<std::string>(&input);
         const Volume volume = path ? Volume{} : std::get<Volume>(input);
-        const IngestResult loaded = path ? loadOrIngest(*path, IngestOptions{}) : IngestResult{volume.grid, volume.labels, {}};
+        const IngestResult loaded =
+            path ? loadOrIngest(*path, IngestOptions{}) : IngestResult{volume.grid, volume.labels, {}};
         BudgetedFitResult result = fitLoaded(loaded, path ? *path : "volume", options, bricks, halo, progress);
         std::string note = undertrainedNote(result, options.settings, "min_samples=");
         if (loaded.grid->activeVoxelCount() == 0) {  // as `gvr fit` warns: an empty asset is rarely what was meant
-            note = "the volume has no active voxels (every voxel at or below its threshold), so the asset holds "
-                   "no Gaussians";
+            note =
+                "the volume has no active voxels (every voxel at or below its threshold), so the asset holds "
+                "no Gaussians";
         }
         if (!note.empty()) {
             py::gil_scoped_acquire acquire;
@@ -425,8 +447,9 @@ Volume exportVolume(const GaussianAsset& asset, const std::optional<std::variant
         const auto* volume = std::get_if<Volume>(&*like);
         if (!volume && !std::filesystem::exists(std::get<std::string>(*like))) {
             // asset.export('x.nii.gz') once said only "no such file": the first argument is like=.
-            throw InputError("like", "'" + std::get<std::string>(*like) + "' does not exist: like= names the volume whose "
-                             "voxels to export onto; to write the export, call asset.export().save(path)");
+            throw InputError("like", "'" + std::get<std::string>(*like) +
+                                         "' does not exist: like= names the volume whose "
+                                         "voxels to export onto; to write the export, call asset.export().save(path)");
         }
         settings.lattice = volume ? latticeOf(*volume->grid, "like") : latticeLike(std::get<std::string>(*like));
     }
@@ -490,11 +513,10 @@ double ratioOf(const GaussianAsset& asset) {
 
 std::string reprOf(const GaussianAsset& asset) {
     std::ostringstream out;
-    out << "<gvr.Asset " << asset.params.count() << " Gaussians, " << assetFileBytes(asset) << " bytes ("
-        << std::fixed << std::setprecision(1) << ratioOf(asset) << ":1 against the raw source), "
-        << (asset.params.channels == 3 ? "RGB" : "grey")
-        << ", source " << asset.source.dims.x() << "x" << asset.source.dims.y() << "x" << asset.source.dims.z()
-        << sourceName(asset.source);
+    out << "<gvr.Asset " << asset.params.count() << " Gaussians, " << assetFileBytes(asset) << " bytes (" << std::fixed
+        << std::setprecision(1) << ratioOf(asset) << ":1 against the raw source), "
+        << (asset.params.channels == 3 ? "RGB" : "grey") << ", source " << asset.source.dims.x() << "x"
+        << asset.source.dims.y() << "x" << asset.source.dims.z() << sourceName(asset.source);
     if (!asset.labelTable.names.empty()) out << ", " << asset.labelTable.names.size() << " structures";
     return out.str() + ">";
 }
@@ -510,40 +532,75 @@ using TransferSpec = std::variant<std::string, std::vector<std::array<double, 5>
 Classifier classifierOf(const RenderVolume& volume, const TransferSpec& tf) {
     if (const auto* points = std::get_if<std::vector<std::array<double, 5>>>(&tf)) {
         std::vector<TransferPoint> converted;
-        for (const auto& [value, r, g, b, a] : *points) converted.push_back({value, {float(r), float(g), float(b), float(a)}});
+        for (const auto& [value, r, g, b, a] : *points)
+            converted.push_back({value, {float(r), float(g), float(b), float(a)}});
         return volumeClassifier(volume, TransferFunction(std::move(converted), "tf"));
     }
     return classifierFor(std::get<std::string>(tf), volume);
 }
 
-std::unique_ptr<RenderVolume> renderVolumeOf(const Renderable& what, AssetLayers layers, float minScale) {
-    if (const auto* asset = std::get_if<GaussianAsset>(&what)) return assetRenderVolume(*asset, layers, minScale, "asset");
-    if (const auto* volume = std::get_if<Volume>(&what)) return std::make_unique<GridRenderVolume>(volume->grid);
-    return loadRenderInput(std::get<std::string>(what), "", "", layers, minScale, IngestOptions{}).volume;
+RenderInput renderInputOf(const Renderable& what, AssetLayers layers, float minScale) {
+    if (const auto* asset = std::get_if<GaussianAsset>(&what)) {
+        RenderInput input;
+        input.asset = *asset;
+        input.volume = assetRenderVolume(*asset, layers, minScale, "asset");
+        return input;
+    }
+    if (const auto* volume = std::get_if<Volume>(&what)) {
+        RenderInput input;
+        input.volume = std::make_unique<GridRenderVolume>(volume->grid);
+        return input;
+    }
+    return loadRenderInput(std::get<std::string>(what), "", "", layers, minScale, IngestOptions{});
+}
+
+/// label_style: a JSON file as `gvr render --label-style` reads, or a dict of the same.
+using LabelStyleSpec = std::variant<std::string, py::dict>;
+
+void addLabelStyles(const std::optional<LabelStyleSpec>& spec, RenderRequest& request) {
+    if (!spec) return;
+    if (const auto* path = std::get_if<std::string>(&*spec)) {
+        request.labelStyles = readLabelStyles(*path);
+        request.labelStylesName = *path;
+        return;
+    }
+    const std::string text = py::str(py::module_::import("json").attr("dumps")(std::get<py::dict>(*spec)));
+    request.labelStylesName = "label_style";
+    request.labelStyles = parseLabelStyles(nlohmann::json::parse(text, nullptr, false), request.labelStylesName);
 }
 
 py::array render(const Renderable& what, double azimuth, double elevation, std::pair<int, int> size,
-                 const TransferSpec& tf, double supersample, const std::string& classify, const std::string& layers) {
+                 const TransferSpec& tf, double supersample, const std::string& classify, const std::string& layers,
+                 const std::string& renderer, double step, int samples,
+                 const std::optional<LabelStyleSpec>& labelStyle) {
     const auto [width, height] = size;
     if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide) {
         throw InputError("size", "must be (width, height) in 1 to " + std::to_string(kMaxImageSide) + " pixels");
     }
-    ShearWarpSettings settings;
-    settings.stacks = automaticStacks(1);  // as gvr render draws a still
-    settings.supersampling = supersample;
+    RenderRequest request;
+    const std::optional<RendererKind> kind = rendererNamed(renderer);
+    if (!kind) throw InputError("renderer", "'" + renderer + "' is neither shear-warp nor raymarch");
+    request.renderer = *kind;
+    request.shearWarp.stacks = automaticStacks(1);  // as gvr render draws a still
+    request.shearWarp.supersampling = supersample;
     const std::optional<Classification> classification = classificationNamed(classify);
     if (!classification) throw InputError("classify", "'" + classify + "' is neither points nor segments");
-    settings.classification = *classification;
-    if (const std::string problem = settings.validate(); !problem.empty()) throw InputError("render", problem);
+    request.shearWarp.classification = *classification;
+    request.rayMarch.stepVoxels = step;
+    request.rayMarch.raysPerSide = samples;
+    if (const std::string problem = request.validate(); !problem.empty()) throw InputError("render", problem);
+    addLabelStyles(labelStyle, request);
     const AssetLayers chosen = parseAssetLayers(layers, "layers");
     Framebuffer image;
     {
         const WithoutGil released;
-        const std::unique_ptr<RenderVolume> volume = renderVolumeOf(what, chosen, settings.minimumFootprintVoxels());
-        const OrthoCamera camera =
-            makeCamera({azimuth, elevation}, worldCorners(volume->worldFromIndex(), volume->box()), width, height);
-        ShearWarpRenderer renderer(*volume, classifierOf(*volume, tf), settings);
-        image = renderer.render(camera);
+        const RenderInput input = renderInputOf(what, chosen, request.minScale());
+        const OrthoCamera camera = makeCamera({azimuth, elevation},
+                                              worldCorners(input.volume->worldFromIndex(), input.volume->box()),
+                                              width, height);
+        RenderJob job(input, classifierOf(*input.volume, tf), request);
+        FrameStats stats;
+        image = job.render(camera, stats);
     }
     py::array_t<float> rgba(std::vector<py::ssize_t>{height, width, 4});
     std::copy(image.rgba.begin(), image.rgba.end(), rgba.mutable_data());
@@ -620,23 +677,30 @@ PYBIND11_MODULE(gvr, m) {
                                "Where the volume came from, its value range and type, and raw_bytes: the size "
                                "that fit's ratio divides")
         .def("__repr__", [](const Volume& v) { return reprOf(v); })
-        .def_property_readonly("shape", [](const Volume& v) {
-            const openvdb::Coord d = boxOf(v).dim();
-            return py::make_tuple(d.x(), d.y(), d.z());
-        })
-        .def_property_readonly("structures", [](const Volume& v) {
-                 return v.labels ? labelNamesOf(labelTableOf(*v.labels)) : std::map<int, std::string>{};
-             }, "Structure names by label id (empty without labels)")
-        .def("save", [](const Volume& v, const std::string& path) {
-                 checkVolumeOutputs("path", {path}, {});
-                 openvdb::GridCPtrVec grids{v.grid};
-                 if (v.labels) grids.push_back(v.labels);
-                 const NiftiStorage storage = ingestedNiftiStorage(*v.grid, false);
-                 const WithoutGil released;
-                 writeVolumeOutputs({path}, grids, volumeBox(*v.grid), storage);
-             }, "path"_a,
-             "Write the volume (atomically) in the format its extension names, as `gvr ingest -o` does: .vdb "
-             "with its labels, or .nii/.nii.gz in the source's sample type; any other extension raises gvr.Error");
+        .def_property_readonly("shape",
+                               [](const Volume& v) {
+                                   const openvdb::Coord d = boxOf(v).dim();
+                                   return py::make_tuple(d.x(), d.y(), d.z());
+                               })
+        .def_property_readonly(
+            "structures",
+            [](const Volume& v) {
+                return v.labels ? labelNamesOf(labelTableOf(*v.labels)) : std::map<int, std::string>{};
+            },
+            "Structure names by label id (empty without labels)")
+        .def(
+            "save",
+            [](const Volume& v, const std::string& path) {
+                checkVolumeOutputs("path", {path}, {});
+                openvdb::GridCPtrVec grids{v.grid};
+                if (v.labels) grids.push_back(v.labels);
+                const NiftiStorage storage = ingestedNiftiStorage(*v.grid, false);
+                const WithoutGil released;
+                writeVolumeOutputs({path}, grids, volumeBox(*v.grid), storage);
+            },
+            "path"_a,
+            "Write the volume (atomically) in the format its extension names, as `gvr ingest -o` does: .vdb "
+            "with its labels, or .nii/.nii.gz in the source's sample type; any other extension raises gvr.Error");
 
     m.def("ingest", &ingestPath, "path"_a, "threshold"_a = py::none(), "spacing"_a = py::none(),
           "nan_to"_a = py::none(), "volume"_a = 0, "labels"_a = "", "label_names"_a = "", "resample_labels"_a = false,
@@ -646,34 +710,40 @@ PYBIND11_MODULE(gvr, m) {
 
     py::class_<GaussianAsset>(m, "Asset", "Fitted Gaussians with what places them and maps their values")
         .def_static("load", &readAsset, "path"_a, "Read a .gvr asset (format 1 or 2)")
-        .def("save", [](GaussianAsset& a, const std::string& path) { writeAsset(path, a); }, "path"_a,
-             "Write the asset (atomically), in storage order")
+        .def(
+            "save", [](GaussianAsset& a, const std::string& path) { writeAsset(path, a); }, "path"_a,
+            "Write the asset (atomically), in storage order")
         .def("__repr__", [](const GaussianAsset& a) { return reprOf(a); })
         .def_property_readonly("count", [](const GaussianAsset& a) { return a.params.count(); })
         .def_property_readonly("bytes", &assetFileBytes, "The size of its .gvr file in bytes, as save() writes it")
         .def_property_readonly("ratio", &ratioOf,
                                "The source's raw bytes (metadata['raw_bytes'] of the volume it was fitted to) over "
                                "bytes; for its PSNR, gvr.evaluate(volume, asset)['psnr']")
-        .def_property_readonly("means", [](const GaussianAsset& a) { return gaussianArray(a, &WorldGaussian::mean, 3); },
-                               "(count, 3) centres in world mm (the source's scanner space, RAS); read-only")
-        .def_property_readonly("scales", [](const GaussianAsset& a) { return gaussianArray(a, &WorldGaussian::scale, 3); },
-                               "(count, 3) standard deviations in mm along each Gaussian's axes, ascending; read-only")
-        .def_property_readonly("rotations",
-                               [](const GaussianAsset& a) { return gaussianArray(a, &WorldGaussian::rotation, 4); },
-                               "(count, 4) unit quaternions (w, x, y, z), w >= 0, turning the world axes onto the "
-                               "Gaussian's (the columns of R, covariance = R diag(scales^2) R^T); read-only")
-        .def_property_readonly("amplitudes",
-                               [](const GaussianAsset& a) {
-                                   return gaussianArray(a, &WorldGaussian::amplitude, a.params.channels);
-                               },
-                               "(count, channels) peak over the background in physical units (opacity x colour, "
-                               "mapped): the field is background + sum amplitude exp(-d^T C^-1 d / 2) within "
-                               "the asset's cutoff; read-only")
+        .def_property_readonly(
+            "means", [](const GaussianAsset& a) { return gaussianArray(a, &WorldGaussian::mean, 3); },
+            "(count, 3) centres in world mm (the source's scanner space, RAS); read-only")
+        .def_property_readonly(
+            "scales", [](const GaussianAsset& a) { return gaussianArray(a, &WorldGaussian::scale, 3); },
+            "(count, 3) standard deviations in mm along each Gaussian's axes, ascending; read-only")
+        .def_property_readonly(
+            "rotations", [](const GaussianAsset& a) { return gaussianArray(a, &WorldGaussian::rotation, 4); },
+            "(count, 4) unit quaternions (w, x, y, z), w >= 0, turning the world axes onto the "
+            "Gaussian's (the columns of R, covariance = R diag(scales^2) R^T); read-only")
+        .def_property_readonly(
+            "amplitudes",
+            [](const GaussianAsset& a) { return gaussianArray(a, &WorldGaussian::amplitude, a.params.channels); },
+            "(count, channels) peak over the background in physical units (opacity x colour, "
+            "mapped): the field is background + sum amplitude exp(-d^T C^-1 d / 2) within "
+            "the asset's cutoff; read-only")
         .def_property_readonly("channels", [](const GaussianAsset& a) { return a.params.channels; })
-        .def_property_readonly("max_error", [](const GaussianAsset& a) {
-            return a.residual ? py::object(py::float_(a.residual->bound)) : py::object(py::none());
-        }, "The residual layer's bound in the source's units (None without one), as `gvr info` lists it")
-        .def_property_readonly("structures", &structuresOf, "Structure names by label id (empty unless fitted by label)")
+        .def_property_readonly(
+            "max_error",
+            [](const GaussianAsset& a) {
+                return a.residual ? py::object(py::float_(a.residual->bound)) : py::object(py::none());
+            },
+            "The residual layer's bound in the source's units (None without one), as `gvr info` lists it")
+        .def_property_readonly("structures", &structuresOf,
+                               "Structure names by label id (empty unless fitted by label)")
         .def("export", &exportVolume, "like"_a = py::none(), "voxel_size"_a = py::none(), "layers"_a = "all",
              "The field on a grid: the source's own (default), another volume's (like= a Volume or a file "
              "ingest reads), or voxels of voxel_size mm over the source's extent. layers: all (the Gaussians "
@@ -683,17 +753,21 @@ PYBIND11_MODULE(gvr, m) {
              "Values in physical units at an (n, 3) array of source voxel indices. layers: all (with the residual "
              "layer of fit(max_error=...), its reconstruction: within the bound at voxel centres, trilinear "
              "between them) or gaussians (the preview), as `gvr probe --layers`")
-        .def("show", [](const GaussianAsset& a, const std::string& show, const std::string& hide) {
-                 return selectStructures(a, show, hide, "asset");
-             }, "structures"_a = "", "hide"_a = "",
-             "The asset with only these structures of a fit by label (ids or names, comma-separated; empty: "
-             "all), less those in hide, as gvr render --show and --hide select them");
+        .def(
+            "show",
+            [](const GaussianAsset& a, const std::string& show, const std::string& hide) {
+                return selectStructures(a, show, hide, "asset");
+            },
+            "structures"_a = "", "hide"_a = "",
+            "The asset with only these structures of a fit by label (ids or names, comma-separated; empty: "
+            "all), less those in hide, as gvr render --show and --hide select them");
 
     // New arguments come last, so that positional calls written before them still mean what they did.
     m.def("fit", &fit, "volume"_a, "ratio"_a = py::none(), "seconds"_a = py::none(), "gaussians"_a = 0,
           "iterations"_a = 0, "seed"_a = 1, "ablation"_a = "full", "labels"_a = "", "bricks"_a = 0,
           "halo"_a = kDefaultBrickHalo, "progress"_a = py::none(), "min_samples"_a = 0.0, "max_error"_a = py::none(),
-          "Fit Gaussians to a Volume or a file (anything gvr ingest reads), as `gvr fit` does: as many as fit in the raw bytes / ratio "
+          "Fit Gaussians to a Volume or a file (anything gvr ingest reads), as `gvr fit` does: as many as fit in the "
+          "raw bytes / ratio "
           "(default 10; or exactly `gaussians`, not both), within `seconds` (default 300; or exactly `iterations`, "
           "reproducible byte for byte, not both). When the "
           "time gives each Gaussian fewer than 1000 voxel samples, a UserWarning says so, with the time that "
@@ -708,31 +782,37 @@ PYBIND11_MODULE(gvr, m) {
           "(asset.max_error says which).");
     m.def("render", &render, "what"_a, "azimuth"_a = 30.0, "elevation"_a = 15.0,
           "size"_a = std::pair<int, int>(512, 512), "tf"_a = "", "supersample"_a = ShearWarpSettings{}.supersampling,
-          "classify"_a = "points", "layers"_a = "all",
-          "A shear-warp view of an Asset, a Volume or a file of either as premultiplied RGBA float32, shape (height, width, 4), "
+          "classify"_a = "points", "layers"_a = "all", "renderer"_a = "shear-warp",
+          "step"_a = RayMarchSettings{}.stepVoxels, "samples"_a = 1, "label_style"_a = py::none(),
+          "A view of an Asset, a Volume or a file of either as premultiplied RGBA float32, shape (height, "
+          "width, 4), "
           "as `gvr render` draws it. tf: a preset (ct, ct-bone, mri, rgb; default: by the data), a JSON file "
           "as `gvr render --tf` and `--save-tf` use, or its points [[value, r, g, b, a], ...] in physical units. "
           "supersample: stack samples along each side of a pixel, 1 to 4, as `gvr render --supersample`. "
           "classify: points or segments (pre-integrated), as `gvr render --classify`. layers: all (an asset "
           "with the residual layer of fit(max_error=...) is drawn from its bounded reconstruction) or gaussians "
-          "(the preview), as `gvr render --layers`");
-    m.def("evaluate",
-          [](const Comparable& reference, const Comparable& test, bool resample, std::optional<double> peak,
-             const std::string& mask, std::optional<double> threshold, const std::string& labels,
-             const std::string& labelNames, const std::string& structures) {
-              EvalOptions options;
-              options.resample = resample;
-              options.peak = peak;
-              options.mask = mask;
-              options.threshold = threshold;
-              options.labels = labels;
-              options.labelNames = labelNames;
-              options.structures = structures;
-              return evaluatePair(reference, test, options);
-          },
-          "reference"_a, "test"_a, "resample"_a = false, "peak"_a = py::none(), "mask"_a = "",
-          "threshold"_a = py::none(), "labels"_a = "", "label_names"_a = "", "structures"_a = "",
-          "Compare two Volumes, Assets or files: a dict with the keys of `gvr eval --json`. The options are "
-          "eval's: mask and labels are files (a .vdb or any volume ingest reads, e.g. an atlas such as "
-          "aal.nii.gz), label_names an \"ID NAME\" list for an atlas, structures ids or names to report.");
+          "(the preview), as `gvr render --layers`. renderer: shear-warp, or raymarch (the reference), with step "
+          "(voxels, at most 0.5) and samples (n x n rays a pixel), as `gvr render --renderer --step --samples`. "
+          "label_style: per-structure colour and opacity of an asset fitted with labels, a dict {name or id: "
+          "{'color': [r, g, b], 'opacity': factor}} or a JSON file of one, as `gvr render --label-style`");
+    m.def(
+        "evaluate",
+        [](const Comparable& reference, const Comparable& test, bool resample, std::optional<double> peak,
+           const std::string& mask, std::optional<double> threshold, const std::string& labels,
+           const std::string& labelNames, const std::string& structures) {
+            EvalOptions options;
+            options.resample = resample;
+            options.peak = peak;
+            options.mask = mask;
+            options.threshold = threshold;
+            options.labels = labels;
+            options.labelNames = labelNames;
+            options.structures = structures;
+            return evaluatePair(reference, test, options);
+        },
+        "reference"_a, "test"_a, "resample"_a = false, "peak"_a = py::none(), "mask"_a = "", "threshold"_a = py::none(),
+        "labels"_a = "", "label_names"_a = "", "structures"_a = "",
+        "Compare two Volumes, Assets or files: a dict with the keys of `gvr eval --json`. The options are "
+        "eval's: mask and labels are files (a .vdb or any volume ingest reads, e.g. an atlas such as "
+        "aal.nii.gz), label_names an \"ID NAME\" list for an atlas, structures ids or names to report.");
 }

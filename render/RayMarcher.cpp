@@ -39,7 +39,8 @@ void marchGrid(const GridT& grid, const RenderVolume& volume, const Classifier& 
     // Rays sample only inside the volume's cells: nothing exists outside them.
     const openvdb::BBoxd cells(volume.box().min().asVec3d() - Vec3d(0.5), volume.box().max().asVec3d() + Vec3d(0.5));
     double reach = 0.0;  // how far behind the image plane rays must start
-    for (const Vec3d& c : worldCorners(volume.worldFromIndex(), volume.box())) reach = std::max(reach, (c - camera.centre).length());
+    for (const Vec3d& c : worldCorners(volume.worldFromIndex(), volume.box()))
+        reach = std::max(reach, (c - camera.centre).length());
 
     // Rays at the centres of an n x n grid over each pixel, averaged.
     const int n = settings.raysPerSide;
@@ -55,7 +56,8 @@ void marchGrid(const GridT& grid, const RenderVolume& volume, const Classifier& 
             if (skipEmpty && !intersector.setIndexRay(indexRay)) return;
             double t0 = enter, t1 = exit;
             bool whole = !skipEmpty;  // one interval, the whole crossing, when nothing may be skipped
-            while (ray[3] < settings.terminationOpacity && (std::exchange(whole, false) || (skipEmpty && intersector.march(t0, t1)))) {
+            while (ray[3] < settings.terminationOpacity &&
+                   (std::exchange(whole, false) || (skipEmpty && intersector.march(t0, t1)))) {
                 t0 = std::max(t0, enter);
                 t1 = std::min(t1, exit);
                 // Samples sit on one comb along the whole ray, so intervals never shift them.
@@ -92,13 +94,15 @@ void marchGrid(const GridT& grid, const RenderVolume& volume, const Classifier& 
 Framebuffer rayMarch(const RenderVolume& volume, const Classifier& classifier, const OrthoCamera& camera,
                      const RayMarchSettings& settings) {
     if (settings.raysPerSide < 1 || settings.raysPerSide > kMaxRaysPerSide) {
-        throw InputError("`samples`", "must be 1 to " + std::to_string(kMaxRaysPerSide) + " rays along each side of a pixel");
+        throw InputError("`samples`",
+                         "must be 1 to " + std::to_string(kMaxRaysPerSide) + " rays along each side of a pixel");
     }
     Framebuffer image(camera.width, camera.height);
     if (const auto* grey = dynamic_cast<const openvdb::FloatGrid*>(&volume.voxels())) {
         marchGrid(*grey, volume, classifier, camera, settings, image);
     } else {
-        marchGrid(dynamic_cast<const openvdb::Vec3SGrid&>(volume.voxels()), volume, classifier, camera, settings, image);
+        marchGrid(dynamic_cast<const openvdb::Vec3SGrid&>(volume.voxels()), volume, classifier, camera, settings,
+                  image);
     }
     return image;
 }

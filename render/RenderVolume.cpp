@@ -38,7 +38,9 @@ public:
     /// @param everyBlock  the background is visible: unreached blocks count too
     GaussianBlocks(const GaussianField& field, const Mat4d& worldFromIndex, const Lattice& lattice,
                    const CoordBBox& fieldBox, const ValueMapping& mapping, float skipUpTo, bool everyBlock)
-        : mSampler(field, worldFromIndex, lattice, fieldBox), mMapping(mapping), mSkipUpTo(skipUpTo),
+        : mSampler(field, worldFromIndex, lattice, fieldBox),
+          mMapping(mapping),
+          mSkipUpTo(skipUpTo),
           mEveryBlock(everyBlock) {}
 
     std::vector<Coord> occupiedBlocks() const override {
@@ -154,11 +156,15 @@ public:
     ///                            evaluated to make the grid for this build, if any
     GridBlocks(const GridT& grid, const Lattice& lattice, double invisibleUpTo, bool backgroundVisible,
                std::size_t gaussiansEvaluated)
-        : mGrid(grid), mLattice(lattice), mInvisibleUpTo(invisibleUpTo), mEveryBlock(backgroundVisible),
+        : mGrid(grid),
+          mLattice(lattice),
+          mInvisibleUpTo(invisibleUpTo),
+          mEveryBlock(backgroundVisible),
           mGaussiansEvaluated(gaussiansEvaluated),
           mGridFromLattice(lattice.worldFromIndex * grid.transform().baseMap()->getAffineMap()->getMat4().inverse()),
           mActive(grid.evalActiveVoxelBoundingBox().expandBy(1)),  // trilinear samples reach one voxel out
-          mCeilings(grid, mEveryBlock ? CoordBBox() : mActive), mGridAxisOf(gridAxesOf(mGridFromLattice)) {}
+          mCeilings(grid, mEveryBlock ? CoordBBox() : mActive),
+          mGridAxisOf(gridAxesOf(mGridFromLattice)) {}
 
     std::vector<Coord> occupiedBlocks() const override {
         std::vector<Coord> origins = blockOrigins(mLattice.box);
@@ -357,7 +363,8 @@ GaussianRenderVolume::GaussianRenderVolume(const GaussianParameters& params, flo
                                            const Mat4d& worldFromIndex, const openvdb::Vec3i& dims,
                                            const ValueMapping& mapping, double valueMax, double foregroundAbove,
                                            float minScaleVoxels)
-    : mField(withMinimumFootprint(params, minScaleVoxels), cutoffSigmas), mMapping(mapping),
+    : mField(withMinimumFootprint(params, minScaleVoxels), cutoffSigmas),
+      mMapping(mapping),
       mForegroundAbove(foregroundAbove) {
     mWorldFromIndex = worldFromIndex;
     mBox = CoordBBox(Coord(0), Coord(dims) - Coord(1));
@@ -425,13 +432,15 @@ VolumeStatistics GaussianRenderVolume::gatherStatistics() const {
     const std::uint64_t stride = std::max<std::uint64_t>(1, voxels / (4 * kStatisticsSamples));
     const Coord dims = mBox.dim();
     std::vector<double> keys((voxels + stride - 1) / stride);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size()), [&](const tbb::blocked_range<std::size_t>& range) {
-        std::vector<std::uint32_t> rangeHits;
-        for (std::size_t s = range.begin(); s != range.end(); ++s) {
-            const std::uint64_t n = s * stride;
-            keys[s] = keyAt(Coord(int(n % dims.x()), int(n / dims.x() % dims.y()), int(n / dims.x() / dims.y())), rangeHits);
-        }
-    });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, keys.size()), [&](const tbb::blocked_range<std::size_t>& range) {
+            std::vector<std::uint32_t> rangeHits;
+            for (std::size_t s = range.begin(); s != range.end(); ++s) {
+                const std::uint64_t n = s * stride;
+                keys[s] = keyAt(Coord(int(n % dims.x()), int(n / dims.x() % dims.y()), int(n / dims.x() / dims.y())),
+                                rangeHits);
+            }
+        });
     for (double key : keys) {
         if (key > mForegroundAbove) stats.values.push_back(float(key));
     }
@@ -444,14 +453,15 @@ GridRenderVolume::GridRenderVolume(openvdb::GridBase::ConstPtr grid) : mGrid(std
     mFloat = openvdb::GridBase::constGrid<openvdb::FloatGrid>(mGrid);
     mColour = openvdb::GridBase::constGrid<openvdb::Vec3SGrid>(mGrid);
     if (!mFloat && !mColour) {
-        throw InputError("grid '" + mGrid->getName() + "'", "holds " + mGrid->valueType() +
-                                                               "; gvr renders float or vec3s grids");
+        throw InputError("grid '" + mGrid->getName() + "'",
+                         "holds " + mGrid->valueType() + "; gvr renders float or vec3s grids");
     }
     mWorldFromIndex = mGrid->transform().baseMap()->getAffineMap()->getMat4();
     mBox = volumeBox(*mGrid);
     if (mColour) {  // colours scale by the brightest channel, not the luminance
         double brightest = 0.0;
-        for (auto v = mColour->cbeginValueOn(); v; ++v) brightest = std::max<double>({brightest, (*v)[0], (*v)[1], (*v)[2]});
+        for (auto v = mColour->cbeginValueOn(); v; ++v)
+            brightest = std::max<double>({brightest, (*v)[0], (*v)[1], (*v)[2]});
         if (brightest > 0.0) mValueMax = brightest;
     }
 }

@@ -102,9 +102,10 @@ class GaussianRenderVolume : public RenderVolume {
 public:
     /// @param foregroundAbove  values (luminance for RGB) above this are content, as
     ///                         the source's active voxels were: what statistics() samples
-    GaussianRenderVolume(const GaussianParameters& params, float cutoffSigmas, const openvdb::math::Mat4d& worldFromIndex,
-                         const openvdb::Vec3i& dims, const ValueMapping& mapping, double valueMax,
-                         double foregroundAbove, float minScaleVoxels = 0.5f);
+    GaussianRenderVolume(const GaussianParameters& params, float cutoffSigmas,
+                         const openvdb::math::Mat4d& worldFromIndex, const openvdb::Vec3i& dims,
+                         const ValueMapping& mapping, double valueMax, double foregroundAbove,
+                         float minScaleVoxels = 0.5f);
     /// The asset's Gaussians, placed, mapped and thresholded as its source was.
     explicit GaussianRenderVolume(const GaussianAsset& asset, float minScaleVoxels = 0.5f);
 

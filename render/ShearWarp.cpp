@@ -1,8 +1,7 @@
 #include "render/ShearWarp.h"
 
-#include "render/Warp.h"
-
 #include "pipeline/FastExp.h"
+#include "render/Warp.h"
 
 #include <tbb/parallel_for.h>
 
@@ -201,10 +200,9 @@ public:
             const std::array<float, 4>& rgba = levels.rgba(level);
             // An opaque level's extinction is infinite: large enough here that a
             // stretch crossing it is opaque, finite so that sums stay numbers.
-            const double extinction =
-                rgba[3] >= 1.0f ? kOpaqueExtinction : -lengthRatio * std::log1p(-double(rgba[3]));
-            mBelow[level + 1] = mBelow[level] + Doubles4{rgba[0] * extinction, rgba[1] * extinction,
-                                                         rgba[2] * extinction, extinction};
+            const double extinction = rgba[3] >= 1.0f ? kOpaqueExtinction : -lengthRatio * std::log1p(-double(rgba[3]));
+            mBelow[level + 1] =
+                mBelow[level] + Doubles4{rgba[0] * extinction, rgba[1] * extinction, rgba[2] * extinction, extinction};
         }
     }
 
@@ -268,7 +266,7 @@ private:
     static constexpr double kOpaqueExtinction = 1e4;
     ValueLight mPoints;
     std::vector<Doubles4> mBelow;  ///< integrals of colour x extinction, and of extinction, below each level
-    float mDarkBelow;  ///< a level
+    float mDarkBelow;              ///< a level
 };
 
 /// What a colour resampled from a stack of colours adds over the oblique path: the
@@ -336,7 +334,7 @@ Floats4 load(const StackSample& sample) {
 template <typename Sample>
 struct Tap {
     using Loaded = decltype(load(Sample{}));  ///< Floats4 for classified samples, float for codes (in levels)
-    const Sample* columns;                      ///< the row's samples, indexed by column
+    const Sample* columns;                    ///< the row's samples, indexed by column
     Loaded right, left;
     Loaded operator()(int column) const {
         if constexpr (std::is_same_v<Sample, std::uint16_t>) {
@@ -388,7 +386,9 @@ struct ShearedRuns {
     ShearedRuns(const Slice& slice, int row, int height, int shiftBy, float leftWeight, float rightWeight,
                 Loaded unit = Loaded{} + 1.0f)
         // Loaded{} + w is w, or w in each of four lanes.
-        : samples(slice.stored<Sample>().data()), shift(shiftBy), right(Loaded{} + rightWeight * unit),
+        : samples(slice.stored<Sample>().data()),
+          shift(shiftBy),
+          right(Loaded{} + rightWeight * unit),
           left(Loaded{} + leftWeight * unit) {
         if (row < 0 || row >= height || leftWeight + rightWeight == 0.0f) return;
         runs = slice.runs.data() + slice.rowRuns[row];
@@ -523,8 +523,8 @@ __attribute__((target("avx2"), always_inline)) inline void compositeEight(const 
 ///   seven samples before the stretch: kStoredMargin keeps them within the slice.
 template <std::size_t TapCount>
 __attribute__((target("avx2"))) int compositeEights(const std::array<Tap<std::uint16_t>, TapCount>& taps, int p,
-                                                    int last, int shift, ValueLight::Lookup lookup,
-                                                    float termination, PlanarRow row, OpenPixels& open) {
+                                                    int last, int shift, ValueLight::Lookup lookup, float termination,
+                                                    PlanarRow row, OpenPixels& open) {
     if (p + 7 <= last) {
         EightLights light = lightOfEight(taps, p, 0, shift, lookup);
         for (bool more = true; more;) {
@@ -553,8 +553,8 @@ struct Compositing {
     /// Composites the open pixels of [first, last] of an intermediate row, each
     /// taking the sum of @a taps at its column, pixel + shift.
     template <typename... Taps>
-    void pixels(OpenPixels& open, RayEnds ends, const ValueCoding& coding, typename Light::Row row, int first,
-                int last, int shift, Taps... taps) const {
+    void pixels(OpenPixels& open, RayEnds ends, const ValueCoding& coding, typename Light::Row row, int first, int last,
+                int shift, Taps... taps) const {
         const float termination = terminationOpacity;  // a local: pixel stores cannot change it
         auto lookup = light.lookup(ends, coding);
         int p = open.next(first);
@@ -631,8 +631,10 @@ public:
         ShearedRuns<Sample> upper(slice, row, sliceHeight, shear.shift, shear.upperLeft, shear.upperRight, unit);
         ShearedRuns<Sample> lower(slice, row + 1, sliceHeight, shear.shift, shear.lowerLeft, shear.lowerRight, unit);
         const ValueCoding& coding = slice.coding;
-        if (shear.lowerLeft + shear.lowerRight == 0.0f) return addAlone(upper, ends, coding, shear, compositing, pixels);
-        if (shear.upperLeft + shear.upperRight == 0.0f) return addAlone(lower, ends, coding, shear, compositing, pixels);
+        if (shear.lowerLeft + shear.lowerRight == 0.0f)
+            return addAlone(upper, ends, coding, shear, compositing, pixels);
+        if (shear.upperLeft + shear.upperRight == 0.0f)
+            return addAlone(lower, ends, coding, shear, compositing, pixels);
         // Walk the stretches that both rows' runs reach, left to right.
         for (int p = INT32_MIN;;) {
             upper.skipTo(p);
@@ -679,7 +681,8 @@ private:
 
 std::string ShearWarpSettings::validate() const {
     // Below a twentieth of a voxel the stack would hold thousands of slices per voxel row.
-    if (!(sliceSpacingVoxels >= 0.05) || sliceSpacingVoxels > 64.0) return "`slice_spacing` must be in [0.05, 64] voxels";
+    if (!(sliceSpacingVoxels >= 0.05) || sliceSpacingVoxels > 64.0)
+        return "`slice_spacing` must be in [0.05, 64] voxels";
     if (!(reuseAngleDeg >= 0.0 && reuseAngleDeg <= 60.0)) return "`reuse_angle` must be between 0 and 60 degrees";
     if (!(terminationOpacity > 0.0f && terminationOpacity <= 1.0f)) return "`termination` must be in (0, 1]";
     if (!(supersampling >= 1.0 && supersampling <= 4.0)) return "`supersample` must be in [1, 4]";
@@ -894,8 +897,7 @@ Framebuffer ShearWarpRenderer::render(const OrthoCamera& camera, FrameStats* sta
 Framebuffer ShearWarpFramer::frame(const SliceStack& stack, const OrthoCamera& camera,
                                    const ShearWarpSettings& settings, FrameStats& stats) {
     const auto composited = std::chrono::steady_clock::now();
-    IntermediateImage intermediate =
-        compositeSlices(stack, camera.direction, settings, std::move(mIntermediate));
+    IntermediateImage intermediate = compositeSlices(stack, camera.direction, settings, std::move(mIntermediate));
     stats.compositeMs = millisecondsSince(composited);
 
     const auto warped = std::chrono::steady_clock::now();

@@ -26,9 +26,7 @@ namespace {
 std::uint16_t quantise(float v) { return std::uint16_t(std::clamp(v, 0.0f, 1.0f) * 65535.0f + 0.5f); }
 
 /// Any unit vector not parallel to @a normal, for the slices' in-plane axes.
-Vec3d helperAxis(const Vec3d& normal) {
-    return std::abs(normal.z()) < 0.9 ? Vec3d(0, 0, 1) : Vec3d(0, 1, 0);
-}
+Vec3d helperAxis(const Vec3d& normal) { return std::abs(normal.z()) < 0.9 ? Vec3d(0, 0, 1) : Vec3d(0, 1, 0); }
 
 /// Eight slices of samples, dense, while they are filled block by block.
 template <typename Sample>
@@ -181,7 +179,8 @@ AxisSamples samplesAlong(const RenderVolume& volume, const Vec3d& along, double 
     const std::optional<VoxelRow> row = voxelRowAlong(volume, along);
     if (fine) wantedMm = sampleSpacing(volume, row, wantedMm);
     if (row && onVoxels) {
-        if (const std::optional<double> step = stepOnVoxels(wantedMm, *row)) return samplesOnVoxels(lo, hi, *step, *row);
+        if (const std::optional<double> step = stepOnVoxels(wantedMm, *row))
+            return samplesOnVoxels(lo, hi, *step, *row);
     }
     return paddedSamples(centredSamples(lo, hi, wantedMm));
 }
@@ -342,8 +341,8 @@ StackSample storedOf(const ColourValue& value, std::uint16_t code) {
 /// Writes the values of the block at @a origin into @a slab (whose first slice is
 /// @a firstSlice), as @a classifier's volume has them.
 template <typename Value>
-void storeValues(const BlockSource& source, const Classifier& classifier, const VolumeCells& cells,
-                 const Coord& origin, int firstSlice, Slab<Value>& slab) {
+void storeValues(const BlockSource& source, const Classifier& classifier, const VolumeCells& cells, const Coord& origin,
+                 int firstSlice, Slab<Value>& slab) {
     thread_local std::vector<float> values;  // per thread, not per block: the build's hot path
     const int channels = classifier.channels();
     values.resize(std::size_t(kBlockVoxels) * channels);
@@ -396,7 +395,8 @@ void buildSlices(const StackGeometry& g, const std::map<int, std::vector<Coord>>
         const int firstSlice = slabEntry.first;
         const std::vector<Coord>& origins = slabEntry.second;
         std::fill(slab.samples.begin(), slab.samples.end(), outside);
-        tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) { storeBlock(origins[n], firstSlice, slab); });
+        tbb::parallel_for(std::size_t(0), origins.size(),
+                          [&](std::size_t n) { storeBlock(origins[n], firstSlice, slab); });
         compressSlab(firstSlice, std::min(kBlockDim, g.slices - firstSlice), slab);
         counter.advance();
     }
@@ -513,8 +513,8 @@ std::vector<std::uint8_t> cornersOf(const std::vector<std::uint8_t>& cells, int 
 template <typename Value>
 class ValueSliceKeeper {
 public:
-    ValueSliceKeeper(const StackGeometry& g, const ValueLevels& levels, std::optional<int> segmentReach,
-                     Value outside, std::vector<Slice>& slices)
+    ValueSliceKeeper(const StackGeometry& g, const ValueLevels& levels, std::optional<int> segmentReach, Value outside,
+                     std::vector<Slice>& slices)
         : mGeometry(g), mLevels(levels), mReach(segmentReach), mOutside(outside), mSlices(slices) {}
 
     void addSlab(int firstSlice, int count, const Slab<Value>& slab) {
@@ -529,9 +529,8 @@ public:
         if (mWaiting) order.push_back(&*mWaiting);
         for (const Plane& p : planes) order.push_back(&p);
         const std::size_t from = mBefore ? 1 : 0, last = order.size() - 1;
-        tbb::parallel_for(from, last, [&](std::size_t n) {
-            compressSlice(*order[n], n > 0 ? order[n - 1] : nullptr, order[n + 1]);
-        });
+        tbb::parallel_for(
+            from, last, [&](std::size_t n) { compressSlice(*order[n], n > 0 ? order[n - 1] : nullptr, order[n + 1]); });
         std::optional<Plane> before;
         if (last > 0) {
             // Compressed already, but its cells still judge the slice after it.
@@ -726,9 +725,9 @@ SliceStack::SliceStack(const std::vector<StackLayer>& layers, const Vec3d& direc
             },
             [&](int firstSlice, int count, const Slab<StackSample>& slab) {
                 tbb::parallel_for(0, count, [&](int k) {
-                    mSlices[firstSlice + k] = compress(slab.plane(k), mGeometry.width, mGeometry.height,
-                                                       visibleSamples(slab.plane(k), mGeometry.width, mGeometry.height),
-                                                       StackSample{});
+                    mSlices[firstSlice + k] =
+                        compress(slab.plane(k), mGeometry.width, mGeometry.height,
+                                 visibleSamples(slab.plane(k), mGeometry.width, mGeometry.height), StackSample{});
                 });
             });
     }
@@ -740,8 +739,7 @@ void ValueLevels::markVisible(const std::uint16_t* lo, const std::uint16_t* hi, 
     markVisibleLevels(lo, hi, count, mVisibleFrom.data(), seen);
 }
 
-ValueLevels::ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels)
-    : mRgba(kCount), mVisibleFrom(kCount) {
+ValueLevels::ValueLevels(const TransferFunction& tf, double sliceSpacingVoxels) : mRgba(kCount), mVisibleFrom(kCount) {
     // Stored values are floats: points beyond the float range change nothing they can
     // reach, and clamping keeps the span, and so the levels per unit, finite.
     const double first = std::clamp(tf.points().front().value, -double(FLT_MAX), double(FLT_MAX));

@@ -36,8 +36,8 @@
 namespace gvr {
 
 struct StackGeometry {
-    openvdb::Vec3d normal, e1, e2;  ///< unit, world; slices are perpendicular to normal
-    openvdb::Vec3d origin;          ///< world position of sample (0, 0) of slice 0, the front
+    openvdb::Vec3d normal, e1, e2;      ///< unit, world; slices are perpendicular to normal
+    openvdb::Vec3d origin;              ///< world position of sample (0, 0) of slice 0, the front
     openvdb::Vec2d sampleMm{1.0, 1.0};  ///< between samples along e1 and along e2
     double sliceMm = 1.0;               ///< between slices
     /// sliceMm in voxels (RenderVolume::voxelMm): the spacing asked, or when that is
@@ -99,7 +99,7 @@ struct RowRun {
 /// function, which compositing reads.
 struct ValueCoding {
     static constexpr int kLastCode = 65535;
-    double lowest = 0.0, codesPerValue = 0.0;      ///< the value of code 0, and codes per unit of value
+    double lowest = 0.0, codesPerValue = 0.0;       ///< the value of code 0, and codes per unit of value
     float firstLevel = 0.0f, levelsPerCode = 0.0f;  ///< the (fractional) level of code 0, and levels per code
 
     /// The nearest code to @a value; values beyond the codes take the end ones.

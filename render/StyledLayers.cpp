@@ -17,7 +17,8 @@ StyledLayers styledLayers(const GaussianAsset& asset, const std::map<std::string
     for (const auto& [id, name] : asset.labelTable.names) plain.push_back(id);
     for (const auto& [key, style] : styles) {
         if (style.colour && base.channels() != 1) {
-            throw InputError(stylesName, "colours apply to grey assets; RGB structures keep their own (opacity applies)");
+            throw InputError(stylesName,
+                             "colours apply to grey assets; RGB structures keep their own (opacity applies)");
         }
         for (int id : selectLabels(asset.labelTable, key, stylesName)) {
             plain.erase(std::remove(plain.begin(), plain.end(), id), plain.end());

@@ -54,8 +54,7 @@ TransferFunction presetTransferFunction(const std::string& name, const VolumeSta
     }
     if (name == "mri") {
         const std::vector<float> content = contentValues(statistics);
-        return ramp(percentile(content, 0.30), percentile(content, 0.995), {0, 0, 0, 0},
-                    {1, 1, 1, 0.12f}, name);
+        return ramp(percentile(content, 0.30), percentile(content, 0.995), {0, 0, 0, 0}, {1, 1, 1, 0.12f}, name);
     }
     if (name == "rgb") {
         const std::vector<float> content = contentValues(statistics);
@@ -66,8 +65,9 @@ TransferFunction presetTransferFunction(const std::string& name, const VolumeSta
         }
         return ramp(low, high, {1, 1, 1, 0.0f}, {1, 1, 1, 0.25f}, name);
     }
-    throw InputError("`tf` " + name, "unknown transfer function; the presets are ct, ct-bone, mri and rgb, "
-                                     "or give a JSON file");
+    throw InputError("`tf` " + name,
+                     "unknown transfer function; the presets are ct, ct-bone, mri and rgb, "
+                     "or give a JSON file");
 }
 
 std::string defaultPreset(int channels, const VolumeStatistics& statistics) {

@@ -23,9 +23,9 @@ namespace gvr {
 
 /// What the percentile-based presets look at.
 struct VolumeStatistics {
-    std::vector<float> values;     ///< a sample of the volume's content (luminance for RGB)
-    double background = 0.0;       ///< what surrounds the subject: the median on the volume's faces
-    bool hounsfield = false;       ///< CT in HU: the data reach below -500
+    std::vector<float> values;  ///< a sample of the volume's content (luminance for RGB)
+    double background = 0.0;    ///< what surrounds the subject: the median on the volume's faces
+    bool hounsfield = false;    ///< CT in HU: the data reach below -500
 };
 
 /// @throw InputError naming the preset when @a name is unknown (the message lists the presets).

@@ -47,7 +47,10 @@ ShearWarpSettings stillSettingsFor(ShearWarpSettings moving, double supersamplin
 
 ViewSession::ViewSession(Scene scene, const ShearWarpSettings& settings, Prefetch prefetch, FirstImage firstImage,
                          std::optional<ShearWarpSettings> still)
-    : mScene(std::move(scene)), mSettings(settings), mPrefetch(prefetch), mFirstImage(firstImage),
+    : mScene(std::move(scene)),
+      mSettings(settings),
+      mPrefetch(prefetch),
+      mFirstImage(firstImage),
       mStillSettings(std::move(still)) {}
 
 ViewSession::~ViewSession() {
@@ -90,9 +93,8 @@ void ViewSession::keep(BuiltStack built) {
     if (built.scene == mScene) mKept.push_back(std::move(built));
 }
 
-ViewSession::BuiltStack ViewSession::buildStack(const StackTarget& target, double spacingVoxels,
-                                                SegmentViews segments, const std::atomic<bool>* cancel,
-                                                StackSampling sampling) {
+ViewSession::BuiltStack ViewSession::buildStack(const StackTarget& target, double spacingVoxels, SegmentViews segments,
+                                                const std::atomic<bool>* cancel, StackSampling sampling) {
     const auto start = std::chrono::steady_clock::now();
     BuiltStack built;
     built.scene = target.scene;

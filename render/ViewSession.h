@@ -167,8 +167,8 @@ private:
     BuiltStack mStill;
     StackTarget mStillTarget;  ///< what mStill was built for
     PendingBuild mStillBuild;
-    std::optional<OrthoCamera> mRestingOn;  ///< the view at rest, until it moves
-    bool mStillShown = false, mStillFresh = false;  ///< the last frame was the still; mStill not drawn yet
+    std::optional<OrthoCamera> mRestingOn;            ///< the view at rest, until it moves
+    bool mStillShown = false, mStillFresh = false;    ///< the last frame was the still; mStill not drawn yet
     std::vector<std::future<BuiltStack>> mCancelled;  ///< cancelled builds still stopping
     Framebuffer mLastFrame;
     ShearWarpFramer mFramer;

@@ -96,9 +96,11 @@ class LitTiles {
 public:
     LitTiles(const IntermediateImage& image, openvdb::Vec2d reach)
         // A tap reads texels up to reach + 1 from the centre: that many tiles away, rounded up.
-        : mMarginU(int((reach[0] + 1.0) / kTile) + 1), mMarginV(int((reach[1] + 1.0) / kTile) + 1),
+        : mMarginU(int((reach[0] + 1.0) / kTile) + 1),
+          mMarginV(int((reach[1] + 1.0) / kTile) + 1),
           mColumns((image.width + kTile - 1) / kTile + 2 * mMarginU),
-          mRows((image.height + kTile - 1) / kTile + 2 * mMarginV), mLit(std::size_t(mColumns) * mRows, 0) {
+          mRows((image.height + kTile - 1) / kTile + 2 * mMarginV),
+          mLit(std::size_t(mColumns) * mRows, 0) {
         for (int j = 0; j < image.height; ++j) {
             const PixelSpan span = image.reached[j];
             if (span.empty()) continue;

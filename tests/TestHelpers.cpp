@@ -1,9 +1,9 @@
 #include "tests/TestHelpers.h"
 
-#include "io/asset/AssetFile.h"
-#include "workflow/ComparisonInput.h"
 #include "io/GridBuilder.h"
+#include "io/asset/AssetFile.h"
 #include "workflow/BoundedLayer.h"
+#include "workflow/ComparisonInput.h"
 #include "workflow/FitToBudget.h"
 
 #include <sys/wait.h>
@@ -19,8 +19,8 @@ namespace gvr::test {
 
 TempDir::TempDir() {
     std::random_device random;
-    mRoot = std::filesystem::temp_directory_path() /
-            ("gvr-test-" + std::to_string(random()) + std::to_string(random()));
+    mRoot =
+        std::filesystem::temp_directory_path() / ("gvr-test-" + std::to_string(random()) + std::to_string(random()));
     std::filesystem::create_directories(mRoot);
 }
 
@@ -112,8 +112,8 @@ openvdb::GridBase::Ptr blobGrid(std::array<int, 3> dims) {
 
 CommandResult runGvr(const std::string& arguments, const TempDir& dir) {
     const std::string outPath = dir.path("stdout.txt"), errPath = dir.path("stderr.txt");
-    const std::string command = std::string("'") + GVR_EXECUTABLE + "' " + arguments + " >'" + outPath + "' 2>'" +
-                                errPath + "' </dev/null";
+    const std::string command =
+        std::string("'") + GVR_EXECUTABLE + "' " + arguments + " >'" + outPath + "' 2>'" + errPath + "' </dev/null";
     const int status = std::system(command.c_str());
     CommandResult run;
     run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -139,7 +139,8 @@ std::string smallGrid(const TempDir& dir, bool empty) {
     writeBytes(dir.path("small.raw"), bytes);
     const std::string grid = dir.path(empty ? "empty.vdb" : "small.vdb");
     const CommandResult run = runGvr("ingest -q '" + dir.path("small.raw") + "' -o '" + grid +
-                                         "' --raw-dims 24,20,16 --raw-type uint8 --spacing 1,1,1", dir);
+                                         "' --raw-dims 24,20,16 --raw-type uint8 --spacing 1,1,1",
+                                     dir);
     EXPECT_EQ(run.exitCode, 0) << run.err;
     return grid;
 }

@@ -7,9 +7,8 @@
 #include "pipeline/GaussianParameters.h"
 #include "render/Framebuffer.h"
 
-#include <openvdb/openvdb.h>
-
 #include <gtest/gtest.h>
+#include <openvdb/openvdb.h>
 
 #include <cstdint>
 #include <cstring>
@@ -91,8 +90,8 @@ void copyTruncated(const std::string& from, const std::string& to, std::size_t k
 
 /// A volume of @a dims filled from @a values (i fastest), stored as T.
 template <typename T>
-DenseVolume makeVolume(std::array<std::int64_t, 3> dims, const std::vector<T>& values,
-                       SampleType type, int channels = 1) {
+DenseVolume makeVolume(std::array<std::int64_t, 3> dims, const std::vector<T>& values, SampleType type,
+                       int channels = 1) {
     DenseVolume volume;
     volume.dims = dims;
     volume.type = type;
@@ -146,8 +145,8 @@ GaussianParameters randomGaussians(std::size_t count, int channels, float extent
 }  // namespace gvr::test
 
 /// Skips the test when the shared data sets are not beside the checkout.
-#define GVR_REQUIRE_SHARED_DATA()                                                  \
-    if (!std::filesystem::exists(gvr::test::sharedData("README.md")))             \
+#define GVR_REQUIRE_SHARED_DATA()                                     \
+    if (!std::filesystem::exists(gvr::test::sharedData("README.md"))) \
     GTEST_SKIP() << "shared data not found at " << gvr::test::sharedData("")
 
 // AddressSanitizer reserves terabytes of address space at start, so a test that

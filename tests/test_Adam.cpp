@@ -25,7 +25,8 @@ double handStep(double gradient, int step, double rate, double& m, double& v) {
 
 std::array<double, kGroupCount> rates() { return {0.1, 0.2, 0.3, 0.4, 0.5}; }
 
-void step(Adam& adam, GaussianParameters& params, const GaussianParameters& gradient, std::vector<std::uint8_t>& updated) {
+void step(Adam& adam, GaussianParameters& params, const GaussianParameters& gradient,
+          std::vector<std::uint8_t>& updated) {
     adam.beginStep(rates());
     updated.assign(params.count(), 0);
     adam.update(params, gradient, 0, params.count(), updated.data());
@@ -110,7 +111,7 @@ TEST(Adam, MomentsFollowTheirGaussiansThroughPermuteKeepOnlyAndGrow) {
     double m = 0, v = 0;
     handStep(1.0, 1, 0.5, m, v);
     const double carried = handStep(0.0, 2, 0.5, m, v);  // the same for any first gradient: m / sqrt(v) keeps its size
-    EXPECT_NEAR(moved(0), carried, 1e-5);   // old Gaussian 2, first gradient +3
-    EXPECT_NEAR(moved(1), -carried, 1e-5);  // old Gaussian 1, first gradient -2
-    EXPECT_EQ(moved(2), 0.0f);              // grown: zero moments
+    EXPECT_NEAR(moved(0), carried, 1e-5);                // old Gaussian 2, first gradient +3
+    EXPECT_NEAR(moved(1), -carried, 1e-5);               // old Gaussian 1, first gradient -2
+    EXPECT_EQ(moved(2), 0.0f);                           // grown: zero moments
 }

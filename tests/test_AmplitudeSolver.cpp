@@ -51,12 +51,13 @@ TEST(AmplitudeSolver, RecoversTheAmplitudesOfARepresentableField) {
     EXPECT_GT(after, 70.0) << "before " << before << " dB";
     EXPECT_LT(report.mseAfter, report.mseBefore);
     // The means, rotations and scales are untouched.
-    for (ParameterGroup g : {kMeans, kRotations, kLogScales, kOpacityLogits}) EXPECT_EQ(params.values[g], truth.values[g]);
+    for (ParameterGroup g : {kMeans, kRotations, kLogScales, kOpacityLogits})
+        EXPECT_EQ(params.values[g], truth.values[g]);
 }
 
 TEST(AmplitudeSolver, LowersTheErrorOnAFieldItCannotRepresent) {
-    const VolumeTarget target(test::makeGrid(kDims, [](int i, int j, int k) { return float((i * 7 + j * 3 + k) % 11); }),
-                              "stripes");
+    const VolumeTarget target(
+        test::makeGrid(kDims, [](int i, int j, int k) { return float((i * 7 + j * 3 + k) % 11); }), "stripes");
     GaussianParameters params = test::randomGaussians(60, 1, 24.0f, 9);
     const double before = psnrOf(params, target);
     const AmplitudeSolveReport report = solveAmplitudes(params, target, {});
@@ -85,13 +86,16 @@ TEST(AmplitudeSolver, ExcludedVoxelsDoNotCount) {
     const openvdb::Coord spike(12, 10, 9);
     const GaussianField field(truth, 3.0f);
     // The same field with one voxel far off: left out, it must not pull the solution.
-    const VolumeTarget spiked(test::makeGrid(kDims, [&](int i, int j, int k) {
-        std::vector<std::uint32_t> hits;
-        const float x[3] = {float(i), float(j), float(k)};
-        float value;
-        field.evaluate(x, &value, hits);
-        return 100.0f * value + (openvdb::Coord(i, j, k) == spike ? 500.0f : 0.0f);
-    }), "spiked");
+    const VolumeTarget spiked(test::makeGrid(kDims,
+                                             [&](int i, int j, int k) {
+                                                 std::vector<std::uint32_t> hits;
+                                                 const float x[3] = {float(i), float(j), float(k)};
+                                                 float value;
+                                                 field.evaluate(x, &value, hits);
+                                                 return 100.0f * value +
+                                                        (openvdb::Coord(i, j, k) == spike ? 500.0f : 0.0f);
+                                             }),
+                              "spiked");
     GaussianParameters params = withWrongAmplitudes(truth);
     AmplitudeSolveSettings settings;
     settings.iterations = 60;
@@ -109,7 +113,8 @@ TEST(AmplitudeSolver, ExcludedVoxelsDoNotCount) {
                 float want, got;
                 field.evaluate(x, &want, hits);
                 solved.evaluate(x, &got, hits);
-                worst = std::max(worst, std::abs(100.0f * want - float(spiked.mapping().offset[0] + spiked.mapping().scale * got)));
+                worst = std::max(
+                    worst, std::abs(100.0f * want - float(spiked.mapping().offset[0] + spiked.mapping().scale * got)));
             }
         }
     }

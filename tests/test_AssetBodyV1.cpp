@@ -2,7 +2,6 @@
 // attributes, decoded from bytes laid out by hand as the format table says.
 
 #include "io/asset/AssetBodyV1.h"
-
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -15,25 +14,25 @@
 namespace gvr {
 namespace {
 
-
 nlohmann::json quantisation() {
-    return {{"mean_min", {0.0, 0.0, -2.0}},     {"mean_max", {10.0, 20.0, 2.0}},
-            {"log_scale_min", {-1.0, -1.0, -1.0}}, {"log_scale_max", {3.0, 3.0, 3.0}},
-            {"colour_min", {0.0}},                {"colour_max", {2.0}}};
+    return {{"mean_min", {0.0, 0.0, -2.0}},     {"mean_max", {10.0, 20.0, 2.0}}, {"log_scale_min", {-1.0, -1.0, -1.0}},
+            {"log_scale_max", {3.0, 3.0, 3.0}}, {"colour_min", {0.0}},           {"colour_max", {2.0}}};
 }
 
 /// Two grey Gaussians, each attribute's array after the other's.
 std::string twoGaussians() {
     std::string body;
-    body += test::littleEndian16(0) + test::littleEndian16(65535) + test::littleEndian16(65535);  // means of Gaussian 0: the ranges' ends
-    body += test::littleEndian16(65535) + test::littleEndian16(0) + test::littleEndian16(0);      // Gaussian 1
+    body += test::littleEndian16(0) + test::littleEndian16(65535) +
+            test::littleEndian16(65535);  // means of Gaussian 0: the ranges' ends
+    body += test::littleEndian16(65535) + test::littleEndian16(0) + test::littleEndian16(0);  // Gaussian 1
     // Largest component z (index 3); w, x, y at 10 bits each, highest first.
     body += test::littleEndian32((3u << 30) | (1023u << 20) | (511u << 10) | 511u);
     body += test::littleEndian32((0u << 30) | (0u << 20) | (511u << 10) | 511u);  // largest w
-    body += test::littleEndian16(0) + test::littleEndian16(21845) + test::littleEndian16(65535);  // log-scales: -1, -1 + 4/3, 3
+    body += test::littleEndian16(0) + test::littleEndian16(21845) +
+            test::littleEndian16(65535);  // log-scales: -1, -1 + 4/3, 3
     body += test::littleEndian16(65535) + test::littleEndian16(65535) + test::littleEndian16(65535);
     body += std::string(1, char(127)) + std::string(1, char(255));  // opacities
-    body += test::littleEndian16(65535) + test::littleEndian16(0);                                  // colours
+    body += test::littleEndian16(65535) + test::littleEndian16(0);  // colours
     return body;
 }
 

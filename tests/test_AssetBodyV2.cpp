@@ -38,7 +38,8 @@ TEST(AssetBodyV2, DecodesToItsRoundTripWithinAStepOfEachAttribute) {
     const GaussianParameters decoded = decodeAssetBodyV2(body, params.count(), quantisation);
     const GaussianParameters expected = roundTripAssetBodyV2(params, quantisation);
     ASSERT_EQ(decoded.count(), params.count());
-    for (int g = 0; g < kGroupCount; ++g) EXPECT_EQ(decoded.values[g], expected.values[g]) << groupName(ParameterGroup(g));
+    for (int g = 0; g < kGroupCount; ++g)
+        EXPECT_EQ(decoded.values[g], expected.values[g]) << groupName(ParameterGroup(g));
     EXPECT_GT(parts.position, 0u);
     EXPECT_LE(parts.position + parts.rotation + parts.logScales + parts.amplitudes, body.size());
 
@@ -52,7 +53,8 @@ TEST(AssetBodyV2, DecodesToItsRoundTripWithinAStepOfEachAttribute) {
         }
         const float amplitude = sigmoid(*params.at(kOpacityLogits, i)) * params.at(kColours, i)[1];
         const float decodedAmplitude = sigmoid(*decoded.at(kOpacityLogits, i)) * decoded.at(kColours, i)[1];
-        const float amplitudeStep = (quantisation.amplitudeMax[1] - quantisation.amplitudeMin[1]) / float((1 << encoding.amplitudeBits) - 1);
+        const float amplitudeStep =
+            (quantisation.amplitudeMax[1] - quantisation.amplitudeMin[1]) / float((1 << encoding.amplitudeBits) - 1);
         EXPECT_NEAR(decodedAmplitude, amplitude, 0.5f * amplitudeStep + 1e-5f) << i;
     }
 }

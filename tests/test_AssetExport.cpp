@@ -66,8 +66,8 @@ TEST(AssetExport, DccStyleGivesOpacityAndColourInMetres) {
     EXPECT_EQ(density->getName(), "density");
     EXPECT_EQ(colour->getName(), "color");
     EXPECT_EQ(density->getGridClass(), openvdb::GRID_FOG_VOLUME);
-    EXPECT_TRUE(density->transform().baseMap()->getAffineMap()->getMat4().eq(asset.worldFromIndex *
-                                                                               openvdb::math::scale<openvdb::Mat4d>(openvdb::Vec3d(1e-3))));
+    EXPECT_TRUE(density->transform().baseMap()->getAffineMap()->getMat4().eq(
+        asset.worldFromIndex * openvdb::math::scale<openvdb::Mat4d>(openvdb::Vec3d(1e-3))));
     // Every voxel as the transfer function maps its physical value; transparent ones left out.
     const auto values = openvdb::GridBase::grid<openvdb::FloatGrid>(physical.grids[0])->getConstAccessor();
     std::size_t checked = 0;
@@ -84,7 +84,8 @@ TEST(AssetExport, DccStyleGivesOpacityAndColourInMetres) {
     const openvdb::Vec3d spacingM = axisSpacing(asset.worldFromIndex) * 1e-3;
     const openvdb::Vec3d extentM = spacingM * openvdb::Vec3d(asset.source.dims);
     for (const auto& grid : result.grids) {
-        EXPECT_DOUBLE_EQ(grid->metaValue<double>("gvr_density_scale"), 1.0 / std::min({spacingM[0], spacingM[1], spacingM[2]}));
+        EXPECT_DOUBLE_EQ(grid->metaValue<double>("gvr_density_scale"),
+                         1.0 / std::min({spacingM[0], spacingM[1], spacingM[2]}));
         EXPECT_DOUBLE_EQ(grid->metaValue<double>("gvr_object_size_m"), std::max({extentM[0], extentM[1], extentM[2]}));
     }
 }

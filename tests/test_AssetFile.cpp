@@ -181,11 +181,13 @@ TEST(AssetFile, ValidButAbsurdNumbersAreRefused) {
     };
     EXPECT_NE(refusalWith([](GaussianAsset& a) { a.mapping.scale = 1e308; }).find("value_scale"), std::string::npos);
     EXPECT_NE(refusalWith([](GaussianAsset& a) { a.mapping.scale = -2.0; }).find("value_scale"), std::string::npos);
-    EXPECT_NE(refusalWith([](GaussianAsset& a) { a.mapping.offset[0] = -1e300; }).find("value_offset"), std::string::npos);
+    EXPECT_NE(refusalWith([](GaussianAsset& a) { a.mapping.offset[0] = -1e300; }).find("value_offset"),
+              std::string::npos);
     EXPECT_NE(refusalWith([](GaussianAsset& a) { a.worldFromIndex(0, 3) = 0.5; }).find("affine"), std::string::npos);
     EXPECT_NE(refusalWith([](GaussianAsset& a) { a.worldFromIndex(3, 3) = 0.0; }).find("affine"), std::string::npos);
-    EXPECT_NE(refusalWith([](GaussianAsset& a) { a.worldFromIndex.setTranslation(openvdb::Vec3d(1e300, 0, 0)); })
-                  .find("affine"),
+    EXPECT_NE(refusalWith([](GaussianAsset& a) {
+                  a.worldFromIndex.setTranslation(openvdb::Vec3d(1e300, 0, 0));
+              }).find("affine"),
               std::string::npos);
     EXPECT_NE(refusalWith([](GaussianAsset& a) { a.params.at(kLogScales, 3)[1] = -30.0f; }).find("log-scale -30"),
               std::string::npos);
@@ -264,7 +266,8 @@ TEST(AssetFile, StorageOrderKeepsLabelGroupsAndSortsInsideThem) {
     const QuantisationV2 quantisation(back.params, {});
     for (std::size_t i = 1; i < 300; ++i) {
         if (i == 120) continue;
-        EXPECT_LE(quantisation.mortonCode(back.params.at(kMeans, i - 1)), quantisation.mortonCode(back.params.at(kMeans, i)));
+        EXPECT_LE(quantisation.mortonCode(back.params.at(kMeans, i - 1)),
+                  quantisation.mortonCode(back.params.at(kMeans, i)));
     }
 }
 

@@ -3,10 +3,10 @@
 // survive and no temporary file may be left. Each fault runs in a child process
 // (a death test), so that the limit and the signal do not reach the test runner.
 
-#include "io/guard/AtomicFile.h"
-#include "io/formats/GridFile.h"
 #include "io/Ingest.h"
+#include "io/formats/GridFile.h"
 #include "io/formats/NiftiWriter.h"
+#include "io/guard/AtomicFile.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 
@@ -81,8 +81,7 @@ TEST_F(AtomicFile, AFullDiskFailsTheNiftiWriterAndKeepsTheOldFile) {
     for (float& v : volume.values) v = value(random);
     const std::string nifti = mDir.path("out.nii.gz");
     test::writeBytes(nifti, "the previous output");
-    EXPECT_EXIT(writeUnderAFileSizeLimit([&] { writeNifti(nifti, volume); }), ::testing::ExitedWithCode(kRefused),
-                "");
+    EXPECT_EXIT(writeUnderAFileSizeLimit([&] { writeNifti(nifti, volume); }), ::testing::ExitedWithCode(kRefused), "");
     EXPECT_EQ(test::readBytes(nifti), "the previous output");
     EXPECT_TRUE(temporaries(mDir).empty());
 }

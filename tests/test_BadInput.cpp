@@ -2,8 +2,8 @@
 // crash or garbage. Corrupted copies of real data are made in a temporary folder.
 
 #include "io/GridBuilder.h"
-#include "io/formats/GridFile.h"
 #include "io/Ingest.h"
+#include "io/formats/GridFile.h"
 #include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"
@@ -234,8 +234,7 @@ TEST(BadInput, TruncatedDicomSlice) {
     test::TempDir dir;
     const std::string series = emptyFolder(dir, "series");
     for (const char* name : {"1-001.dcm", "1-002.dcm", "1-003.dcm"}) {
-        std::filesystem::copy(test::sharedData(std::string("ct-chest-ricord-512/") + name),
-                              series + "/" + name);
+        std::filesystem::copy(test::sharedData(std::string("ct-chest-ricord-512/") + name), series + "/" + name);
     }
     const std::string cut = series + "/1-002.dcm";
     test::copyTruncated(test::sharedData("ct-chest-ricord-512/1-002.dcm"), cut, 60000);
@@ -301,15 +300,16 @@ TEST(BadInput, EveryCommandThatReadsAVdbRefusesNonFiniteValues) {
     writeGridFile(dir.path("nan.vdb"), {grid});
     const std::string in = "'" + dir.path("nan.vdb") + "' ";
     for (const std::string& command : {"fit " + in + "-o '" + dir.path("out.gvr") + "' --gaussians 20 --iterations 2",
-                                      "render " + in + "-o '" + dir.path("out.png") + "'",
-                                      "eval " + in + in,
-                                      "baseline " + in + "--method zfp-accuracy --tolerance 0.1 -o '" + dir.path("out.vdb") + "' --stream '" + dir.path("out.zfp") + "'"}) {
+                                       "render " + in + "-o '" + dir.path("out.png") + "'", "eval " + in + in,
+                                       "baseline " + in + "--method zfp-accuracy --tolerance 0.1 -o '" +
+                                           dir.path("out.vdb") + "' --stream '" + dir.path("out.zfp") + "'"}) {
         const test::CommandResult run = test::runGvr(command, dir);
         EXPECT_EQ(run.exitCode, 2) << command;
         EXPECT_EQ(test::lineCount(run.err), 1u) << command << ": " << run.err;
         EXPECT_NE(run.err.find("holds 1 NaN or infinite value"), std::string::npos) << command << ": " << run.err;
     }
-    for (const char* output : {"out.gvr", "out.png", "out.vdb"}) EXPECT_FALSE(std::filesystem::exists(dir.path(output)));
+    for (const char* output : {"out.gvr", "out.png", "out.vdb"})
+        EXPECT_FALSE(std::filesystem::exists(dir.path(output)));
     // The fix the message names works.
     const test::CommandResult fixed =
         test::runGvr("ingest -q " + in + "--nan-to 0 -o '" + dir.path("fixed.vdb") + "'", dir);
@@ -333,7 +333,8 @@ TEST(BadInput, AnOutputNameOfAnyValidLengthIsWritten) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
     const std::string name = dir.path(std::string(246 - 4, 'n') + ".gvr");
-    const test::CommandResult run = test::runGvr("fit -q '" + grid + "' -o '" + name + "' --gaussians 20 --iterations 3", dir);
+    const test::CommandResult run =
+        test::runGvr("fit -q '" + grid + "' -o '" + name + "' --gaussians 20 --iterations 3", dir);
     EXPECT_EQ(run.exitCode, 0) << run.err;
     EXPECT_TRUE(std::filesystem::exists(name));
 }

@@ -1,14 +1,14 @@
 // The reference codecs of gvr baseline: their error bounds, stream sizes, and
 // reconstructions that stand in for the source.
 
-#include "workflow/BaselineCodecs.h"
 #include "io/GridBuilder.h"
 #include "io/formats/GridFile.h"
-#include "workflow/ZfpStream.h"
 #include "pipeline/Error.h"
 #include "pipeline/FloatVolume.h"
 #include "pipeline/VolumeMetadata.h"
 #include "tests/TestHelpers.h"
+#include "workflow/BaselineCodecs.h"
+#include "workflow/ZfpStream.h"
 
 #include <nlohmann/json.hpp>
 
@@ -112,7 +112,8 @@ TEST(BaselineZfp, TargetBytesSearchLandsWithinFivePercent) {
     const BaselineResult found = runBaseline(*source, settings, dir.path("s.zfp"));
     ASSERT_TRUE(found.matched.has_value());
     EXPECT_TRUE(*found.matched);
-    EXPECT_LE(std::abs(double(found.streamBytes) - double(*settings.targetBytes)), 0.05 * double(*settings.targetBytes));
+    EXPECT_LE(std::abs(double(found.streamBytes) - double(*settings.targetBytes)),
+              0.05 * double(*settings.targetBytes));
     ASSERT_TRUE(found.tolerance.has_value());
     EXPECT_LE(maxAbsError(samplesOf(*source), samplesOf(*found.reconstruction)), *found.tolerance);
 
@@ -168,11 +169,14 @@ TEST(BaselineZfp, DamagedStreamsAreInputErrorsNamingTheFile) {
     std::string hugeCount = stream;
     const std::uint64_t count = std::uint64_t(1) << 40;
     std::memcpy(hugeCount.data() + 40, &count, sizeof count);
-    const std::pair<std::string, std::string> damaged[] = {
-        {"truncated.zfp", stream.substr(0, stream.size() / 2)}, {"header-only.zfp", stream.substr(0, 20)},
-        {"trailing.zfp", stream + "xx"},                         {"magic.zfp", "GVRASSET" + stream.substr(8)},
-        {"dims.zfp", hugeDims},                                  {"version.zfp", badVersion},
-        {"count.zfp", hugeCount},                                {"empty.zfp", ""}};
+    const std::pair<std::string, std::string> damaged[] = {{"truncated.zfp", stream.substr(0, stream.size() / 2)},
+                                                           {"header-only.zfp", stream.substr(0, 20)},
+                                                           {"trailing.zfp", stream + "xx"},
+                                                           {"magic.zfp", "GVRASSET" + stream.substr(8)},
+                                                           {"dims.zfp", hugeDims},
+                                                           {"version.zfp", badVersion},
+                                                           {"count.zfp", hugeCount},
+                                                           {"empty.zfp", ""}};
     for (const auto& [name, bytes] : damaged) {
         const std::string path = dir.path(name);
         test::writeBytes(path, bytes);
@@ -227,7 +231,8 @@ TEST(BaselineDownsample, LinearRampSurvivesInTheInterior) {
     const FloatVolume after = samplesOf(*result.reconstruction);
     for (int k = 1; k < 7; ++k) {
         for (int j = 1; j < 11; ++j) {
-            for (int i = 1; i < 15; ++i) EXPECT_NEAR(*after.at(i, j, k), i + 2 * j + 3 * k, 1e-4) << i << "," << j << "," << k;
+            for (int i = 1; i < 15; ++i)
+                EXPECT_NEAR(*after.at(i, j, k), i + 2 * j + 3 * k, 1e-4) << i << "," << j << "," << k;
         }
     }
     EXPECT_GT(std::abs(*after.at(0, 0, 0) - 0.0f), 1.0f);  // the edges clamp, so the test can tell
@@ -241,9 +246,9 @@ TEST(BaselineDownsample, PartialBoxesAverageTheVoxelsTheyHave) {
     runBaseline(*source, settings, dir.path("s.vdb"));
     const FloatVolume coarse = samplesOf(*chooseVolumeGrid(*readGridFile(dir.path("s.vdb")), "s.vdb"));
     ASSERT_EQ(coarse.dims, openvdb::Coord(3, 2, 2));
-    EXPECT_FLOAT_EQ(*coarse.at(0, 0, 0), 1 + 0.5f + 5 + 50);   // a full 2x2x2 box
-    EXPECT_FLOAT_EQ(*coarse.at(2, 0, 0), 1 + 4 + 5 + 50);      // i = 4 alone
-    EXPECT_FLOAT_EQ(*coarse.at(2, 1, 1), 1 + 4 + 25 + 200);    // i = 4, j = 2..3, k = 2 alone
+    EXPECT_FLOAT_EQ(*coarse.at(0, 0, 0), 1 + 0.5f + 5 + 50);  // a full 2x2x2 box
+    EXPECT_FLOAT_EQ(*coarse.at(2, 0, 0), 1 + 4 + 5 + 50);     // i = 4 alone
+    EXPECT_FLOAT_EQ(*coarse.at(2, 1, 1), 1 + 4 + 25 + 200);   // i = 4, j = 2..3, k = 2 alone
 }
 
 TEST(BaselineDownsample, AFactorBeyondTheLongestAxisIsRefused) {
@@ -391,8 +396,8 @@ TEST(BaselineCli, JsonReportThenEvalAndRender) {
         test::runGvr("render '" + dir.path("r.vdb") + "' -o '" + dir.path("r.png") + "' --size 32x32", dir);
     EXPECT_EQ(render.exitCode, 0) << render.err;
 
-    const test::CommandResult search = test::runGvr(
-        "baseline -q '" + grid + "' --method zfp-accuracy --target-bytes 2000 --json" + files, dir);
+    const test::CommandResult search =
+        test::runGvr("baseline -q '" + grid + "' --method zfp-accuracy --target-bytes 2000 --json" + files, dir);
     ASSERT_EQ(search.exitCode, 0) << search.err;
     EXPECT_TRUE(nlohmann::json::parse(search.out).contains("matched"));
 }
@@ -405,8 +410,7 @@ TEST(BaselineCli, BadInputIsOneLineExitTwoAndNoOutput) {
     for (const std::string& arguments :
          {"baseline '" + grid + "' --method jpeg" + files,
           "baseline '" + grid + "' --method downsample --factor 0" + files,
-          "baseline '" + grid + "' --method zfp-rate" + files,
-          "baseline '" + grid + "' --method zfp-accuracy" + files,
+          "baseline '" + grid + "' --method zfp-rate" + files, "baseline '" + grid + "' --method zfp-accuracy" + files,
           "baseline '" + grid + "' --method vdb-blosc --rate 4" + files,
           "baseline '" + grid + "' --method zfp-accuracy --tolerance -1" + files,
           "baseline '" + dir.path("missing.vdb") + "' --method vdb-half" + files,

@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -118,21 +117,25 @@ TEST(BenchManifest, ShardsCoverEveryUnitExactlyOnce) {
 TEST(BenchManifest, MistakesAreNamed) {
     test::TempDir dir;
     const auto volume = std::string(R"("volumes": [{"input": "a.nii"}])");
-    EXPECT_NE(manifestError(write(dir, "a.json", R"({"methods": ["gvr", "sz3"], )" + volume + "}")).find("unknown method 'sz3'; known: gvr, gvr+bound, A1"),
+    EXPECT_NE(manifestError(write(dir, "a.json", R"({"methods": ["gvr", "sz3"], )" + volume + "}"))
+                  .find("unknown method 'sz3'; known: gvr, gvr+bound, A1"),
               std::string::npos);
     EXPECT_NE(manifestError(write(dir, "b.json", R"({"ratio": [10], )" + volume + "}")).find("unknown key 'ratio'"),
               std::string::npos);
-    EXPECT_NE(manifestError(write(dir, "c.json", R"({"ratios": [1], )" + volume + "}")).find("above 1"), std::string::npos);
+    EXPECT_NE(manifestError(write(dir, "c.json", R"({"ratios": [1], )" + volume + "}")).find("above 1"),
+              std::string::npos);
     EXPECT_NE(manifestError(write(dir, "d.json", R"({"volumes": [{"input": "a.nii"}, {"input": "x/a.nii"}]})"))
                   .find("duplicate name 'a'"),
               std::string::npos);
     EXPECT_NE(manifestError(write(dir, "e.json", R"({"volumes": []})")).find("at least one volume"), std::string::npos);
     EXPECT_NE(manifestError(write(dir, "f.json", "{not json")).find("not valid JSON"), std::string::npos);
     EXPECT_NE(manifestError(write(dir, "g.toml", "ratios = [10\n")).find("not valid TOML"), std::string::npos);
-    EXPECT_NE(manifestError(write(dir, "h.json", R"({"render": {"size": 64}, )" + volume + "}")).find("render.size: must be a string"),
+    EXPECT_NE(manifestError(write(dir, "h.json", R"({"render": {"size": 64}, )" + volume + "}"))
+                  .find("render.size: must be a string"),
               std::string::npos);
     EXPECT_NE(manifestError(dir.path("missing.json")).find("no such file"), std::string::npos);
-    EXPECT_NE(manifestError(write(dir, "i.json", R"({"render": {"views": 0.5}, )" + volume + "}")).find("render.views: must be a whole number"),
+    EXPECT_NE(manifestError(write(dir, "i.json", R"({"render": {"views": 0.5}, )" + volume + "}"))
+                  .find("render.views: must be a whole number"),
               std::string::npos);
 }
 
@@ -171,15 +174,19 @@ TEST(BenchManifest, CodecMistakesAreNamed) {
         return write(dir, name, R"({"codecs": {"c": )" + codec + R"(}, "volumes": [{"input": "a.nii"}]})");
     };
     const std::string commands = R"("compress": ["c", "{input}"], "decompress": ["d", "{output}"])";
-    EXPECT_NE(manifestError(manifest("a.json", "{" + commands + "}")).find("codecs.c.param: must be [smallest, largest]"),
+    EXPECT_NE(
+        manifestError(manifest("a.json", "{" + commands + "}")).find("codecs.c.param: must be [smallest, largest]"),
+        std::string::npos);
+    EXPECT_NE(
+        manifestError(manifest("b.json", "{" + commands + R"(, "param": [1, 0.5]})")).find("smallest must lie below"),
+        std::string::npos);
+    EXPECT_NE(manifestError(manifest("c.json", "{" + commands + R"(, "param": [0, 1]})")).find("positive"),
               std::string::npos);
-    EXPECT_NE(manifestError(manifest("b.json", "{" + commands + R"(, "param": [1, 0.5]})")).find("smallest must lie below"),
-              std::string::npos);
-    EXPECT_NE(manifestError(manifest("c.json", "{" + commands + R"(, "param": [0, 1]})")).find("positive"), std::string::npos);
     EXPECT_NE(manifestError(manifest("d.json", R"({"compress": [], "decompress": ["d"], "param": [1, 2]})"))
                   .find("codecs.c.compress: must start with the program"),
               std::string::npos);
-    EXPECT_NE(manifestError(manifest("e.json", "{" + commands + R"(, "param": [1, 2], "level": 3})")).find("unknown key 'level'"),
+    EXPECT_NE(manifestError(manifest("e.json", "{" + commands + R"(, "param": [1, 2], "level": 3})"))
+                  .find("unknown key 'level'"),
               std::string::npos);
     EXPECT_NE(manifestError(write(dir, "f.json", R"({"codecs": {"gvr": {}}, "volumes": [{"input": "a.nii"}]})"))
                   .find("codecs.gvr: is a built-in method's name"),
@@ -187,7 +194,8 @@ TEST(BenchManifest, CodecMistakesAreNamed) {
     EXPECT_NE(manifestError(write(dir, "g.json", R"({"codecs": {"a|b": {}}, "volumes": [{"input": "a.nii"}]})"))
                   .find("codecs.a|b: 'a|b' is not a name"),
               std::string::npos);
-    EXPECT_NE(manifestError(manifest("h.json", "{" + commands + R"(, "param": [1, 2], "timeout": -1})")).find("codecs.c.timeout"),
+    EXPECT_NE(manifestError(manifest("h.json", "{" + commands + R"(, "param": [1, 2], "timeout": -1})"))
+                  .find("codecs.c.timeout"),
               std::string::npos);
 }
 
@@ -199,7 +207,7 @@ TEST(BenchManifest, NamesThatWouldBePathsAreRefused) {
         return manifestError(write(dir, "v.json", R"({"volumes": [{"name": ")" + name + R"(", "input": "a.nii"}]})"));
     };
     for (const std::string& name : {std::string("."), std::string(".."), std::string("a/b"), std::string(".hidden"),
-                                   std::string(300, 'x'), std::string("two words"), std::string("")}) {
+                                    std::string(300, 'x'), std::string("two words"), std::string("")}) {
         EXPECT_NE(volumeNamed(name).find("volumes[0].name: '" + name + "' is not a name"), std::string::npos) << name;
     }
     EXPECT_EQ(volumeNamed("ct-head_2.5+x"), "");
@@ -212,12 +220,14 @@ TEST(BenchManifest, NamesThatWouldBePathsAreRefused) {
 // The JSON parser keeps a repeated key's last value without a word.
 TEST(BenchManifest, AKeyTwiceInOneObjectIsRefused) {
     test::TempDir dir;
-    EXPECT_NE(manifestError(write(dir, "a.json", R"({"ratios": [10], "ratios": [20], "volumes": [{"input": "a.nii"}]})"))
-                  .find("the key 'ratios' appears twice in one object"),
-              std::string::npos);
-    EXPECT_NE(manifestError(write(dir, "b.json", R"({"volumes": [{"input": "a.nii", "fit": {"seconds": 1, "seconds": 2}}]})"))
-                  .find("the key 'seconds' appears twice"),
-              std::string::npos);
+    EXPECT_NE(
+        manifestError(write(dir, "a.json", R"({"ratios": [10], "ratios": [20], "volumes": [{"input": "a.nii"}]})"))
+            .find("the key 'ratios' appears twice in one object"),
+        std::string::npos);
+    EXPECT_NE(
+        manifestError(write(dir, "b.json", R"({"volumes": [{"input": "a.nii", "fit": {"seconds": 1, "seconds": 2}}]})"))
+            .find("the key 'seconds' appears twice"),
+        std::string::npos);
     // The same key in sibling objects, and in an object and its parent, is no repeat.
     EXPECT_EQ(manifestError(write(dir, "c.json", R"({"fit": {"seconds": 1}, "volumes": [{"name": "a", "input": "a.nii",
                "fit": {"seconds": 2}}, {"name": "b", "input": "b.nii", "fit": {"seconds": 3}}]})")),
@@ -227,8 +237,8 @@ TEST(BenchManifest, AKeyTwiceInOneObjectIsRefused) {
 // With six digits, 8 and 8.0000001 were one row; the same ratio twice is a mistake.
 TEST(BenchManifest, RatiosKeepRowsOfTheirOwnAndAreNotRepeated) {
     test::TempDir dir;
-    const BenchManifest manifest =
-        readBenchManifest(write(dir, "a.json", R"({"ratios": [8, 8.0000001, 7.5], "methods": ["gvr"], "volumes": [{"input": "a.nii"}]})"));
+    const BenchManifest manifest = readBenchManifest(write(
+        dir, "a.json", R"({"ratios": [8, 8.0000001, 7.5], "methods": ["gvr"], "volumes": [{"input": "a.nii"}]})"));
     std::set<std::string> texts;
     for (const BenchUnit& unit : benchUnits(manifest)) texts.insert(ratioText(unit.ratio));
     EXPECT_EQ(texts, (std::set<std::string>{"8", "8.0000001", "7.5"}));
@@ -240,7 +250,8 @@ TEST(BenchManifest, RatiosKeepRowsOfTheirOwnAndAreNotRepeated) {
 TEST(BenchManifest, ViewSizesBeyondWhatTheBenchComparesAreRefused) {
     test::TempDir dir;
     const auto sized = [&](const std::string& size) {
-        return manifestError(write(dir, "s.json", R"({"render": {"size": ")" + size + R"("}, "volumes": [{"input": "a.nii"}]})"));
+        return manifestError(
+            write(dir, "s.json", R"({"render": {"size": ")" + size + R"("}, "volumes": [{"input": "a.nii"}]})"));
     };
     for (const char* size : {"100000x100000", "4096x16", "0x16", "16", "16x16x16", "wide"}) {
         EXPECT_NE(sized(size).find("render.size: '" + std::string(size) + "' is not WIDTHxHEIGHT of 1 to 2048"),

@@ -3,7 +3,6 @@
 // with that step's message. Real runs are in test_Benchmark.cpp.
 
 #include "bench/BenchRun.h"
-
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -71,8 +70,8 @@ TEST(BenchRun, AFailedIngestFailsEveryPendingRowWithItsMessage) {
     }
     EXPECT_EQ(readResultsCsv(table.csvPath()).size(), 2u);  // on disk as each row ends
     // One ingest for the volume, not one per row.
-    EXPECT_EQ(test::readBytes(dir.path("calls")), "ingest " + dir.path("scan.nii") + " -o " +
-                                                       dir.path("results/work/blobs/source.vdb") + " -q --json\n");
+    EXPECT_EQ(test::readBytes(dir.path("calls")),
+              "ingest " + dir.path("scan.nii") + " -o " + dir.path("results/work/blobs/source.vdb") + " -q --json\n");
 }
 
 TEST(BenchRun, AStepThatSaysNothingPointsAtItsLog) {

@@ -5,9 +5,8 @@
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 
-#include <nlohmann/json.hpp>
-
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <fstream>
@@ -147,7 +146,8 @@ TEST(BenchTable, ResumeRefusesWhatTheBenchDidNotWrite) {
     row.set("bytes", "");
     const std::string sizeless = folderOfOneRow(dir, "sizeless");
     appendLine(sizeless, csvLineOf(row));
-    EXPECT_NE(tableError(sizeless).find("row 2 (ct head|10|A1) is measured but has no size in bytes"), std::string::npos);
+    EXPECT_NE(tableError(sizeless).find("row 2 (ct head|10|A1) is measured but has no size in bytes"),
+              std::string::npos);
 
     const std::string twice = folderOfOneRow(dir, "twice");
     const std::string written = test::readBytes(twice + "/results.csv");
@@ -187,9 +187,9 @@ TEST(BenchTable, LinksAndFoldersInPlaceOfTheBenchsFilesAreRefused) {
     std::filesystem::create_directories(dir.path("runs-elsewhere"));
     std::filesystem::create_directories(dir.path("below/runs"));
     std::filesystem::create_symlink(dir.path("runs-elsewhere"), dir.path("below/runs/ch2"));
-    EXPECT_NE(test::errorMessageOf<InputError>(
-                  [&] { refuseLinksBelow(dir.path("below"), dir.path("below/runs/ch2/r10/gvr")); })
-                  .find("below/runs/ch2: is a symbolic link"),
+    EXPECT_NE(test::errorMessageOf<InputError>([&] {
+                  refuseLinksBelow(dir.path("below"), dir.path("below/runs/ch2/r10/gvr"));
+              }).find("below/runs/ch2: is a symbolic link"),
               std::string::npos);
     EXPECT_NO_THROW(refuseLinksBelow(dir.path("below"), dir.path("below/runs/other/r10/gvr")));
 }
@@ -222,9 +222,7 @@ TEST(BenchTable, TheManifestsDigestTellsManifestsApartWhereverTheyLie) {
     EXPECT_EQ(manifestRecordOf(dir.path("a.json")).digest, manifestRecordOf(dir.path("moved/a.json")).digest);
     EXPECT_NE(manifestRecordOf(dir.path("a.json")).digest, manifestRecordOf(dir.path("b.json")).digest);
     EXPECT_EQ(manifestRecordOf(dir.path("a.json")).digest.size(), 8u);
-    {
-        ResultsTable table(dir.path("out"), dir.path("a.json"), false);
-    }
+    { ResultsTable table(dir.path("out"), dir.path("a.json"), false); }
     const ManifestRecord recorded = recordedManifest(dir.path("out/results.json"));
     EXPECT_EQ(recorded.path, dir.path("a.json"));
     EXPECT_EQ(recorded.digest, manifestRecordOf(dir.path("a.json")).digest);
@@ -234,16 +232,14 @@ TEST(BenchTable, TheManifestsDigestTellsManifestsApartWhereverTheyLie) {
 TEST(BenchTable, ResumeFollowsTheManifestsTextNotItsPath) {
     test::TempDir dir;
     std::ofstream(dir.path("m.json")) << R"({"fit": {"seconds": 60}, "volumes": [{"input": "a.nii"}]})";
-    {
-        ResultsTable table(dir.path("out"), dir.path("m.json"), false);
-    }
+    { ResultsTable table(dir.path("out"), dir.path("m.json"), false); }
     std::filesystem::create_directory(dir.path("moved"));
     std::filesystem::copy(dir.path("m.json"), dir.path("moved/m.json"));
     EXPECT_NO_THROW(ResultsTable(dir.path("out"), dir.path("moved/m.json"), /*resume=*/true));
     std::ofstream(dir.path("m.json")) << R"({"fit": {"seconds": 600}, "volumes": [{"input": "a.nii"}]})";
     const std::string message =
         test::errorMessageOf<InputError>([&] { ResultsTable(dir.path("out"), dir.path("m.json"), /*resume=*/true); });
-    EXPECT_NE(message.find("out: holds the results of " + dir.path("moved/m.json") + " as it was (CRC-32 "), std::string::npos)
+    EXPECT_NE(message.find("out: holds the results of " + dir.path("moved/m.json") + " as it was (CRC-32 "),
+              std::string::npos)
         << message;
 }
-

@@ -19,7 +19,8 @@ std::string writeQuickManifest(const test::TempDir& dir, const std::string& grid
     std::ofstream(path) << R"({
   "methods": ["vdb-half", "down2"],
   "render": {"size": "24x24", "views": 1},
-  "volumes": [{"name": "blobs", "input": ")" + grid + R"("}]
+  "volumes": [{"name": "blobs", "input": ")" +
+                               grid + R"("}]
 })";
     return path;
 }
@@ -97,11 +98,11 @@ TEST(Benchmark, MergeRefusesShardsOfDifferentManifests) {
     for (const char* shard : {"a", "b"}) {
         ResultsTable table(dir.path(std::string("shard-") + shard), dir.path(std::string(shard) + ".json"), false);
     }
-    const std::string message = test::errorMessageOf<InputError>(
-        [&] { mergeBenchResults({dir.path("shard-a"), dir.path("shard-b")}, dir.path("merged")); });
+    const std::string message = test::errorMessageOf<InputError>([&] {
+        mergeBenchResults({dir.path("shard-a"), dir.path("shard-b")}, dir.path("merged"));
+    });
     EXPECT_NE(message.find("shard-b: holds the results of another manifest (" + dir.path("b.json") + ")"),
               std::string::npos)
         << message;
     EXPECT_FALSE(std::filesystem::exists(dir.path("merged")));
 }
-

@@ -49,8 +49,11 @@ TEST(BlockKernel, VisitsExactlyTheRowsTheEllipsoidCrosses) {
     const BlockQuadratic quad = obliqueQuadratic();
     const float cutoff2 = 2.5f;
     std::set<std::pair<int, int>> visited;
-    forEachRowCrossed(quad, 0, kBlockDim - 1, [](int) { return 0; }, kBlockDim - 1, 1, cutoff2,
-                      [&](int x, int y, const RowParabola&) { visited.insert({x, y}); });
+    forEachRowCrossed(
+        quad, 0, kBlockDim - 1, [](int) { return 0; }, kBlockDim - 1, 1, cutoff2,
+        [&](int x, int y, const RowParabola&) {
+            visited.insert({x, y});
+        });
     int crossed = 0;
     for (int x = 0; x < kBlockDim; ++x) {
         for (int y = 0; y < kBlockDim; ++y) {
@@ -68,8 +71,11 @@ TEST(BlockKernel, VisitsExactlyTheRowsTheEllipsoidCrosses) {
 TEST(BlockKernel, RowsStartWhereFirstYSaysAndStepByTheStride) {
     const BlockQuadratic quad = obliqueQuadratic();
     std::set<std::pair<int, int>> visited;
-    forEachRowCrossed(quad, 0, kBlockDim - 1, [](int x) { return x % 3; }, kBlockDim - 1, 3, 1e30f,
-                      [&](int x, int y, const RowParabola&) { visited.insert({x, y}); });
+    forEachRowCrossed(
+        quad, 0, kBlockDim - 1, [](int x) { return x % 3; }, kBlockDim - 1, 3, 1e30f,
+        [&](int x, int y, const RowParabola&) {
+            visited.insert({x, y});
+        });
     for (int x = 0; x < kBlockDim; ++x) {
         for (int y = 0; y < kBlockDim; ++y) {
             const bool sampled = y >= x % 3 && (y - x % 3) % 3 == 0;
@@ -81,17 +87,18 @@ TEST(BlockKernel, RowsStartWhereFirstYSaysAndStepByTheStride) {
 TEST(BlockKernel, RowQGivesTheQuadraticAtEverySampleOfTheRow) {
     const BlockQuadratic quad = obliqueQuadratic();
     int rows = 0;
-    forEachRowCrossed(quad, 0, kBlockDim - 1, [](int) { return 0; }, kBlockDim - 1, 1, 1e30f,
-                      [&](int x, int y, const RowParabola& row) {
-                          ++rows;
-                          for (int part = 0; part < kBlockDim; part += 4) {
-                              const Floats4 q = rowQ<Floats4>(row, part);
-                              for (int i = 0; i < 4; ++i) {
-                                  const double r[3] = {double(x), double(y), double(part + i)};
-                                  EXPECT_NEAR(q[i], qAt(quad, r), 1e-5 * (1.0 + qAt(quad, r)));
-                              }
-                          }
-                      });
+    forEachRowCrossed(
+        quad, 0, kBlockDim - 1, [](int) { return 0; }, kBlockDim - 1, 1, 1e30f,
+        [&](int x, int y, const RowParabola& row) {
+            ++rows;
+            for (int part = 0; part < kBlockDim; part += 4) {
+                const Floats4 q = rowQ<Floats4>(row, part);
+                for (int i = 0; i < 4; ++i) {
+                    const double r[3] = {double(x), double(y), double(part + i)};
+                    EXPECT_NEAR(q[i], qAt(quad, r), 1e-5 * (1.0 + qAt(quad, r)));
+                }
+            }
+        });
     EXPECT_EQ(rows, kBlockDim * kBlockDim);
 }
 

@@ -19,7 +19,8 @@ openvdb::GridBase::Ptr colourWaves(std::array<int, 3> dims) {
     for (int k = 0; k < dims[2]; ++k) {
         for (int j = 0; j < dims[1]; ++j) {
             for (int i = 0; i < dims[0]; ++i) {
-                access.setValue({i, j, k}, openvdb::Vec3s(waves(i, j, k), 0.5f * waves(j, k, i), 20.0f + 0.3f * waves(k, i, j)));
+                access.setValue({i, j, k},
+                                openvdb::Vec3s(waves(i, j, k), 0.5f * waves(j, k, i), 20.0f + 0.3f * waves(k, i, j)));
             }
         }
     }
@@ -120,7 +121,8 @@ TEST(BlockLoss, SubLatticeRowsAreTheRowsOfTheirPhase) {
         phases += blockSquaredError(field, bins, volume.target, blocks, settings);
     }
     settings.rowStride = 1;
-    EXPECT_NEAR(phases, blockSquaredError(field, bins, volume.target, everyBlock(volume.grid), settings), 1e-6 * phases);
+    EXPECT_NEAR(phases, blockSquaredError(field, bins, volume.target, everyBlock(volume.grid), settings),
+                1e-6 * phases);
 }
 
 TEST(BlockLoss, GradientMatchesFiniteDifferences) {
@@ -149,10 +151,10 @@ TEST(BlockLoss, GradientMatchesFiniteDifferences) {
             GaussianParameters plus = params, minus = params;
             plus.values[g][k] += h;
             minus.values[g][k] -= h;
-            const double numeric = (loss(plus, nullptr) - loss(minus, nullptr)) / (plus.values[g][k] - minus.values[g][k]);
+            const double numeric =
+                (loss(plus, nullptr) - loss(minus, nullptr)) / (plus.values[g][k] - minus.values[g][k]);
             const double analytic = gradient.values[g][k];
-            EXPECT_NEAR(analytic, numeric, 2e-2 * std::abs(numeric) + 1e-6)
-                << groupName(ParameterGroup(g)) << " " << k;
+            EXPECT_NEAR(analytic, numeric, 2e-2 * std::abs(numeric) + 1e-6) << groupName(ParameterGroup(g)) << " " << k;
         }
     }
 }

@@ -40,14 +40,16 @@ void expectSmallestFitting(const BoundLadder& ladder, std::uint64_t budget,
 TEST(BoundSearch, FindsTheSmallestWholeSampleBoundThatFitsInAFewEncodes) {
     const BoundLadder ladder = BoundLadder::wholeSamples(7.11, 3000.0);  // a uint8 CT's HU a sample
     const auto bytes = [](double bound) { return modelBytes(bound + 3.0, 4000.0); };
-    for (const std::uint64_t budget : {200000ull, 400000ull, 800000ull}) expectSmallestFitting(ladder, budget, bytes, 7);
+    for (const std::uint64_t budget : {200000ull, 400000ull, 800000ull})
+        expectSmallestFitting(ladder, budget, bytes, 7);
 }
 
 TEST(BoundSearch, WhereTheBytesLevelOffItTakesAtMostTwiceABisection) {
     const BoundLadder ladder = BoundLadder::wholeSamples(7.11, 3000.0);
     const auto bytes = [](double bound) { return modelBytes(bound + 3.0, 400.0); };  // flat from 400 HU up
-    const int bisection = int(std::ceil(std::log2(double(ladder.size())))) + 2;  // and the two ends
-    for (const std::uint64_t budget : {30000ull, 100000ull}) expectSmallestFitting(ladder, budget, bytes, 2 * bisection);
+    const int bisection = int(std::ceil(std::log2(double(ladder.size())))) + 2;      // and the two ends
+    for (const std::uint64_t budget : {30000ull, 100000ull})
+        expectSmallestFitting(ladder, budget, bytes, 2 * bisection);
 }
 
 TEST(BoundSearch, FindsAFloatBoundWithinTwoPercent) {

@@ -3,15 +3,14 @@
 // bounds refused in one line with no output.
 
 #include "io/asset/AssetFile.h"
-#include "workflow/ComparisonInput.h"
 #include "pipeline/Error.h"
 #include "pipeline/QualityMetrics.h"
 #include "pipeline/ResidualLayer.h"
 #include "tests/TestHelpers.h"
 #include "workflow/BoundedLayer.h"
+#include "workflow/ComparisonInput.h"
 
 #include <nlohmann/json.hpp>
-
 #include <zlib.h>
 
 #include <cmath>
@@ -33,7 +32,8 @@ TEST(BoundedLayer, AFitWithMaxErrorExportsEveryVoxelWithinIt) {
     const std::string grid = test::smallGrid(dir);
     const std::string asset = dir.path("bounded.gvr");
     const test::CommandResult fit = test::runGvr(
-        "fit -q '" + grid + "' --gaussians 60 --iterations 10 --seed 3 --max-error 0.01 --json -o '" + asset + "'", dir);
+        "fit -q '" + grid + "' --gaussians 60 --iterations 10 --seed 3 --max-error 0.01 --json -o '" + asset + "'",
+        dir);
     ASSERT_EQ(fit.exitCode, 0) << fit.err;
     const nlohmann::json report = nlohmann::json::parse(fit.out);
     EXPECT_LE(report["residual_layer"]["measured_max_error"].get<double>(), 0.01);
@@ -43,7 +43,8 @@ TEST(BoundedLayer, AFitWithMaxErrorExportsEveryVoxelWithinIt) {
 
     const std::string all = dir.path("all.nii.gz"), preview = dir.path("gaussians.nii.gz");
     ASSERT_EQ(test::runGvr("export -q '" + asset + "' --float32 -o '" + all + "'", dir).exitCode, 0);
-    ASSERT_EQ(test::runGvr("export -q '" + asset + "' --float32 --layers gaussians -o '" + preview + "'", dir).exitCode, 0);
+    ASSERT_EQ(test::runGvr("export -q '" + asset + "' --float32 --layers gaussians -o '" + preview + "'", dir).exitCode,
+              0);
     EXPECT_LE(exportError(grid, all), 0.01);
     EXPECT_GT(exportError(grid, preview), 0.01);  // ten iterations of 60 Gaussians are no copy
     // gvr eval reads the asset with its layer and reports the bound's figure.
@@ -55,11 +56,14 @@ TEST(BoundedLayer, AFitWithMaxErrorExportsEveryVoxelWithinIt) {
     EXPECT_GT(nlohmann::json::parse(evalPreview.out)["max_error"].get<double>(), 0.01);
 
     // The bound is on the source's own grid: another is the Gaussians' alone, if asked for.
-    const test::CommandResult coarse = test::runGvr("export -q '" + asset + "' --resolution 8 -o '" + dir.path("c.vdb") + "'", dir);
+    const test::CommandResult coarse =
+        test::runGvr("export -q '" + asset + "' --resolution 8 -o '" + dir.path("c.vdb") + "'", dir);
     EXPECT_EQ(coarse.exitCode, 2);
     EXPECT_NE(coarse.err.find("--layers gaussians"), std::string::npos) << coarse.err;
-    EXPECT_EQ(test::runGvr("export -q '" + asset + "' --resolution 8 --layers gaussians -o '" + dir.path("c.vdb") + "'",
-                           dir).exitCode, 0);
+    EXPECT_EQ(
+        test::runGvr("export -q '" + asset + "' --resolution 8 --layers gaussians -o '" + dir.path("c.vdb") + "'", dir)
+            .exitCode,
+        0);
 }
 
 TEST(BoundedLayer, IntegerDataAtABoundBelowOneIsLossless) {
@@ -67,8 +71,8 @@ TEST(BoundedLayer, IntegerDataAtABoundBelowOneIsLossless) {
     test::TempDir dir;
     const std::string source = test::sharedData("mri-colin27-aal/ch2.nii.gz");
     const std::string asset = dir.path("ch2.gvr"), out = dir.path("ch2.nii.gz");
-    const test::CommandResult fit = test::runGvr(
-        "fit -q '" + source + "' --gaussians 2000 --iterations 5 --max-error 0.5 -o '" + asset + "'", dir);
+    const test::CommandResult fit =
+        test::runGvr("fit -q '" + source + "' --gaussians 2000 --iterations 5 --max-error 0.5 -o '" + asset + "'", dir);
     ASSERT_EQ(fit.exitCode, 0) << fit.err;
     ASSERT_EQ(test::runGvr("export -q '" + asset + "' -o '" + out + "'", dir).exitCode, 0);  // uint8, as the source
     EXPECT_EQ(exportError(source, out), 0.0);
@@ -91,11 +95,13 @@ TEST(BoundedLayer, AnAutoBoundIsTheSmallestWithWhichTheAssetFitsTheRatio) {
 
     // One sample tighter, over the same Gaussians (400:1 is also the default preview), misses 10:1.
     const test::CommandResult over = test::runGvr("fit -q '" + source + "' --max-error " + std::to_string(bound - 1.0) +
-                                                      " --iterations 5 --json -o '" + tighter + "'", dir);
+                                                      " --iterations 5 --json -o '" + tighter + "'",
+                                                  dir);
     ASSERT_EQ(over.exitCode, 0) << over.err;
     EXPECT_LT(nlohmann::json::parse(over.out)["ratio_vs_raw"].get<double>(), 10.0);
 
-    const test::CommandResult alone = test::runGvr("fit -q '" + source + "' --max-error auto -o '" + tighter + "'", dir);
+    const test::CommandResult alone =
+        test::runGvr("fit -q '" + source + "' --max-error auto -o '" + tighter + "'", dir);
     EXPECT_EQ(alone.exitCode, 2);
     EXPECT_NE(alone.err.find("--ratio"), std::string::npos) << alone.err;
 }
@@ -104,8 +110,11 @@ TEST(BoundedLayer, AnAutoBoundOnAnOddSlopeLeavesNoVoxelToRounding) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
     const std::string source = test::sharedData("ct-gantry-tilt-shear/shear.nii.gz");  // uint8, 7.1098 HU a sample
-    const test::CommandResult fit = test::runGvr("fit -q '" + source + "' --ratio 10 --max-error auto --iterations 20 "
-                                                 "--json -o '" + dir.path("g.gvr") + "'", dir);
+    const test::CommandResult fit = test::runGvr("fit -q '" + source +
+                                                     "' --ratio 10 --max-error auto --iterations 20 "
+                                                     "--json -o '" +
+                                                     dir.path("g.gvr") + "'",
+                                                 dir);
     ASSERT_EQ(fit.exitCode, 0) << fit.err;
     const nlohmann::json layer = nlohmann::json::parse(fit.out)["residual_layer"];
     EXPECT_EQ(layer["exact_voxels"].get<std::size_t>(), 0u) << layer;
@@ -135,8 +144,8 @@ TEST(BoundedLayer, ABadBoundIsRefusedInOneLineBeforeTheFit) {
     const std::string grid = test::smallGrid(dir);
     for (const std::string bad : {"nan", "-1", "abc", "1e999", "5%%x"}) {
         const std::string out = dir.path("out.gvr");
-        const test::CommandResult run =
-            test::runGvr("fit -q '" + grid + "' --gaussians 20 --iterations 2 --max-error '" + bad + "' -o '" + out + "'", dir);
+        const test::CommandResult run = test::runGvr(
+            "fit -q '" + grid + "' --gaussians 20 --iterations 2 --max-error '" + bad + "' -o '" + out + "'", dir);
         EXPECT_EQ(run.exitCode, 2) << bad;
         EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
         EXPECT_NE(run.err.find("max-error"), std::string::npos) << run.err;
@@ -153,20 +162,24 @@ std::string withEditedResidual(const std::string& bytes, const std::function<voi
     const std::string text = header.dump();
     std::string out = bytes.substr(0, 12) + test::littleEndian32(std::uint32_t(text.size())) + text +
                       bytes.substr(16 + headerBytes, bytes.size() - 16 - headerBytes - 4);
-    return out + test::littleEndian32(std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(out.data()), uInt(out.size()))));
+    return out +
+           test::littleEndian32(std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(out.data()), uInt(out.size()))));
 }
 
 TEST(BoundedLayer, ProbeAndRenderReadTheLayerAndTheGaussiansOnRequest) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir), asset = dir.path("b.gvr");
-    ASSERT_EQ(test::runGvr("fit -q '" + grid + "' --gaussians 20 --iterations 3 --max-error 0.5 -o '" + asset + "'",
-                           dir).exitCode, 0);  // lossless: the source is uint8
+    ASSERT_EQ(
+        test::runGvr("fit -q '" + grid + "' --gaussians 20 --iterations 3 --max-error 0.5 -o '" + asset + "'", dir)
+            .exitCode,
+        0);  // lossless: the source is uint8
     const auto probed = [&](const std::string& layers) {
-        const test::CommandResult run = test::runGvr("probe --json '" + asset + "' --index 8,10,8 --layers " + layers, dir);
+        const test::CommandResult run =
+            test::runGvr("probe --json '" + asset + "' --index 8,10,8 --layers " + layers, dir);
         EXPECT_EQ(run.exitCode, 0) << run.err;
         return nlohmann::json::parse(run.out)["points"][0]["value"][0].get<double>();
     };
-    EXPECT_NEAR(probed("all"), 200.0, 0.5);  // the blob's centre, as stored
+    EXPECT_NEAR(probed("all"), 200.0, 0.5);                 // the blob's centre, as stored
     EXPECT_GT(std::abs(probed("gaussians") - 200.0), 0.5);  // 20 Gaussians in three iterations
 
     // Lossless, the asset draws as its source does, pixel for pixel; its Gaussians do not.
@@ -185,8 +198,10 @@ TEST(BoundedLayer, ProbeAndRenderReadTheLayerAndTheGaussiansOnRequest) {
 TEST(BoundedLayer, ALayerThatLiesAboutItsSizesIsRefusedNamingTheFile) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir), asset = dir.path("b.gvr");
-    ASSERT_EQ(test::runGvr("fit -q '" + grid + "' --gaussians 30 --iterations 3 --max-error 0.05 -o '" + asset + "'",
-                           dir).exitCode, 0);
+    ASSERT_EQ(
+        test::runGvr("fit -q '" + grid + "' --gaussians 30 --iterations 3 --max-error 0.05 -o '" + asset + "'", dir)
+            .exitCode,
+        0);
     const std::string bytes = test::readBytes(asset);
     ASSERT_NO_THROW(decodeAsset(bytes, asset));
     const std::vector<std::function<void(nlohmann::json&)>> lies = {
@@ -211,8 +226,10 @@ TEST(BoundedLayer, ALayerThatLiesAboutItsSizesIsRefusedNamingTheFile) {
 TEST(BoundedLayer, AnAssetSavedAgainKeepsItsLayerByteForByte) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir), asset = dir.path("b.gvr");
-    ASSERT_EQ(test::runGvr("fit -q '" + grid + "' --gaussians 40 --iterations 4 --max-error 0.05 -o '" + asset + "'",
-                           dir).exitCode, 0);
+    ASSERT_EQ(
+        test::runGvr("fit -q '" + grid + "' --gaussians 40 --iterations 4 --max-error 0.05 -o '" + asset + "'", dir)
+            .exitCode,
+        0);
     GaussianAsset read = readAsset(asset);
     ASSERT_TRUE(read.residual);
     EXPECT_EQ(encodeAsset(read), test::readBytes(asset));  // as Python's asset.save() writes it

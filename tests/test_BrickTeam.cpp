@@ -13,7 +13,9 @@ public:
     int rank() const override { return 0; }
     int size() const override { return mSize; }
     std::size_t threadsPerRank() const override { return 1; }
-    std::vector<BrickOutcome> gather(std::vector<BrickOutcome> mine, const std::vector<int>&) const override { return mine; }
+    std::vector<BrickOutcome> gather(std::vector<BrickOutcome> mine, const std::vector<int>&) const override {
+        return mine;
+    }
     void broadcast(std::string&) const override {}
     void abortUnlessAlone(const std::exception&) const override {}
 

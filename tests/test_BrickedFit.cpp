@@ -1,11 +1,10 @@
 // A fit cut into bricks: the plan every process makes alike, each process's share
 // of its time, the records a part carries, and the merge of the parts.
 
-#include "workflow/BrickedFit.h"
-
 #include "io/asset/AssetFile.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
+#include "workflow/BrickedFit.h"
 
 #include <gtest/gtest.h>
 
@@ -90,9 +89,15 @@ TEST(BrickedFit, RunRecordsReadBackInTheKeysPartsHaveAlwaysHad) {
     // gvr merge reads parts that earlier versions wrote.
     GaussianAsset part;
     part.fitSettings["brick"] = {{"index", 0}, {"of", 2}};
-    part.fitSettings["brick"]["run"] = {{"rank", 2},           {"gaussians", 40},         {"iterations", 7},
-                                        {"seconds", 1.5},      {"pruned", 3},             {"respawned", 1},
-                                        {"solve_iterations", 9}, {"solve_seconds", 0.25}, {"rank_peak_rss_mib", 512.0}};
+    part.fitSettings["brick"]["run"] = {{"rank", 2},
+                                        {"gaussians", 40},
+                                        {"iterations", 7},
+                                        {"seconds", 1.5},
+                                        {"pruned", 3},
+                                        {"respawned", 1},
+                                        {"solve_iterations", 9},
+                                        {"solve_seconds", 0.25},
+                                        {"rank_peak_rss_mib", 512.0}};
     const BrickRun run = brickRunOf(part, "p0");
     EXPECT_EQ(run.rank, 2);
     EXPECT_EQ(run.gaussians, 40u);
@@ -109,13 +114,15 @@ TEST(BrickedFit, MissingOrCorruptRecordsAreRefusedNamingThePart) {
     const GaussianAsset whole{};
     EXPECT_EQ(test::errorMessageOf<InputError>([&] { brickOfPart(whole, "whole.gvr"); }),
               "whole.gvr: is not a brick part (the asset of one brick of a bricked fit)");
-    EXPECT_EQ(test::errorMessageOf<InputError>([&] { brickRunOf(whole, "whole.gvr"); })
-                  .rfind("whole.gvr: corrupt brick run record: ", 0),
+    EXPECT_EQ(test::errorMessageOf<InputError>([&] {
+                  brickRunOf(whole, "whole.gvr");
+              }).rfind("whole.gvr: corrupt brick run record: ", 0),
               0u);
     GaussianAsset corrupt;
     corrupt.fitSettings["brick"] = {{"index", "one"}, {"of", 2}};
-    EXPECT_EQ(test::errorMessageOf<InputError>([&] { brickOfPart(corrupt, "bad.gvr"); })
-                  .rfind("bad.gvr: corrupt brick record: ", 0),
+    EXPECT_EQ(test::errorMessageOf<InputError>([&] {
+                  brickOfPart(corrupt, "bad.gvr");
+              }).rfind("bad.gvr: corrupt brick record: ", 0),
               0u);
     EXPECT_EQ(test::errorMessageOf<InputError>([&] { mergeBrickParts({}, {}); }), "merge: no parts given");
 }
@@ -153,13 +160,15 @@ TEST(BrickedFit, MergeRefusesMissingRepeatedAndForeignParts) {
     EXPECT_NE(refusal({first, first}, {"p0", "again"}).find("again: repeats brick 0"), std::string::npos);
     options.settings.seed = 7;
     const BrickPlan other = planBrickedFit(target, "blobs", options, {2, 4});
-    EXPECT_NE(refusal({first, fitBrickPart(grid, "blobs", other, 1, 0.0)}, {"p0", "seed7"}).find("seed7: is a brick of another fit"),
+    EXPECT_NE(refusal({first, fitBrickPart(grid, "blobs", other, 1, 0.0)}, {"p0", "seed7"})
+                  .find("seed7: is a brick of another fit"),
               std::string::npos);
     // The cutoff is the asset's, not a setting the fit records: parts of two once merged under the first's.
     options.settings.seed = BudgetedFitOptions().settings.seed;
     options.settings.cutoffSigmas = 4.0f;
     const BrickPlan wider = planBrickedFit(target, "blobs", options, {2, 4});
-    EXPECT_NE(refusal({first, fitBrickPart(grid, "blobs", wider, 1, 0.0)}, {"p0", "cutoff4"}).find("cutoff4: is a brick of another fit"),
+    EXPECT_NE(refusal({first, fitBrickPart(grid, "blobs", wider, 1, 0.0)}, {"p0", "cutoff4"})
+                  .find("cutoff4: is a brick of another fit"),
               std::string::npos);
     // Parts of fits at other ratios once merged without a word.
     BudgetedFitOptions tenToOne = twoBrickOptions(0, 5), twentyToOne = twoBrickOptions(0, 5);
@@ -167,9 +176,10 @@ TEST(BrickedFit, MergeRefusesMissingRepeatedAndForeignParts) {
     twentyToOne.ratio = 20.0;
     const BrickPlan ten = planBrickedFit(target, "blobs", tenToOne, {2, 4});
     const BrickPlan twenty = planBrickedFit(target, "blobs", twentyToOne, {2, 4});
-    EXPECT_NE(refusal({fitBrickPart(grid, "blobs", ten, 0, 0.0), fitBrickPart(grid, "blobs", twenty, 1, 0.0)}, {"p0", "p1"})
-                  .find("p1: is a brick of another fit"),
-              std::string::npos);
+    EXPECT_NE(
+        refusal({fitBrickPart(grid, "blobs", ten, 0, 0.0), fitBrickPart(grid, "blobs", twenty, 1, 0.0)}, {"p0", "p1"})
+            .find("p1: is a brick of another fit"),
+        std::string::npos);
     GaussianAsset whole = first;
     whole.fitSettings.erase("brick");
     EXPECT_NE(refusal({whole, second}, {"whole", "p1"}).find("whole: is not a brick part"), std::string::npos);

@@ -116,7 +116,7 @@ TEST(Bricks, SeamsOfRealMriAreWithinOneDecibelOfAWholeVolumeFit) {
     const VoxelMarking near = [&](const openvdb::Coord& ijk) { return seams.near(ijk); };
     const auto measured = [&](const GaussianAsset& asset) {
         return measureFieldAccuracy(GaussianField(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas),
-                                  target, {}, near);
+                                    target, {}, near);
     };
     const FieldAccuracy b = measured(bricked), w = measured(whole);
     std::cout << "seams / elsewhere, dB: bricks " << b.markedPsnr << " / " << b.unmarkedPsnr << ", whole volume "

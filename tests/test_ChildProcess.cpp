@@ -2,12 +2,10 @@
 // output kept and its last error line, stderr appended to the log, and the time limit.
 
 #include "bench/ChildProcess.h"
-
 #include "tests/TestHelpers.h"
 
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -39,8 +37,8 @@ TEST(ChildProcess, KeepsOutputTheLastErrorLineAndTheExitCode) {
 
 TEST(ChildProcess, TheLastErrorIsWhatFollowsTheLastProgressRedraw) {
     test::TempDir dir;
-    const ChildResult result =
-        runChild({"/bin/sh", "-c", "printf 'fitting 10%%\\rfitting 90%%\\rout of memory   \\n' >&2; exit 1"}, dir.path("log"));
+    const ChildResult result = runChild(
+        {"/bin/sh", "-c", "printf 'fitting 10%%\\rfitting 90%%\\rout of memory   \\n' >&2; exit 1"}, dir.path("log"));
     EXPECT_EQ(result.lastError, "out of memory");
 }
 
@@ -69,8 +67,8 @@ TEST(ChildProcess, ATimeLimitKillsTheChildAndItsChildren) {
     test::TempDir dir;
     const auto start = std::chrono::steady_clock::now();
     const std::string pidFile = dir.path("background.pid");
-    const ChildResult result =
-        runChild({"/bin/sh", "-c", "sleep 30 & echo $! > '" + pidFile + "'; sleep 30; echo never"}, dir.path("log"), 0.5);
+    const ChildResult result = runChild(
+        {"/bin/sh", "-c", "sleep 30 & echo $! > '" + pidFile + "'; sleep 30; echo never"}, dir.path("log"), 0.5);
     EXPECT_TRUE(result.timedOut);
     EXPECT_FALSE(result.ok());
     EXPECT_EQ(result.output, "");
@@ -99,7 +97,8 @@ TEST(ChildProcess, ARunEndsWithTheChildAndTakesWhatItLeftRunningWithIt) {
     EXPECT_TRUE(result.ok());
     const std::string daemon = result.output.substr(0, result.output.find('\n'));
     ASSERT_FALSE(daemon.empty());
-    for (int tries = 0; tries < 200 && !ended(daemon); ++tries) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    for (int tries = 0; tries < 200 && !ended(daemon); ++tries)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
     EXPECT_TRUE(ended(daemon)) << "process " << daemon << " outlived the run";
 }
 

@@ -3,7 +3,6 @@
 #include "tests/TestHelpers.h"
 
 #include <nlohmann/json.hpp>
-
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -22,8 +21,8 @@ namespace {
 /// `gvr fit` of the shear CT, ingested into @a dir, into ct.gvr with @a flags.
 std::string shearCtFit(const test::TempDir& dir, const std::string& flags) {
     const std::string grid = dir.path("ct.vdb");
-    const test::CommandResult run =
-        test::runGvr("ingest -q '" + test::sharedData("ct-gantry-tilt-shear/shear.nii.gz") + "' -o '" + grid + "'", dir);
+    const test::CommandResult run = test::runGvr(
+        "ingest -q '" + test::sharedData("ct-gantry-tilt-shear/shear.nii.gz") + "' -o '" + grid + "'", dir);
     EXPECT_EQ(run.exitCode, 0) << run.err;
     EXPECT_TRUE(std::filesystem::exists(grid));
     return "fit -q '" + grid + "' -o '" + dir.path("ct.gvr") + "' " + flags;
@@ -120,7 +119,8 @@ TEST(Cli, MistypedCommandsAndFlagsGetASuggestion) {
 TEST(Cli, InfoWarnsOnStderrLikeEveryCommand) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
-    const test::CommandResult run = test::runGvr("info '" + test::sharedData("mri-4d-asl-float32/mpld_asl.nii.gz") + "'", dir);
+    const test::CommandResult run =
+        test::runGvr("info '" + test::sharedData("mri-4d-asl-float32/mpld_asl.nii.gz") + "'", dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
     EXPECT_EQ(run.out.find("warning"), std::string::npos) << run.out;
     EXPECT_NE(run.err.find("gvr: warning: 4D series"), std::string::npos) << run.err;
@@ -130,12 +130,14 @@ TEST(Cli, ChestCtKeepsItsLungsByDefaultAndAThresholdThatDeletesThemIsWarnedAbout
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
     const std::string chest = test::sharedData("ct-chest-ricord-512");
-    const test::CommandResult old = test::runGvr("ingest -q '" + chest + "' -o '" + dir.path("a.vdb") + "' --threshold -500", dir);
+    const test::CommandResult old =
+        test::runGvr("ingest -q '" + chest + "' -o '" + dir.path("a.vdb") + "' --threshold -500", dir);
     ASSERT_EQ(old.exitCode, 0) << old.err;
     EXPECT_NE(old.err.find("gvr: warning: the threshold -500.0 HU leaves"), std::string::npos) << old.err;
     EXPECT_NE(old.err.find("--threshold -950"), std::string::npos) << old.err;
 
-    const test::CommandResult fresh = test::runGvr("ingest -q '" + chest + "' -o '" + dir.path("b.vdb") + "' --json", dir);
+    const test::CommandResult fresh =
+        test::runGvr("ingest -q '" + chest + "' -o '" + dir.path("b.vdb") + "' --json", dir);
     ASSERT_EQ(fresh.exitCode, 0) << fresh.err;
     EXPECT_EQ(fresh.err.find("warning"), std::string::npos) << fresh.err;
     const nlohmann::json metadata = nlohmann::json::parse(fresh.out)["grid"]["metadata"];
@@ -151,14 +153,17 @@ TEST(Cli, ANiftiOfAThresholdedGridSaysSo) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
     const std::string chest = test::sharedData("ct-chest-ricord-512");
-    const test::CommandResult thresholded = test::runGvr("ingest -q '" + chest + "' -o '" + dir.path("a.nii.gz") + "'", dir);
+    const test::CommandResult thresholded =
+        test::runGvr("ingest -q '" + chest + "' -o '" + dir.path("a.nii.gz") + "'", dir);
     ASSERT_EQ(thresholded.exitCode, 0) << thresholded.err;
-    EXPECT_NE(thresholded.err.find("gvr: warning: " + dir.path("a.nii.gz") +
-                                   " holds the ingested grid, not a copy of the source: its 21669383 voxels outside the "
-                                   "threshold hold the grid's background -986.5"),
-              std::string::npos)
+    EXPECT_NE(
+        thresholded.err.find("gvr: warning: " + dir.path("a.nii.gz") +
+                             " holds the ingested grid, not a copy of the source: its 21669383 voxels outside the "
+                             "threshold hold the grid's background -986.5"),
+        std::string::npos)
         << thresholded.err;
-    EXPECT_NE(thresholded.err.find("a --threshold below the data's minimum (-3024) keeps every value"), std::string::npos);
+    EXPECT_NE(thresholded.err.find("a --threshold below the data's minimum (-3024) keeps every value"),
+              std::string::npos);
     const test::CommandResult faithful =
         test::runGvr("ingest -q '" + chest + "' -o '" + dir.path("b.nii.gz") + "' --threshold -5000", dir);
     ASSERT_EQ(faithful.exitCode, 0) << faithful.err;
@@ -168,12 +173,14 @@ TEST(Cli, ANiftiOfAThresholdedGridSaysSo) {
 TEST(Cli, UnknownFlagsAndBadSpacingAreUsageErrors) {
     test::TempDir dir;
     for (const char* bad : {"--flip x", "--flip i,q", "--threshold 10 --threshold-above 5"}) {
-        const test::CommandResult run = test::runGvr(std::string("ingest x.raw -o y.vdb --raw-dims 2,2,2 --raw-type uint8 ") + bad, dir);
+        const test::CommandResult run =
+            test::runGvr(std::string("ingest x.raw -o y.vdb --raw-dims 2,2,2 --raw-type uint8 ") + bad, dir);
         EXPECT_EQ(run.exitCode, 2) << bad;
         EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
     }
     EXPECT_EQ(test::runGvr("ingest x.nii -o y.vdb --no-such-flag", dir).exitCode, 2);
-    const test::CommandResult run = test::runGvr("ingest x.raw -o y.vdb --raw-dims 2,2,2 --raw-type uint8 --spacing 1,0,1", dir);
+    const test::CommandResult run =
+        test::runGvr("ingest x.raw -o y.vdb --raw-dims 2,2,2 --raw-type uint8 --spacing 1,0,1", dir);
     EXPECT_EQ(run.exitCode, 2);
     EXPECT_NE(run.err.find("--spacing"), std::string::npos) << run.err;
 }
@@ -194,8 +201,9 @@ TEST(Cli, IngestStreamsARawVolumeInLessMemoryThanHalfItsSamples) {
         }
     }
     std::filesystem::resize_file(raw, std::uintmax_t(1024) * 1024 * 512);
-    const test::CommandResult run = test::runGvr("ingest '" + raw + "' --raw-dims 1024,1024,512 --raw-type uint8 -o '" +
-                                                     dir.path("big.vdb") + "' --json -q", dir);
+    const test::CommandResult run = test::runGvr(
+        "ingest '" + raw + "' --raw-dims 1024,1024,512 --raw-type uint8 -o '" + dir.path("big.vdb") + "' --json -q",
+        dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
     const nlohmann::json report = nlohmann::json::parse(run.out);
     EXPECT_EQ(report["grid"]["active_voxels"], 64 * 64 * 64);
@@ -207,10 +215,13 @@ TEST(Cli, FileNamesThatAreNotUtf8StayInTheJsonReports) {
     // --json report an internal error (invalid UTF-8), after the output was written.
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
-    const std::string latin1 = dir.path("sch\xe4" "del.vdb");
+    const std::string latin1 = dir.path(
+        "sch\xe4"
+        "del.vdb");
     const test::CommandResult ingest = test::runGvr("ingest -q '" + grid + "' -o '" + latin1 + "' --json", dir);
     ASSERT_EQ(ingest.exitCode, 0) << ingest.err;
-    EXPECT_EQ(nlohmann::json::parse(ingest.out)["outputs"][0]["path"], dir.path("sch\xef\xbf\xbd" "del.vdb"));
+    EXPECT_EQ(nlohmann::json::parse(ingest.out)["outputs"][0]["path"], dir.path("sch\xef\xbf\xbd"
+                                                                                "del.vdb"));
     const test::CommandResult info = test::runGvr("info '" + latin1 + "' --json", dir);
     ASSERT_EQ(info.exitCode, 0) << info.err;
     EXPECT_NO_THROW(nlohmann::json::parse(info.out));
@@ -220,8 +231,9 @@ TEST(Cli, IngestThenInfoAsJson) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
     const std::string output = dir.path("ch2.vdb");
-    const test::CommandResult ingested = test::runGvr("ingest '" + test::sharedData("mri-colin27-aal/ch2.nii.gz") +
-                                    "' -o '" + output + "' --threshold 20 --json", dir);
+    const test::CommandResult ingested = test::runGvr(
+        "ingest '" + test::sharedData("mri-colin27-aal/ch2.nii.gz") + "' -o '" + output + "' --threshold 20 --json",
+        dir);
     ASSERT_EQ(ingested.exitCode, 0) << ingested.err;
     EXPECT_EQ(nlohmann::json::parse(ingested.out)["outputs"][0]["path"], output);
 
@@ -240,7 +252,8 @@ TEST(Cli, IngestThenInfoAsJson) {
     EXPECT_EQ(grid["affine"][0][0], 1.0) << grid["affine"];  // ch2: i runs along +x, 1 mm voxels
     EXPECT_EQ(grid["affine"][3], nlohmann::json({0.0, 0.0, 0.0, 1.0}));
 
-    const test::CommandResult source = test::runGvr("info '" + test::sharedData("ct-gantry-tilt-shear/shear.nii.gz") + "'", dir);
+    const test::CommandResult source =
+        test::runGvr("info '" + test::sharedData("ct-gantry-tilt-shear/shear.nii.gz") + "'", dir);
     ASSERT_EQ(source.exitCode, 0) << source.err;
     EXPECT_NE(source.out.find("gvr ingest would write"), std::string::npos);
     EXPECT_NE(source.out.find("306 x"), std::string::npos) << source.out;
@@ -266,9 +279,10 @@ TEST(Cli, FitIsReproducibleByteForByteWhateverTheThreads) {
 TEST(Cli, FitRespectsTheRatioAndLogsErrorAgainstTime) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
-    const test::CommandResult run = test::runGvr("fit -q '" + grid + "' -o '" + dir.path("r.asset") +
-                                         "' --ratio 4 --iterations 60 --log-every 20 --log '" +
-                                         dir.path("fit.csv") + "' --json", dir);
+    const test::CommandResult run =
+        test::runGvr("fit -q '" + grid + "' -o '" + dir.path("r.asset") +
+                         "' --ratio 4 --iterations 60 --log-every 20 --log '" + dir.path("fit.csv") + "' --json",
+                     dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
     EXPECT_LE(std::filesystem::file_size(dir.path("r.asset")), 24u * 20 * 16 / 4);
     const nlohmann::json result = nlohmann::json::parse(run.out);
@@ -385,10 +399,10 @@ TEST(Cli, AFewStepsFillTheRoomThatBarelyMovedSeedsLeaveInTheFile) {
 TEST(Cli, BadAssetEncodingAndSolveFlagsAreRefusedWithoutOutput) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
-    for (const std::string flag : {"--mean-step 0", "--rotation-bits 1", "--scale-bits 17", "--amplitude-bits 40",
-                                   "--solve-share 1.5"}) {
-        const test::CommandResult run = test::runGvr("fit -q '" + grid + "' -o '" + dir.path("bad.gvr") +
-                                                         "' --iterations 5 " + flag, dir);
+    for (const std::string flag :
+         {"--mean-step 0", "--rotation-bits 1", "--scale-bits 17", "--amplitude-bits 40", "--solve-share 1.5"}) {
+        const test::CommandResult run =
+            test::runGvr("fit -q '" + grid + "' -o '" + dir.path("bad.gvr") + "' --iterations 5 " + flag, dir);
         EXPECT_EQ(run.exitCode, 2) << flag;
         EXPECT_NE(run.err.find(flag.substr(0, flag.find(' '))), std::string::npos) << run.err;
         EXPECT_FALSE(std::filesystem::exists(dir.path("bad.gvr"))) << flag;
@@ -398,11 +412,12 @@ TEST(Cli, BadAssetEncodingAndSolveFlagsAreRefusedWithoutOutput) {
 TEST(Cli, NegativeCountsAreRefusedNotWrapped) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
-    for (const std::string flag : {"--gaussians -5", "--gaussians 0", "--iterations -1", "--seed -1", "--refresh-every -1", "--batch -1",
-                                   "--held-out -1", "--slice-pixels -1", "--threads -1", "--threads 100000"}) {
+    for (const std::string flag :
+         {"--gaussians -5", "--gaussians 0", "--iterations -1", "--seed -1", "--refresh-every -1", "--batch -1",
+          "--held-out -1", "--slice-pixels -1", "--threads -1", "--threads 100000"}) {
         const std::string budget = flag.rfind("--iterations", 0) == 0 ? "" : "--iterations 5 ";
-        const test::CommandResult run = test::runGvr("fit -q '" + grid + "' -o '" + dir.path("bad.gvr") + "' " +
-                                                         budget + flag, dir);
+        const test::CommandResult run =
+            test::runGvr("fit -q '" + grid + "' -o '" + dir.path("bad.gvr") + "' " + budget + flag, dir);
         EXPECT_EQ(run.exitCode, 2) << flag;
         EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
         EXPECT_EQ(run.err.rfind("gvr: error: ", 0), 0u) << run.err;
@@ -419,13 +434,13 @@ TEST(Cli, OutputsNeverReplaceInputsOrSpecialFiles) {
     ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
     std::filesystem::create_directory(dir.path("out"));
     const std::string asset = dir.path("out/a.gvr");
-    for (const std::string& command : {"fit -q '" + grid + "' -o '" + grid + "' --iterations 5",
-                                      "ingest '" + grid + "' -o '" + grid + "'",
-                                      "fit -q '" + grid + "' -o '" + fifo + "' --iterations 5",
-                                      "fit -q '" + grid + "' -o '" + dir.path("out") + "' --iterations 5",
-                                      "fit -q '" + grid + "' -o '" + asset + "' --iterations 5 --log '" + grid + "'",
-                                      "render '" + grid + "' -o '" + dir.path("out/x.png") + "' --stats '" +
-                                          dir.path("missing/stats.json") + "'"}) {
+    for (const std::string& command :
+         {"fit -q '" + grid + "' -o '" + grid + "' --iterations 5", "ingest '" + grid + "' -o '" + grid + "'",
+          "fit -q '" + grid + "' -o '" + fifo + "' --iterations 5",
+          "fit -q '" + grid + "' -o '" + dir.path("out") + "' --iterations 5",
+          "fit -q '" + grid + "' -o '" + asset + "' --iterations 5 --log '" + grid + "'",
+          "render '" + grid + "' -o '" + dir.path("out/x.png") + "' --stats '" + dir.path("missing/stats.json") +
+              "'"}) {
         const test::CommandResult run = test::runGvr(command, dir);
         EXPECT_EQ(run.exitCode, 2) << command << "\n" << run.err;
         EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
@@ -462,11 +477,13 @@ TEST(Cli, NoOutputIsAFileThatAnInputReads) {
     const std::string grid = test::smallGrid(dir);
     std::filesystem::create_directory(dir.path("series"));
     for (const char* slice : {"1-001.dcm", "1-002.dcm", "1-003.dcm"}) {
-        std::filesystem::copy_file(test::sharedData(std::string("ct-chest-ricord-512/") + slice), dir.path(std::string("series/") + slice));
+        std::filesystem::copy_file(test::sharedData(std::string("ct-chest-ricord-512/") + slice),
+                                   dir.path(std::string("series/") + slice));
     }
     std::filesystem::rename(dir.path("series/1-002.dcm"), dir.path("series/s2.vdb"));  // DICOM by content, any name
-    test::writeBytes(dir.path("vol.mhd"), "ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = MET_UCHAR\n"
-                                          "ElementDataFile = data.vdb\n");
+    test::writeBytes(dir.path("vol.mhd"),
+                     "ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = MET_UCHAR\n"
+                     "ElementDataFile = data.vdb\n");
     test::writeBytes(dir.path("data.vdb"), std::string(64, '\7'));
     test::writeBytes(dir.path("tf.json"), R"({"points": [[0, 0, 0, 0, 0], [100, 1, 1, 1, 0.5]]})");
     std::filesystem::create_directory(dir.path("frames"));
@@ -474,10 +491,11 @@ TEST(Cli, NoOutputIsAFileThatAnInputReads) {
     const std::map<std::string, std::string> guarded = {
         {"series/s2.vdb", "ingest '" + dir.path("series") + "' -o '" + dir.path("series/s2.vdb") + "'"},
         {"data.vdb", "ingest '" + dir.path("vol.mhd") + "' -o '" + dir.path("data.vdb") + "'"},
-        {"tf.json", "render '" + grid + "' -o '" + dir.path("x.png") + "' --tf '" + dir.path("tf.json") + "' --stats '" +
-                        dir.path("tf.json") + "'"},
+        {"tf.json", "render '" + grid + "' -o '" + dir.path("x.png") + "' --tf '" + dir.path("tf.json") +
+                        "' --stats '" + dir.path("tf.json") + "'"},
         {"small.vdb", "render '" + grid + "' -o '" + dir.path("y.png") + "' --save-tf '" + grid + "'"},
-        {"frames/f_0001.png", "render '" + dir.path("frames/*.png") + "' --orbit 4 -o '" + dir.path("frames/f.png") + "'"},
+        {"frames/f_0001.png",
+         "render '" + dir.path("frames/*.png") + "' --orbit 4 -o '" + dir.path("frames/f.png") + "'"},
     };
     for (const auto& [file, command] : guarded) {
         const std::string before = test::readBytes(dir.path(file));
@@ -507,8 +525,10 @@ TEST(Cli, InputsThatAreNotRegularFilesAreRefusedWithoutBlocking) {
           "info '" + dir.path("pipe.gvr") + "'", "eval '" + grid + "' '" + dir.path("pipe.vdb") + "'",
           "render '" + grid + "' -o '" + dir.path("x.png") + "' --tf '" + dir.path("pipe.json") + "'",
           "ingest '" + grid + "' --labels '" + grid + "' --label-names '" + dir.path("pipe.txt") + "'" + out,
-          "bench /dev/zero -o '" + dir.path("bench") + "'", "bench '" + dir.path("pipe.json") + "' -o '" + dir.path("bench") + "'"}) {
-        const test::CommandResult run = test::runGvr("--version >/dev/null; timeout 30 '" GVR_EXECUTABLE "' " + command, dir);
+          "bench /dev/zero -o '" + dir.path("bench") + "'",
+          "bench '" + dir.path("pipe.json") + "' -o '" + dir.path("bench") + "'"}) {
+        const test::CommandResult run =
+            test::runGvr("--version >/dev/null; timeout 30 '" GVR_EXECUTABLE "' " + command, dir);
         EXPECT_EQ(run.exitCode, 2) << command << "\n" << run.err;
         EXPECT_NE(run.err.find("is not a regular file"), std::string::npos) << command << "\n" << run.err;
     }
@@ -534,10 +554,10 @@ TEST(Cli, AFailedFitLeavesNoLogAndStaleTemporariesAreCleared) {
     EXPECT_TRUE(std::filesystem::exists(dir.path("a.csv")));
     // A fit that fails after its log was opened: ulimit -f lets the log's few rows
     // through (512 bytes) but not the asset.
-    const test::CommandResult failed = test::runGvr("--version >/dev/null; ulimit -f 1; '" GVR_EXECUTABLE "' fit -q '" +
-                                                        grid + "' -o '" + dir.path("b.gvr") +
-                                                        "' --gaussians 60 --iterations 20 --log '" + dir.path("b.csv") + "'",
-                                                    dir);
+    const test::CommandResult failed =
+        test::runGvr("--version >/dev/null; ulimit -f 1; '" GVR_EXECUTABLE "' fit -q '" + grid + "' -o '" +
+                         dir.path("b.gvr") + "' --gaussians 60 --iterations 20 --log '" + dir.path("b.csv") + "'",
+                     dir);
     EXPECT_EQ(failed.exitCode, 2) << failed.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("b.gvr")));
     EXPECT_FALSE(std::filesystem::exists(dir.path("b.csv"))) << "a failed fit left its log";
@@ -548,11 +568,11 @@ TEST(Cli, NumbersOutsideTheirRangeAreRefusedAndHugePeaksStayFinite) {
     const std::string grid = test::smallGrid(dir);
     const std::string asset = dir.path("a.gvr");
     ASSERT_EQ(test::runGvr("fit -q '" + grid + "' -o '" + asset + "' --gaussians 40 --iterations 10", dir).exitCode, 0);
-    for (const std::string& command : {"export '" + asset + "' -o '" + dir.path("x.vdb") + "' --threshold nan",
-                                      "eval '" + grid + "' '" + asset + "' --threshold nan",
-                                      "fit -q '" + grid + "' -o '" + dir.path("b.gvr") + "' --gaussians 40 --time 1e30",
-                                      "fit -q '" + grid + "' -o '" + dir.path("b.gvr") +
-                                          "' --gaussians 40 --iterations 18446744073709551615"}) {
+    for (const std::string& command :
+         {"export '" + asset + "' -o '" + dir.path("x.vdb") + "' --threshold nan",
+          "eval '" + grid + "' '" + asset + "' --threshold nan",
+          "fit -q '" + grid + "' -o '" + dir.path("b.gvr") + "' --gaussians 40 --time 1e30",
+          "fit -q '" + grid + "' -o '" + dir.path("b.gvr") + "' --gaussians 40 --iterations 18446744073709551615"}) {
         const test::CommandResult run = test::runGvr(command, dir);
         EXPECT_EQ(run.exitCode, 2) << command << "\n" << run.err;
         EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
@@ -570,7 +590,8 @@ TEST(Cli, NumbersOutsideTheirRangeAreRefusedAndHugePeaksStayFinite) {
 TEST(Cli, FittingAnEmptyVolumeWarnsAndWritesAnEmptyAsset) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir, /*empty=*/true);
-    const test::CommandResult run = test::runGvr("fit -q '" + grid + "' -o '" + dir.path("e.asset") + "' --iterations 5", dir);
+    const test::CommandResult run =
+        test::runGvr("fit -q '" + grid + "' -o '" + dir.path("e.asset") + "' --iterations 5", dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
     EXPECT_NE(run.err.find("no active voxels"), std::string::npos) << run.err;
     const test::CommandResult info = test::runGvr("info --json '" + dir.path("e.asset") + "'", dir);

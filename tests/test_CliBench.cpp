@@ -7,7 +7,6 @@
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
-
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -30,7 +29,8 @@ std::string writeReproducibleManifest(const test::TempDir& dir, const std::strin
   "methods": ["gvr", "A4", "zfp-accuracy", "zfp-rate", "vdb-blosc", "vdb-half", "down2"],
   "fit": {"iterations": 40, "args": ["--batch", "2048", "--threads", "1"]},
   "render": {"size": "32x32", "views": 2},
-  "volumes": [{"name": "blobs", "input": ")" + grid + R"("}, {"name": "lost", "input": "no/such.nii.gz"}]
+  "volumes": [{"name": "blobs", "input": ")" +
+                               grid + R"("}, {"name": "lost", "input": "no/such.nii.gz"}]
 })";
     return path;
 }
@@ -103,15 +103,18 @@ TEST_F(CliBench, EveryMethodGivesARowAndAMissingVolumeFailsWithoutStoppingTheRun
         EXPECT_GT(*row.number("render_psnr"), 15.0);
         EXPECT_GT(*row.number("render_fps"), 0);
         EXPECT_EQ(row.list("views").size(), 2u);
-        for (const std::string& view : row.list("views")) EXPECT_TRUE(std::filesystem::exists(dir->path("complete/" + view)));
+        for (const std::string& view : row.list("views"))
+            EXPECT_TRUE(std::filesystem::exists(dir->path("complete/" + view)));
     }
     const auto find = [&](const std::string& method) {
-        return *std::find_if(rows.begin(), rows.end(), [&](const BenchRow& r) { return r.key() == "blobs|8|" + method; });
+        return *std::find_if(rows.begin(), rows.end(),
+                             [&](const BenchRow& r) { return r.key() == "blobs|8|" + method; });
     };
     EXPECT_FALSE(find("gvr").get("fit_log").empty());
     // ZFP's tolerance search matched gvr's asset size within 5 %.
     EXPECT_NEAR(*find("zfp-accuracy").number("bytes") / *find("gvr").number("bytes"), 1.0, 0.05);
-    const BenchRow lossless = *std::find_if(rows.begin(), rows.end(), [](const BenchRow& r) { return r.get("method") == "vdb-blosc"; });
+    const BenchRow lossless =
+        *std::find_if(rows.begin(), rows.end(), [](const BenchRow& r) { return r.get("method") == "vdb-blosc"; });
     EXPECT_EQ(lossless.get("psnr"), "inf");
     EXPECT_TRUE(lossless.get("ratio").empty());
 
@@ -167,17 +170,20 @@ TEST_F(CliBench, ShardsMergeIntoTheWhole) {
     ASSERT_EQ(complete.exitCode, 0) << complete.err;
     for (int s = 0; s < 2; ++s) {
         const std::string shard = std::to_string(s) + "/2";
-        const test::CommandResult run = runGvr("bench '" + manifest + "' -o '" + dir->path("shard" + std::to_string(s)) +
-                                                   "' --shard " + shard + " -q", *dir);
+        const test::CommandResult run = runGvr(
+            "bench '" + manifest + "' -o '" + dir->path("shard" + std::to_string(s)) + "' --shard " + shard + " -q",
+            *dir);
         ASSERT_EQ(run.exitCode, 0) << run.err;
         EXPECT_LT(readResultsCsv(dir->path("shard" + std::to_string(s) + "/results.csv")).size(), 14u);
     }
-    const test::CommandResult merged = runGvr("bench --merge '" + dir->path("shard0") + "' '" + dir->path("shard1") +
-                                                  "' -o '" + dir->path("merged") + "' -q", *dir);
+    const test::CommandResult merged = runGvr(
+        "bench --merge '" + dir->path("shard0") + "' '" + dir->path("shard1") + "' -o '" + dir->path("merged") + "' -q",
+        *dir);
     ASSERT_EQ(merged.exitCode, 0) << merged.err;
     EXPECT_EQ(outcome(dir->path("merged/results.csv")), outcome(dir->path("complete/results.csv")));
     for (const BenchRow& row : readResultsCsv(dir->path("merged/results.csv"))) {
-        for (const std::string& view : row.list("views")) EXPECT_TRUE(std::filesystem::exists(dir->path("merged/" + view))) << view;
+        for (const std::string& view : row.list("views"))
+            EXPECT_TRUE(std::filesystem::exists(dir->path("merged/" + view))) << view;
     }
 }
 
@@ -210,9 +216,11 @@ std::string writeCodecManifest(const test::TempDir& dir, const std::string& grid
         const std::string head = program.empty() ? codec : "\"" + program + "\"";
         return R"({"compress": [)" + head + R"(, "c", ")" + compressMode +
                R"(", "{input}", "{nx}", "{ny}", "{nz}", "{param}", "{compressed}")" + extra + R"(],
-                   "decompress": [)" + head + R"(, "d", ")" + decompressMode +
+                   "decompress": [)" +
+               head + R"(, "d", ")" + decompressMode +
                R"(", "{compressed}", "{output}", "{nx}", "{ny}", "{nz}"],
-                   "param": [1e-8, 10], "version": "fake 1.0", "timeout": )" + timeout + "}";
+                   "param": [1e-8, 10], "version": "fake 1.0", "timeout": )" +
+               timeout + "}";
     };
     const std::string path = dir.path("codecs.json");
     std::ofstream(path) << R"({
@@ -221,15 +229,23 @@ std::string writeCodecManifest(const test::TempDir& dir, const std::string& grid
   "fit": {"iterations": 20, "args": ["--batch", "2048", "--threads", "1"]},
   "render": {"size": "32x32", "views": 2},
   "codecs": {
-    "good": )" + spec("quantise", "quantise") + R"(,
-    "badph": )" + spec("quantise", "quantise", R"(, "{level}")") + R"(,
-    "fails": )" + spec("fail", "quantise") + R"(,
-    "hangs": )" + spec("hang", "quantise") + R"(,
-    "empty": )" + spec("nothing", "quantise") + R"(,
-    "short": )" + spec("quantise", "short") + R"(,
-    "missing": )" + spec("quantise", "quantise", "", "no-such-codec") + R"(
+    "good": )" + spec("quantise", "quantise") +
+                               R"(,
+    "badph": )" + spec("quantise", "quantise", R"(, "{level}")") +
+                               R"(,
+    "fails": )" + spec("fail", "quantise") +
+                               R"(,
+    "hangs": )" + spec("hang", "quantise") +
+                               R"(,
+    "empty": )" + spec("nothing", "quantise") +
+                               R"(,
+    "short": )" + spec("quantise", "short") +
+                               R"(,
+    "missing": )" + spec("quantise", "quantise", "", "no-such-codec") +
+                               R"(
   },
-  "volumes": [{"name": "blobs", "input": ")" + grid + R"("}]
+  "volumes": [{"name": "blobs", "input": ")" +
+                               grid + R"("}]
 })";
     return path;
 }
@@ -260,9 +276,11 @@ TEST(CliBenchCodecs, ACodecMatchesGvrsBytesAndEveryFaultyCodecFailsOnlyItsOwnRow
     EXPECT_GT(*good.number("psnr"), 20.0);
     EXPECT_NE(good.get("detail").find("param "), std::string::npos);
 
-    const std::map<std::string, std::string> expected = {
-        {"badph", "unknown placeholder {level}"}, {"fails", "exit 3"},        {"hangs", "time limit of 2 s"},
-        {"empty", "wrote no file"},             {"short", "float32 voxels are"}};
+    const std::map<std::string, std::string> expected = {{"badph", "unknown placeholder {level}"},
+                                                         {"fails", "exit 3"},
+                                                         {"hangs", "time limit of 2 s"},
+                                                         {"empty", "wrote no file"},
+                                                         {"short", "float32 voxels are"}};
     for (const auto& [method, message] : expected) {
         SCOPED_TRACE(method);
         EXPECT_EQ(rows[method].get("status"), "failed");
@@ -295,7 +313,8 @@ TEST(CliBenchBound, GvrWithABoundFitsTheRatioAndReportsItsMaximumError) {
   "methods": ["gvr+bound", "down2"],
   "fit": {"iterations": 5},
   "render": {"size": "32x32", "views": 1},
-  "volumes": [{"name": "ch2", "input": ")" + test::sharedData("mri-colin27-aal/ch2.nii.gz") + R"("}]
+  "volumes": [{"name": "ch2", "input": ")" +
+                               test::sharedData("mri-colin27-aal/ch2.nii.gz") + R"("}]
 })";
     const test::CommandResult run = runGvr("bench '" + path + "' -o '" + dir.path("out") + "'", dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;

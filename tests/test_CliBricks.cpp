@@ -14,7 +14,8 @@ TEST(CliBricks, PartsMergedAreByteForByteTheBrickedFit) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
     const std::string common = "fit -q '" + grid + "' --gaussians 150 --iterations 30 --seed 5 --batch 2048 ";
-    const test::CommandResult whole = test::runGvr(common + "--bricks 3 --json -o '" + dir.path("whole.gvr") + "'", dir);
+    const test::CommandResult whole =
+        test::runGvr(common + "--bricks 3 --json -o '" + dir.path("whole.gvr") + "'", dir);
     ASSERT_EQ(whole.exitCode, 0) << whole.err;
     const nlohmann::json report = nlohmann::json::parse(whole.out);
     EXPECT_EQ(report["bricks"].size(), 3u);
@@ -74,8 +75,8 @@ TEST(CliBricks, AFailingBrickIsNamedAndNothingIsWritten) {
     const std::string grid = test::smallGrid(dir);
     // A test hook, not a flag of gvr's: the child process inherits it.
     const test::ScopedEnvironment failBrick("GVR_TEST_FAIL_BRICK", "1");
-    const test::CommandResult run =
-        test::runGvr("fit -q '" + grid + "' --gaussians 60 --iterations 5 --bricks 2 -o '" + dir.path("out.gvr") + "'", dir);
+    const test::CommandResult run = test::runGvr(
+        "fit -q '" + grid + "' --gaussians 60 --iterations 5 --bricks 2 -o '" + dir.path("out.gvr") + "'", dir);
     EXPECT_EQ(run.exitCode, 2);
     EXPECT_NE(run.err.find("brick 1 (rank 0)"), std::string::npos) << run.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("out.gvr")));

@@ -57,7 +57,8 @@ TEST(CliExport, NiftiAndResizedGrids) {
     test::TempDir dir;
     const std::string asset = smallAsset(dir);
     const test::CommandResult run = runGvr("export -q '" + asset + "' -o '" + dir.path("fine.vdb") + "' -o '" +
-                                               dir.path("fine.nii.gz") + "' --voxel-size 0.5 --json", dir);
+                                               dir.path("fine.nii.gz") + "' --voxel-size 0.5 --json",
+                                           dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
     const nlohmann::json report = nlohmann::json::parse(run.out);
     EXPECT_EQ(report["dims"], nlohmann::json({48, 40, 32}));
@@ -82,9 +83,8 @@ TEST(CliExport, FitEvalOfTheAssetAndEvalOfItsExportReportOnePsnr) {
     const std::string source = test::sharedData("ct-gantry-tilt-shear/shear.nii.gz");
     const std::string grid = dir.path("ct.vdb"), asset = dir.path("ct.gvr"), exported = dir.path("rec.vdb");
     ASSERT_EQ(runGvr("ingest -q '" + source + "' -o '" + grid + "' --threshold -500", dir).exitCode, 0);
-    const test::CommandResult fit =
-        runGvr("fit -q '" + grid + "' -o '" + asset + "' --gaussians 2000 --iterations 40 --solve-iterations 2 --json",
-               dir);
+    const test::CommandResult fit = runGvr(
+        "fit -q '" + grid + "' -o '" + asset + "' --gaussians 2000 --iterations 40 --solve-iterations 2 --json", dir);
     ASSERT_EQ(fit.exitCode, 0) << fit.err;
     ASSERT_EQ(runGvr("export -q '" + asset + "' -o '" + exported + "'", dir).exitCode, 0);
     const nlohmann::json fitted = nlohmann::json::parse(fit.out);
@@ -144,7 +144,8 @@ TEST(CliExport, ANiftiExportKeepsTheSourcesCodesAndDatatype) {
     const std::string grid = dir.path("ct.vdb"), asset = dir.path("ct.gvr");
     ASSERT_EQ(runGvr("ingest -q '" + source + "' -o '" + grid + "'", dir).exitCode, 0);
     // No amplitude solve: the file is what is tested, and a solve is ten passes over 7M voxels.
-    const std::string fit = "fit -q '" + grid + "' -o '" + asset + "' --gaussians 400 --iterations 3 --solve-iterations 0";
+    const std::string fit =
+        "fit -q '" + grid + "' -o '" + asset + "' --gaussians 400 --iterations 3 --solve-iterations 0";
     ASSERT_EQ(runGvr(fit, dir).exitCode, 0);
     const test::CommandResult exported = runGvr("export -q '" + asset + "' -o '" + dir.path("rec.nii") + "'", dir);
     ASSERT_EQ(exported.exitCode, 0) << exported.err;
@@ -192,7 +193,8 @@ TEST(CliExport, AHugeLatticeIsRefusedNamingTheFlagOrTheMemory) {
     const test::CommandResult tooFine = runGvr("export '" + asset + out + " --resolution 100000", dir);
     EXPECT_EQ(tooFine.exitCode, 2);
     EXPECT_NE(tooFine.err.find("--resolution: 100000 voxels along the longest axis would need more than 2^36"),
-              std::string::npos) << tooFine.err;
+              std::string::npos)
+        << tooFine.err;
     // 2400 x 2000 x 1600 voxels: below the 2^36 limit, far above this machine's memory.
     const test::CommandResult tooBig = runGvr("export '" + asset + out + " --voxel-size 0.01", dir);
     EXPECT_EQ(tooBig.exitCode, 2);
@@ -256,13 +258,14 @@ TEST(CliProbe, ValuesMatchTheExportedGrid) {
 
     // The same point in world millimetres gives the same value.
     const nlohmann::json world = points[0]["world_mm"];
-    const std::string at = std::to_string(world[0].get<double>()) + "," + std::to_string(world[1].get<double>()) +
-                           "," + std::to_string(world[2].get<double>());
+    const std::string at = std::to_string(world[0].get<double>()) + "," + std::to_string(world[1].get<double>()) + "," +
+                           std::to_string(world[2].get<double>());
     const test::CommandResult byWorld = runGvr("probe --json '" + asset + "' --world " + at, dir);
     ASSERT_EQ(byWorld.exitCode, 0) << byWorld.err;
     const nlohmann::json same = nlohmann::json::parse(byWorld.out)["points"][0];
     EXPECT_NEAR(same["value"][0].get<double>(), points[0]["value"][0].get<double>(), 1e-3);
-    for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(same["index"][axis].get<double>(), points[0]["index"][axis].get<double>(), 1e-5);
+    for (int axis = 0; axis < 3; ++axis)
+        EXPECT_NEAR(same["index"][axis].get<double>(), points[0]["index"][axis].get<double>(), 1e-5);
 }
 
 }  // namespace

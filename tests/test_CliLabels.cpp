@@ -8,11 +8,9 @@
 #include "pipeline/FloatVolume.h"
 #include "tests/TestHelpers.h"
 
-#include <nlohmann/json.hpp>
-
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <fstream>
@@ -52,19 +50,22 @@ protected:
     void SetUp() override {
         scene = writeScene(dir);
         const test::CommandResult run = runGvr("ingest -q '" + scene.image + "' -o '" + scene.grid + "' --labels '" +
-                                                   scene.labels + "' --label-names '" + scene.names + "' --json", dir);
+                                                   scene.labels + "' --label-names '" + scene.names + "' --json",
+                                               dir);
         ASSERT_EQ(run.exitCode, 0) << run.err;
         EXPECT_EQ(nlohmann::json::parse(run.out)["labels"], (nlohmann::json{{"1", "Left"}, {"2", "Right"}}));
     }
 
     test::CommandResult fit(const std::string& labels, const std::string& asset, const std::string& extra = "") {
         return runGvr("fit -q '" + scene.grid + "' -o '" + dir.path(asset) + "' --labels " + labels +
-                          " --iterations 40 --batch 2048 --threads 1 --json " + extra, dir);
+                          " --iterations 40 --batch 2048 --threads 1 --json " + extra,
+                      dir);
     }
 
     std::vector<float> render(const std::string& asset, const std::string& extra, const std::string& png) {
-        const test::CommandResult run = runGvr("render -q '" + dir.path(asset) + "' -o '" + dir.path(png) +
-                                                   "' --size 48x48 --tf '" + tf() + "' " + extra, dir);
+        const test::CommandResult run = runGvr(
+            "render -q '" + dir.path(asset) + "' -o '" + dir.path(png) + "' --size 48x48 --tf '" + tf() + "' " + extra,
+            dir);
         EXPECT_EQ(run.exitCode, 0) << run.err;
         auto in = OIIO::ImageInput::open(dir.path(png));
         std::vector<float> pixels(48 * 48 * 4);
@@ -96,8 +97,8 @@ TEST_F(CliLabels, LabelsOnAnotherGridAreRefusedUnlessResampled) {
     for (float& v : coarse.values) v = 1.0f;
     writeNifti(dir.path("coarse.nii"), coarse);
     const std::string out = dir.path("mismatch.vdb");
-    const test::CommandResult refused = runGvr("ingest -q '" + scene.image + "' -o '" + out + "' --labels '" +
-                                                   dir.path("coarse.nii") + "'", dir);
+    const test::CommandResult refused =
+        runGvr("ingest -q '" + scene.image + "' -o '" + out + "' --labels '" + dir.path("coarse.nii") + "'", dir);
     EXPECT_EQ(refused.exitCode, 2);
     EXPECT_EQ(test::lineCount(refused.err), 1u) << refused.err;
     EXPECT_NE(refused.err.find("coarse.nii: is 16x10x8 voxels"), std::string::npos) << refused.err;
@@ -105,12 +106,13 @@ TEST_F(CliLabels, LabelsOnAnotherGridAreRefusedUnlessResampled) {
     EXPECT_FALSE(std::filesystem::exists(out));
 
     const test::CommandResult resampled = runGvr("ingest -q '" + scene.image + "' -o '" + out + "' --labels '" +
-                                                     dir.path("coarse.nii") + "' --resample-labels --json", dir);
+                                                     dir.path("coarse.nii") + "' --resample-labels --json",
+                                                 dir);
     ASSERT_EQ(resampled.exitCode, 0) << resampled.err;
     EXPECT_EQ(nlohmann::json::parse(resampled.out)["labels"], (nlohmann::json{{"1", "label_1"}}));
 
-    const test::CommandResult notLabels = runGvr("ingest -q '" + scene.image + "' -o '" + dir.path("other.vdb") + "' --labels '" +
-                                                     scene.image + "'", dir);
+    const test::CommandResult notLabels = runGvr(
+        "ingest -q '" + scene.image + "' -o '" + dir.path("other.vdb") + "' --labels '" + scene.image + "'", dir);
     EXPECT_EQ(notLabels.exitCode, 2);
     EXPECT_NE(notLabels.err.find("not an integer"), std::string::npos) << notLabels.err;
 }
@@ -159,13 +161,14 @@ TEST_F(CliLabels, AHiddenStructureContributesNothing) {
     EXPECT_GT(maxDifference(hidden, everything), 0.1);  // the right blob is visible when shown
     EXPECT_EQ(maxDifference(render("both.gvr", "--show 1", "shown.png"), hidden), 0.0);
 
-    const test::CommandResult exported = runGvr("export -q '" + dir.path("both.gvr") + "' -o '" + dir.path("left.vdb") +
-                                                    "' --show Left --json", dir);
+    const test::CommandResult exported =
+        runGvr("export -q '" + dir.path("both.gvr") + "' -o '" + dir.path("left.vdb") + "' --show Left --json", dir);
     ASSERT_EQ(exported.exitCode, 0) << exported.err;
-    const test::CommandResult alone = runGvr("export -q '" + dir.path("left.gvr") + "' -o '" + dir.path("alone.vdb") +
-                                                 "' --json", dir);
+    const test::CommandResult alone =
+        runGvr("export -q '" + dir.path("left.gvr") + "' -o '" + dir.path("alone.vdb") + "' --json", dir);
     ASSERT_EQ(alone.exitCode, 0) << alone.err;
-    const test::CommandResult same = runGvr("eval '" + dir.path("alone.vdb") + "' '" + dir.path("left.vdb") + "' --json", dir);
+    const test::CommandResult same =
+        runGvr("eval '" + dir.path("alone.vdb") + "' '" + dir.path("left.vdb") + "' --json", dir);
     ASSERT_EQ(same.exitCode, 0) << same.err;
     const nlohmann::json psnr = nlohmann::json::parse(same.out)["psnr"];
     EXPECT_TRUE(psnr.is_null() || psnr.get<double>() > 60.0) << psnr;
@@ -174,22 +177,25 @@ TEST_F(CliLabels, AHiddenStructureContributesNothing) {
 TEST_F(CliLabels, UnknownStructuresAreNamedWithTheValidOnes) {
     const test::CommandResult badFit = fit("Middle", "x.gvr");
     EXPECT_EQ(badFit.exitCode, 2);
-    EXPECT_NE(badFit.err.find("no structure is named 'Middle'; valid: 1 Left, 2 Right"), std::string::npos) << badFit.err;
+    EXPECT_NE(badFit.err.find("no structure is named 'Middle'; valid: 1 Left, 2 Right"), std::string::npos)
+        << badFit.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("x.gvr")));
     ASSERT_EQ(fit("all", "both.gvr").exitCode, 0);
-    const test::CommandResult badRender = runGvr("render -q '" + dir.path("both.gvr") + "' -o '" + dir.path("x.png") +
-                                                     "' --show 7", dir);
+    const test::CommandResult badRender =
+        runGvr("render -q '" + dir.path("both.gvr") + "' -o '" + dir.path("x.png") + "' --show 7", dir);
     EXPECT_EQ(badRender.exitCode, 2);
-    EXPECT_NE(badRender.err.find("--show: no structure has label 7; valid: 1 Left, 2 Right"), std::string::npos) << badRender.err;
+    EXPECT_NE(badRender.err.find("--show: no structure has label 7; valid: 1 Left, 2 Right"), std::string::npos)
+        << badRender.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("x.png")));
-    const test::CommandResult unlabelled = runGvr("render -q '" + scene.grid + "' -o '" + dir.path("y.png") + "' --show 1", dir);
+    const test::CommandResult unlabelled =
+        runGvr("render -q '" + scene.grid + "' -o '" + dir.path("y.png") + "' --show 1", dir);
     EXPECT_EQ(unlabelled.exitCode, 2);
 }
 
 TEST_F(CliLabels, EvalReportsEachStructure) {
     ASSERT_EQ(fit("all", "both.gvr").exitCode, 0);
-    const test::CommandResult run = runGvr("eval '" + scene.grid + "' '" + dir.path("both.gvr") + "' --labels '" +
-                                               scene.grid + "' --json", dir);
+    const test::CommandResult run =
+        runGvr("eval '" + scene.grid + "' '" + dir.path("both.gvr") + "' --labels '" + scene.grid + "' --json", dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
     const nlohmann::json structures = nlohmann::json::parse(run.out)["structures"];
     ASSERT_EQ(structures.size(), 2u);
@@ -201,8 +207,8 @@ TEST_F(CliLabels, EvalReportsEachStructure) {
         EXPECT_LE(s["ssim"].get<double>(), 1.0) << s;
     }
     // An exact copy scores infinity on every structure.
-    const test::CommandResult self = runGvr("eval '" + scene.grid + "' '" + scene.grid + "' --labels '" + scene.grid +
-                                                "' --structures Right --json", dir);
+    const test::CommandResult self = runGvr(
+        "eval '" + scene.grid + "' '" + scene.grid + "' --labels '" + scene.grid + "' --structures Right --json", dir);
     ASSERT_EQ(self.exitCode, 0) << self.err;
     EXPECT_TRUE(nlohmann::json::parse(self.out)["structures"][0]["psnr"].is_null());
 }
@@ -218,8 +224,9 @@ TEST_F(CliLabels, EvalTakesTheAtlasAsTheUserHasIt) {
     EXPECT_EQ(nlohmann::json::parse(fromAtlas.out)["structures"], nlohmann::json::parse(fromGrid.out)["structures"]);
     // export --like takes the source volume as well as its ingested grid.
     for (const std::string& like : {scene.image, scene.grid}) {
-        const test::CommandResult exported = runGvr("export -q '" + dir.path("both.gvr") + "' -o '" +
-                                                        dir.path("like.vdb") + "' --like '" + like + "' --json", dir);
+        const test::CommandResult exported = runGvr(
+            "export -q '" + dir.path("both.gvr") + "' -o '" + dir.path("like.vdb") + "' --like '" + like + "' --json",
+            dir);
         ASSERT_EQ(exported.exitCode, 0) << exported.err;
         EXPECT_EQ(nlohmann::json::parse(exported.out)["dims"], (nlohmann::json{32, 20, 16})) << exported.out;
     }
@@ -235,7 +242,8 @@ TEST_F(CliLabels, FitTakesTheSourceAndItsAtlasAsTheUserHasThem) {
     EXPECT_EQ(test::readBytes(dir.path("from-source.gvr")), test::readBytes(dir.path("from-grid.gvr")));
     const test::CommandResult namesAlone =
         runGvr("fit -q '" + scene.image + "' -o '" + dir.path("x.gvr") + "' --labels all --label-names '" +
-                   scene.names + "' --iterations 5", dir);
+                   scene.names + "' --iterations 5",
+               dir);
     EXPECT_EQ(namesAlone.exitCode, 2);
     EXPECT_NE(namesAlone.err.find("--label-volume"), std::string::npos) << namesAlone.err;
 }
@@ -246,7 +254,8 @@ TEST_F(CliLabels, LabelStylesRecolourAndFadeOneStructure) {
     const std::vector<float> hidden = render("both.gvr", "--hide Right", "hidden.png");
 
     std::ofstream(dir.path("faded.json")) << R"({"Right": {"opacity": 0}})";
-    EXPECT_EQ(maxDifference(render("both.gvr", "--label-style '" + dir.path("faded.json") + "'", "faded.png"), hidden), 0.0);
+    EXPECT_EQ(maxDifference(render("both.gvr", "--label-style '" + dir.path("faded.json") + "'", "faded.png"), hidden),
+              0.0);
 
     std::ofstream(dir.path("red.json")) << R"({"2": {"color": [1, 0, 0]}})";
     const std::vector<float> red = render("both.gvr", "--label-style '" + dir.path("red.json") + "'", "red.png");
@@ -259,7 +268,8 @@ TEST_F(CliLabels, LabelStylesRecolourAndFadeOneStructure) {
             redness += red[p] - 0.5 * (red[p + 1] + red[p + 2]);
             ++rightPixels;
         } else if (rightAlone[p + 3] == 0.0f) {  // where the right blob shows nothing at all
-            for (int c = 0; c < 4; ++c) untouched = std::max(untouched, double(std::abs(red[p + c] - everything[p + c])));
+            for (int c = 0; c < 4; ++c)
+                untouched = std::max(untouched, double(std::abs(red[p + c] - everything[p + c])));
         }
     }
     ASSERT_GT(rightPixels, 20);
@@ -268,7 +278,8 @@ TEST_F(CliLabels, LabelStylesRecolourAndFadeOneStructure) {
 
     std::ofstream(dir.path("bad.json")) << R"({"Middle": {"color": [1, 0, 0]}})";
     const test::CommandResult bad = runGvr("render -q '" + dir.path("both.gvr") + "' -o '" + dir.path("bad.png") +
-                                               "' --label-style '" + dir.path("bad.json") + "'", dir);
+                                               "' --label-style '" + dir.path("bad.json") + "'",
+                                           dir);
     EXPECT_EQ(bad.exitCode, 2);
     EXPECT_NE(bad.err.find("no structure is named 'Middle'"), std::string::npos) << bad.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("bad.png")));
@@ -277,8 +288,9 @@ TEST_F(CliLabels, LabelStylesRecolourAndFadeOneStructure) {
 TEST_F(CliLabels, BadLabelInputsAreOneLineErrorsWithoutOutput) {
     std::ofstream(dir.path("bad-names.txt")) << "1 Left\nseventeen Right\n";
     const std::string out = dir.path("named.vdb");
-    const test::CommandResult names = runGvr("ingest -q '" + scene.image + "' -o '" + out + "' --labels '" + scene.labels +
-                                                 "' --label-names '" + dir.path("bad-names.txt") + "'", dir);
+    const test::CommandResult names = runGvr("ingest -q '" + scene.image + "' -o '" + out + "' --labels '" +
+                                                 scene.labels + "' --label-names '" + dir.path("bad-names.txt") + "'",
+                                             dir);
     EXPECT_EQ(names.exitCode, 2);
     EXPECT_EQ(test::lineCount(names.err), 1u) << names.err;
     EXPECT_NE(names.err.find("bad-names.txt: line 2 is not \"ID NAME ...\""), std::string::npos) << names.err;
@@ -286,14 +298,15 @@ TEST_F(CliLabels, BadLabelInputsAreOneLineErrorsWithoutOutput) {
 
     const std::string plain = dir.path("plain.vdb");
     ASSERT_EQ(runGvr("ingest -q '" + scene.image + "' -o '" + plain + "'", dir).exitCode, 0);
-    const test::CommandResult unlabelled = runGvr("fit -q '" + plain + "' -o '" + dir.path("p.gvr") +
-                                                      "' --labels all --iterations 5", dir);
+    const test::CommandResult unlabelled =
+        runGvr("fit -q '" + plain + "' -o '" + dir.path("p.gvr") + "' --labels all --iterations 5", dir);
     EXPECT_EQ(unlabelled.exitCode, 2);
     EXPECT_EQ(test::lineCount(unlabelled.err), 1u) << unlabelled.err;
     EXPECT_NE(unlabelled.err.find("holds no label grid; ingest the image with --labels"), std::string::npos);
     EXPECT_FALSE(std::filesystem::exists(dir.path("p.gvr")));
 
-    const test::CommandResult evalNoLabels = runGvr("eval '" + plain + "' '" + plain + "' --labels '" + plain + "'", dir);
+    const test::CommandResult evalNoLabels =
+        runGvr("eval '" + plain + "' '" + plain + "' --labels '" + plain + "'", dir);
     EXPECT_EQ(evalNoLabels.exitCode, 2);
     EXPECT_EQ(test::lineCount(evalNoLabels.err), 1u) << evalNoLabels.err;
 
@@ -306,8 +319,8 @@ TEST_F(CliLabels, BadLabelInputsAreOneLineErrorsWithoutOutput) {
         EXPECT_EQ(test::lineCount(run.err), 1u) << run.err;
         EXPECT_NE(run.err.find(problem + ":"), std::string::npos) << run.err;
     }
-    const test::CommandResult like = runGvr("export -q '" + plain + "' -o '" + dir.path("like.vdb") + "' --like '" +
-                                                missing + "'", dir);
+    const test::CommandResult like =
+        runGvr("export -q '" + plain + "' -o '" + dir.path("like.vdb") + "' --like '" + missing + "'", dir);
     EXPECT_EQ(like.exitCode, 2);
     EXPECT_EQ(test::lineCount(like.err), 1u) << like.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("like.vdb")));

@@ -1,10 +1,10 @@
 // gvr render as a user meets it: a CT frame against a stored image, turntables
 // and their statistics, both renderers on assets, and bad input.
 
-#include "workflow/ComparisonInput.h"
 #include "pipeline/Fitter.h"
 #include "pipeline/QualityMetrics.h"
 #include "tests/TestHelpers.h"
+#include "workflow/ComparisonInput.h"
 
 #include <nlohmann/json.hpp>
 
@@ -23,7 +23,8 @@ TEST(CliRender, CtFrameMatchesTheStoredImage) {
     GVR_REQUIRE_SHARED_DATA();
     test::TempDir dir;
     const std::string grid = dir.path("ct.vdb"), frame = dir.path("ct.png");
-    ASSERT_EQ(runGvr("ingest -q '" + test::sharedData("ct-head-visible-human-png") + "' -o '" + grid + "'", dir).exitCode, 0);
+    ASSERT_EQ(
+        runGvr("ingest -q '" + test::sharedData("ct-head-visible-human-png") + "' -o '" + grid + "'", dir).exitCode, 0);
     // Made once with this command (view stacks were the only ones then) and checked
     // by eye: head above the shoulders and the table.
     const test::CommandResult run = runGvr(
@@ -36,8 +37,8 @@ TEST(CliRender, AnOrbitBuildsOneStackAnAxis) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
     // Azimuth 30 + 45 f at elevation 15 looks along y, x, x, y, y, x, x, y.
-    const test::CommandResult run = runGvr("render -q '" + grid + "' -o '" + dir.path("turn.png") +
-                                               "' --size 48x48 --orbit 8 --json", dir);
+    const test::CommandResult run =
+        runGvr("render -q '" + grid + "' -o '" + dir.path("turn.png") + "' --size 48x48 --orbit 8 --json", dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
     const nlohmann::json report = nlohmann::json::parse(run.out);
     const nlohmann::json& frames = report["frames"];
@@ -51,9 +52,10 @@ TEST(CliRender, AnOrbitBuildsOneStackAnAxis) {
 TEST(CliRender, OrbitReusesTheStackAndWritesStatistics) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
-    const test::CommandResult run = runGvr("render -q '" + grid + "' -o '" + dir.path("turn.png") +
-                                               "' --size 48x48 --orbit 8 --stacks view --reuse-angle 50 --stats '" +
-                                               dir.path("stats.json") + "'", dir);
+    const test::CommandResult run =
+        runGvr("render -q '" + grid + "' -o '" + dir.path("turn.png") +
+                   "' --size 48x48 --orbit 8 --stacks view --reuse-angle 50 --stats '" + dir.path("stats.json") + "'",
+               dir);
     ASSERT_EQ(run.exitCode, 0) << run.err;
     const nlohmann::json stats = nlohmann::json::parse(test::readBytes(dir.path("stats.json")));
     ASSERT_EQ(stats["frames"].size(), 8u);
@@ -66,7 +68,8 @@ TEST(CliRender, OrbitReusesTheStackAndWritesStatistics) {
             EXPECT_TRUE(frame.contains(key)) << key;
         }
     }
-    for (const char* phase : {"read", "classify", "total"}) EXPECT_TRUE(stats["setup_seconds"].contains(phase)) << phase;
+    for (const char* phase : {"read", "classify", "total"})
+        EXPECT_TRUE(stats["setup_seconds"].contains(phase)) << phase;
     // The wait for the first frame counts its set-up and its own time.
     const double firstFrameMs = stats["first_frame_ms"].get<double>();
     EXPECT_GE(firstFrameMs, 1000.0 * stats["setup_seconds"]["total"].get<double>());
@@ -96,7 +99,8 @@ TEST(CliRender, ClassifyTakesPointsOrSegmentsAndTheReportSaysWhich) {
     const test::CommandResult points = runGvr(common + "-o '" + dir.path("points.png") + "'", dir);
     ASSERT_EQ(points.exitCode, 0) << points.err;
     EXPECT_EQ(nlohmann::json::parse(points.out)["settings"]["classify"], "points");
-    const test::CommandResult segments = runGvr(common + "--classify segments -o '" + dir.path("segments.png") + "'", dir);
+    const test::CommandResult segments =
+        runGvr(common + "--classify segments -o '" + dir.path("segments.png") + "'", dir);
     ASSERT_EQ(segments.exitCode, 0) << segments.err;
     EXPECT_EQ(nlohmann::json::parse(segments.out)["settings"]["classify"], "segments");
     EXPECT_GE(pngPsnr(dir.path("segments.png"), dir.path("points.png")), 30.0);
@@ -110,8 +114,9 @@ TEST(CliRender, PresetNamesIgnoreCase) {
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
     for (const char* name : {"mri", "MRI", "Mri"}) {
-        const test::CommandResult run =
-            runGvr("render -q '" + grid + "' --size 32x32 --tf " + name + " -o '" + dir.path(std::string(name) + ".png") + "'", dir);
+        const test::CommandResult run = runGvr(
+            "render -q '" + grid + "' --size 32x32 --tf " + name + " -o '" + dir.path(std::string(name) + ".png") + "'",
+            dir);
         ASSERT_EQ(run.exitCode, 0) << name << ": " << run.err;
     }
     EXPECT_EQ(test::readBytes(dir.path("mri.png")), test::readBytes(dir.path("MRI.png")));
@@ -122,8 +127,8 @@ TEST(CliRender, AFullDiskLeavesNoFrameAndFails) {
     // file and gvr said "wrote".
     test::TempDir dir;
     const std::string grid = test::smallGrid(dir);
-    const test::CommandResult run = test::runGvr("--version >/dev/null; ulimit -f 1; '" GVR_EXECUTABLE "' render '" + grid +
-                                                     "' --size 512x512 --orbit 2 -o '" + dir.path("f.png") + "'",
+    const test::CommandResult run = test::runGvr("--version >/dev/null; ulimit -f 1; '" GVR_EXECUTABLE "' render '" +
+                                                     grid + "' --size 512x512 --orbit 2 -o '" + dir.path("f.png") + "'",
                                                  dir);
     EXPECT_EQ(run.exitCode, 2) << run.err;
     EXPECT_NE(run.err.find("cannot write the image"), std::string::npos) << run.err;
@@ -136,12 +141,13 @@ TEST(CliRender, BadInputLeavesNoImage) {
     const std::string grid = test::smallGrid(dir);
     std::filesystem::create_directory(dir.path("out"));
     test::writeBytes(dir.path("bad.json"), R"({"points": [[0, 2, 0, 0, 0]]})");
-    for (const std::string& flags : {std::string("--size 0x10"), std::string("--size big"), std::string("--tf bone"),
-                                     "--tf '" + dir.path("bad.json") + "'", std::string("--reuse-angle 90"),
-                                     std::string("--stacks diagonal"), std::string("--stacks 1"),
-                                     std::string("--slice-spacing 0"), std::string("--slice-spacing 1e-9"),
-                                     std::string("--renderer raymarch --step 1e-9"), std::string("--azimuth nan")}) {
-        const test::CommandResult run = runGvr("render '" + grid + "' -o '" + dir.path("out/x.png") + "' " + flags, dir);
+    for (const std::string& flags :
+         {std::string("--size 0x10"), std::string("--size big"), std::string("--tf bone"),
+          "--tf '" + dir.path("bad.json") + "'", std::string("--reuse-angle 90"), std::string("--stacks diagonal"),
+          std::string("--stacks 1"), std::string("--slice-spacing 0"), std::string("--slice-spacing 1e-9"),
+          std::string("--renderer raymarch --step 1e-9"), std::string("--azimuth nan")}) {
+        const test::CommandResult run =
+            runGvr("render '" + grid + "' -o '" + dir.path("out/x.png") + "' " + flags, dir);
         EXPECT_EQ(run.exitCode, 2) << flags << "\n" << run.err;
         EXPECT_EQ(test::lineCount(run.err), 1u) << flags << "\n" << run.err;
     }

@@ -34,7 +34,8 @@ TEST(Commands, EveryCommandAndOptionExplainsItself) {
         EXPECT_FALSE(command->get_description().empty()) << command->get_name();
         for (const CLI::Option* option : command->get_options()) {
             if (option->get_group().empty()) continue;  // hidden: a removed flag kept to say so
-            EXPECT_FALSE(option->get_description().empty()) << command->get_name() << " " << option->get_name(false, true);
+            EXPECT_FALSE(option->get_description().empty())
+                << command->get_name() << " " << option->get_name(false, true);
         }
     }
 }

@@ -1,11 +1,11 @@
 // What `gvr eval` compares: grids as dense samples with their data range, and
 // single images in OpenImageIO's 0..1 scale, refused when they hold NaN or Inf.
 
-#include "workflow/ComparisonInput.h"
 #include "io/formats/GridFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"
 #include "tests/TestHelpers.h"
+#include "workflow/ComparisonInput.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -122,13 +122,14 @@ TEST(ComparisonInput, ASourceIsReadAsItIsWithOnlyItsMarkedPaddingLeftOut) {
         air += !asRead.excluded[n] && value <= -950.0f;
         foreground += asRead.volume.foreground[n];
     }
-    EXPECT_GT(air, 0u);  // air the threshold drops, kept as it is
+    EXPECT_GT(air, 0u);                                        // air the threshold drops, kept as it is
     EXPECT_EQ(foreground, ingested.grid->activeVoxelCount());  // what ingest keeps
     EXPECT_EQ(asRead.foregroundRule, "the voxels ingest keeps (above -950)");
     EXPECT_EQ(asRead.dataRange, double(highest) - double(lowest));  // over the voxels kept
     EXPECT_GT(lowest, -3024.0f);
-    EXPECT_NE(asRead.readAs.find(std::to_string(asRead.excludedVoxels) + " voxels at -3024, which the file marks as padding"),
-              std::string::npos)
+    EXPECT_NE(
+        asRead.readAs.find(std::to_string(asRead.excludedVoxels) + " voxels at -3024, which the file marks as padding"),
+        std::string::npos)
         << asRead.readAs;
 }
 
@@ -139,7 +140,8 @@ TEST(ComparisonInput, AGridIsComparedAsStoredAndSaysWhatItsThresholdLeft) {
     writeGridFile(dir.path("chest.vdb"), {ingest(folder, IngestOptions{}).grid});
     const ComparisonInput stored = loadComparisonInput(dir.path("chest.vdb"), IngestOptions{});
     EXPECT_TRUE(stored.excluded.empty());
-    EXPECT_EQ(stored.readAs.rfind("the grid as stored: voxels at or below its threshold -950 hold its background ", 0), 0u)
+    EXPECT_EQ(stored.readAs.rfind("the grid as stored: voxels at or below its threshold -950 hold its background ", 0),
+              0u)
         << stored.readAs;
 }
 

@@ -1,5 +1,4 @@
 #include "io/DenseCopy.h"
-
 #include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"

@@ -27,8 +27,7 @@ TEST(DenseVolume, SizesCountVoxelsChannelsAndBytesPerSample) {
 }
 
 TEST(DenseVolume, TypedAccessKeepsNegativeSixteenBitValues) {
-    const DenseVolume volume =
-        test::makeVolume<std::int16_t>({3, 1, 1}, {-32768, -1, 32767}, SampleType::Int16);
+    const DenseVolume volume = test::makeVolume<std::int16_t>({3, 1, 1}, {-32768, -1, 32767}, SampleType::Int16);
     ASSERT_EQ(volume.samples.size(), 6u);
     EXPECT_EQ(volume.data<std::int16_t>()[0], -32768);
     EXPECT_EQ(volume.data<std::int16_t>()[1], -1);

@@ -2,12 +2,10 @@
 // descriptor, and library output held back, then shown line by line with a prefix.
 
 #include "cli/Diagnostics.h"
-
 #include "tests/TestHelpers.h"
 
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -39,7 +37,8 @@ TEST(Diagnostics, SettingsInLibraryMessagesBecomeFlags) {
     EXPECT_EQ(inCommandLineTerms("`reuse_angle` must lie in [0, 60]"), "--reuse-angle must lie in [0, 60]");
     EXPECT_EQ(inCommandLineTerms("`lr` must be positive"), "--lr must be positive");
     // A file name in backquotes is the user's, not a setting.
-    EXPECT_EQ(inCommandLineTerms("`My Scan`.nii: `volume=3` is out of range"), "`My Scan`.nii: --volume 3 is out of range");
+    EXPECT_EQ(inCommandLineTerms("`My Scan`.nii: `volume=3` is out of range"),
+              "`My Scan`.nii: --volume 3 is out of range");
     EXPECT_EQ(inCommandLineTerms("no settings here"), "no settings here");
 }
 

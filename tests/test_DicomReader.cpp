@@ -10,7 +10,6 @@
 #include <gdcmReader.h>
 #include <gdcmUIDGenerator.h>
 #include <gdcmWriter.h>
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -21,8 +20,8 @@ namespace {
 constexpr const char* kSlices[] = {"1-001.dcm", "1-002.dcm", "1-003.dcm"};
 
 /// Three real chest slices in @a folder, the second changed by @a change.
-void writeSeries(const test::TempDir& dir, const std::string& folder,
-                 const std::function<void(gdcm::DataSet&)>& change, bool changeAll = false) {
+void writeSeries(const test::TempDir& dir, const std::string& folder, const std::function<void(gdcm::DataSet&)>& change,
+                 bool changeAll = false) {
     std::filesystem::create_directory(dir.path(folder));
     for (int s = 0; s < 3; ++s) {
         gdcm::Reader reader;
@@ -67,12 +66,15 @@ TEST(DicomReader, SeriesThatWouldBeReadWrongAreRefusedNamingTheSlice) {
         bool changeAll = false;
     };
     const std::vector<Case> cases = {
-        {"tilted", setText(0x0020, 0x0037, "1\\0\\0\\0\\0.8\\0.6"), "1-002.dcm: ImageOrientationPatient or PixelSpacing differs"},
+        {"tilted", setText(0x0020, 0x0037, "1\\0\\0\\0\\0.8\\0.6"),
+         "1-002.dcm: ImageOrientationPatient or PixelSpacing differs"},
         {"finer", setText(0x0028, 0x0030, "0.5\\0.5"), "1-002.dcm: ImageOrientationPatient or PixelSpacing differs"},
         {"mirrored", setText(0x0028, 0x0030, "-0.703125\\-0.703125"), "PixelSpacing must be two positive numbers"},
         {"nanslope", setText(0x0028, 0x1053, "nan"), "1-002.dcm: RescaleSlope 'nan' is not a finite number"},
-        {"nowhere", [](gdcm::DataSet& d) { d.Remove(gdcm::Tag(0x0020, 0x0032)); }, "1-002.dcm: has no ImagePositionPatient"},
-        {"palette", setText(0x0028, 0x0004, "PALETTE COLOR"), "PhotometricInterpretation PALETTE COLOR is not supported", true},
+        {"nowhere", [](gdcm::DataSet& d) { d.Remove(gdcm::Tag(0x0020, 0x0032)); },
+         "1-002.dcm: has no ImagePositionPatient"},
+        {"palette", setText(0x0028, 0x0004, "PALETTE COLOR"),
+         "PhotometricInterpretation PALETTE COLOR is not supported", true},
     };
     for (const Case& c : cases) {
         writeSeries(dir, c.name, c.change, c.changeAll);

@@ -18,15 +18,19 @@ const char* const kExplicitLittle = "1.2.840.10008.1.2.1";
 const char* const kImplicitLittle = "1.2.840.10008.1.2";
 const char* const kDeflated = "1.2.840.10008.1.2.1.99";
 
-std::string tag(std::uint32_t group, std::uint32_t element) { return test::littleEndian16(group) + test::littleEndian16(element); }
+std::string tag(std::uint32_t group, std::uint32_t element) {
+    return test::littleEndian16(group) + test::littleEndian16(element);
+}
 
 /// An explicit-VR element; OB, OW, SQ and UN take a 4-byte length.
-std::string explicitElement(std::uint32_t group, std::uint32_t element, const std::string& vr,
-                            const std::string& value, std::uint32_t length) {
+std::string explicitElement(std::uint32_t group, std::uint32_t element, const std::string& vr, const std::string& value,
+                            std::uint32_t length) {
     const bool longLength = vr == "OB" || vr == "OW" || vr == "SQ" || vr == "UN";
-    return tag(group, element) + vr + (longLength ? std::string(2, '\0') + test::littleEndian32(length) : test::littleEndian16(length)) + value;
+    return tag(group, element) + vr +
+           (longLength ? std::string(2, '\0') + test::littleEndian32(length) : test::littleEndian16(length)) + value;
 }
-std::string explicitElement(std::uint32_t group, std::uint32_t element, const std::string& vr, const std::string& value) {
+std::string explicitElement(std::uint32_t group, std::uint32_t element, const std::string& vr,
+                            const std::string& value) {
     return explicitElement(group, element, vr, value, std::uint32_t(value.size()));
 }
 
@@ -69,10 +73,10 @@ TEST(DicomStructure, NothingAfterTheFileMetaIsRefused) {
 TEST(DicomStructure, CompressedFragmentsMustEndWithTheirDelimiter) {
     test::TempDir dir;
     const std::string head = preambleAndMeta("1.2.840.10008.1.2.4.50") + patientName();
-    const std::string fragments = explicitElement(0x7fe0, 0x0010, "OB", "", 0xffffffffu) +
-                                  tag(0xfffe, 0xe000) + test::littleEndian32(0) +                  // empty offset table
-                                  tag(0xfffe, 0xe000) + test::littleEndian32(4) + "JPEG" +         // one fragment
-                                  tag(0xfffe, 0xe0dd) + test::littleEndian32(0);                   // the delimiter
+    const std::string fragments = explicitElement(0x7fe0, 0x0010, "OB", "", 0xffffffffu) + tag(0xfffe, 0xe000) +
+                                  test::littleEndian32(0) +                                 // empty offset table
+                                  tag(0xfffe, 0xe000) + test::littleEndian32(4) + "JPEG" +  // one fragment
+                                  tag(0xfffe, 0xe0dd) + test::littleEndian32(0);            // the delimiter
     const std::string whole = head + fragments;
     EXPECT_EQ(errorFor(dir, whole), "");
     // Cut anywhere after the pixel data's tag starts: in a fragment, or before the delimiter.
@@ -94,7 +98,8 @@ TEST(DicomStructure, SequencesNestedTooDeeplyAreRefusedNotRecursedInto) {
     test::TempDir dir;
     std::string nested = preambleAndMeta(kExplicitLittle);
     for (int level = 0; level < 40; ++level) {
-        nested += explicitElement(0x0008, 0x1115, "SQ", "", 0xffffffffu) + tag(0xfffe, 0xe000) + test::littleEndian32(0xffffffffu);
+        nested += explicitElement(0x0008, 0x1115, "SQ", "", 0xffffffffu) + tag(0xfffe, 0xe000) +
+                  test::littleEndian32(0xffffffffu);
     }
     EXPECT_EQ(errorFor(dir, nested), dir.path("slice.dcm") + ": corrupt DICOM header: sequences nested too deeply");
 }

@@ -1,9 +1,8 @@
 // gvr eval's comparison in memory: PSNR from the reference's data range or a given
 // peak, the foreground rules, and the inputs it must refuse, each naming the culprit.
 
-#include "workflow/Evaluate.h"
-
 #include "pipeline/Error.h"
+#include "workflow/Evaluate.h"
 
 #include <gtest/gtest.h>
 

@@ -23,7 +23,8 @@ const std::string kFakeCodec = std::string(GVR_TEST_DATA) + "/../fake_codec.py";
 ExternalCodec fakeCodec(const std::string& compressMode, const std::string& decompressMode = "quantise") {
     ExternalCodec codec;
     codec.name = "fake";
-    codec.compress = {kPython, kFakeCodec, "c", compressMode, "{input}", "{nx}", "{ny}", "{nz}", "{param}", "{compressed}"};
+    codec.compress = {kPython, kFakeCodec, "c",    compressMode, "{input}",
+                      "{nx}",  "{ny}",     "{nz}", "{param}",    "{compressed}"};
     codec.decompress = {kPython, kFakeCodec, "d", decompressMode, "{compressed}", "{output}", "{nx}", "{ny}", "{nz}"};
     codec.paramMin = 1e-4;
     codec.paramMax = 10;
@@ -65,7 +66,8 @@ struct CodecRun {
 
 double largestError(const FloatVolume& volume, const std::vector<float>& values) {
     double largest = 0;
-    for (std::size_t v = 0; v < values.size(); ++v) largest = std::max(largest, double(std::abs(values[v] - volume.values[v])));
+    for (std::size_t v = 0; v < values.size(); ++v)
+        largest = std::max(largest, double(std::abs(values[v] - volume.values[v])));
     return largest;
 }
 
@@ -133,7 +135,8 @@ TEST(ExternalCodec, ColourRunsPerChannelAndAddsTheBytes) {
     ASSERT_EQ(codec.raw.files.size(), 3u);
     const CodecResult result = codec.run(fakeCodec("quantise"), 1500);
     std::uint64_t bytes = 0;
-    for (int c = 0; c < 3; ++c) bytes += std::filesystem::file_size(codec.dir.path("run/compressed.c" + std::to_string(c)));
+    for (int c = 0; c < 3; ++c)
+        bytes += std::filesystem::file_size(codec.dir.path("run/compressed.c" + std::to_string(c)));
     EXPECT_EQ(result.bytes, bytes);
     // Channels come back interleaved, each in its own range (channel c is offset by 40 c).
     EXPECT_LE(largestError(volume, result.values), 0.5 * result.param * 1.0001 + 1e-4);

@@ -57,9 +57,7 @@ __attribute__((always_inline)) inline void expOfLanes(const float* in, float* ou
 void expOfFourLanes(const float* in, float* out) { expOfLanes<Floats4>(in, out); }
 
 /// Compiled as the fit's eight-lane kernel is: AVX2 with fused multiply-adds.
-__attribute__((target("avx2,fma"))) void expOfEightLanes(const float* in, float* out) {
-    expOfLanes<Floats8>(in, out);
-}
+__attribute__((target("avx2,fma"))) void expOfEightLanes(const float* in, float* out) { expOfLanes<Floats8>(in, out); }
 
 std::vector<float> expInLanes(const std::vector<float>& t) { return inLanes<4>(t, expOfFourLanes); }
 

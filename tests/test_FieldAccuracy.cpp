@@ -14,7 +14,7 @@ float ramp(int i, int j, int k) { return float(i * 7 + j * 3 - k * 5 + 40) * (i 
 
 /// The definition, voxel by voxel through GaussianField::evaluate.
 SliceSums pointByPoint(const GaussianField& field, const VolumeTarget& target, const openvdb::CoordBBox& box,
-                        const ThresholdCut& cut) {
+                       const ThresholdCut& cut) {
     SliceSums total;
     std::vector<std::uint32_t> hits;
     for (auto ijk = box.begin(); ijk; ++ijk) {

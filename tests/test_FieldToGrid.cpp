@@ -60,7 +60,8 @@ TEST(FieldToGrid, ThresholdKeepsLowVoxelsInactive) {
     const Lattice lattice = sourceLattice(Mat4d::identity(), openvdb::Vec3i(24, 24, 24));
     FieldToGridSettings settings;
     settings.threshold = 0.3;
-    const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(fieldToGrid(field, Mat4d::identity(), lattice, settings));
+    const auto grid =
+        openvdb::gridPtrCast<openvdb::FloatGrid>(fieldToGrid(field, Mat4d::identity(), lattice, settings));
     std::vector<std::uint32_t> hits;
     for (auto ijk = lattice.box.begin(); ijk; ++ijk) {
         const float x[3] = {float((*ijk).x()), float((*ijk).y()), float((*ijk).z())};
@@ -76,7 +77,8 @@ TEST(FieldToGrid, RgbBecomesAColourGrid) {
     FieldToGridSettings settings;
     settings.mapping.offset = {10.0, 20.0, 30.0};
     settings.mapping.scale = 200.0;
-    const auto grid = openvdb::gridPtrCast<openvdb::Vec3SGrid>(fieldToGrid(field, Mat4d::identity(), lattice, settings));
+    const auto grid =
+        openvdb::gridPtrCast<openvdb::Vec3SGrid>(fieldToGrid(field, Mat4d::identity(), lattice, settings));
     ASSERT_TRUE(grid);
     EXPECT_EQ(grid->getName(), "color");
     EXPECT_EQ(grid->background(), openvdb::Vec3s(10.0f, 20.0f, 30.0f));
@@ -124,8 +126,8 @@ TEST(FieldToGrid, TwiceTheResolutionIsSeamlessAcrossLeaves) {
     }
     const GaussianField field(params, 3.0f);
     const Lattice fine = resizedLattice(Mat4d::identity(), openvdb::Vec3i(24, 24, 24), 0.5);
-    const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(
-        fieldToGrid(field, Mat4d::identity(), fine, FieldToGridSettings{}));
+    const auto grid =
+        openvdb::gridPtrCast<openvdb::FloatGrid>(fieldToGrid(field, Mat4d::identity(), fine, FieldToGridSettings{}));
     const Mat4d fieldFromFine = fine.worldFromIndex;
     std::vector<std::uint32_t> hits;
     float worstBorder = 0.0f, worstInside = 0.0f;
@@ -138,8 +140,10 @@ TEST(FieldToGrid, TwiceTheResolutionIsSeamlessAcrossLeaves) {
         if ((*ijk).x() == 0 || (*ijk).x() + 1 == fine.box.dim().x()) continue;
         const float curvature = std::abs(secondDifference(*grid, *ijk));
         const int inLeaf = (*ijk).x() & 7;
-        if (inLeaf == 0 || inLeaf == 7) worstBorder = std::max(worstBorder, curvature);
-        else worstInside = std::max(worstInside, curvature);
+        if (inLeaf == 0 || inLeaf == 7)
+            worstBorder = std::max(worstBorder, curvature);
+        else
+            worstInside = std::max(worstInside, curvature);
     }
     EXPECT_GT(worstInside, 0.0f);
     EXPECT_LE(worstBorder, worstInside * 1.01f) << "a seam: leaf borders bend more than leaf interiors";

@@ -13,9 +13,7 @@
 namespace gvr {
 namespace {
 
-void writeBytes(const std::string& path, const std::string& bytes) {
-    std::ofstream(path, std::ios::binary) << bytes;
-}
+void writeBytes(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
 
 TEST(FileKind, MagicNumbersWinOverTheName) {
     test::TempDir dir;
@@ -28,10 +26,10 @@ TEST(FileKind, MagicNumbersWinOverTheName) {
 
 TEST(FileKind, TheNameDecidesFilesWithoutAMagicNumber) {
     test::TempDir dir;
-    const std::pair<const char*, FileKind> cases[] = {
-        {"a.nii", FileKind::Nifti},     {"a.NII.GZ", FileKind::Nifti}, {"a.mgz", FileKind::Mgh},
-        {"a.mhd", FileKind::MetaImage}, {"a.TIFF", FileKind::Image},   {"a.exr", FileKind::Image},
-        {"a.raw", FileKind::Other},     {"short.png", FileKind::Image}};
+    const std::pair<const char*, FileKind> cases[] = {{"a.nii", FileKind::Nifti},  {"a.NII.GZ", FileKind::Nifti},
+                                                      {"a.mgz", FileKind::Mgh},    {"a.mhd", FileKind::MetaImage},
+                                                      {"a.TIFF", FileKind::Image}, {"a.exr", FileKind::Image},
+                                                      {"a.raw", FileKind::Other},  {"short.png", FileKind::Image}};
     for (const auto& [name, kind] : cases) {
         writeBytes(dir.path(name), std::string(name) == "short.png" ? "ab" : "not a magic number");
         EXPECT_EQ(fileKind(dir.path(name)), kind) << name;

@@ -33,7 +33,8 @@ TEST(FitLog, KeepsOneRowPerHeldOutEvaluationOnceFinished) {
         log.finish();
     }
     const std::string csv = test::readBytes(path);
-    EXPECT_EQ(csv.rfind("iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib,gradient_share\n10,3.5,0,31.25,50,", 0), 0u)
+    EXPECT_EQ(csv.rfind("iteration,seconds,loss,psnr_db,gaussians,peak_rss_mib,gradient_share\n10,3.5,0,31.25,50,", 0),
+              0u)
         << csv;
     EXPECT_NE(csv.find("\n20,3.5,0,inf,50,"), std::string::npos) << csv;
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);

@@ -1,9 +1,8 @@
 // A fit's settings: what validate() refuses (NaN included), the ablation table and
 // its names, and the slice curriculum's weight over the budget.
 
-#include "pipeline/FitSettings.h"
-
 #include "pipeline/Error.h"
+#include "pipeline/FitSettings.h"
 
 #include <gtest/gtest.h>
 
@@ -190,7 +189,7 @@ TEST(FitSettings, TheDefaultBatchGrowsWithTheCountFromItsLeast) {
     EXPECT_EQ(settings.batchFor(1000), kLeastVoxelBatch);
     EXPECT_EQ(settings.batchFor(480000), std::size_t(kBatchPerGaussian * 480000));
     EXPECT_EQ(settings.batchFor(std::size_t(1) << 40), kMaxVoxelBatch);  // never past what validate() allows
-    settings.voxelBatch = 4096;  // a batch asked for is kept whatever the count
+    settings.voxelBatch = 4096;                                          // a batch asked for is kept whatever the count
     EXPECT_EQ(settings.batchFor(480000), 4096u);
     EXPECT_EQ(settings.validate(), "");
 }

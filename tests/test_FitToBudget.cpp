@@ -96,7 +96,8 @@ TEST(Compress, ATimeBudgetKeepsEveryGaussianTheRatioAllows) {
     // The count it started from is the ratio's, however many iterations the machine
     // ran in the time (none, under the sanitizers): those only add where there is room.
     std::uint64_t maxBytes = 0;
-    const GaussianAsset skeleton = assetSkeleton(VolumeTarget(grid, "blobs"), checkedSettings(options), options, "blobs");
+    const GaussianAsset skeleton =
+        assetSkeleton(VolumeTarget(grid, "blobs"), checkedSettings(options), options, "blobs");
     const std::size_t allowed = budgetedGaussians(skeleton, options, maxBytes);
     EXPECT_EQ(maxBytes, result.maxBytes);
     EXPECT_EQ(result.asset.params.count() + result.dropped - result.fit.added, allowed);

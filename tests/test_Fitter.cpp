@@ -81,8 +81,10 @@ TEST(Fitter, ASkippedAmplitudeSolveSaysWhy) {
     noShare.seconds = 0.2;
     noShare.amplitudeSolveShare = 0.0;  // no time for even one dense pass
     fitGaussians(target, noShare, {}, &report);
-    EXPECT_NE(report.amplitudeSolveSkipped.find("its share of the time budget, 0 s, holds fewer than the 3 dense passes"),
-              std::string::npos) << report.amplitudeSolveSkipped;
+    EXPECT_NE(
+        report.amplitudeSolveSkipped.find("its share of the time budget, 0 s, holds fewer than the 3 dense passes"),
+        std::string::npos)
+        << report.amplitudeSolveSkipped;
 
     // A set-up that outlasts the budget, as on a loaded machine, leaves none for the solve.
     FitSettings spent = quickSettings(60, 0);
@@ -98,10 +100,13 @@ TEST(Fitter, TheObserverHearsFromEveryPassOfTheAmplitudeSolve) {
     const FitSettings settings = quickSettings(60, 20);
     std::size_t afterAdam = 0, lastIteration = 0;
     FitReport report;
-    fitGaussians(target, settings, [&](const FitProgress& p) {
-        if (p.iteration == settings.iterations && lastIteration == settings.iterations) ++afterAdam;
-        lastIteration = p.iteration;
-    }, &report);
+    fitGaussians(
+        target, settings,
+        [&](const FitProgress& p) {
+            if (p.iteration == settings.iterations && lastIteration == settings.iterations) ++afterAdam;
+            lastIteration = p.iteration;
+        },
+        &report);
     // The first pass, one per iteration, the closing pass, then the held-out row.
     EXPECT_EQ(afterAdam, report.amplitudeSolve.iterations + 2 + 1);
 }
@@ -145,7 +150,8 @@ TEST(Fitter, SameSeedSameResultWhateverTheThreadCount) {
 
 TEST(Fitter, EveryAblationRunsAndImproves) {
     const VolumeTarget target(test::makeGrid({24, 20, 16}, blob), "blobs");
-    const double before = measureFieldAccuracy(GaussianField(initialiseGaussians(target, {150, 0.6, 0.4, 1}), 3.0f), target).psnr;
+    const double before =
+        measureFieldAccuracy(GaussianField(initialiseGaussians(target, {150, 0.6, 0.4, 1}), 3.0f), target).psnr;
     for (Ablation ablation : {Ablation::Full, Ablation::A1, Ablation::A2, Ablation::A3, Ablation::A4, Ablation::A5}) {
         FitSettings settings = quickSettings(150, 120);
         applyAblation(ablation, settings);
@@ -178,8 +184,9 @@ TEST(Fitter, ATimeBudgetTooShortForTheCountFitsFewerGaussians) {
 }
 
 TEST(Fitter, RoomLeftInTheByteBudgetIsFilledWithGaussiansWhereTheResidualIsLargest) {
-    const VolumeTarget target(test::makeGrid({48, 48, 48}, [](int i, int j, int k) { return float(i + j + k) + blob(i, j, k); }),
-                              "blobs on a ramp");
+    const VolumeTarget target(
+        test::makeGrid({48, 48, 48}, [](int i, int j, int k) { return float(i + j + k) + blob(i, j, k); }),
+        "blobs on a ramp");
     FitSettings settings = quickSettings(2000, 100);
     settings.pruneEvery = 0;  // counts then change only by the fill
     settings.amplitudeSolveIterations = 0;
@@ -208,8 +215,9 @@ TEST(Fitter, ATimeBudgetThatCanTrainTheAllowanceGrowsPastTheProbe) {
     // The fit first times a probe of 16,384 Gaussians; one voxel sample each is
     // trained in a single iteration, so the time allows all 20,000. The probe must
     // end within half the budget, which 4 s left too tight under AddressSanitizer.
-    const VolumeTarget target(test::makeGrid({64, 64, 64}, [](int i, int j, int k) { return float(i + j + k) + blob(i, j, k); }),
-                              "blobs on a ramp");
+    const VolumeTarget target(
+        test::makeGrid({64, 64, 64}, [](int i, int j, int k) { return float(i + j + k) + blob(i, j, k); }),
+        "blobs on a ramp");
     ASSERT_GT(target.activeVoxelCount(), 20000u);
     FitSettings settings = quickSettings(20000, 0);
     settings.seconds = 10.0;
@@ -225,8 +233,9 @@ TEST(Fitter, ATimeBudgetThatCanTrainTheAllowanceGrowsPastTheProbe) {
 TEST(Fitter, TheCountGrowsPastTheProbeInStepsThatKeepMemoryNearWhatIsTrained) {
     // An allowance of 150,000 that the time can train: from the probe's 16,384 the
     // count may grow at most 8x a step (131,072), then on to the allowance.
-    const VolumeTarget target(test::makeGrid({64, 64, 64}, [](int i, int j, int k) { return float(i + j + k) + blob(i, j, k); }),
-                              "blobs on a ramp");
+    const VolumeTarget target(
+        test::makeGrid({64, 64, 64}, [](int i, int j, int k) { return float(i + j + k) + blob(i, j, k); }),
+        "blobs on a ramp");
     FitSettings settings = quickSettings(150000, 0);
     settings.seconds = 12.0;
     settings.amplitudeSolveIterations = 0;
@@ -250,8 +259,8 @@ TEST(Fitter, ANonFiniteGradientIsSkippedCountedAndForgotten) {
     const VolumeTarget target(test::makeGrid({32, 24, 24}, blob), "blobs");
     FitSettings settings = quickSettings(300, 300);
     FitReport clean;
-    const double cleanPsnr = measureFieldAccuracy(GaussianField(fitGaussians(target, settings, {}, &clean), 3.0f),
-                                                target).psnr;
+    const double cleanPsnr =
+        measureFieldAccuracy(GaussianField(fitGaussians(target, settings, {}, &clean), 3.0f), target).psnr;
     EXPECT_EQ(clean.skippedSteps, 0u);
     // Early steps, a redraw of the voxel samples among them (every refreshEvery),
     // so that a residual kept from a bad step would reach the importance sampler.
@@ -278,10 +287,10 @@ TEST(Fitter, InvalidSettingsAreRejected) {
     EXPECT_THROW(fitGaussians(target, settings), InputError);
     // NaN passes every comparison: each number must be refused on its own.
     const double nan = std::nan("");
-    for (double FitSettings::*field : {&FitSettings::sliceMax, &FitSettings::sliceGamma, &FitSettings::sliceBeta,
-                                       &FitSettings::gradientSeedShare, &FitSettings::uniformSeedShare,
-                                       &FitSettings::pruneAmplitude, &FitSettings::amplitudeSolveShare,
-                                       &FitSettings::learningRate, &FitSettings::finalRateFactor, &FitSettings::seconds}) {
+    for (double FitSettings::*field :
+         {&FitSettings::sliceMax, &FitSettings::sliceGamma, &FitSettings::sliceBeta, &FitSettings::gradientSeedShare,
+          &FitSettings::uniformSeedShare, &FitSettings::pruneAmplitude, &FitSettings::amplitudeSolveShare,
+          &FitSettings::learningRate, &FitSettings::finalRateFactor, &FitSettings::seconds}) {
         settings = quickSettings(10, 5);
         settings.*field = nan;
         EXPECT_FALSE(settings.validate().empty()) << "a NaN setting was accepted";
@@ -316,7 +325,7 @@ struct HardVolume {
     std::function<float(int, int, int)> value;
     openvdb::Vec3d spacing;
     std::optional<double> threshold;  ///< ingest's --threshold; unset: the minimum is inactive
-    double minPsnr;  ///< whole-volume dB that 200 Gaussians must reach in 400 iterations
+    double minPsnr;                   ///< whole-volume dB that 200 Gaussians must reach in 400 iterations
 };
 
 /// ctest lists the case by name rather than as raw bytes.
@@ -347,20 +356,50 @@ INSTANTIATE_TEST_SUITE_P(
         // A zero data range: every voxel is active and the fit must be exact, not NaN.
         HardVolume{"constant_all_active", {16, 16, 16}, [](int, int, int) { return 7.0f; }, {1, 1, 1}, 0.0, 30.0},
         HardVolume{"one_voxel_volume", {1, 1, 1}, [](int, int, int) { return 5.0f; }, {1, 1, 1}, 0.0, 30.0},
-        HardVolume{"single_bright_voxel", {16, 16, 16}, [](int i, int j, int k) { return i == 8 && j == 8 && k == 8 ? 1000.0f : 0.0f; }, {1, 1, 1}, {}, 30.0},
-        HardVolume{"hounsfield_with_minus_3024_padding", {20, 20, 12},
-                   [](int i, int j, int k) { return ball(i, j, k, 9.0f) > 0 ? -1000.0f + 2400.0f * ball(i, j, k, 4.0f) : -3024.0f; },
-                   {1, 1, 1}, {}, 21.0},
+        HardVolume{"single_bright_voxel",
+                   {16, 16, 16},
+                   [](int i, int j, int k) { return i == 8 && j == 8 && k == 8 ? 1000.0f : 0.0f; },
+                   {1, 1, 1},
+                   {},
+                   30.0},
+        HardVolume{"hounsfield_with_minus_3024_padding",
+                   {20, 20, 12},
+                   [](int i, int j, int k) {
+                       return ball(i, j, k, 9.0f) > 0 ? -1000.0f + 2400.0f * ball(i, j, k, 4.0f) : -3024.0f;
+                   },
+                   {1, 1, 1},
+                   {},
+                   21.0},
         // The outlier sits outside the held-out voxels (a tenth of this small box), which training never sees.
-        HardVolume{"float_with_one_1e6_outlier", {20, 20, 12},
-                   [](int i, int j, int k) { return i == 15 && j == 12 && k == 7 ? 1e6f : blob(i, j, k); }, {1, 1, 1}, {}, 40.0},
-        HardVolume{"float_1e-3_to_1e6", {20, 20, 12}, [](int i, int j, int k) { return float(std::pow(10.0, -3.0 + 9.0 * ((i + j + k) % 10) / 9.0)); }, {1, 1, 1}, {}, 11.0},
+        HardVolume{"float_with_one_1e6_outlier",
+                   {20, 20, 12},
+                   [](int i, int j, int k) { return i == 15 && j == 12 && k == 7 ? 1e6f : blob(i, j, k); },
+                   {1, 1, 1},
+                   {},
+                   40.0},
+        HardVolume{"float_1e-3_to_1e6",
+                   {20, 20, 12},
+                   [](int i, int j, int k) { return float(std::pow(10.0, -3.0 + 9.0 * ((i + j + k) % 10) / 9.0)); },
+                   {1, 1, 1},
+                   {},
+                   11.0},
         HardVolume{"anisotropic_0.3x0.3x5", {24, 24, 6}, blob, {0.3, 0.3, 5.0}, {}, 45.0},
-        HardVolume{"needle", {32, 8, 8}, [](int i, int j, int k) { return j == 4 && k == 4 ? 100.0f + i : 0.0f; }, {1, 1, 1}, {}, 32.0},
-        HardVolume{"sheet", {24, 24, 8}, [](int i, int j, int k) { return k == 4 ? 50.0f + float(i + j) : 0.0f; }, {1, 1, 1}, {}, 26.0}),
+        HardVolume{"needle",
+                   {32, 8, 8},
+                   [](int i, int j, int k) { return j == 4 && k == 4 ? 100.0f + i : 0.0f; },
+                   {1, 1, 1},
+                   {},
+                   32.0},
+        HardVolume{"sheet",
+                   {24, 24, 8},
+                   [](int i, int j, int k) { return k == 4 ? 50.0f + float(i + j) : 0.0f; },
+                   {1, 1, 1},
+                   {},
+                   26.0}),
     [](const ::testing::TestParamInfo<HardVolume>& info) {
         std::string name = info.param.name;
-        for (char& c : name) if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+        for (char& c : name)
+            if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
         return name;
     });
 

@@ -1,14 +1,12 @@
 // Dense float volumes: their layout, what a grid becomes (values, foreground and
 // placement), and trilinear resampling with its edge clamping.
 
-#include "pipeline/FloatVolume.h"
-
 #include "pipeline/Error.h"
+#include "pipeline/FloatVolume.h"
 #include "pipeline/VolumeMetadata.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
-
 #include <openvdb/openvdb.h>
 
 #include <string>

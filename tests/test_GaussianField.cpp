@@ -35,10 +35,10 @@ float valueAt(const GaussianField& field, std::array<float, 3> x) {
 TEST(GaussianField, ValuesFollowTheClosedFormAndStopAtTheCutoff) {
     const GaussianField field(oneGaussian({5, 5, 5}, {2, 1, 4}), 3.0f);
     EXPECT_FLOAT_EQ(valueAt(field, {5, 5, 5}), 0.4f);
-    EXPECT_NEAR(valueAt(field, {7, 5, 5}), 0.4 * std::exp(-0.5), 1e-6);               // one sigma along x
+    EXPECT_NEAR(valueAt(field, {7, 5, 5}), 0.4 * std::exp(-0.5), 1e-6);                // one sigma along x
     EXPECT_NEAR(valueAt(field, {5, 6, 9}), 0.4 * std::exp(-0.5 * (1.0 + 1.0)), 1e-6);  // one along y and z
-    EXPECT_GT(valueAt(field, {5, 5, 16.9f}), 0.0f);  // 2.98 sigma along z
-    EXPECT_EQ(valueAt(field, {5, 5, 17.1f}), 0.0f);  // 3.03 sigma: cut
+    EXPECT_GT(valueAt(field, {5, 5, 16.9f}), 0.0f);                                    // 2.98 sigma along z
+    EXPECT_EQ(valueAt(field, {5, 5, 17.1f}), 0.0f);                                    // 3.03 sigma: cut
     EXPECT_EQ(valueAt(field, {11.1f, 5, 5}), 0.0f);
 }
 

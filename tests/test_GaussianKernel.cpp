@@ -72,7 +72,8 @@ TEST_P(KernelGradient, SumsOverManyPointsMatchPointByPoint) {
         GaussianParameters pointByPoint(1, channels), summed(1, channels);
         GradientSums sums;
         for (int p = 0; p < 7; ++p) {
-            const float x[3] = {g.mean[0] + 2 * unit(random), g.mean[1] + 2 * unit(random), g.mean[2] + 2 * unit(random)};
+            const float x[3] = {g.mean[0] + 2 * unit(random), g.mean[1] + 2 * unit(random),
+                                g.mean[2] + 2 * unit(random)};
             const float upstream[3] = {unit(random), unit(random), unit(random)};
             accumulateGradient(params, g, 0, x, 1e6f, upstream, pointByPoint);
             float u[3];
@@ -140,7 +141,8 @@ TEST(Kernel, BoundsContainTheRotatedEllipsoid) {
             const float norm = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
             for (int a = 0; a < 3; ++a) {
                 float world = g.mean[a];
-                for (int b = 0; b < 3; ++b) world += g.rotation[3 * a + b] * 3.0f * dir[b] / (norm * std::sqrt(g.invVariance[b]));
+                for (int b = 0; b < 3; ++b)
+                    world += g.rotation[3 * a + b] * 3.0f * dir[b] / (norm * std::sqrt(g.invVariance[b]));
                 EXPECT_GE(world, lower[a] - 1e-3f);
                 EXPECT_LE(world, upper[a] + 1e-3f);
             }
@@ -177,7 +179,8 @@ TEST(Kernel, GradientAtNeedlesAndSheetsMatchesFiniteDifferences) {
                 GaussianParameters plus = params, minus = params;
                 plus.at(ParameterGroup(g), 0)[k] += steps[g];
                 minus.at(ParameterGroup(g), 0)[k] -= steps[g];
-                const double numeric = (objective(plus, x, upstream) - objective(minus, x, upstream)) / (2.0 * steps[g]);
+                const double numeric =
+                    (objective(plus, x, upstream) - objective(minus, x, upstream)) / (2.0 * steps[g]);
                 const double analytic = gradient.at(ParameterGroup(g), 0)[k];
                 EXPECT_NEAR(analytic, numeric, 2e-3 + 2e-2 * std::abs(numeric))
                     << shape.name << ": " << groupName(ParameterGroup(g)) << "[" << k << "]";
@@ -189,8 +192,11 @@ TEST(Kernel, GradientAtNeedlesAndSheetsMatchesFiniteDifferences) {
 TEST(Kernel, ExtremeShapesStayFinite) {
     // Needles and sheets (scale ratio 1e4), near-singular covariances, scales far
     // below and above a voxel, and a vanished quaternion.
-    const float shapes[][3] = {{-4.6f, -4.6f, 4.6f}, {4.6f, 4.6f, -4.6f}, {kMinLogScale, kMinLogScale, kMinLogScale},
-                               {kMaxLogScale, kMaxLogScale, kMaxLogScale}, {-20.0f, 0.0f, 30.0f}};
+    const float shapes[][3] = {{-4.6f, -4.6f, 4.6f},
+                               {4.6f, 4.6f, -4.6f},
+                               {kMinLogScale, kMinLogScale, kMinLogScale},
+                               {kMaxLogScale, kMaxLogScale, kMaxLogScale},
+                               {-20.0f, 0.0f, 30.0f}};
     for (const auto& shape : shapes) {
         for (float quatScale : {1.0f, 0.0f}) {
             GaussianParameters params(1, 3);

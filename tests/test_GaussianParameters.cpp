@@ -71,7 +71,8 @@ TEST(GaussianParameters, KeepOnlyCompactsEveryGroupInOrder) {
     GaussianParameters params = tagged(5, 3);
     params.keepOnly({true, false, false, true, true});
     ASSERT_EQ(params.count(), 3u);
-    for (int g = 0; g < kGroupCount; ++g) EXPECT_EQ(params.values[g].size(), 3u * std::size_t(params.width(ParameterGroup(g))));
+    for (int g = 0; g < kGroupCount; ++g)
+        EXPECT_EQ(params.values[g].size(), 3u * std::size_t(params.width(ParameterGroup(g))));
     expectTag(params, 0, 0);
     expectTag(params, 1, 3);
     expectTag(params, 2, 4);

@@ -121,8 +121,7 @@ TEST(GridBuilder, RejectsNaNAndInfWithTheirCount) {
         buildGrid(volume, settings);
         FAIL() << "NaN voxels were accepted";
     } catch (const InputError& error) {
-        EXPECT_NE(std::string(error.what()).find("scan.nii: 2 voxels are NaN or Inf"),
-                  std::string::npos)
+        EXPECT_NE(std::string(error.what()).find("scan.nii: 2 voxels are NaN or Inf"), std::string::npos)
             << error.what();
     }
     settings.nanTo = 0.0f;
@@ -132,8 +131,7 @@ TEST(GridBuilder, RejectsNaNAndInfWithTheirCount) {
 }
 
 TEST(GridBuilder, ColourBecomesVec3ColorGridThresholdedOnLuminance) {
-    DenseVolume volume = makeVolume<std::uint8_t>({2, 1, 1}, {0, 0, 10, 200, 100, 50},
-                                                  SampleType::UInt8, 3);
+    DenseVolume volume = makeVolume<std::uint8_t>({2, 1, 1}, {0, 0, 10, 200, 100, 50}, SampleType::UInt8, 3);
     auto grid = openvdb::GridBase::grid<openvdb::Vec3SGrid>(buildGrid(volume, {}));
     ASSERT_TRUE(grid);
     EXPECT_EQ(grid->getName(), "color");
@@ -170,8 +168,7 @@ TEST(GridBuilder, AColourSectionOnPaperKeepsItsRareDarkestVoxelAndThePaperIsOuts
 }
 
 TEST(GridBuilder, TransformMapsIndexToWorldWithShearAndAnisotropicSpacing) {
-    DenseVolume volume = makeVolume<std::uint8_t>({2, 2, 2}, {0, 1, 2, 3, 4, 5, 6, 7},
-                                                  SampleType::UInt8);
+    DenseVolume volume = makeVolume<std::uint8_t>({2, 2, 2}, {0, 1, 2, 3, 4, 5, 6, 7}, SampleType::UInt8);
     const double rows[3][4] = {{0.3, 0, 0, -10}, {0, 0.3, 0.15, 20}, {0, 0, 5.0, 30}};
     volume.worldFromIndex = worldFromIndexRows(rows);
     auto grid = buildGrid(volume, {});
@@ -259,8 +256,7 @@ TEST(GridBuilder, AStreamedBuildEqualsTheWholeBuildAlsoWhenTheMinimumComesLast) 
     for (auto& v : values) v = std::int16_t(hu(random));
     values[5] = -2000;
     values[values.size() - 3] = -3024;
-    test::writeBytes(dir.path("ct.raw"),
-                     std::string(reinterpret_cast<const char*>(values.data()), values.size() * 2));
+    test::writeBytes(dir.path("ct.raw"), std::string(reinterpret_cast<const char*>(values.data()), values.size() * 2));
     ReadOptions read;
     read.raw = RawLayout{dims, SampleType::Int16, 1, false, 0};
     read.spacingMm = openvdb::Vec3d(0.7, 0.7, 1.25);

@@ -1,6 +1,6 @@
-#include "io/guard/AtomicFile.h"
-#include "io/formats/GridFile.h"
 #include "io/Ingest.h"
+#include "io/formats/GridFile.h"
+#include "io/guard/AtomicFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"
 #include "tests/TestHelpers.h"
@@ -11,9 +11,9 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <functional>
 #include <type_traits>
-#include <filesystem>
 
 namespace gvr {
 namespace {
@@ -160,8 +160,7 @@ void expectRefused(const std::string& path, const std::string& message) {
 /// Writes oneVoxelFileBytes(), overwrites it with @a patch @a offset bytes after
 /// the first @a marker, and expects the read to be refused with @a message.
 template <typename T>
-void expectPatchRefused(const std::string& marker, std::ptrdiff_t offset, const T& patch,
-                        const std::string& message) {
+void expectPatchRefused(const std::string& marker, std::ptrdiff_t offset, const T& patch, const std::string& message) {
     test::TempDir dir;
     const std::string path = dir.path("g.vdb");
     std::string bytes = oneVoxelFileBytes(path);
@@ -242,8 +241,9 @@ TEST(GridFile, EveryStoredLayoutOfTheValueTypesGvrReadsPassesTheChecks) {
     using namespace openvdb::io;
     test::TempDir dir;
     const std::string path = dir.path("g.vdb");
-    for (std::uint32_t compression : std::initializer_list<std::uint32_t>{COMPRESS_NONE, COMPRESS_ZIP, COMPRESS_BLOSC, COMPRESS_ACTIVE_MASK,
-                                      COMPRESS_ZIP | COMPRESS_ACTIVE_MASK, COMPRESS_BLOSC | COMPRESS_ACTIVE_MASK}) {
+    for (std::uint32_t compression : std::initializer_list<std::uint32_t>{
+             COMPRESS_NONE, COMPRESS_ZIP, COMPRESS_BLOSC, COMPRESS_ACTIVE_MASK, COMPRESS_ZIP | COMPRESS_ACTIVE_MASK,
+             COMPRESS_BLOSC | COMPRESS_ACTIVE_MASK}) {
         SCOPED_TRACE(compressionToString(compression));
         for (bool half : {false, true}) {
             writeSampleGrid<openvdb::FloatGrid>(path, compression, half);

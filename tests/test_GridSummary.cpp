@@ -1,9 +1,9 @@
 // What `gvr info` says about a grid: sizes, value range, metadata and affine, in
 // JSON and as text, checked on small grids whose answers are known by hand.
 
-#include "io/asset/AssetExport.h"
-#include "io/DenseVolume.h"
 #include "cli/GridSummary.h"
+#include "io/DenseVolume.h"
+#include "io/asset/AssetExport.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -34,7 +34,8 @@ openvdb::FloatGrid::Ptr twoVoxelGrid() {
 
 TEST(GridSummary, ADccExportsSpacingIsGivenInMillimetresNotItsMetres) {
     openvdb::FloatGrid::Ptr grid = twoVoxelGrid();
-    grid->setTransform(openvdb::math::Transform::createLinearTransform(worldFromSpacing(openvdb::Vec3d(0.5e-3, 2e-3, 3e-3))));
+    grid->setTransform(
+        openvdb::math::Transform::createLinearTransform(worldFromSpacing(openvdb::Vec3d(0.5e-3, 2e-3, 3e-3))));
     grid->insertMeta("gvr_units", openvdb::StringMetadata(kDccUnits));
     const GridSummary s = summarizeGrid(*grid);
     EXPECT_DOUBLE_EQ(s.spacingMm.x(), 0.5);  // it printed "0.0005 x 0.002 x 0.003 mm"
@@ -91,15 +92,11 @@ TEST(GridSummary, JsonCarriesEveryField) {
 
 TEST(GridSummary, TextNamesTheGridAndGivesTheShareOfTheBox) {
     const std::string text = toText(summarizeGrid(*twoVoxelGrid()));
-    for (const char* line : {"grid 'density' (float, fog volume)\n",
-                             "  dimensions:    4 x 1 x 1 voxels (active bounding box)\n",
-                             "  spacing:       0.5 x 2 x 3 mm\n",
-                             "  value range:   -2.5 .. 7 (active voxels)\n",
-                             "  active voxels: 2 (50 % of the box)\n",
-                             "  metadata:\n",
-                             "    gvr_modality = CT\n",
-                             "    count = 7\n",
-                             "    offset = [1.0,2.0,3.0]\n"}) {
+    for (const char* line :
+         {"grid 'density' (float, fog volume)\n", "  dimensions:    4 x 1 x 1 voxels (active bounding box)\n",
+          "  spacing:       0.5 x 2 x 3 mm\n", "  value range:   -2.5 .. 7 (active voxels)\n",
+          "  active voxels: 2 (50 % of the box)\n", "  metadata:\n", "    gvr_modality = CT\n", "    count = 7\n",
+          "    offset = [1.0,2.0,3.0]\n"}) {
         EXPECT_NE(text.find(line), std::string::npos) << "missing: " << line << "in:\n" << text;
     }
 }

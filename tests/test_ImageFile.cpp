@@ -5,9 +5,8 @@
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
@@ -35,14 +34,15 @@ std::vector<T> readPixels(const std::string& path, OIIO::TypeDesc type, int& wid
 TEST(ImageFile, PngHoldsStraightAlphaRoundedAndClamped) {
     test::TempDir dir;
     const std::vector<float> premultiplied{
-        0.25f, 0.5f, 0.0f, 0.5f,   // half transparent: colours are divided by alpha
-        0.3f, 0.3f, 0.3f, 0.0f,    // fully transparent: black, whatever the colour
-        2.0f, -1.0f, 0.2f, 1.0f,   // out of range: clamped
-        0.75f, 0.75f, 0.75f, 1.5f  // alpha above 1: colour 0.5, alpha clamped
+        0.25f, 0.5f,  0.0f,  0.5f,  // half transparent: colours are divided by alpha
+        0.3f,  0.3f,  0.3f,  0.0f,  // fully transparent: black, whatever the colour
+        2.0f,  -1.0f, 0.2f,  1.0f,  // out of range: clamped
+        0.75f, 0.75f, 0.75f, 1.5f   // alpha above 1: colour 0.5, alpha clamped
     };
     writeImage(dir.path("f.png"), 2, 2, premultiplied.data());
     int width = 0, height = 0;
-    const std::vector<std::uint8_t> bytes = readPixels<std::uint8_t>(dir.path("f.png"), OIIO::TypeDesc::UINT8, width, height);
+    const std::vector<std::uint8_t> bytes =
+        readPixels<std::uint8_t>(dir.path("f.png"), OIIO::TypeDesc::UINT8, width, height);
     EXPECT_EQ(width, 2);
     EXPECT_EQ(height, 2);
     const std::vector<std::uint8_t> expected{128, 255, 0, 128, 0, 0, 0, 0, 255, 0, 51, 255, 128, 128, 128, 255};
@@ -54,8 +54,8 @@ TEST(ImageFile, ExrKeepsThePremultipliedFloatsExactlyInRowOrder) {
     // 3 x 2, so that a transposed or flipped image would not match.
     std::vector<float> pixels(3 * 2 * 4);
     for (std::size_t n = 0; n < pixels.size(); ++n) pixels[n] = float(n) * 0.1f - 0.5f;
-    pixels[3] = 0.0f;            // emission with no coverage stays as it is
-    pixels[5] = 1e30f;           // beyond 8 bits and beyond half floats
+    pixels[3] = 0.0f;           // emission with no coverage stays as it is
+    pixels[5] = 1e30f;          // beyond 8 bits and beyond half floats
     pixels[6] = std::nanf("");  // a NaN is written, not hidden
     writeImage(dir.path("f.exr"), 3, 2, pixels.data());
     int width = 0, height = 0;

@@ -15,9 +15,7 @@
 namespace gvr {
 namespace {
 
-std::string bigEndian32(std::uint32_t v) {
-    return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
-}
+std::string bigEndian32(std::uint32_t v) { return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; }
 
 std::string pngChunk(const std::string& type, const std::string& data) {
     const std::string body = type + data;
@@ -36,9 +34,9 @@ std::string wholePng() {
 std::string bmp(std::int32_t width, std::int32_t height, std::uint16_t bits, std::uint32_t compression,
                 std::size_t pixelBytes) {
     std::string header = "BM" + test::littleEndian32(std::uint32_t(54 + pixelBytes)) + test::littleEndian32(0) +
-                         test::littleEndian32(54) + test::littleEndian32(40) + test::littleEndian32(std::uint32_t(width)) +
-                         test::littleEndian32(std::uint32_t(height)) + test::littleEndian16(1) + test::littleEndian16(bits) +
-                         test::littleEndian32(compression);
+                         test::littleEndian32(54) + test::littleEndian32(40) +
+                         test::littleEndian32(std::uint32_t(width)) + test::littleEndian32(std::uint32_t(height)) +
+                         test::littleEndian16(1) + test::littleEndian16(bits) + test::littleEndian32(compression);
     header.resize(54, '\0');
     return header + std::string(pixelBytes, '\x7f');
 }
@@ -77,7 +75,8 @@ TEST(ImageFraming, ADamagedPngChunkFailsItsCrc) {
     test::TempDir dir;
     std::string png = wholePng();
     png[41] ^= 0x20;
-    EXPECT_EQ(framingError(dir.path("bad.png"), png), dir.path("bad.png") + ": corrupt PNG: chunk 'IDAT' fails its CRC check");
+    EXPECT_EQ(framingError(dir.path("bad.png"), png),
+              dir.path("bad.png") + ": corrupt PNG: chunk 'IDAT' fails its CRC check");
 }
 
 TEST(ImageFraming, APngChunkClaimingFourGibibytesIsRefused) {
@@ -96,7 +95,8 @@ TEST(ImageFraming, AJpegWithoutItsEndMarkerIsRefused) {
 TEST(ImageFraming, BmpsThatAreCutCompressedOrEmptyAreRefused) {
     test::TempDir dir;
     const std::string path = dir.path("x.bmp");
-    EXPECT_EQ(framingError(path, bmp(2, 2, 24, 0, 15)), path + ": truncated BMP: its pixels need 70 bytes, the file has 69");
+    EXPECT_EQ(framingError(path, bmp(2, 2, 24, 0, 15)),
+              path + ": truncated BMP: its pixels need 70 bytes, the file has 69");
     // Run-length coding on 24 bits made OpenImageIO read before its buffer.
     EXPECT_EQ(framingError(path, bmp(2, 2, 24, 1, 16)),
               path + ": unsupported BMP: 24 bits a pixel with compression 1; gvr reads uncompressed BMP");

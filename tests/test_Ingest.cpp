@@ -3,9 +3,8 @@
 // as it is, and the warning for a CT threshold that empties the lungs.
 
 #include "io/Ingest.h"
-
-#include "io/guard/ByteOrder.h"
 #include "io/formats/GridFile.h"
+#include "io/guard/ByteOrder.h"
 #include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"
 #include "tests/TestHelpers.h"
@@ -75,8 +74,9 @@ void expectIntegersKeptOrTheRoundedCounted(SampleType type, const std::vector<T>
         EXPECT_EQ(stored, double(float(values[n]))) << values[n];  // at worst the nearest float
     }
     EXPECT_EQ(readVolumeMetadata(*result.grid)->roundedVoxels, changed);
-    const bool warned = !result.warnings.empty() &&
-                        result.warnings.back().find(" integers beyond 2^24, which the float32 grid rounds") != std::string::npos;
+    const bool warned =
+        !result.warnings.empty() &&
+        result.warnings.back().find(" integers beyond 2^24, which the float32 grid rounds") != std::string::npos;
     EXPECT_EQ(warned, changed > 0);
     if (sizeof(T) <= 2) {
         EXPECT_EQ(changed, 0u);
@@ -89,8 +89,8 @@ template <typename T>
 std::vector<T> edgesOf() {
     using Limits = std::numeric_limits<T>;
     const auto clamp = [](long long v) { return T(std::clamp<long long>(v, Limits::min(), Limits::max())); };
-    return {Limits::min(), T(Limits::min() + 1), T(0), T(1), clamp(1 << 24), clamp((1 << 24) + 1),
-            T(Limits::max() - 1), Limits::max()};
+    return {Limits::min(),        T(Limits::min() + 1), T(0),         T(1), clamp(1 << 24),
+            clamp((1 << 24) + 1), T(Limits::max() - 1), Limits::max()};
 }
 
 TEST(Ingest, IntegersOfEveryTypeAreKeptOrTheVoxelsFloatRoundsAreCountedAndWarned) {
@@ -150,7 +150,8 @@ std::vector<std::int16_t> chest(int side) {
     for (int k = 0; k < side; ++k) {
         for (int j = 0; j < side; ++j) {
             for (int i = 0; i < side; ++i) {
-                const double r = std::sqrt((i - centre) * (i - centre) + (j - centre) * (j - centre) + (k - centre) * (k - centre));
+                const double r =
+                    std::sqrt((i - centre) * (i - centre) + (j - centre) * (j - centre) + (k - centre) * (k - centre));
                 values[(std::size_t(k) * side + j) * side + i] = r < 6.0 ? -890 : r < 10.0 ? 40 : -1000;
             }
         }

@@ -2,7 +2,6 @@
 // active voxels, reproducible from its seed.
 
 #include "pipeline/Initialisation.h"
-
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -57,10 +56,10 @@ TEST(Initialisation, SeedsSitOnDistinctActiveVoxelsAsIsotropicGaussians) {
 
 TEST(Initialisation, NeverMoreGaussiansThanActiveVoxels) {
     // Five active voxels; a hundred asked for.
-    const VolumeTarget target(test::makeGrid({8, 8, 8}, [](int i, int j, int k) {
-                                  return (j == 3 && k == 4 && i < 5) ? float(i + 1) : 0.0f;
-                              }),
-                              "five voxels");
+    const VolumeTarget target(
+        test::makeGrid({8, 8, 8},
+                       [](int i, int j, int k) { return (j == 3 && k == 4 && i < 5) ? float(i + 1) : 0.0f; }),
+        "five voxels");
     ASSERT_EQ(target.activeVoxelCount(), 5u);
     const GaussianParameters params = initialiseGaussians(target, {100, 0.6, 0.4, 3});
     ASSERT_EQ(params.count(), 5u);

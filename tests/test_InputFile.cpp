@@ -6,7 +6,6 @@
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
-
 #include <sys/stat.h>
 
 #include <filesystem>
@@ -30,4 +29,3 @@ TEST(InputFile, OnlyRegularFilesAreInputsAndEveryRefusalNamesThePath) {
     EXPECT_NE(test::errorMessageOf<InputError>([&] { requireNoNulByte(withNul); }), "");
     EXPECT_EQ(test::errorMessageOf<InputError>([&] { requireNoNulByte(file); }), "");
 }
-

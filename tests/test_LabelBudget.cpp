@@ -17,7 +17,7 @@ TEST(LabelBudget, SplitAddsUpToTheTotalWithAFloor) {
         const std::vector<std::size_t> budget = splitBudget(total, voxels);
         EXPECT_EQ(std::accumulate(budget.begin(), budget.end(), std::size_t(0)), total);
         EXPECT_GE(budget[1], kStructureFloor);
-        EXPECT_GE(budget[2], 3u);  // a 3-voxel structure's floor is its voxels
+        EXPECT_GE(budget[2], 3u);         // a 3-voxel structure's floor is its voxels
         EXPECT_GE(budget[0], budget[1]);  // proportional above the floor
     }
     const std::vector<std::size_t> big = splitBudget(100000, voxels);
@@ -30,7 +30,7 @@ TEST(LabelBudget, ProportionalBudgetsDependOnEachStructureAlone) {
     const std::vector<std::size_t> one = proportionalBudgets(0.01, {100000});
     EXPECT_EQ(both[0], 1000u);
     EXPECT_EQ(both[0], one[0]);
-    EXPECT_EQ(both[1], kStructureFloor);  // 9 by proportion, raised to the floor
+    EXPECT_EQ(both[1], kStructureFloor);               // 9 by proportion, raised to the floor
     EXPECT_EQ(proportionalBudgets(0.01, {5})[0], 5u);  // never more than its voxels by the floor
 }
 

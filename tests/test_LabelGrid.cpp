@@ -2,8 +2,8 @@
 // the Int32 "labels" grid on the image's voxels (resampled only when asked), and
 // label volumes that are not labels refused naming the file.
 
-#include "io/guard/ByteOrder.h"
 #include "io/LabelGrid.h"
+#include "io/guard/ByteOrder.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 
@@ -18,8 +18,8 @@
 namespace gvr {
 namespace {
 
-ReadOptions rawOptions(std::array<std::int64_t, 3> dims, SampleType type,
-                       openvdb::Vec3d spacing = openvdb::Vec3d(1.0), int channels = 1) {
+ReadOptions rawOptions(std::array<std::int64_t, 3> dims, SampleType type, openvdb::Vec3d spacing = openvdb::Vec3d(1.0),
+                       int channels = 1) {
     ReadOptions options;
     options.raw = RawLayout{dims, type, channels, hostIsBigEndian(), 0};
     options.spacingMm = spacing;
@@ -33,7 +33,8 @@ openvdb::GridBase::Ptr imageOf(std::array<int, 3> dims) {
 TEST(LabelGrid, NamesReadFromAalAndFreeSurferStyleLists) {
     test::TempDir dir;
     const std::string path = dir.path("names.txt");
-    test::writeBytes(path, "# AAL\n1 Precentral_L 2001\n\n2\tPrecentral_R  # right\n0 Unknown 0 0 0 0\n-3 Below 1 2 3\n");
+    test::writeBytes(path,
+                     "# AAL\n1 Precentral_L 2001\n\n2\tPrecentral_R  # right\n0 Unknown 0 0 0 0\n-3 Below 1 2 3\n");
     const LabelTable table = readLabelNames(path);
     // 0 is background, never a structure, even when the list names it.
     const std::map<int, std::string> expected{{-3, "Below"}, {1, "Precentral_L"}, {2, "Precentral_R"}};
@@ -52,7 +53,8 @@ TEST(LabelGrid, NameListsThatAreNotIdNameLinesAreRefusedNamingTheLine) {
     EXPECT_EQ(errorFor("1.5 A\n"), path + ": line 1 is not \"ID NAME ...\": 1.5 A");
     EXPECT_EQ(errorFor("# nothing\n\n0 Background\n"), path + ": names no label");
     // An id past int32 would otherwise wrap onto another structure's id.
-    EXPECT_EQ(errorFor("1 A\n4294967297 B\n"), path + ": line 2 names label 4294967297, beyond the 32-bit labels gvr keeps");
+    EXPECT_EQ(errorFor("1 A\n4294967297 B\n"),
+              path + ": line 2 names label 4294967297, beyond the 32-bit labels gvr keeps");
     // Latin-1 names were an internal error (invalid UTF-8) when the grid's JSON was written.
     EXPECT_EQ(errorFor("1 Thalamus\n2 Hippocampe_\xe9\n"), path + ": line 2 is not UTF-8 text");
     test::writeBytes(path, "1 Thalamus\n2 Hippocampe_\xc3\xa9\n");
@@ -70,7 +72,8 @@ TEST(LabelGrid, LabelsOnTheImagesLatticeKeepEverySixteenBitValueAndTheirNames) {
     LabelGridSettings settings;
     settings.names.names[5] = "Thalamus_L";
     settings.names.names[9] = "Absent";
-    const openvdb::Int32Grid::Ptr labels = buildLabelGrid(path, rawOptions({3, 2, 2}, SampleType::Int16), *image, settings);
+    const openvdb::Int32Grid::Ptr labels =
+        buildLabelGrid(path, rawOptions({3, 2, 2}, SampleType::Int16), *image, settings);
     EXPECT_EQ(labels->getName(), kLabelGridName);
     EXPECT_EQ(labels->transform(), image->transform());
     EXPECT_EQ(labels->activeVoxelCount(), 5u);  // 0 stays inactive
@@ -100,14 +103,17 @@ TEST(LabelGrid, NonIntegerNaNAndManyChannelLabelsAreRefused) {
     const std::string nan = errorFor({std::numeric_limits<float>::quiet_NaN(), 1.0f}, 1);
     EXPECT_EQ(nan.rfind(path + ": is not a label volume: voxel 0 holds ", 0), 0u) << nan;
     EXPECT_NE(nan.find("not an integer"), std::string::npos) << nan;
-    EXPECT_EQ(errorFor({1.0f, 2.0f, 3.0f, 1.0f, 2.0f, 3.0f}, 3), path + ": a label volume must have one channel, not 3");
+    EXPECT_EQ(errorFor({1.0f, 2.0f, 3.0f, 1.0f, 2.0f, 3.0f}, 3),
+              path + ": a label volume must have one channel, not 3");
 }
 
 TEST(LabelGrid, LabelsBeyondThirtyTwoBitsAreRefused) {
     test::TempDir dir;
     // Labels above the int32 range once read as "not an integer".
-    std::string labels = "ObjectType = Image\nNDims = 3\nDimSize = 2 2 2\nElementType = MET_DOUBLE\nElementDataFile = LOCAL\n";
-    for (double value : {0.0, 1.0, 3e9, 2.0, 0.0, 0.0, 0.0, 0.0}) labels.append(reinterpret_cast<const char*>(&value), 8);
+    std::string labels =
+        "ObjectType = Image\nNDims = 3\nDimSize = 2 2 2\nElementType = MET_DOUBLE\nElementDataFile = LOCAL\n";
+    for (double value : {0.0, 1.0, 3e9, 2.0, 0.0, 0.0, 0.0, 0.0})
+        labels.append(reinterpret_cast<const char*>(&value), 8);
     test::writeBytes(dir.path("labels.mha"), labels);
     const auto image = test::makeGrid({2, 2, 2}, [](int, int, int) { return 1.0f; });
     const std::string hugeLabel =
@@ -118,7 +124,8 @@ TEST(LabelGrid, LabelsBeyondThirtyTwoBitsAreRefused) {
 
 TEST(LabelGrid, TheLowestThirtyTwoBitLabelIsKept) {
     test::TempDir dir;
-    std::string labels = "ObjectType = Image\nNDims = 3\nDimSize = 2 1 1\nElementType = MET_DOUBLE\nElementDataFile = LOCAL\n";
+    std::string labels =
+        "ObjectType = Image\nNDims = 3\nDimSize = 2 1 1\nElementType = MET_DOUBLE\nElementDataFile = LOCAL\n";
     for (double value : {-2147483648.0, 0.0}) labels.append(reinterpret_cast<const char*>(&value), 8);
     test::writeBytes(dir.path("labels.mha"), labels);
     const auto image = test::makeGrid({2, 1, 1}, [](int, int, int) { return 1.0f; });
@@ -159,8 +166,9 @@ TEST(LabelGrid, AnImageNotFromIngestIsRefused) {
     const std::string path = dir.path("labels.raw");
     test::writeBytes(path, test::rawBytes(std::vector<std::uint8_t>{1, 2}));
     const openvdb::FloatGrid::Ptr bare = openvdb::FloatGrid::create(0.0f);
-    EXPECT_EQ(test::errorMessageOf<InputError>(
-                  [&] { buildLabelGrid(path, rawOptions({2, 1, 1}, SampleType::UInt8), *bare, {}); }),
+    EXPECT_EQ(test::errorMessageOf<InputError>([&] {
+                  buildLabelGrid(path, rawOptions({2, 1, 1}, SampleType::UInt8), *bare, {});
+              }),
               path + ": labels need an image grid written by gvr ingest");
 }
 

@@ -25,8 +25,9 @@ TEST(LabelStyleFile, ReadsStylesAndRefusesMistakes) {
     EXPECT_FALSE(styles.at("37").colour);
     EXPECT_EQ(styles.at("37").opacity, 0.25f);
 
-    for (const char* bad : {R"({"x": {"color": [1, 0]}})", R"({"x": {"color": [2, 0, 0]}})", R"({"x": {"opacity": -1}})",
-                            R"({"x": {"colour": [1, 0, 0]}})", R"({"x": 3})", "[1, 2]", "{oops"}) {
+    for (const char* bad :
+         {R"({"x": {"color": [1, 0]}})", R"({"x": {"color": [2, 0, 0]}})", R"({"x": {"opacity": -1}})",
+          R"({"x": {"colour": [1, 0, 0]}})", R"({"x": 3})", "[1, 2]", "{oops"}) {
         EXPECT_THROW(readLabelStyles(write(bad)), InputError) << bad;
     }
     EXPECT_THROW(readLabelStyles(dir.path("missing.json")), InputError);
@@ -35,7 +36,8 @@ TEST(LabelStyleFile, ReadsStylesAndRefusesMistakes) {
 TEST(LabelStyleFile, OpacityBoundsAreInclusive) {
     test::TempDir dir;
     const std::string path = dir.path("s.json");
-    test::writeBytes(path, R"({"clear": {"opacity": 0}, "loud": {"opacity": 1000}, "both": {"color": [0, 1, 0.5], "opacity": 3}})");
+    test::writeBytes(
+        path, R"({"clear": {"opacity": 0}, "loud": {"opacity": 1000}, "both": {"color": [0, 1, 0.5], "opacity": 3}})");
     const auto styles = readLabelStyles(path);
     ASSERT_EQ(styles.size(), 3u);
     EXPECT_EQ(styles.at("clear").opacity, 0.0f);

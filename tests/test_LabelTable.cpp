@@ -6,7 +6,6 @@
 
 #include <gtest/gtest.h>
 
-
 using namespace gvr;
 
 namespace {
@@ -38,4 +37,3 @@ TEST(LabelTable, UnknownNamesAndIdsListTheValidOnes) {
     EXPECT_NE(selectionError("37,99").find("no structure has label 99; valid: 37 Hippocampus_L"), std::string::npos);
     EXPECT_NE(selectionError(" , ").find("names no structure"), std::string::npos);
 }
-

@@ -48,8 +48,8 @@ TEST(LabelledFit, EachStructureIsFittedAloneAndTheSameWhateverIsFittedBesideIt) 
     const FitSettings settings = quickSettings(10);
 
     std::size_t lastIteration = 0;
-    const LabelledFitResult all = fitStructures(*image, *labels, {{1, 0, 6, {}}, {2, 0, 5, {}}, {7, 0, 4, {}}}, settings,
-                                                [&](const FitProgress& p) { lastIteration = p.iteration; });
+    const LabelledFitResult all = fitStructures(*image, *labels, {{1, 0, 6, {}}, {2, 0, 5, {}}, {7, 0, 4, {}}},
+                                                settings, [&](const FitProgress& p) { lastIteration = p.iteration; });
     ASSERT_EQ(all.structures.size(), 3u);
     EXPECT_EQ(all.structures[0].voxels, 125u);
     EXPECT_EQ(all.structures[1].voxels, 512u);

@@ -4,7 +4,6 @@
 #include "pipeline/LeafAssembly.h"
 
 #include <gtest/gtest.h>
-
 #include <openvdb/openvdb.h>
 
 #include <memory>
@@ -46,10 +45,13 @@ TEST(LeafAssembly, AThousandLeavesFilledConcurrentlyEachHoldTheirOwnValues) {
             for (int x = 0; x < 10; ++x) origins.emplace_back(8 * x, 8 * y, 8 * z);
         }
     }
-    const auto code = [](const openvdb::Coord& origin) { return origin.x() / 8 + 10 * (origin.y() / 8) + 100 * (origin.z() / 8); };
+    const auto code = [](const openvdb::Coord& origin) {
+        return origin.x() / 8 + 10 * (origin.y() / 8) + 100 * (origin.z() / 8);
+    };
     using IntLeaf = openvdb::Int32Grid::TreeType::LeafNodeType;
     const openvdb::Int32Grid::Ptr grid = assembleGrid<openvdb::Int32Grid>(
-        origins, -1, [&](const openvdb::Coord& origin) { return std::make_unique<IntLeaf>(origin, code(origin), true); });
+        origins, -1,
+        [&](const openvdb::Coord& origin) { return std::make_unique<IntLeaf>(origin, code(origin), true); });
     ASSERT_EQ(grid->tree().leafCount(), 1000u);
     for (const openvdb::Coord& origin : origins) {
         const IntLeaf* leaf = grid->tree().probeConstLeaf(origin);
@@ -66,11 +68,12 @@ TEST(LeafAssembly, AddedLeavesReplaceLeavesAlreadyThere) {
     grid->tree().setValueOn(openvdb::Coord(20, 1, 1), 6.0f);
     const ProgressFn silent;
     ProgressCounter counter(silent, 1);
-    addLeaves(*grid, {openvdb::Coord(0, 0, 0)},
-              [](const openvdb::Coord& origin) { return std::make_unique<FloatLeaf>(origin, 2.0f, false); }, counter);
+    addLeaves(
+        *grid, {openvdb::Coord(0, 0, 0)},
+        [](const openvdb::Coord& origin) { return std::make_unique<FloatLeaf>(origin, 2.0f, false); }, counter);
     EXPECT_EQ(grid->tree().leafCount(), 2u);
     EXPECT_EQ(grid->tree().getValue(openvdb::Coord(1, 1, 1)), 2.0f);
-    EXPECT_FALSE(grid->tree().isValueOn(openvdb::Coord(1, 1, 1)));  // the new leaf's state, not a merge
+    EXPECT_FALSE(grid->tree().isValueOn(openvdb::Coord(1, 1, 1)));     // the new leaf's state, not a merge
     EXPECT_EQ(grid->tree().getValue(openvdb::Coord(20, 1, 1)), 6.0f);  // other leaves are untouched
 }
 

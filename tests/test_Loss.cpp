@@ -65,7 +65,12 @@ TEST(Loss, GradientMatchesFiniteDifferences) {
     };
     const float h = 1e-3f;
     for (std::size_t i = 0; i < 2; ++i) {
-        for (auto [group, k] : {std::pair{kMeans, 0}, {kMeans, 2}, {kLogScales, 1}, {kRotations, 1}, {kOpacityLogits, 0}, {kColours, 0}}) {
+        for (auto [group, k] : {std::pair{kMeans, 0},
+                                {kMeans, 2},
+                                {kLogScales, 1},
+                                {kRotations, 1},
+                                {kOpacityLogits, 0},
+                                {kColours, 0}}) {
             const double numeric = (lossWith(group, i, k, h) - lossWith(group, i, k, -h)) / (2.0 * h);
             EXPECT_NEAR(gradient.at(group, i)[k], numeric, 2e-3 * std::max(1.0, std::abs(numeric)))
                 << groupName(group) << "[" << k << "] of Gaussian " << i;

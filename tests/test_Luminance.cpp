@@ -4,7 +4,6 @@
 #include "pipeline/Luminance.h"
 
 #include <gtest/gtest.h>
-
 #include <openvdb/openvdb.h>
 
 #include <array>

@@ -1,6 +1,5 @@
-#include "workflow/MpiTeam.h"
-
 #include "tests/ScopedEnvironment.h"
+#include "workflow/MpiTeam.h"
 
 #include <gtest/gtest.h>
 

@@ -45,7 +45,8 @@ TEST(OptionGuards, NegativeValuesOfUnsignedOptionsAreRefusedNotWrapped) {
     const std::string wrapped = guarded.refusal({"fit", "--count", "-1"});
     EXPECT_NE(wrapped.find("must not be negative, got -1"), std::string::npos) << wrapped;
     EXPECT_NE(Guarded().refusal({"fit", "--count", " -3"}), "") << "leading blanks do not hide the sign";
-    EXPECT_NE(Guarded().refusal({"fit", "deeper", "--nested", "-2"}), "") << "subcommands of subcommands are guarded too";
+    EXPECT_NE(Guarded().refusal({"fit", "deeper", "--nested", "-2"}), "")
+        << "subcommands of subcommands are guarded too";
 }
 
 TEST(OptionGuards, SignedOptionsAndPositiveCountsPass) {

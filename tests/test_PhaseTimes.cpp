@@ -24,9 +24,7 @@ TEST(PhaseTimes, LapsAreInOrderAndAddUpToTheTotal) {
     EXPECT_LT(text.find(" s, fit "), text.find("; total ")) << text;
 }
 
-TEST(PhaseTimes, NoLapsIsATotalOfNothing) {
-    EXPECT_EQ(PhaseTimes().json(), (nlohmann::json{{"total", 0.0}}));
-}
+TEST(PhaseTimes, NoLapsIsATotalOfNothing) { EXPECT_EQ(PhaseTimes().json(), (nlohmann::json{{"total", 0.0}})); }
 
 }  // namespace
 }  // namespace gvr

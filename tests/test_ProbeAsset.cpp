@@ -1,8 +1,8 @@
 // What gvr probe and asset.probe report: the Gaussians' field, or with the residual
 // layer the bounded reconstruction, exact to the bound at voxel centres.
 
-#include "workflow/ComparisonInput.h"
 #include "tests/TestHelpers.h"
+#include "workflow/ComparisonInput.h"
 #include "workflow/ProbeAsset.h"
 
 #include <gtest/gtest.h>

@@ -4,7 +4,6 @@
 #include "pipeline/Progress.h"
 
 #include <gtest/gtest.h>
-
 #include <tbb/parallel_for.h>
 
 #include <vector>

@@ -3,14 +3,12 @@
 // pseudo-terminal stands in for the user's, so what is drawn can be read back.
 // Times and throttled redraws are not asserted: only what is drawn regardless of them.
 
-#include "cli/ProgressBar.h"
-
 #include "cli/Diagnostics.h"
+#include "cli/ProgressBar.h"
 #include "tests/TestHelpers.h"
 
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <poll.h>
 #include <stdlib.h>
 #include <termios.h>
@@ -119,8 +117,8 @@ TEST(ProgressBar, OnATerminalItDrawsTheLabelBarPercentAndDetailAndEndsTheLine) {
     }
     const std::string drawn = terminal.readLine();
     // The label padded to 14 columns, then 15 of 30 cells filled.
-    const std::string start = "\rreading" + std::string(8, ' ') + "[" + std::string(15, '#') + std::string(15, ' ') +
-                              "]  50.0 %  ";
+    const std::string start =
+        "\rreading" + std::string(8, ' ') + "[" + std::string(15, '#') + std::string(15, ' ') + "]  50.0 %  ";
     EXPECT_EQ(drawn.rfind(start, 0), 0u) << drawn;
     EXPECT_NE(drawn.find(" s elapsed, ETA "), std::string::npos) << drawn;
     // Erases what a longer earlier line left, then the line ends as the bar goes.
@@ -132,8 +130,8 @@ TEST(ProgressBar, FractionsAreClampedAndTheEndIsAlwaysDrawn) {
     if (!terminal.ready()) GTEST_SKIP() << "no pseudo-terminal";
     {
         ProgressBar bar("fitting");
-        bar.update(-1.0, "start");      // the first update is always drawn
-        bar.callback()(2.0);            // the end is drawn however soon it follows
+        bar.update(-1.0, "start");  // the first update is always drawn
+        bar.callback()(2.0);        // the end is drawn however soon it follows
     }
     const std::string drawn = terminal.readLine();
     const std::size_t second = drawn.find('\r', 1);

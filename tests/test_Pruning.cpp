@@ -29,9 +29,8 @@ GaussianParameters fourGaussians(const std::array<float, 4>& colours) {
 TEST(Pruning, NegligibleGaussiansGoAndSitesTakeTheirPlaces) {
     GaussianParameters params = fourGaussians({1.0f, 0.001f, -0.8f, 0.0001f});
     Adam adam(4, 1);
-    const std::vector<RespawnSite> sites = {{{1.f, 2.f, 3.f}, {0.3f, 0.f, 0.f}},
-                                            {{4.f, 5.f, 6.f}, {-0.1f, 0.f, 0.f}},
-                                            {{7.f, 8.f, 9.f}, {0.9f, 0.f, 0.f}}};
+    const std::vector<RespawnSite> sites = {
+        {{1.f, 2.f, 3.f}, {0.3f, 0.f, 0.f}}, {{4.f, 5.f, 6.f}, {-0.1f, 0.f, 0.f}}, {{7.f, 8.f, 9.f}, {0.9f, 0.f, 0.f}}};
     const PruneResult result = pruneAndRespawn(params, adam, 0.01, sites);
     EXPECT_EQ(result.removed, 2u);
     EXPECT_EQ(result.respawned, 2u) << "no more than were negligible";
@@ -76,8 +75,8 @@ TEST(Pruning, WithFewerSitesThanNegligibleGaussiansTheWeakestMoveAndTheCountStay
     GaussianParameters params = fourGaussians({0.004f, 1.0f, 0.0002f, 0.001f});
     Adam adam(4, 1);
     EXPECT_EQ(negligibleCount(params, 0.01), 3u);
-    const PruneResult result = pruneAndRespawn(params, adam, 0.01, {{{5.f, 5.f, 5.f}, {0.4f, 0.f, 0.f}},
-                                                                    {{6.f, 6.f, 6.f}, {0.2f, 0.f, 0.f}}});
+    const PruneResult result =
+        pruneAndRespawn(params, adam, 0.01, {{{5.f, 5.f, 5.f}, {0.4f, 0.f, 0.f}}, {{6.f, 6.f, 6.f}, {0.2f, 0.f, 0.f}}});
     EXPECT_EQ(result.removed, 2u);
     EXPECT_EQ(result.respawned, 2u);
     ASSERT_EQ(params.count(), 4u);

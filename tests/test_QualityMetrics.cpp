@@ -97,10 +97,10 @@ TEST(QualityMetrics, SsimFallsWithNoiseAndIsSymmetric) {
 TEST(QualityMetrics, ScalesFallBackForSmallVolumes) {
     SsimSettings settings;
     EXPECT_EQ(msSsimScales({181, 217, 181}, settings), 5);
-    EXPECT_EQ(msSsimScales({256, 240, 1}, settings), 5);     // an image: z is not smoothed
-    EXPECT_EQ(msSsimScales({64, 64, 1}, settings), 3);       // 64 -> 32 -> 16 (-> 8 < 11)
-    EXPECT_EQ(msSsimScales({256, 286, 15}, settings), 1);    // 15 slices: only the first scale
-    EXPECT_EQ(msSsimScales({8, 8, 8}, settings), 1);         // nothing to smooth at all
+    EXPECT_EQ(msSsimScales({256, 240, 1}, settings), 5);   // an image: z is not smoothed
+    EXPECT_EQ(msSsimScales({64, 64, 1}, settings), 3);     // 64 -> 32 -> 16 (-> 8 < 11)
+    EXPECT_EQ(msSsimScales({256, 286, 15}, settings), 1);  // 15 slices: only the first scale
+    EXPECT_EQ(msSsimScales({8, 8, 8}, settings), 1);       // nothing to smooth at all
     const FloatVolume v = smoothVolume({64, 64, 1});
     settings.dataRange = 1000.0;
     const MsSsim small = msSsim(v, withNoise(v, 20.0, 3), settings);
@@ -138,7 +138,8 @@ namespace {
 
 FloatVolume rgbaImage(const std::vector<std::array<float, 4>>& pixels) {
     FloatVolume image(openvdb::Coord(int(pixels.size()), 1, 1), 4);
-    for (std::size_t p = 0; p < pixels.size(); ++p) std::copy(pixels[p].begin(), pixels[p].end(), image.values.begin() + 4 * p);
+    for (std::size_t p = 0; p < pixels.size(); ++p)
+        std::copy(pixels[p].begin(), pixels[p].end(), image.values.begin() + 4 * p);
     return image;
 }
 
@@ -176,8 +177,9 @@ TEST(RenderingDifference, ShowsPerPixelTheErrorThatRenderingErrorAverages) {
         for (int c = 0; c < 3; ++c) sum += std::pow(difference.values[4 * p + c] / gain, 2.0);
     }
     EXPECT_NEAR(sum / (3.0 * error.coveredPixels), 0.5 * (error.overBlack + error.overWhite), 1e-6);
-    EXPECT_THROW(renderingDifference(FloatVolume(openvdb::Coord(2, 1, 1), 3), FloatVolume(openvdb::Coord(2, 1, 1), 3), gain),
-                 std::invalid_argument);
+    EXPECT_THROW(
+        renderingDifference(FloatVolume(openvdb::Coord(2, 1, 1), 3), FloatVolume(openvdb::Coord(2, 1, 1), 3), gain),
+        std::invalid_argument);
 }
 
 }  // namespace

@@ -37,4 +37,3 @@ TEST(Quantisation, TheLargestQuaternionComponentIsRecoveredFromTheOtherThree) {
     completeQuaternion(3, over);
     EXPECT_EQ(over[3], 0.0f);
 }
-

@@ -1,7 +1,7 @@
 // Each reader on small files written here, with values and geometry known exactly.
 
-#include "io/guard/ByteOrder.h"
 #include "io/formats/Readers.h"
+#include "io/guard/ByteOrder.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
 
@@ -84,8 +84,8 @@ TEST(RawReader, DefaultSpacingWarns) {
 std::string metaHeader(const std::string& extra, const std::string& dataFile) {
     return "ObjectType = Image\nNDims = 3\nDimSize = 2 2 1\nElementType = MET_SHORT\n"
            "ElementSpacing = 0.5 0.25 3\nOffset = 10 20 30\n"
-           "TransformMatrix = 0 1 0 -1 0 0 0 0 1\n" + extra +
-           "ElementDataFile = " + dataFile + "\n";
+           "TransformMatrix = 0 1 0 -1 0 0 0 0 1\n" +
+           extra + "ElementDataFile = " + dataFile + "\n";
 }
 
 std::string shortSamples(const std::vector<std::int16_t>& values, bool bigEndian) {
@@ -97,8 +97,8 @@ std::string shortSamples(const std::vector<std::int16_t>& values, bool bigEndian
 TEST(MetaImageReader, LocalDataWithOrientationBecomesRas) {
     test::TempDir dir;
     const std::vector<std::int16_t> values{-5, 6, 700, -800};
-    test::writeBytes(dir.path("v.mha"), metaHeader("BinaryDataByteOrderMSB = True\n", "LOCAL") +
-                                            shortSamples(values, true));
+    test::writeBytes(dir.path("v.mha"),
+                     metaHeader("BinaryDataByteOrderMSB = True\n", "LOCAL") + shortSamples(values, true));
     const DenseVolume volume = readMetaImage(dir.path("v.mha"), {});
     for (std::size_t v = 0; v < values.size(); ++v) EXPECT_EQ(volume.data<std::int16_t>()[v], values[v]);
     // LPS: axis i runs along +y (0.5 mm), axis j along -x (0.25 mm); RAS flips x and y.
@@ -132,8 +132,8 @@ TEST(MetaImageReader, DataFilesOutsideTheHeadersFolderNeedPermission) {
     const std::string samples = shortSamples({1, 2, 3, 4}, false);
     test::writeBytes(dir.path("outside.raw"), samples);
     test::writeBytes(dir.path("headers/sub/inside.raw"), samples);
-    for (const std::string& named : {std::string("../outside.raw"), dir.path("outside.raw"),
-                                     std::string("sub/../../outside.raw")}) {
+    for (const std::string& named :
+         {std::string("../outside.raw"), dir.path("outside.raw"), std::string("sub/../../outside.raw")}) {
         test::writeBytes(dir.path("headers/v.mhd"), metaHeader("", named));
         try {
             readMetaImage(dir.path("headers/v.mhd"), {});
@@ -198,7 +198,7 @@ std::string mghBytes() {
     appendWord(bytes, std::int16_t(1), true);                                 // goodRAS
     for (float v : {1.f, 1.f, 2.f}) appendWord(bytes, v, true);               // spacing
     for (float v : {-1.f, 0.f, 0.f, 0.f, 0.f, -1.f, 0.f, 1.f, 0.f}) appendWord(bytes, v, true);
-    for (float v : {5.f, 6.f, 7.f}) appendWord(bytes, v, true);               // c_ras
+    for (float v : {5.f, 6.f, 7.f}) appendWord(bytes, v, true);  // c_ras
     bytes.resize(284, '\0');
     for (int v = 0; v < 8; ++v) bytes.push_back(char(v * 10));
     return bytes;
@@ -233,8 +233,8 @@ TEST(MghReader, AHeaderOfNoFrameIsRefused) {
 }
 
 /// Writes a NIfTI-1 file through nifticlib itself, so the reader meets real output.
-void writeNifti(const std::string& path, const std::vector<std::int64_t>& dims, int datatype,
-                const void* data, double slope, double inter, bool shear) {
+void writeNifti(const std::string& path, const std::vector<std::int64_t>& dims, int datatype, const void* data,
+                double slope, double inter, bool shear) {
     std::int64_t nimDims[8] = {std::int64_t(dims.size())};
     for (std::size_t d = 0; d < dims.size(); ++d) nimDims[d + 1] = dims[d];
     nifti_image* image = nifti_make_new_nim(nimDims, datatype, 1);
@@ -342,8 +342,7 @@ TEST(NiftiReader, ReadsRgb24AsThreeChannels) {
     EXPECT_EQ(volume.data<std::uint8_t>()[4], 255);
 }
 
-void writeImage(const std::string& path, int width, int height, int channels,
-                OIIO::TypeDesc type, const void* pixels) {
+void writeImage(const std::string& path, int width, int height, int channels, OIIO::TypeDesc type, const void* pixels) {
     auto output = OIIO::ImageOutput::create(path);
     ASSERT_TRUE(output);
     OIIO::ImageSpec spec(width, height, channels, type);
@@ -358,8 +357,7 @@ TEST(ImageStackReader, SortsNumericallyAndKeeps16Bits) {
     std::filesystem::create_directory(dir.path("stack"));
     for (int slice : {1, 2, 10}) {
         const std::vector<std::uint16_t> pixels(6, std::uint16_t(slice * 1000));
-        writeImage(dir.path("stack/" + std::to_string(slice) + ".png"), 3, 2, 1,
-                   OIIO::TypeDesc::UINT16, pixels.data());
+        writeImage(dir.path("stack/" + std::to_string(slice) + ".png"), 3, 2, 1, OIIO::TypeDesc::UINT16, pixels.data());
     }
     test::writeBytes(dir.path("stack/README.txt"), "not an image");
     const DenseVolume volume = readVolume(dir.path("stack"), {});
@@ -419,9 +417,10 @@ TEST(ImageStackReader, AlphaNeitherScalesNorZeroesTheValues) {
     ASSERT_EQ(grey.channels, 1);
     EXPECT_EQ(std::vector<std::uint8_t>(grey.data<std::uint8_t>(), grey.data<std::uint8_t>() + 4),
               (std::vector<std::uint8_t>{200, 100, 50, 10}));
-    EXPECT_NE(std::find_if(grey.warnings.begin(), grey.warnings.end(),
-                           [](const std::string& w) { return w.find("alpha channel is ignored") != std::string::npos; }),
-              grey.warnings.end());
+    EXPECT_NE(
+        std::find_if(grey.warnings.begin(), grey.warnings.end(),
+                     [](const std::string& w) { return w.find("alpha channel is ignored") != std::string::npos; }),
+        grey.warnings.end());
     const std::vector<std::uint8_t> rgba = {200, 100, 50, 0, 1, 2, 3, 128, 9, 8, 7, 255, 90, 80, 70, 0};
     writeImage(dir.path("rgba.png"), 2, 2, 4, OIIO::TypeDesc::UINT8, rgba.data());
     const DenseVolume colour = readVolume(dir.path("rgba.png"), {});

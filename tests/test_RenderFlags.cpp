@@ -2,7 +2,6 @@
 // and --size as WIDTHxHEIGHT within the camera's limit.
 
 #include "cli/RenderFlags.h"
-
 #include "pipeline/Error.h"
 #include "render/Camera.h"
 #include "tests/ParseFlags.h"
@@ -64,7 +63,7 @@ TEST(RenderFlags, RenderOffersAutoStacksByDefaultAndViewDoesNot) {
     addStackFlags(withoutAuto, settings);
     EXPECT_THROW(test::parseFlags(withoutAuto, {"--stacks", "auto"}), CLI::ParseError);
 
-    EXPECT_EQ(automaticStacks(1), StackOrientation::View);   // a still: no shear at its own view
+    EXPECT_EQ(automaticStacks(1), StackOrientation::View);    // a still: no shear at its own view
     EXPECT_EQ(automaticStacks(120), StackOrientation::Axes);  // an orbit: stacks built once
 }
 
@@ -86,8 +85,8 @@ TEST(RenderFlags, ImageSizeIsWidthByHeight) {
 }
 
 TEST(RenderFlags, BadImageSizesAreRefusedNamingTheFlag) {
-    for (const std::string bad : {"", "512", "512x", "x512", "512X384", "512*384", "0x10", "10x0", "-5x10",
-                                  "8193x10", "10x8193", "512x384x2", "5e2x10", "99999999999x10"}) {
+    for (const std::string bad : {"", "512", "512x", "x512", "512X384", "512*384", "0x10", "10x0", "-5x10", "8193x10",
+                                  "10x8193", "512x384x2", "5e2x10", "99999999999x10"}) {
         const std::string message = test::errorMessageOf<InputError>([&] { parseImageSize(bad); });
         EXPECT_EQ(message, "--size: '" + bad + "' is not WIDTHxHEIGHT of 1 to 8192 pixels each, e.g. 512x512") << bad;
     }

@@ -1,23 +1,21 @@
 // What render, view and Python draw: an asset or a grid read from a file, and the
 // transfer function a name stands for.
 
+#include "io/asset/AssetExport.h"
 #include "io/asset/AssetFile.h"
 #include "io/formats/GridFile.h"
 #include "io/formats/TransferFunctionFile.h"
+#include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 #include "render/Camera.h"
 #include "tests/TestHelpers.h"
 #include "workflow/FitToBudget.h"
 #include "workflow/RenderInput.h"
 
-#include "io/asset/AssetExport.h"
-#include "io/guard/MemoryBudget.h"
-
 #include <gtest/gtest.h>
 
-#include <limits>
-
 #include <cmath>
+#include <limits>
 
 namespace gvr {
 namespace {
@@ -57,7 +55,8 @@ TEST(RenderInput, AnAssetIsItsGaussiansAndAGridItsVoxels) {
     // Both renderers draw an asset's voxels: what its export holds, every reached voxel active.
     ExportSettings everything;
     everything.threshold = -std::numeric_limits<double>::infinity();
-    const auto exported = openvdb::GridBase::grid<openvdb::FloatGrid>(exportAsset(*asset.asset, everything).grids.front());
+    const auto exported =
+        openvdb::GridBase::grid<openvdb::FloatGrid>(exportAsset(*asset.asset, everything).grids.front());
     const auto& voxels = dynamic_cast<const openvdb::FloatGrid&>(asset.volume->voxels());
     EXPECT_EQ(voxels.transform(), exported->transform());
     EXPECT_NEAR(double(voxels.activeVoxelCount()), double(exported->activeVoxelCount()), 8.0);
@@ -75,14 +74,15 @@ TEST(RenderInput, AnAssetIsItsGaussiansAndAGridItsVoxels) {
 // refused before anything is allocated, naming the file.
 TEST(RenderInput, AnAssetWhoseVoxelsWouldNotFitIsRefused) {
     const Files files;
-    struct Ceiling {  // lifted again even when an assertion fails
+    struct Ceiling {                           // lifted again even when an assertion fails
         Ceiling() { setMemoryCeiling(4096); }  // the 16^3 float voxels need 16 KiB
         ~Ceiling() { setMemoryCeiling(0); }
     };
     std::string message;
     {
         const Ceiling ceiling;
-        message = test::errorMessageOf<InputError>([&] { loadRenderInput(files.asset, "", "", AssetLayers::All, 0.0f, {}); });
+        message =
+            test::errorMessageOf<InputError>([&] { loadRenderInput(files.asset, "", "", AssetLayers::All, 0.0f, {}); });
     }
     EXPECT_NE(message.find(files.asset + ": a volume of 16x16x16 voxels needs"), std::string::npos) << message;
     EXPECT_NE(message.find("to render"), std::string::npos) << message;
@@ -103,10 +103,13 @@ Framebuffer drawn(const RenderVolume& volume, const Classifier& classifier) {
 // A bounded asset is drawn from its reconstruction, cut as ingest cut its source:
 // the source's own image up to the bound, where its Gaussians alone are a preview.
 TEST(RenderInput, ABoundedAssetIsDrawnAsItsSourceUpToTheBound) {
-    const openvdb::GridBase::Ptr source = test::makeGrid({16, 16, 16}, [](int i, int j, int k) {
-        const double r2 = (i - 8.0) * (i - 8.0) + (j - 6.0) * (j - 6.0) + (k - 9.0) * (k - 9.0);
-        return float(100.0 * std::exp(-r2 / 12.0) + ((i + 2 * j + 3 * k) % 5));  // a ball on a ridged floor
-    }, openvdb::Vec3d(1.0), /*threshold=*/3.5);
+    const openvdb::GridBase::Ptr source = test::makeGrid(
+        {16, 16, 16},
+        [](int i, int j, int k) {
+            const double r2 = (i - 8.0) * (i - 8.0) + (j - 6.0) * (j - 6.0) + (k - 9.0) * (k - 9.0);
+            return float(100.0 * std::exp(-r2 / 12.0) + ((i + 2 * j + 3 * k) % 5));  // a ball on a ridged floor
+        },
+        openvdb::Vec3d(1.0), /*threshold=*/3.5);
     const GaussianAsset asset = test::boundedAsset(source, 6, 0.25);
     const std::unique_ptr<RenderVolume> bounded = assetRenderVolume(asset, AssetLayers::All, 0.0f, "asset");
     const std::unique_ptr<RenderVolume> preview = assetRenderVolume(asset, AssetLayers::Gaussians, 0.0f, "asset");
@@ -121,7 +124,8 @@ TEST(RenderInput, ABoundedAssetIsDrawnAsItsSourceUpToTheBound) {
         EXPECT_TRUE(drawnValues.isValueOn(v.getCoord())) << v.getCoord();
         EXPECT_NEAR(drawnValues.getValue(v.getCoord()), *v, 0.25) << v.getCoord();
     }
-    EXPECT_NEAR(double(voxels.activeVoxelCount()), double(original.activeVoxelCount()), 0.05 * original.activeVoxelCount());
+    EXPECT_NEAR(double(voxels.activeVoxelCount()), double(original.activeVoxelCount()),
+                0.05 * original.activeVoxelCount());
 
     const GridRenderVolume sourceVolume(source);
     const Classifier classifier = classifierFor("mri", sourceVolume);
@@ -134,7 +138,8 @@ TEST(RenderInput, ABoundedAssetIsDrawnAsItsSourceUpToTheBound) {
 
 TEST(RenderInput, StructuresOfAGridAreRefusedNamingTheSetting) {
     const Files files;
-    const std::string message = test::errorMessageOf<InputError>([&] { loadRenderInput(files.grid, "4", "", AssetLayers::All, 0.0f, {}); });
+    const std::string message =
+        test::errorMessageOf<InputError>([&] { loadRenderInput(files.grid, "4", "", AssetLayers::All, 0.0f, {}); });
     EXPECT_NE(message.find(files.grid), std::string::npos) << message;
     EXPECT_NE(message.find("`show` and `hide`"), std::string::npos) << message;
 }

@@ -25,7 +25,9 @@ TEST(RenderQuality, AxisStackFramesOfAScanPassTheOneRayRayMarcher) {
     // bench_render's two classifications, of the head's 8-bit values.
     const Classifier surface(TransferFunction({{20.0, {0.90f, 0.80f, 0.70f, 0.0f}},
                                                {60.0, {0.95f, 0.90f, 0.85f, 0.9f}},
-                                               {255.0, {1.0f, 1.0f, 1.0f, 1.0f}}}, "test"), 1);
+                                               {255.0, {1.0f, 1.0f, 1.0f, 1.0f}}},
+                                              "test"),
+                             1);
     const Classifier translucent(TransferFunction({{40.0, {0, 0, 0, 0}}, {250.0, {1, 1, 1, 0.12f}}}, "test"), 1);
     const OrthoCamera camera = makeCamera({30.0, 15.0}, worldCorners(head.worldFromIndex(), head.box()), 512, 512);
     RayMarchSettings antialiased;

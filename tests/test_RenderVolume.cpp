@@ -1,10 +1,9 @@
 // The render volumes: a Gaussian field sampled on a lattice in physical units, its
 // widening of thin Gaussians at constant mass, and grids sampled trilinearly.
 
-#include "render/RenderVolume.h"
-
 #include "pipeline/Error.h"
 #include "pipeline/Trilinear.h"
+#include "render/RenderVolume.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -100,7 +99,8 @@ TEST(GaussianRenderVolume, StatisticsGatheredOnAllCoresAreThoseOfOneAndAreKept) 
         for (int a = 0; a < 3; ++a) params.at(kLogScales, i)[a] = std::log(1.0f + 0.1f * float(i % 5));
         params.at(kColours, i)[0] = 0.1f + 0.03f * float(i);
     }
-    const GaussianRenderVolume shared = volumeOf(params, ValueMapping{}, 0.0f), alone = volumeOf(params, ValueMapping{}, 0.0f);
+    const GaussianRenderVolume shared = volumeOf(params, ValueMapping{}, 0.0f),
+                               alone = volumeOf(params, ValueMapping{}, 0.0f);
     VolumeStatistics oneCore;
     tbb::task_arena(1).execute([&] { oneCore = alone.statistics(); });
     const VolumeStatistics& allCores = shared.statistics();
@@ -170,9 +170,12 @@ TEST(GridRenderVolume, SamplesAlikeInsideLeavesAcrossThemAndInTiles) {
                 EXPECT_NEAR(out[0], expected, 1e-4) << p;
                 const Coord base(int(std::floor(x)), int(std::floor(y)), int(std::floor(z)));
                 const bool oneLeaf = (base.x() & 7) != 7 && (base.y() & 7) != 7 && (base.z() & 7) != 7;
-                if (!oneLeaf) ++across;
-                else if (base.x() >= 16) ++inTile;
-                else ++inLeaf;
+                if (!oneLeaf)
+                    ++across;
+                else if (base.x() >= 16)
+                    ++inTile;
+                else
+                    ++inLeaf;
             }
         }
     }
@@ -227,9 +230,8 @@ TEST(GridRenderVolume, BlocksThatCannotBeSeenAreLeftOutWithTheirNeighboursKept) 
 // the grid's, or from the tree when the lattice is far coarser than the voxels:
 // every way must give the tree's trilinear samples, bit for bit.
 TEST(GridRenderVolume, BlocksSampleAsTheTreeOnAxisTurnedAndCoarseLattices) {
-    const GridRenderVolume volume(test::makeGrid({40, 36, 30}, [](int i, int j, int k) {
-        return float((i * 13 + j * 7 + k * 3) % 17) - 4.5f;
-    }));
+    const GridRenderVolume volume(
+        test::makeGrid({40, 36, 30}, [](int i, int j, int k) { return float((i * 13 + j * 7 + k * 3) % 17) - 4.5f; }));
     const auto accessor = dynamic_cast<const openvdb::FloatGrid&>(volume.voxels()).getConstAccessor();
     openvdb::math::Mat4d alongAxes = openvdb::math::Mat4d::zero();  // lattice x, y, z along grid y, z, x
     alongAxes(0, 1) = 0.8;
@@ -344,15 +346,16 @@ TEST(GridRenderVolume, RefusesOtherValueTypesNamingTheGrid) {
 }
 
 TEST(GridRenderVolume, KeepsTheGridsSpacingAndBox) {
-    const GridRenderVolume volume(test::makeGrid({6, 5, 4}, [](int i, int, int) { return float(i); },
-                                                 openvdb::Vec3d(0.5, 1.0, 2.0)));
+    const GridRenderVolume volume(test::makeGrid(
+        {6, 5, 4}, [](int i, int, int) { return float(i); }, openvdb::Vec3d(0.5, 1.0, 2.0)));
     EXPECT_EQ(volume.channels(), 1);
     EXPECT_DOUBLE_EQ(volume.voxelMm(), 0.5);
     EXPECT_DOUBLE_EQ(volume.worldFromIndex()[1][1], 1.0);
 }
 
 GridRenderVolume rampOn(const openvdb::Vec3d& spacingMm) {
-    return GridRenderVolume(test::makeGrid({4, 4, 4}, [](int i, int j, int k) { return float(i + j + k + 1); }, spacingMm));
+    return GridRenderVolume(test::makeGrid(
+        {4, 4, 4}, [](int i, int j, int k) { return float(i + j + k + 1); }, spacingMm));
 }
 
 TEST(RenderVolume, TheFinestStepMeetsThirtyTwoSamplesAVoxelCrossed) {

@@ -34,7 +34,7 @@ FloatVolume adversarialIntegers(double slope, double intercept, int channels = 1
     std::uniform_int_distribution<int> noise(-300, 300);
     return layerVolume(channels, [&](int i, int j, int k, int c) {
         int sample = i < 6 ? 0 : i < 12 ? 2000 : noise(random);  // air, a step, noise
-        if (j > 9) sample = 3 * k + c;                            // a ramp
+        if (j > 9) sample = 3 * k + c;                           // a ramp
         return float(intercept + slope * sample);
     });
 }
@@ -83,9 +83,9 @@ TEST(ResidualLayer, FloatDataHoldsTheBoundAfterRoundingNearTheFloatRange) {
     std::mt19937 random(3);
     std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
     const FloatVolume source = layerVolume(1, [&](int i, int j, int k, int) {
-        if (i < 3) return j % 2 ? 3e38f : -3e38f;              // the float range's edge, alternating
-        if (i < 6) return FLT_TRUE_MIN * float(j + 1);        // denormals
-        if (i < 9) return 1e6f + unit(random);                // fine detail on a large offset
+        if (i < 3) return j % 2 ? 3e38f : -3e38f;            // the float range's edge, alternating
+        if (i < 6) return FLT_TRUE_MIN * float(j + 1);       // denormals
+        if (i < 9) return 1e6f + unit(random);               // fine detail on a large offset
         return float(k) * 0.37f + (j > 6 ? 1000.0f : 0.0f);  // a ramp with a step
     });
     ASSERT_FALSE(residualDomainOf(source, 1.0, 0.0).integers);
@@ -131,7 +131,8 @@ TEST(ResidualLayer, AirIsPredictedFromItsNeighboursAndDetailFromTheGaussians) {
     FloatVolume prediction = source;
     for (int k = 0; k < kOddDims.z(); ++k)
         for (int j = 0; j < kOddDims.y(); ++j)
-            for (int i = 0; i < kOddDims.x(); ++i) *prediction.at(i, j, k) += i < 8 ? float(7 * ((i + j + k) % 5)) : 0.25f;
+            for (int i = 0; i < kOddDims.x(); ++i)
+                *prediction.at(i, j, k) += i < 8 ? float(7 * ((i + j + k) % 5)) : 0.25f;
     const ResidualDomain domain = residualDomainOf(source, 1.0, 0.0);
     const ResidualLayer layer = encodeResidualLayer(source, prediction, 0.0, domain);
     EXPECT_EQ(layer.predictors[0], ResidualPredictor::Neighbours);  // block (0, 0, 0): all air

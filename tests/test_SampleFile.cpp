@@ -129,18 +129,21 @@ TEST(SampleFile, GzipWithABadCrcOrCutShortIsRefused) {
     badCrc[badCrc.size() - 8] ^= 1;  // the trailer: CRC-32, then the length
     test::writeBytes(path, badCrc);
     DenseVolume volume = int16Volume();
-    const std::string corrupt = test::errorMessageOf<InputError>([&] { readGzipSamples(path, kHeader.size(), true, volume); });
+    const std::string corrupt =
+        test::errorMessageOf<InputError>([&] { readGzipSamples(path, kHeader.size(), true, volume); });
     EXPECT_EQ(corrupt.rfind(path + ": corrupt compressed data (zlib: ", 0), 0u) << corrupt;
 
     test::writeBytes(path, gz.substr(0, gz.size() / 2));
     DenseVolume cutVolume = int16Volume();
-    const std::string cut = test::errorMessageOf<InputError>([&] { readGzipSamples(path, kHeader.size(), true, cutVolume); });
+    const std::string cut =
+        test::errorMessageOf<InputError>([&] { readGzipSamples(path, kHeader.size(), true, cutVolume); });
     EXPECT_EQ(cut.rfind(path + ": truncated", 0), 0u) << cut;
 
     // Every sample is there, but the CRC that vouches for them is cut off.
     test::writeBytes(path, gz.substr(0, gz.size() - 4));
     DenseVolume noTrailer = int16Volume();
-    const std::string trailer = test::errorMessageOf<InputError>([&] { readGzipSamples(path, kHeader.size(), true, noTrailer); });
+    const std::string trailer =
+        test::errorMessageOf<InputError>([&] { readGzipSamples(path, kHeader.size(), true, noTrailer); });
     EXPECT_EQ(trailer, path + ": truncated: the compressed stream ends before its checksum") << trailer;
 }
 
@@ -165,7 +168,8 @@ TEST(SampleFile, DeflatedStreamsThatAreDamagedOrCutAreRefused) {
     };
     std::string badAdler = stream;
     badAdler.back() ^= 1;
-    EXPECT_EQ(errorFor(badAdler), path + ": corrupt compressed voxel data (zlib error " + std::to_string(Z_DATA_ERROR) + ")");
+    EXPECT_EQ(errorFor(badAdler),
+              path + ": corrupt compressed voxel data (zlib error " + std::to_string(Z_DATA_ERROR) + ")");
     // Every sample is there, but the Adler-32 that vouches for them is not.
     EXPECT_EQ(errorFor(stream.substr(0, stream.size() - 4)),
               path + ": truncated: the compressed stream ends before its checksum");

@@ -53,8 +53,8 @@ TEST(SampleTypeDispatch, SamplesReadThroughTheDispatchKeepSignAndNaN) {
     EXPECT_EQ(first(test::makeVolume<std::int16_t>({1, 1, 1}, {-32768}, SampleType::Int16)), -32768.0);
     EXPECT_EQ(first(test::makeVolume<std::uint16_t>({1, 1, 1}, {65535}, SampleType::UInt16)), 65535.0);
     EXPECT_EQ(first(test::makeVolume<std::int8_t>({1, 1, 1}, {-128}, SampleType::Int8)), -128.0);
-    EXPECT_TRUE(std::isnan(first(test::makeVolume<float>({1, 1, 1}, {std::numeric_limits<float>::quiet_NaN()},
-                                                         SampleType::Float32))));
+    EXPECT_TRUE(std::isnan(
+        first(test::makeVolume<float>({1, 1, 1}, {std::numeric_limits<float>::quiet_NaN()}, SampleType::Float32))));
 }
 
 TEST(SampleTypeDispatch, AReferenceResultIsPassedOnNotCopied) {

@@ -1,5 +1,4 @@
 #include "cli/SdlWindow.h"
-
 #include "pipeline/Error.h"
 #include "tests/ScopedEnvironment.h"
 #include "tests/TestHelpers.h"

@@ -15,7 +15,8 @@ std::string asFlags(const std::string& message) {
 
 TEST(SettingNames, RespellsKeysAndValues) {
     EXPECT_EQ(asFlags("`lr` must be positive"), "--lr must be positive");
-    EXPECT_EQ(asFlags("scan.nii: pass `nan_to=VALUE` to replace them"), "scan.nii: pass --nan_to VALUE to replace them");
+    EXPECT_EQ(asFlags("scan.nii: pass `nan_to=VALUE` to replace them"),
+              "scan.nii: pass --nan_to VALUE to replace them");
     EXPECT_EQ(asFlags("`azimuth`/`elevation`: angles"), "--azimuth/--elevation: angles");
     EXPECT_EQ(asFlags("`volume=3` is out of range"), "--volume 3 is out of range");
     EXPECT_EQ(asFlags("no settings here"), "no settings here");

@@ -35,7 +35,8 @@ std::shared_ptr<GridRenderVolume> phantom(float factor = 1.0f) {
 }
 
 Classifier rampClassifier(double top = 1000.0, float opacity = 0.08f) {
-    return Classifier(TransferFunction({{50.0, {0.2f, 0.1f, 0.0f, 0.0f}}, {top, {1.0f, 0.9f, 0.7f, opacity}}}, "test"), 1);
+    return Classifier(TransferFunction({{50.0, {0.2f, 0.1f, 0.0f, 0.0f}}, {top, {1.0f, 0.9f, 0.7f, opacity}}}, "test"),
+                      1);
 }
 
 double imagePsnr(const Framebuffer& a, const Framebuffer& b) {
@@ -102,7 +103,8 @@ TEST(ShearWarp, OpaqueSurfacesLieWhereTheRayMarcherPutsThem) {
     // these views averaged 23.1 dB (22.7, 23.8, 23.6 and 22.3), with values 26.2.
     // Pixels a little coarser than voxels, as at 512 x 512 on a CT volume.
     const auto volume = phantom();
-    const Classifier surface(TransferFunction({{300.0, {0.9f, 0.8f, 0.7f, 0.0f}}, {400.0, {1.0f, 0.9f, 0.8f, 0.95f}}}, "test"), 1);
+    const Classifier surface(
+        TransferFunction({{300.0, {0.9f, 0.8f, 0.7f, 0.0f}}, {400.0, {1.0f, 0.9f, 0.8f, 0.95f}}}, "test"), 1);
     double meanDb = 0.0;
     for (const View view : {View{30, 20}, View{0, 45}, View{-130, -35}, View{70, 10}}) {
         const OrthoCamera camera = cameraFor(*volume, view.azimuthDeg, view.elevationDeg, 48);
@@ -118,7 +120,8 @@ TEST(ShearWarp, SupersampledStacksComeCloserToTheAntialiasedRayMarcherThanOneRay
     // must do at least as well as the ray marcher with one. One stack sample a pixel
     // cannot: the warp resamples it, blurring and aliasing by turns.
     const auto volume = phantom();
-    const Classifier surface(TransferFunction({{300.0, {0.9f, 0.8f, 0.7f, 0.0f}}, {400.0, {1.0f, 0.9f, 0.8f, 0.95f}}}, "test"), 1);
+    const Classifier surface(
+        TransferFunction({{300.0, {0.9f, 0.8f, 0.7f, 0.0f}}, {400.0, {1.0f, 0.9f, 0.8f, 0.95f}}}, "test"), 1);
     RayMarchSettings antialiased;
     antialiased.raysPerSide = kReferenceRaysPerSide;
     ShearWarpSettings once;
@@ -137,7 +140,7 @@ TEST(ShearWarp, SupersampledStacksComeCloserToTheAntialiasedRayMarcherThanOneRay
 }
 
 TEST(ShearWarp, StackSamplesAreSupersampledPixelsNoCoarserThanTheVoxels) {
-    const auto volume = phantom();  // voxels of 1 x 1 x 1.5 mm: a voxel is 1 mm
+    const auto volume = phantom();                                      // voxels of 1 x 1 x 1.5 mm: a voxel is 1 mm
     ShearWarpSettings settings = stacksAcross(StackOrientation::View);  // oblique: off the voxel centres
     settings.supersampling = 2.0;
     // Pixels of about 2.5 mm: 1.25 asked, a voxel taken. Of about 10 mm: 5 asked, twice as fine taken. Of
@@ -160,10 +163,13 @@ TEST(ShearWarp, StackSamplesAreSupersampledPixelsNoCoarserThanTheVoxels) {
 // stripes. Two voxels a sample, as before, scored 23.8 and 21.4 dB here against the
 // one-ray ray marcher's 29.9 and 26.8; a sample a voxel scores 43.6 and 39.7.
 TEST(ShearWarp, ThinSheetsSeenFromAfarLookAsTheAntialiasedRayMarcherSeesThem) {
-    const auto sheets = std::make_shared<GridRenderVolume>(test::makeGrid({48, 40, 28}, [](int i, int j, int k) {
-        const double r = std::hypot(i - 24.0, j - 20.0, k - 14.0);
-        return r < 13.0 && j % 4 == 1 ? 900.0f : 0.0f;
-    }, openvdb::Vec3d(1.0), 1.0));
+    const auto sheets = std::make_shared<GridRenderVolume>(test::makeGrid(
+        {48, 40, 28},
+        [](int i, int j, int k) {
+            const double r = std::hypot(i - 24.0, j - 20.0, k - 14.0);
+            return r < 13.0 && j % 4 == 1 ? 900.0f : 0.0f;
+        },
+        openvdb::Vec3d(1.0), 1.0));
     const Classifier classifier = rampClassifier(1000.0, 0.6f);
     RayMarchSettings antialiased;
     antialiased.raysPerSide = kReferenceRaysPerSide;
@@ -182,9 +188,12 @@ TEST(ShearWarp, ThinSheetsSeenFromAfarLookAsTheAntialiasedRayMarcherSeesThem) {
 // and with slices on the voxel planes, 36.7-44.2 dB here against 40.8-44.7, and
 // stripes on ct-head's base and crown).
 TEST(ShearWarp, ContentCutByTheVolumesFacesLooksAsTheRayMarcherSeesIt) {
-    const auto volume = std::make_shared<GridRenderVolume>(test::makeGrid({32, 28, 20}, [](int i, int j, int k) {
-        return k < 3 || k > 17 ? float(500.0 + 300.0 * std::sin(0.3 * i) * std::cos(0.25 * j + 0.4 * k)) : 0.0f;
-    }, openvdb::Vec3d(1.0), 1.0));
+    const auto volume = std::make_shared<GridRenderVolume>(test::makeGrid(
+        {32, 28, 20},
+        [](int i, int j, int k) {
+            return k < 3 || k > 17 ? float(500.0 + 300.0 * std::sin(0.3 * i) * std::cos(0.25 * j + 0.4 * k)) : 0.0f;
+        },
+        openvdb::Vec3d(1.0), 1.0));
     const Classifier classifier = rampClassifier();
     for (const View view : {View{30, 20}, View{-130, -35}, View{70, 10}}) {
         const OrthoCamera camera = cameraFor(*volume, view.azimuthDeg, view.elevationDeg, 40);
@@ -374,7 +383,8 @@ TEST(ShearWarp, DataAndTransferFunctionsOfAnyFiniteScaleRenderAlike) {
     const OrthoCamera camera = cameraFor(*unit, 30, 20, 48);
     const Classifier ramp = rampClassifier();
     // Points and pre-integrated segments alike.
-    for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::Axes), segmentsAcross(StackOrientation::Axes)}) {
+    for (const ShearWarpSettings& settings :
+         {stacksAcross(StackOrientation::Axes), segmentsAcross(StackOrientation::Axes)}) {
         const Framebuffer expected = ShearWarpRenderer(*unit, ramp, settings).render(camera);
         for (const float factor : {1e-36f, 1e-30f, 1e-3f, 1e30f, 3e35f}) {
             const auto scaled = phantom(factor);
@@ -398,14 +408,16 @@ TEST(ShearWarp, TransferFunctionsAtTheEndsOfTheDoubleRangeAreSafe) {
     const OrthoCamera camera = cameraFor(*volume, 30, 20, 32);
     const std::array<float, 4> clear{0, 0, 0, 0}, white{1, 1, 1, 0.5f};
     using Points = std::vector<TransferPoint>;
-    for (const Points& points : {Points{{-1e308, clear}, {1e308, white}}, Points{{300.0, clear}, {std::nextafter(300.0, 1e9), white}},
-                                 Points{{0.0, clear}, {5e-324, white}}, Points{{-1e-300, clear}, {1e-300, white}},
-                                 Points{{1e300, clear}, {1e308, white}}, Points{{-1e308, white}, {-1e300, clear}},
-                                 // Every value of the data lies 1e302 levels beyond, where the codes of
-                                 // a slice stop (64 spans out): stretches still integrate in floats.
-                                 Points{{1e-300, clear}, {2e-300, white}}}) {
+    for (const Points& points :
+         {Points{{-1e308, clear}, {1e308, white}}, Points{{300.0, clear}, {std::nextafter(300.0, 1e9), white}},
+          Points{{0.0, clear}, {5e-324, white}}, Points{{-1e-300, clear}, {1e-300, white}},
+          Points{{1e300, clear}, {1e308, white}}, Points{{-1e308, white}, {-1e300, clear}},
+          // Every value of the data lies 1e302 levels beyond, where the codes of
+          // a slice stop (64 spans out): stretches still integrate in floats.
+          Points{{1e-300, clear}, {2e-300, white}}}) {
         const Classifier classifier(TransferFunction(points, "extreme"), 1);
-        for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::Axes), segmentsAcross(StackOrientation::Axes)}) {
+        for (const ShearWarpSettings& settings :
+             {stacksAcross(StackOrientation::Axes), segmentsAcross(StackOrientation::Axes)}) {
             const Framebuffer image = ShearWarpRenderer(*volume, classifier, settings).render(camera);
             expectAValidImage(image, std::to_string(points.front().value));
         }
@@ -423,7 +435,8 @@ TEST(ShearWarp, OpacitiesDownToAFloatsLeastAreSafe) {
     const OrthoCamera camera = cameraFor(*volume, 30, 20, 32);
     for (const float opacity : {std::numeric_limits<float>::denorm_min(), 1e-40f, std::numeric_limits<float>::min()}) {
         const Classifier faint(TransferFunction({{0.0, {1, 1, 1, 0}}, {1000.0, {1, 1, 1, opacity}}}, "faint"), 1);
-        for (const ShearWarpSettings& settings : {stacksAcross(StackOrientation::Axes), segmentsAcross(StackOrientation::Axes)}) {
+        for (const ShearWarpSettings& settings :
+             {stacksAcross(StackOrientation::Axes), segmentsAcross(StackOrientation::Axes)}) {
             const Framebuffer image = ShearWarpRenderer(*volume, faint, settings).render(camera);
             expectAValidImage(image, std::to_string(opacity));
             EXPECT_LT(test::opacitySum(image), 1e-3) << opacity;
@@ -447,7 +460,8 @@ TEST(ShearWarp, BadSettingsAndCamerasAreRefused) {
         EXPECT_NE(settings.validate().find("`supersample`"), std::string::npos) << supersampling;
     }
     EXPECT_TRUE(ShearWarpSettings{}.validate().empty());
-    const auto corners = worldCorners(openvdb::math::Mat4d::identity(), openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(9)));
+    const auto corners =
+        worldCorners(openvdb::math::Mat4d::identity(), openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(9)));
     EXPECT_THROW(makeCamera({0, 0}, corners, 0, 64), InputError);
     EXPECT_THROW(makeCamera({NAN, 0}, corners, 64, 64), InputError);
     EXPECT_THROW(presetTransferFunction("bone", VolumeStatistics{}), InputError);
@@ -492,7 +506,8 @@ TEST(ShearWarp, BandsThinnerThanASliceAreSeenAsTheRayMarcherSeesThem) {
         const Framebuffer exact = middleOf(finelyMarched(ramp, band, camera));
         EXPECT_GT(test::opacitySum(exact), 100.0) << "the bands must be seen";
         for (const StackOrientation orientation : {StackOrientation::Axes, StackOrientation::View}) {
-            const Framebuffer segments = middleOf(ShearWarpRenderer(ramp, band, segmentsAcross(orientation)).render(camera));
+            const Framebuffer segments =
+                middleOf(ShearWarpRenderer(ramp, band, segmentsAcross(orientation)).render(camera));
             EXPECT_NEAR(test::opacitySum(segments) / test::opacitySum(exact), 1.0, 0.01) << view.azimuthDeg;
             EXPECT_GE(imagePsnr(segments, exact), 35.0) << view.azimuthDeg;
         }
@@ -508,7 +523,8 @@ TEST(ShearWarp, ASteepRampShowsNoSliceRings) {
     // A shell 1.5 slices thick with steep edges, tilted across the slices: one or two
     // samples of each ray fall in it, by turns across the image, unless the
     // stretches between samples are integrated.
-    const GridRenderVolume tilted(test::makeGrid({32, 32, 32}, [](int i, int, int k) { return 40.0f * (k + 0.3f * i); }));
+    const GridRenderVolume tilted(
+        test::makeGrid({32, 32, 32}, [](int i, int, int k) { return 40.0f * (k + 0.3f * i); }));
     const Classifier shell = bandClassifier(800.0, 860.0, 0.3f);
     const OrthoCamera camera = cameraFor(tilted, 0, 90, 64);
     // The spread of opacity over the middle of the image, away from the volume's edges.
@@ -525,7 +541,8 @@ TEST(ShearWarp, ASteepRampShowsNoSliceRings) {
         middleOf(ShearWarpRenderer(tilted, shell, segmentsAcross(StackOrientation::View)).render(camera));
     EXPECT_LT(ringDepth(segments), 0.01f);
     EXPECT_GE(imagePsnr(segments, exact), 40.0);
-    const Framebuffer points = middleOf(ShearWarpRenderer(tilted, shell, stacksAcross(StackOrientation::View)).render(camera));
+    const Framebuffer points =
+        middleOf(ShearWarpRenderer(tilted, shell, stacksAcross(StackOrientation::View)).render(camera));
     EXPECT_GT(ringDepth(points), 0.1f) << "the test must see rings where they are";
     EXPECT_LT(imagePsnr(points, exact), 30.0);
 }
@@ -551,10 +568,13 @@ TEST(ShearWarp, ColoursBlendBeforeTheyAreClassifiedAsTheRayMarcherBlendsThem) {
     // Classified samples blend the opacities of neighbouring voxels, not their
     // luminance, and widen the surface: these views covered 4.2 and 2.5 % more than
     // the ray marcher's, where a stack of colours covers 0.1 and 0.3 % less or more.
-    const auto tissue = std::make_shared<GridRenderVolume>(test::makeColourGrid(kPhantomDims, [](int i, int j, int k) {
-        const float dark = 0.2f * phantomAt(i, j, k), ripple = 30.0f * float(std::sin(0.4 * i + 0.3 * j));
-        return openvdb::Vec3s(255.0f - dark, 240.0f - dark + ripple, 230.0f - 1.1f * dark - ripple);
-    }, openvdb::Vec3s(255.0f, 240.0f, 230.0f)));
+    const auto tissue = std::make_shared<GridRenderVolume>(test::makeColourGrid(
+        kPhantomDims,
+        [](int i, int j, int k) {
+            const float dark = 0.2f * phantomAt(i, j, k), ripple = 30.0f * float(std::sin(0.4 * i + 0.3 * j));
+            return openvdb::Vec3s(255.0f - dark, 240.0f - dark + ripple, 230.0f - 1.1f * dark - ripple);
+        },
+        openvdb::Vec3s(255.0f, 240.0f, 230.0f)));
     // Opaque below a luminance of 170, about a density of 350; the ground is clear.
     const Classifier surface(TransferFunction({{160.0, {1, 1, 1, 0.95f}}, {180.0, {1, 1, 1, 0.0f}}}, "test"), 3,
                              1.0 / 255.0);
@@ -592,10 +612,13 @@ TEST(ShearWarp, RaysStopAtTheVolumesFacesAcrossTheSlicesRowsToo) {
 
 /// A blob in 12^3 voxels of @a spacingMm, on a transparent surround.
 GridRenderVolume blobOn(const openvdb::Vec3d& spacingMm) {
-    return GridRenderVolume(test::makeGrid({12, 12, 12}, [](int i, int j, int k) {
-        const double r2 = (i - 5.5) * (i - 5.5) + (j - 5.5) * (j - 5.5) + (k - 5.5) * (k - 5.5);
-        return float(800.0 * std::exp(-r2 / 12.0));
-    }, spacingMm));
+    return GridRenderVolume(test::makeGrid(
+        {12, 12, 12},
+        [](int i, int j, int k) {
+            const double r2 = (i - 5.5) * (i - 5.5) + (j - 5.5) * (j - 5.5) + (k - 5.5) * (k - 5.5);
+            return float(800.0 * std::exp(-r2 / 12.0));
+        },
+        spacingMm));
 }
 
 // Stacks and rays once sampled every axis at the shortest voxel edge: with 1e6 x 1 x 1
@@ -618,7 +641,8 @@ TEST(ShearWarp, VeryUnequalVoxelsRenderAsTheRayMarcherSeesThem) {
             const std::string what = std::to_string(xMm) + " mm along x, azimuth " + std::to_string(view.azimuthDeg);
             expectAValidImage(rayMarch(volume, classifier, camera, RayMarchSettings{}), what);
             for (const StackOrientation orientation : {StackOrientation::Axes, StackOrientation::View}) {
-                expectAValidImage(ShearWarpRenderer(volume, classifier, stacksAcross(orientation)).render(camera), what);
+                expectAValidImage(ShearWarpRenderer(volume, classifier, stacksAcross(orientation)).render(camera),
+                                  what);
             }
         }
     }

@@ -2,12 +2,11 @@
 // empty space, including the hollows inside a body, for classified samples and
 // for values.
 
-#include "render/SliceStack.h"
-
 #include "pipeline/Error.h"
 #include "pipeline/Luminance.h"
 #include "render/Camera.h"
 #include "render/ShearWarp.h"
+#include "render/SliceStack.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -38,7 +37,8 @@ TEST(SliceStack, GreyVolumesKeepValuesAndOtherStacksClassifiedSamples) {
     EXPECT_NE(values.valueLevels(), nullptr);
     // Two layers combine their classified samples; so does a visible background,
     // whose values outside the volume would be wrongly seen.
-    const SliceStack layered({{&ball, shellClassifier()}, {&ball, shellClassifier()}}, openvdb::Vec3d(0, 0, 1), 1.0, 1.0);
+    const SliceStack layered({{&ball, shellClassifier()}, {&ball, shellClassifier()}}, openvdb::Vec3d(0, 0, 1), 1.0,
+                             1.0);
     EXPECT_EQ(layered.content(), StackContent::Classified);
     EXPECT_EQ(layered.valueLevels(), nullptr);
     const Classifier fog(TransferFunction({{0.0, {1, 1, 1, 0.01f}}, {1000.0, {1, 1, 1, 0.5f}}}, "test"), 1);
@@ -50,10 +50,13 @@ TEST(SliceStack, GreyVolumesKeepValuesAndOtherStacksClassifiedSamples) {
 // spacing asked (resampled apart, colour and opacity came out paler).
 TEST(SliceStack, ColourVolumesKeepTheirColoursOnTheVoxelCentres) {
     const openvdb::Vec3s paper(250.0f, 240.0f, 230.0f);
-    const GridRenderVolume section(test::makeColourGrid({20, 16, 12}, [&](int i, int j, int k) {
-        const float dark = hollowBallAt(i, j, k) / 5.0f;
-        return openvdb::Vec3s(paper[0] - dark, paper[1] - 1.2f * dark, paper[2] - 1.1f * dark);
-    }, paper));
+    const GridRenderVolume section(test::makeColourGrid(
+        {20, 16, 12},
+        [&](int i, int j, int k) {
+            const float dark = hollowBallAt(i, j, k) / 5.0f;
+            return openvdb::Vec3s(paper[0] - dark, paper[1] - 1.2f * dark, paper[2] - 1.1f * dark);
+        },
+        paper));
     const Classifier darkIsDense(TransferFunction({{50.0, {1, 1, 1, 0.5f}}, {200.0, {1, 1, 1, 0.0f}}}, "test"), 3,
                                  1.0 / 250.0);
     const SliceStack onCentres(section, darkIsDense, openvdb::Vec3d(0, 0, 1), 1.0, 1.0);
@@ -74,8 +77,9 @@ TEST(SliceStack, ColourVolumesKeepTheirColoursOnTheVoxelCentres) {
                                                int(std::floor(index.z())));
                     const double below = index.z() - voxel.z();  // slices lie off the voxel planes
                     const auto at = [&](int dz) {
-                        return dynamic_cast<const openvdb::Vec3SGrid&>(section.voxels()).getConstAccessor().getValue(
-                            voxel.offsetBy(0, 0, dz));
+                        return dynamic_cast<const openvdb::Vec3SGrid&>(section.voxels())
+                            .getConstAccessor()
+                            .getValue(voxel.offsetBy(0, 0, dz));
                     };
                     const openvdb::Vec3s value = at(0) * float(1.0 - below) + at(1) * float(below);
                     const StackSample& sample = slice.samples[run.offset + i - run.begin];
@@ -118,9 +122,9 @@ TEST(SliceStack, SamplesAlongAVolumesAxesFallOnItsVoxelCentres) {
         bool xOnCentres, zOnCentres;
     };
     // Asked coarser than the voxels, samples keep to them, but never more than twice as fine as asked (4.4).
-    for (const Case c : {Case{0.78, 1.0, 0.78, true, false}, Case{0.7, 0.7, 0.75, false, true},
-                         Case{1.2, 1.0, 1.5, true, true}, Case{2.2, 1.0, 1.5, true, true},
-                         Case{4.4, 2.0, 2.2, true, false}, Case{0.45, 0.5, 0.5, true, true}}) {
+    for (const Case c :
+         {Case{0.78, 1.0, 0.78, true, false}, Case{0.7, 0.7, 0.75, false, true}, Case{1.2, 1.0, 1.5, true, true},
+          Case{2.2, 1.0, 1.5, true, true}, Case{4.4, 2.0, 2.2, true, false}, Case{0.45, 0.5, 0.5, true, true}}) {
         const SliceStack stack(volume, shellClassifier(), openvdb::Vec3d(0, 1, 0), 1.0, c.askedMm);
         const StackGeometry& g = stack.geometry();
         const int xAxis = std::abs(g.e1.x()) > 0.5 ? 0 : 1;  // which of e1 and e2 runs along x
@@ -129,7 +133,10 @@ TEST(SliceStack, SamplesAlongAVolumesAxesFallOnItsVoxelCentres) {
         // The slices lie a voxel (1 mm) apart, a quarter of a voxel off the voxel planes.
         EXPECT_DOUBLE_EQ(g.sliceMm, 1.0);
         for (int k = 0; k < g.slices; ++k) {
-            const double y = volume.worldFromIndex().inverse().transform(g.lattice().worldFromIndex.transform(openvdb::Vec3d(0, 0, k))).y();
+            const double y = volume.worldFromIndex()
+                                 .inverse()
+                                 .transform(g.lattice().worldFromIndex.transform(openvdb::Vec3d(0, 0, k)))
+                                 .y();
             EXPECT_NEAR(y - std::floor(y), 0.25, 1e-9) << k;
         }
         // On the voxel centres, or on them and evenly between them.
@@ -145,8 +152,7 @@ TEST(SliceStack, SamplesAlongAVolumesAxesFallOnItsVoxelCentres) {
         }
     }
     // Off the volume's axes, the spacings asked, or the least voxel edge where that is finer.
-    const StackGeometry oblique =
-        SliceStack(volume, shellClassifier(), openvdb::Vec3d(1, 2, 0.5), 1.0, 0.8).geometry();
+    const StackGeometry oblique = SliceStack(volume, shellClassifier(), openvdb::Vec3d(1, 2, 0.5), 1.0, 0.8).geometry();
     EXPECT_EQ(oblique.sampleMm, openvdb::Vec2d(0.8));
     EXPECT_DOUBLE_EQ(oblique.sliceMm, 1.0);
     EXPECT_EQ(SliceStack(volume, shellClassifier(), openvdb::Vec3d(1, 2, 0.5), 1.0, 1.7).geometry().sampleMm,
@@ -177,9 +183,12 @@ TEST(SliceStack, VeryUnequalVoxelsTakeNoMoreSlicesThanRaysCanCross) {
     const int mostSlices = 32 * (12 + 12 + 12) + 2;
     for (const openvdb::Vec3d spacing : {openvdb::Vec3d(1e-6, 1.0, 1.0), openvdb::Vec3d(1e6, 1.0, 1.0)}) {
         const GridRenderVolume volume(test::makeGrid({12, 12, 12}, hollowBallAt, spacing));
-        for (const openvdb::Vec3d normal : {openvdb::Vec3d(1, 0, 0), openvdb::Vec3d(0, 1, 0), openvdb::Vec3d(1, 1, 1)}) {
-            const OrthoCamera camera = makeCamera({30, 20}, worldCorners(volume.worldFromIndex(), volume.box()), 64, 64);
-            const SliceStack stack(volume, shellClassifier(), normal, 1.0, ShearWarpSettings{}.sampleMmFor(camera, volume));
+        for (const openvdb::Vec3d normal :
+             {openvdb::Vec3d(1, 0, 0), openvdb::Vec3d(0, 1, 0), openvdb::Vec3d(1, 1, 1)}) {
+            const OrthoCamera camera =
+                makeCamera({30, 20}, worldCorners(volume.worldFromIndex(), volume.box()), 64, 64);
+            const SliceStack stack(volume, shellClassifier(), normal, 1.0,
+                                   ShearWarpSettings{}.sampleMmFor(camera, volume));
             EXPECT_LE(stack.geometry().slices, mostSlices) << spacing << " along " << normal;
         }
     }
@@ -205,8 +214,8 @@ TEST(SliceStack, APreviewTakesTheSpacingAskedHoweverCoarse) {
 // on a colour section. Their stacks take the spacing asked.
 TEST(SliceStack, ClassifiedSamplesTakeTheSpacingAskedAlongTheAxesToo) {
     const GridRenderVolume volume(test::makeGrid({20, 16, 12}, hollowBallAt, openvdb::Vec3d(1.0, 1.0, 1.5)));
-    const SliceStack layered({{&volume, shellClassifier()}, {&volume, shellClassifier()}}, openvdb::Vec3d(0, 1, 0),
-                             1.0, 0.78);
+    const SliceStack layered({{&volume, shellClassifier()}, {&volume, shellClassifier()}}, openvdb::Vec3d(0, 1, 0), 1.0,
+                             0.78);
     ASSERT_EQ(layered.valueLevels(), nullptr);
     EXPECT_EQ(layered.geometry().sampleMm, openvdb::Vec2d(0.78));
     EXPECT_FALSE(onVoxelCentre(indexOfSample(layered, volume, 3, 3).x()) &&
@@ -284,11 +293,14 @@ std::size_t checkVisibleCellsAreKept(const SliceStack& stack) {
         // The ball's grid has the world's axes and origin: index space is world space.
         const double z = lattice.worldFromIndex.transform(openvdb::Vec3d(0, 0, k)).z();
         const int below = int(std::floor(z));
-        const auto valueAt = [&](int i, int j, int plane) { return plane < 0 || plane >= 40 ? 0.0 : hollowBallAt(i, j, plane); };
+        const auto valueAt = [&](int i, int j, int plane) {
+            return plane < 0 || plane >= 40 ? 0.0 : hollowBallAt(i, j, plane);
+        };
         const auto codeAt = [&](int i, int j) {
             if (i < 1 || j < 1 || i > 40 || j > 40) return int(slice.coding.code(0.0f));
             const double t = z - below;
-            return int(slice.coding.code(float((1 - t) * valueAt(i - 1, j - 1, below) + t * valueAt(i - 1, j - 1, below + 1))));
+            return int(slice.coding.code(
+                float((1 - t) * valueAt(i - 1, j - 1, below) + t * valueAt(i - 1, j - 1, below + 1))));
         };
         // Each row's stored codes by column, -1 where the row keeps none.
         std::vector<int> stored(kSide * kSide, -1);
@@ -298,14 +310,16 @@ std::size_t checkVisibleCellsAreKept(const SliceStack& stack) {
                 // The neighbours on either side are the row's own, or the background beyond it.
                 EXPECT_NEAR(slice.codes[run.offset - 1], codeAt(int(run.begin) - 1, j), 1);
                 EXPECT_NEAR(slice.codes[run.offset + run.end - run.begin], codeAt(int(run.end), j), 1);
-                for (std::uint32_t i = run.begin; i < run.end; ++i) stored[j * kSide + i] = slice.codes[run.offset + i - run.begin];
+                for (std::uint32_t i = run.begin; i < run.end; ++i)
+                    stored[j * kSide + i] = slice.codes[run.offset + i - run.begin];
             }
         }
         for (int j = 0; j + 1 < kSide; ++j) {
             for (int i = 0; i + 1 < kSide; ++i) {
                 const int corners[4] = {codeAt(i, j), codeAt(i + 1, j), codeAt(i, j + 1), codeAt(i + 1, j + 1)};
                 const auto levelOf = [&](int code) { return ValueLevels::nearest(slice.coding.level(float(code))); };
-                const int lo = levelOf(*std::min_element(corners, corners + 4)), hi = levelOf(*std::max_element(corners, corners + 4));
+                const int lo = levelOf(*std::min_element(corners, corners + 4)),
+                          hi = levelOf(*std::max_element(corners, corners + 4));
                 if (!levels.anyVisibleLevel(lo, hi)) continue;
                 ++visibleCells;
                 // Within a code: the stack interpolates in floats, this check in doubles.
@@ -325,8 +339,10 @@ TEST(SliceStack, RowsOfValuesKeepEveryCellThatCanBeSeenWithItsNeighbours) {
     EXPECT_GT(checkVisibleCellsAreKept(SliceStack(ball, shellClassifier(), openvdb::Vec3d(0, 0, 1), 1.0, 1.0)), 1000u);
     // Only a band of values can be seen: a cell whose corners lie below and above it
     // holds values that can, though none of its corners can.
-    const Classifier band(TransferFunction({{400.0, {1, 1, 1, 0}}, {401.0, {1, 1, 1, 0.5f}}, {420.0, {1, 1, 1, 0.5f}},
-                                            {421.0, {1, 1, 1, 0}}}, "test"), 1);
+    const Classifier band(
+        TransferFunction(
+            {{400.0, {1, 1, 1, 0}}, {401.0, {1, 1, 1, 0.5f}}, {420.0, {1, 1, 1, 0.5f}}, {421.0, {1, 1, 1, 0}}}, "test"),
+        1);
     EXPECT_GT(checkVisibleCellsAreKept(SliceStack(ball, band, openvdb::Vec3d(0, 0, 1), 1.0, 1.0)), 1000u);
 }
 
@@ -353,11 +369,19 @@ TEST(SliceStack, SegmentsKeepTheSlicesOnEitherSideOfABandThatFallsBetweenThem) {
     // Values rise 100 a voxel along z; two bands fall between slices: 3 and 4, inside
     // a slab of eight, and 7 and 8, across two slabs (the first slab's last slice
     // waits for the second's first).
-    const GridRenderVolume ramp(test::makeGrid({12, 12, 24}, [](int, int, int k) { return 100.0f * k; },
-                                               openvdb::Vec3d(1.0), -1.0));
+    const GridRenderVolume ramp(test::makeGrid(
+        {12, 12, 24}, [](int, int, int k) { return 100.0f * k; }, openvdb::Vec3d(1.0), -1.0));
     const std::array<float, 4> clear{1, 1, 1, 0}, seen{1, 1, 1, 0.5f};
-    const Classifier bands(TransferFunction({{329.0, clear}, {330.0, seen}, {360.0, seen}, {361.0, clear},
-                                             {729.0, clear}, {730.0, seen}, {760.0, seen}, {761.0, clear}}, "test"), 1);
+    const Classifier bands(TransferFunction({{329.0, clear},
+                                             {330.0, seen},
+                                             {360.0, seen},
+                                             {361.0, clear},
+                                             {729.0, clear},
+                                             {730.0, seen},
+                                             {760.0, seen},
+                                             {761.0, clear}},
+                                            "test"),
+                           1);
     const openvdb::Vec3d up(0, 0, 1);
     SegmentViews segments{Classification::Segments, 0.0};
     const SliceStack stack(ramp, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::Voxels, segments);
@@ -368,23 +392,25 @@ TEST(SliceStack, SegmentsKeepTheSlicesOnEitherSideOfABandThatFallsBetweenThem) {
     EXPECT_TRUE(slicesWithRuns(SliceStack(ramp, bands, up, 1.0, 1.0)).empty());
     // A view off the normal reaches further across from one slice to the next: the
     // slices keep a margin around the samples they would keep for a view along it.
-    const GridRenderVolume step(test::makeGrid({24, 24, 24}, [](int i, int, int k) { return i < 12 ? 0.0f : 100.0f * k; },
-                                               openvdb::Vec3d(1.0), -1.0));
+    const GridRenderVolume step(test::makeGrid(
+        {24, 24, 24}, [](int i, int, int k) { return i < 12 ? 0.0f : 100.0f * k; }, openvdb::Vec3d(1.0), -1.0));
     const auto keptInRow = [](const SliceStack& s, int k, int j) {
         const Slice& slice = s.slices()[k];
         std::uint32_t count = 0;
-        for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r) count += slice.runs[r].end - slice.runs[r].begin;
+        for (std::uint32_t r = slice.rowRuns[j]; r < slice.rowRuns[j + 1]; ++r)
+            count += slice.runs[r].end - slice.runs[r].begin;
         return count;
     };
     segments.maxAngleDeg = 45.0;  // one sample across a slice spacing
-    const SliceStack along(step, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::Voxels, {Classification::Segments, 0.0});
+    const SliceStack along(step, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::Voxels,
+                           {Classification::Segments, 0.0});
     const SliceStack oblique(step, bands, up, 1.0, 1.0, {}, nullptr, StackSampling::Voxels, segments);
     EXPECT_EQ(keptInRow(oblique, 7, 12), keptInRow(along, 7, 12) + 1);
 }
 
 TEST(SliceStack, ValueLevelsSpanTheTransferFunctionAndKnowWhereItCanBeSeen) {
-    const ValueLevels levels(TransferFunction({{-1000.0, {0, 0, 0, 0}}, {0.0, {0, 0, 0, 0}}, {3095.0, {1, 1, 1, 1}}},
-                                              "test"), 2.0);
+    const ValueLevels levels(
+        TransferFunction({{-1000.0, {0, 0, 0, 0}}, {0.0, {0, 0, 0, 0}}, {3095.0, {1, 1, 1, 1}}}, "test"), 2.0);
     EXPECT_EQ(levels.levelOf(-5000.0f), 0);
     EXPECT_EQ(levels.levelOf(-1000.0f), 0);
     EXPECT_EQ(levels.levelOf(3095.0f), ValueLevels::kCount - 1);

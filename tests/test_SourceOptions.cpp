@@ -1,9 +1,8 @@
 // The source flags of ingest and info: what CLI11 parses into SourceFlags, and how
 // toIngestOptions() checks them together and refuses, naming the flag.
 
-#include "cli/SourceOptions.h"
-
 #include "cli/Diagnostics.h"
+#include "cli/SourceOptions.h"
 #include "pipeline/Error.h"
 #include "tests/ParseFlags.h"
 #include "tests/TestHelpers.h"
@@ -44,10 +43,31 @@ TEST(SourceOptions, EveryFlagReachesTheIngestOptions) {
     SourceFlags flags;
     CLI::App app;
     addSourceFlags(app, flags);
-    test::parseFlags(app, {"--volume", "2", "--spacing", "0.5,0.75,2", "--raw-dims", "4,5,6", "--raw-type", "int16",
-                "--endian", "big", "--header-bytes", "352", "--raw-channels", "3", "--threshold", "10",
-                "--threshold-above", "200", "--flip", "j,k", "--nan-to", "-1", "--modality", "CT",
-                "--data-files-anywhere"});
+    test::parseFlags(app, {"--volume",
+                           "2",
+                           "--spacing",
+                           "0.5,0.75,2",
+                           "--raw-dims",
+                           "4,5,6",
+                           "--raw-type",
+                           "int16",
+                           "--endian",
+                           "big",
+                           "--header-bytes",
+                           "352",
+                           "--raw-channels",
+                           "3",
+                           "--threshold",
+                           "10",
+                           "--threshold-above",
+                           "200",
+                           "--flip",
+                           "j,k",
+                           "--nan-to",
+                           "-1",
+                           "--modality",
+                           "CT",
+                           "--data-files-anywhere"});
     const IngestOptions options = toIngestOptions(flags);
     EXPECT_EQ(options.read.volumeIndex, 2);
     ASSERT_TRUE(options.read.spacingMm);
@@ -77,8 +97,8 @@ TEST(SourceOptions, WithoutThresholdTheCommandKeepsThatFlag) {
 }
 
 TEST(SourceOptions, ChoicesAreCheckedWhileParsing) {
-    for (const std::vector<const char*>& bad : std::vector<std::vector<const char*>>{
-             {"--endian", "middle"}, {"--raw-channels", "2"}, {"--volume", "-1"}}) {
+    for (const std::vector<const char*>& bad :
+         std::vector<std::vector<const char*>>{{"--endian", "middle"}, {"--raw-channels", "2"}, {"--volume", "-1"}}) {
         SourceFlags flags;
         CLI::App app;
         addSourceFlags(app, flags);
@@ -95,7 +115,8 @@ TEST(SourceOptions, RawFlagsComeTogether) {
     EXPECT_EQ(refusal(typeOnly), "--raw-type: needs --raw-dims as well");
     SourceFlags unknownType = dimsOnly;
     unknownType.rawType = "uint12";
-    EXPECT_EQ(refusal(unknownType).rfind("--raw-type: unsupported sample type 'uint12'", 0), 0u) << refusal(unknownType);
+    EXPECT_EQ(refusal(unknownType).rfind("--raw-type: unsupported sample type 'uint12'", 0), 0u)
+        << refusal(unknownType);
 }
 
 TEST(SourceOptions, BadValuesAreRefusedNamingTheFlag) {

@@ -16,7 +16,8 @@ TEST(StreamSeed, IsAFunctionOfSeedPurposeAndIndexAlone) {
     for (std::uint64_t seed : {0ull, 1ull, 1ull << 32}) {
         for (std::uint64_t purpose : {1ull, 2ull, 3ull}) {
             for (std::uint64_t index : {0ull, 1ull, 2ull, 1ull << 32, (1ull << 32) + 1}) {
-                EXPECT_TRUE(seen.insert(streamSeed(seed, purpose, index)).second) << seed << " " << purpose << " " << index;
+                EXPECT_TRUE(seen.insert(streamSeed(seed, purpose, index)).second)
+                    << seed << " " << purpose << " " << index;
             }
         }
     }

@@ -1,9 +1,8 @@
 // A labelled asset as render layers: each styled structure on its own layer with
 // its style, the rest with the base classification, and styles that cannot apply refused.
 
-#include "render/StyledLayers.h"
-
 #include "pipeline/Error.h"
+#include "render/StyledLayers.h"
 
 #include <gtest/gtest.h>
 

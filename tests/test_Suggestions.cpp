@@ -14,7 +14,7 @@ namespace {
 const std::vector<std::string> kCommands = {"fit", "info", "export", "eval", "render"};
 
 TEST(Suggestions, NearestNameByEditsOrByAUniquePrefix) {
-    EXPECT_EQ(closestName("fti", kCommands), "fit");      // two edits
+    EXPECT_EQ(closestName("fti", kCommands), "fit");       // two edits
     EXPECT_EQ(closestName("rendr", kCommands), "render");  // one edit
     EXPECT_EQ(closestName("exp", kCommands), "export");    // three edits from both, but the only name it begins
     EXPECT_EQ(closestName("zzzzzzzz", kCommands), "");

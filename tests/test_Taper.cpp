@@ -22,8 +22,8 @@ TEST(Taper, TheWeightsOfNeighboursAddUpToOneAcrossTheirFace) {
         const openvdb::Coord ijk(x, 7, 7);
         EXPECT_NEAR(bricks[0].at(ijk) + bricks[1].at(ijk), 1.0f, 1e-6f) << x;
     }
-    EXPECT_EQ(bricks[0].at({2, 7, 7}), 1.0f);   // far from the face
-    EXPECT_EQ(bricks[0].at({25, 7, 7}), 0.0f);  // beyond the fade, in the other brick
+    EXPECT_EQ(bricks[0].at({2, 7, 7}), 1.0f);                       // far from the face
+    EXPECT_EQ(bricks[0].at({25, 7, 7}), 0.0f);                      // beyond the fade, in the other brick
     EXPECT_GT(bricks[0].at({15, 7, 7}), bricks[0].at({16, 7, 7}));  // falling across the face
 }
 

@@ -44,7 +44,9 @@ TEST(TeamFit, AloneItMergesWhatTheBrickPartsWouldGive) {
 
     // Parts as a job array's tasks write them and gvr merge reads them.
     const BrickPlan plan = planBrickedFit(target, "blobs", options, {2, 4});
-    const auto part = [&](std::size_t b) { return decodeAsset(fileBytes(fitBrickPart(grid, "blobs", plan, b, 0.0)), "part"); };
+    const auto part = [&](std::size_t b) {
+        return decodeAsset(fileBytes(fitBrickPart(grid, "blobs", plan, b, 0.0)), "part");
+    };
     const GaussianAsset merged = mergeBrickParts({part(0), part(1)}, {"0", "1"});
     EXPECT_EQ(fileBytes(fit.result.asset), fileBytes(merged));
     EXPECT_EQ(observed, (std::vector<std::size_t>{0, 1}));
@@ -64,8 +66,9 @@ TEST(TeamFit, AFailedBrickIsNamedWithItsRank) {
     const openvdb::GridBase::Ptr grid = blobGrid();
     const VolumeTarget target(grid, "blobs");
     const test::ScopedEnvironment failBrick("GVR_TEST_FAIL_BRICK", "1");
-    const std::string message =
-        test::errorMessageOf<InputError>([&] { fitAllBricks(SoloTeam(), grid, target, "blobs", iterationOptions(), {2, 4}); });
+    const std::string message = test::errorMessageOf<InputError>([&] {
+        fitAllBricks(SoloTeam(), grid, target, "blobs", iterationOptions(), {2, 4});
+    });
     EXPECT_NE(message.find("brick 1 (rank 0)"), std::string::npos) << message;
     EXPECT_NE(message.find("failed on purpose"), std::string::npos) << message;
 }
@@ -80,9 +83,9 @@ TEST(TeamFit, MeasuredAcrossTheTeamItIsTheWholeVolumesMeasure) {
 
     const GaussianAsset asset = decodeAsset(saved, "saved");
     const BrickSeams seams(fit.layout, kSeamWidth);
-    const FieldAccuracy whole =
-        measureFieldAccuracy(GaussianField(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas), target, {},
-                             [&](const openvdb::Coord& ijk) { return seams.near(ijk); }, defaultExportCut(asset));
+    const FieldAccuracy whole = measureFieldAccuracy(
+        GaussianField(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas), target, {},
+        [&](const openvdb::Coord& ijk) { return seams.near(ijk); }, defaultExportCut(asset));
     EXPECT_NEAR(across.psnr, whole.psnr, 1e-9);
     EXPECT_NEAR(across.markedPsnr, whole.markedPsnr, 1e-9);
     EXPECT_EQ(across.markedVoxels, whole.markedVoxels);
@@ -98,13 +101,16 @@ TEST(TeamFit, OneBrickRecordsItsRunAndRefusesAnIndexBeyondTheCount) {
     EXPECT_EQ(run.iterations, 12u);
     EXPECT_EQ(run.gaussians, part.params.count());
 
-    const std::string beyond =
-        test::errorMessageOf<InputError>([&] { fitOneBrick(grid, target, "blobs", iterationOptions(), {2, 4}, 2); });
+    const std::string beyond = test::errorMessageOf<InputError>([&] {
+        fitOneBrick(grid, target, "blobs", iterationOptions(), {2, 4}, 2);
+    });
     EXPECT_NE(beyond.find("`brick`: 2 is not below `of=2`"), std::string::npos) << beyond;
 
     GaussianAsset noRun = part;
     noRun.fitSettings["brick"].erase("run");
-    EXPECT_NE(test::errorMessageOf<InputError>([&] { brickRunOf(noRun, "old.part"); }).find("old.part: corrupt brick run record"),
+    EXPECT_NE(test::errorMessageOf<InputError>([&] {
+                  brickRunOf(noRun, "old.part");
+              }).find("old.part: corrupt brick run record"),
               std::string::npos);
 }
 

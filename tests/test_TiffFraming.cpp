@@ -61,7 +61,8 @@ private:
     void addPage(bool last) {
         const int strips = mShape.stripsPerPage;
         const std::uint64_t entries = 8;
-        const std::uint64_t directoryBytes = (mShape.bigTiff ? 8 : 2) + entries * (mShape.bigTiff ? 20 : 12) + wordBytes();
+        const std::uint64_t directoryBytes =
+            (mShape.bigTiff ? 8 : 2) + entries * (mShape.bigTiff ? 20 : 12) + wordBytes();
         const std::uint64_t tables = strips > 1 ? 2 * 4 * strips : 0;  // two LONG tables, outside when they do not fit
         const bool tablesOutside = strips * 4 > wordBytes();
         const std::uint64_t tableAt = mBytes.size() + directoryBytes;
@@ -147,8 +148,9 @@ TEST(TiffFraming, TheMessageNamesThePageThatIsMissing) {
     // After the 8-byte header, each page is a 102-byte directory and 4 bytes of pixels.
     ASSERT_EQ(whole.size(), 8u + 3 * 106);
     EXPECT_EQ(tiffFramingError(dir.path("cut.tif"), whole.substr(0, 8 + 2 * 106 + 20)),
-              dir.path("cut.tif") + ": truncated TIFF: page 3's directory at byte 220 runs past the end of the file "
-                                    "(240 bytes)");
+              dir.path("cut.tif") +
+                  ": truncated TIFF: page 3's directory at byte 220 runs past the end of the file "
+                  "(240 bytes)");
     EXPECT_EQ(tiffFramingError(dir.path("cut.tif"), whole.substr(0, whole.size() - 1)),
               dir.path("cut.tif") + ": truncated TIFF: page 3's pixel data runs to byte 326, the file has 325");
 }

@@ -18,7 +18,8 @@ TEST(TransferFunction, InterpolatesAndHoldsItsEnds) {
 }
 
 TEST(TransferFunction, TransparentUpToTheLastZeroOpacityPoint) {
-    EXPECT_EQ(TransferFunction({{10, {0, 0, 0, 0}}, {20, {1, 1, 1, 0}}, {30, {1, 1, 1, 1}}}, "t").transparentUpTo(), 20.0);
+    EXPECT_EQ(TransferFunction({{10, {0, 0, 0, 0}}, {20, {1, 1, 1, 0}}, {30, {1, 1, 1, 1}}}, "t").transparentUpTo(),
+              20.0);
     EXPECT_EQ(TransferFunction({{10, {0, 0, 0, 0.1f}}, {30, {1, 1, 1, 1}}}, "t").transparentUpTo(), -INFINITY);
     EXPECT_EQ(TransferFunction({{10, {0, 0, 0, 0}}, {30, {1, 1, 1, 0}}}, "t").transparentUpTo(), INFINITY);
 }

@@ -47,9 +47,9 @@ TEST(TransferPresets, TheDefaultFollowsTheData) {
 
 TEST(TransferPresets, BoneIsTransparentBelowItsWindowAndOpaqueAboveIt) {
     const TransferFunction bone = presetTransferFunction("ct-bone", statisticsOf({-1024.0f, 0.0f, 1500.0f}, -1024.0));
-    EXPECT_EQ(bone(0.0)[3], 0.0f);     // soft tissue
-    EXPECT_EQ(bone(-1000.0)[3], 0.0f); // air
-    EXPECT_GT(bone(1000.0)[3], 0.0f);  // cortical bone
+    EXPECT_EQ(bone(0.0)[3], 0.0f);      // soft tissue
+    EXPECT_EQ(bone(-1000.0)[3], 0.0f);  // air
+    EXPECT_GT(bone(1000.0)[3], 0.0f);   // cortical bone
 }
 
 TEST(TransferPresets, AnUnknownPresetIsNamedAndThePresetsListed) {
@@ -62,7 +62,8 @@ TEST(TransferPresets, AnUnknownPresetIsNamedAndThePresetsListed) {
         return std::string("accepted");
     }();
     EXPECT_NE(message.find("bones"), std::string::npos) << message;
-    for (const char* preset : {"ct", "ct-bone", "mri", "rgb"}) EXPECT_NE(message.find(preset), std::string::npos) << message;
+    for (const char* preset : {"ct", "ct-bone", "mri", "rgb"})
+        EXPECT_NE(message.find(preset), std::string::npos) << message;
 }
 
 }  // namespace

@@ -23,11 +23,13 @@ std::vector<Visit> cornersOf(const openvdb::Vec3d& x) {
 
 TEST(Trilinear, ReproducesALinearFunctionAndItsCorners) {
     const auto linear = [](const openvdb::Vec3d& p) { return 2.0 * p[0] - 3.0 * p[1] + 0.5 * p[2] + 7.0; };
-    for (const openvdb::Vec3d x : {openvdb::Vec3d(1.25, 2.5, 3.75), openvdb::Vec3d(-0.5, -1.25, -7.9), openvdb::Vec3d(0, 0, 0.5)}) {
+    for (const openvdb::Vec3d x :
+         {openvdb::Vec3d(1.25, 2.5, 3.75), openvdb::Vec3d(-0.5, -1.25, -7.9), openvdb::Vec3d(0, 0, 0.5)}) {
         double sum = 0.0, weights = 0.0;
         for (const Visit& v : cornersOf(x)) {
             EXPECT_GT(v.weight, 0.0);
-            for (int a = 0; a < 3; ++a) EXPECT_LE(std::abs(double(v.corner[a]) - x[a]), 1.0) << "a corner beyond the cell";
+            for (int a = 0; a < 3; ++a)
+                EXPECT_LE(std::abs(double(v.corner[a]) - x[a]), 1.0) << "a corner beyond the cell";
             sum += v.weight * linear(v.corner.asVec3d());
             weights += v.weight;
         }

@@ -16,7 +16,8 @@ namespace {
 
 std::string writtenGrid(const test::TempDir& dir) {
     const std::string path = dir.path("grid.vdb");
-    writeGridFile(path, {test::makeGrid({20, 18, 9}, [](int i, int j, int k) { return float(std::sin(0.3 * i) * j + k); })});
+    writeGridFile(path,
+                  {test::makeGrid({20, 18, 9}, [](int i, int j, int k) { return float(std::sin(0.3 * i) * j + k); })});
     return path;
 }
 

@@ -277,7 +277,8 @@ TEST(ViewSession, AViewAtRestIsDrawnAgainFromTheFinerStillStack) {
     // stack serves, it is drawn at once, built no more.
     const OrthoCamera turned = cameraFor(*volume, 35.0);
     FrameStats moved;
-    EXPECT_EQ(session.render(turned, &moved).rgba, ShearWarpRenderer(scene->layers, movingSettings()).render(turned).rgba);
+    EXPECT_EQ(session.render(turned, &moved).rgba,
+              ShearWarpRenderer(scene->layers, movingSettings()).render(turned).rgba);
     EXPECT_FALSE(moved.still);
     EXPECT_TRUE(session.stillPending());
     session.refineAtRest(turned);

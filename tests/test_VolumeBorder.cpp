@@ -3,7 +3,6 @@
 #include "pipeline/VolumeBorder.h"
 
 #include <gtest/gtest.h>
-
 #include <openvdb/openvdb.h>
 
 namespace gvr {
@@ -30,7 +29,8 @@ TEST(VolumeBorder, SeesOnlyTheFaces) {
 TEST(VolumeBorder, MedianBeatsAMinorityOfOutliers) {
     // One face of 12 x 12 out of six bright: the median stays with the other five.
     const openvdb::CoordBBox box(openvdb::Coord(-3, 4, 10), openvdb::Coord(8, 15, 21));
-    const double median = borderMedian(box, [&](const openvdb::Coord& ijk) { return ijk.x() == box.min().x() ? 1e9 : 5.0; });
+    const double median =
+        borderMedian(box, [&](const openvdb::Coord& ijk) { return ijk.x() == box.min().x() ? 1e9 : 5.0; });
     EXPECT_EQ(median, 5.0);
 }
 

@@ -1,9 +1,8 @@
 // Presets fitted to a render volume: the default for the data, names in any case,
 // the word on a preset that does not suit the data, and the colour scale.
 
-#include "render/VolumeClassifier.h"
-
 #include "pipeline/Error.h"
+#include "render/VolumeClassifier.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -15,7 +14,8 @@ namespace {
 
 /// An MRI-like grey volume: 0 to 200, nothing below zero, so not CT in HU.
 GridRenderVolume greyVolume() {
-    return GridRenderVolume(test::makeGrid({20, 20, 20}, [](int i, int j, int k) { return float(i + j + k) * 200.0f / 57.0f; }));
+    return GridRenderVolume(
+        test::makeGrid({20, 20, 20}, [](int i, int j, int k) { return float(i + j + k) * 200.0f / 57.0f; }));
 }
 
 bool samePoints(const TransferFunction& a, const TransferFunction& b) {
@@ -42,9 +42,7 @@ TEST(VolumeClassifier, SaysWhenAPresetDoesNotSuitTheData) {
     EXPECT_NE(mismatch.find("Hounsfield"), std::string::npos) << mismatch;
 }
 
-TEST(VolumeClassifier, RefusesAnUnknownPreset) {
-    EXPECT_THROW(presetFor(greyVolume(), "x-ray-vision"), InputError);
-}
+TEST(VolumeClassifier, RefusesAnUnknownPreset) { EXPECT_THROW(presetFor(greyVolume(), "x-ray-vision"), InputError); }
 
 TEST(VolumeClassifier, ScalesColoursByTheVolumesLargestValue) {
     openvdb::Vec3SGrid::Ptr colour = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));

@@ -1,16 +1,13 @@
 // What ingest records on a grid must come back field for field, absent optionals
 // must stay absent, and the helpers on placement matrices must measure what they say.
 
+#include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"
 
-#include "pipeline/Error.h"
-
 #include <gtest/gtest.h>
-
-#include <cmath>
-
 #include <openvdb/openvdb.h>
 
+#include <cmath>
 #include <cstdint>
 
 namespace gvr {

@@ -1,16 +1,14 @@
 // The -o rule that ingest and export share: the options, the removed --format and
 // its message, and how written files are reported as JSON and as lines.
 
-#include "cli/VolumeOutputOptions.h"
-
 #include "cli/Diagnostics.h"
+#include "cli/VolumeOutputOptions.h"
 #include "pipeline/Error.h"
 #include "tests/ParseFlags.h"
 #include "tests/TestHelpers.h"
 
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -109,12 +107,13 @@ TEST(VolumeOutputOptions, JsonGivesNiftiStorageOnlyForNifti) {
 }
 
 TEST(VolumeOutputOptions, PrintsALinePerFileAndWarnsOfClampedSamples) {
-    const Printed run = printed({{"a.vdb", VolumeFileFormat::Vdb, 2048, 0}, {"a.nii.gz", VolumeFileFormat::Nifti, 512, 3}},
-                               int16Storage());
+    const Printed run = printed(
+        {{"a.vdb", VolumeFileFormat::Vdb, 2048, 0}, {"a.nii.gz", VolumeFileFormat::Nifti, 512, 3}}, int16Storage());
     EXPECT_EQ(run.out,
               "wrote a.vdb (2 KiB)\n"
               "wrote a.nii.gz (512 B): NIfTI, int16, scl_slope 2, scl_inter -1024, sform code 2, qform code 1\n");
-    EXPECT_EQ(run.err, "gvr: warning: a.nii.gz: 3 samples were clamped into int16's range (pass --float32 to keep them)\n");
+    EXPECT_EQ(run.err,
+              "gvr: warning: a.nii.gz: 3 samples were clamped into int16's range (pass --float32 to keep them)\n");
 }
 
 TEST(VolumeOutputOptions, SaysWhyANiftiIsFloat32) {

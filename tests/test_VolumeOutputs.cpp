@@ -37,8 +37,9 @@ TEST(VolumeOutputs, OutputsAreCheckedBeforeAnyWork) {
     EXPECT_NO_THROW(checkVolumeOutputs("-o", {vdb, nifti}, {}));
     EXPECT_EQ(test::errorMessageOf<InputError>([&] { checkVolumeOutputs("-o", {}, {}); }),
               "-o: an output file is required");
-    const std::string twice = test::errorMessageOf<InputError>(
-        [&] { checkVolumeOutputs("-o", {vdb, dir.path("b.VDB")}, {}); });
+    const std::string twice = test::errorMessageOf<InputError>([&] {
+        checkVolumeOutputs("-o", {vdb, dir.path("b.VDB")}, {});
+    });
     EXPECT_EQ(twice.rfind("-o: two outputs of the same format (" + dir.path("b.VDB") + ")", 0), 0u) << twice;
     EXPECT_EQ(test::errorMessageOf<InputError>([&] { checkVolumeOutputs("-o", {dir.path("missing/a.vdb")}, {}); }),
               "-o " + dir.path("missing/a.vdb") + ": output folder does not exist");

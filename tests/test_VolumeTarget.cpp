@@ -34,8 +34,8 @@ TEST(VolumeTarget, BlockGradientsAreThePointGradientsIncludingAtFacesAndEdges) {
 TEST(VolumeTarget, ValuesSpanningMoreThanFloatHoldsAreRefused) {
     // A float32 NIfTI holding +-3.4028234e38 was fitted, and its asset's value
     // mapping, 6.8e38 wide, was then refused by every reader.
-    const openvdb::GridBase::Ptr extremes =
-        test::makeGrid({8, 8, 8}, [](int i, int, int) { return i < 4 ? -FLT_MAX : FLT_MAX; }, openvdb::Vec3d(1.0), -FLT_MAX);
+    const openvdb::GridBase::Ptr extremes = test::makeGrid(
+        {8, 8, 8}, [](int i, int, int) { return i < 4 ? -FLT_MAX : FLT_MAX; }, openvdb::Vec3d(1.0), -FLT_MAX);
     const std::string message = test::errorMessageOf<InputError>([&] { VolumeTarget(extremes, "limits.nii"); });
     EXPECT_NE(message.find("limits.nii: values span "), std::string::npos) << message;
     EXPECT_NE(message.find("wider than float32 can hold"), std::string::npos) << message;

@@ -21,7 +21,8 @@ openvdb::FloatGrid::Ptr patchwork() {
     auto accessor = grid->getAccessor();
     for (int i = -12; i < 12; ++i) {
         for (int j = -12; j < 12; ++j) {
-            for (int k = -12; k < 12; ++k) accessor.setValue(Coord(i, j, k), float((i * 31 + j * 17 + k * 7) % 23) * 0.37f);
+            for (int k = -12; k < 12; ++k)
+                accessor.setValue(Coord(i, j, k), float((i * 31 + j * 17 + k * 7) % 23) * 0.37f);
         }
     }
     grid->tree().fill(CoordBBox(Coord(16, -8, -8), Coord(31, 7, 7)), 40.0f);  // whole leaves: tiles
@@ -81,7 +82,8 @@ openvdb::Vec3SGrid::Ptr colourDiagonal() {
     auto grid = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.1f, 0.2f, 0.3f));
     auto writer = grid->getAccessor();
     for (int i = 0; i < 10; ++i) {
-        for (int j = 0; j < 10; ++j) writer.setValue(Coord(i, j, i - j), openvdb::Vec3s(float(i), float(j), 0.5f * float(i + j)));
+        for (int j = 0; j < 10; ++j)
+            writer.setValue(Coord(i, j, i - j), openvdb::Vec3s(float(i), float(j), 0.5f * float(i + j)));
     }
     return grid;
 }
@@ -141,7 +143,8 @@ TEST(VoxelBrick, SamplesTheFloatRangesEndsAndDenormalsAsTheTree) {
     expectSamplesAsTheTree(grid, brick, {-0.5, -0.5, -0.5}, {12.0, 3.0, 4.0}, {0.25, 0.5, 0.5});
     // Blended axis by axis, too: lerp by lerp the same doubles.
     expectAlongAxesAsEachSample(brick, stepsFrom<openvdb::FloatGrid>(-0.5, 1.7, 8),
-                                stepsFrom<openvdb::FloatGrid>(2.9, -0.4, 8), stepsFrom<openvdb::FloatGrid>(-0.3, 0.6, 8));
+                                stepsFrom<openvdb::FloatGrid>(2.9, -0.4, 8),
+                                stepsFrom<openvdb::FloatGrid>(-0.3, 0.6, 8));
 }
 
 // A block whose samples run along the grid's axes blends its brick axis by axis,
@@ -164,7 +167,8 @@ TEST(VoxelBrick, BlendsAlongTheAxesAsSampleBySample) {
     VoxelBrick<openvdb::Vec3SGrid> colourBrick;
     colourBrick.fill(*colourDiagonal(), CoordBBox(Coord(-1, -1, -11), Coord(11, 11, 11)));
     expectAlongAxesAsEachSample(colourBrick, stepsFrom<openvdb::Vec3SGrid>(0.2, 1.1, 8),
-                                stepsFrom<openvdb::Vec3SGrid>(9.4, -0.9, 7), stepsFrom<openvdb::Vec3SGrid>(-9.9, 2.3, 8));
+                                stepsFrom<openvdb::Vec3SGrid>(9.4, -0.9, 7),
+                                stepsFrom<openvdb::Vec3SGrid>(-9.9, 2.3, 8));
 }
 
 }  // namespace

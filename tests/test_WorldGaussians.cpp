@@ -3,9 +3,8 @@
 // shear. Eigenvectors have arbitrary signs, so the tests compare covariances, not
 // quaternions.
 
-#include "pipeline/WorldGaussians.h"
-
 #include "pipeline/GaussianKernel.h"
+#include "pipeline/WorldGaussians.h"
 #include "tests/TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -128,7 +127,8 @@ TEST(WorldGaussians, ShearedPlacementMapsTheCovariance) {
         Mat3 index{};
         for (int r = 0; r < 3; ++r) {
             for (int c = 0; c < 3; ++c) {
-                for (int k = 0; k < 3; ++k) index[r][c] += double(a.rotation[3 * r + k]) * a.rotation[3 * c + k] / a.invVariance[k];
+                for (int k = 0; k < 3; ++k)
+                    index[r][c] += double(a.rotation[3 * r + k]) * a.rotation[3 * c + k] / a.invVariance[k];
             }
         }
         Mat3 expected{};

@@ -1,9 +1,9 @@
 // zfp streams, the reference codec's container: what goes in comes back within the
 // tolerance, a rate sets the size, and a damaged file is named, never decoded.
 
-#include "workflow/ZfpStream.h"
 #include "pipeline/Error.h"
 #include "tests/TestHelpers.h"
+#include "workflow/ZfpStream.h"
 
 #include <gtest/gtest.h>
 

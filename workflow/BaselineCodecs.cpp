@@ -3,11 +3,11 @@
 #include "io/DenseCopy.h"
 #include "io/GridBuilder.h"
 #include "io/formats/GridFile.h"
-#include "workflow/ZfpStream.h"
 #include "pipeline/BoxAverage.h"
 #include "pipeline/Error.h"
 #include "pipeline/FloatVolume.h"
 #include "pipeline/VolumeMetadata.h"
+#include "workflow/ZfpStream.h"
 
 #include <algorithm>
 #include <chrono>
@@ -24,10 +24,11 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-constexpr std::pair<BaselineMethod, const char*> kMethodNames[] = {
-    {BaselineMethod::ZfpAccuracy, "zfp-accuracy"}, {BaselineMethod::ZfpRate, "zfp-rate"},
-    {BaselineMethod::VdbBlosc, "vdb-blosc"},       {BaselineMethod::VdbHalf, "vdb-half"},
-    {BaselineMethod::Downsample, "downsample"}};
+constexpr std::pair<BaselineMethod, const char*> kMethodNames[] = {{BaselineMethod::ZfpAccuracy, "zfp-accuracy"},
+                                                                   {BaselineMethod::ZfpRate, "zfp-rate"},
+                                                                   {BaselineMethod::VdbBlosc, "vdb-blosc"},
+                                                                   {BaselineMethod::VdbHalf, "vdb-half"},
+                                                                   {BaselineMethod::Downsample, "downsample"}};
 
 /// The largest magnitude a half float holds.
 constexpr double kHalfMax = 65504.0;
@@ -116,8 +117,10 @@ Encoded searchTolerance(const FloatVolume& samples, std::uint64_t target, bool& 
     if (attempt(small) < target && attempt(large) > target) {
         while (attempts < kMostAttempts && !close()) {
             const double middle = 0.5 * (small + large);
-            if (attempt(middle) > target) large = middle;
-            else small = middle;
+            if (attempt(middle) > target)
+                large = middle;
+            else
+                small = middle;
         }
     }
     matched = close();
@@ -148,8 +151,8 @@ void writeVdbStream(const openvdb::GridBase& source, const FloatVolume& samples,
                     const std::string& streamPath, BaselineResult& result) {
     const float largest = largestMagnitude(samples);
     if (asHalf && largest > kHalfMax) {
-        throw InputError("grid '" + source.getName() + "'", "holds magnitudes up to " + std::to_string(largest) +
-                                                                ", beyond half precision's 65504");
+        throw InputError("grid '" + source.getName() + "'",
+                         "holds magnitudes up to " + std::to_string(largest) + ", beyond half precision's 65504");
     }
     const auto start = Clock::now();
     if (asHalf) {
@@ -195,8 +198,8 @@ void writeDownsampledStream(const openvdb::GridBase& source, const FloatVolume& 
     // Beyond the longest axis every factor gives one coarse voxel, and its sums would overflow.
     const int longest = std::max({samples.dims.x(), samples.dims.y(), samples.dims.z()});
     if (factor > longest) {
-        throw InputError(streamPath, "`factor=" + std::to_string(factor) + "`" + " exceeds the volume's longest axis (" +
-                                         std::to_string(longest) + " voxels)");
+        throw InputError(streamPath, "`factor=" + std::to_string(factor) + "`" +
+                                         " exceeds the volume's longest axis (" + std::to_string(longest) + " voxels)");
     }
     const auto start = Clock::now();
     writeGridFile(streamPath, {gridOf(source, boxAverage(samples, factor), "")});
@@ -211,7 +214,8 @@ void writeStream(const openvdb::GridBase& source, const FloatVolume& samples, co
                  const std::string& streamPath, BaselineResult& result, const ProgressFn& progress) {
     switch (settings.method) {
         case BaselineMethod::ZfpAccuracy:
-        case BaselineMethod::ZfpRate: return writeZfpStream(samples, settings, streamPath, result, progress);
+        case BaselineMethod::ZfpRate:
+            return writeZfpStream(samples, settings, streamPath, result, progress);
         case BaselineMethod::VdbBlosc:
         case BaselineMethod::VdbHalf:
             return writeVdbStream(source, samples, settings.method == BaselineMethod::VdbHalf, streamPath, result);
@@ -285,13 +289,14 @@ std::string BaselineSettings::validate() const {
             if (*factor < 2) return "`factor` must be an integer of at least 2, got " + std::to_string(*factor);
             return {};
         case BaselineMethod::VdbBlosc:
-        case BaselineMethod::VdbHalf: return {};
+        case BaselineMethod::VdbHalf:
+            return {};
     }
     return {};
 }
 
-openvdb::GridBase::Ptr reconstructionOf(const openvdb::GridBase& source, FloatVolume decoded, const std::string& streamPath,
-                                        const ProgressFn& progress) {
+openvdb::GridBase::Ptr reconstructionOf(const openvdb::GridBase& source, FloatVolume decoded,
+                                        const std::string& streamPath, const ProgressFn& progress) {
     openvdb::GridBase::Ptr grid = gridOf(source, std::move(decoded), streamPath, progress);
     grid->setName(source.getName());
     grid->setGridClass(source.getGridClass());
@@ -307,8 +312,9 @@ BaselineResult runBaseline(const openvdb::GridBase& source, const BaselineSettin
     if (const std::string problem = settings.validate(); !problem.empty()) throw InputError("gvr baseline", problem);
     const std::string culprit = "grid '" + source.getName() + "'";
     if (!source.isType<openvdb::FloatGrid>() && !source.isType<openvdb::Vec3SGrid>()) {
-        throw InputError(culprit, "holds " + source.valueType() + "; gvr baseline takes float and vec3s grids, "
-                                                                  "as ingest writes them");
+        throw InputError(culprit, "holds " + source.valueType() +
+                                      "; gvr baseline takes float and vec3s grids, "
+                                      "as ingest writes them");
     }
     const openvdb::CoordBBox box = volumeBox(source);
     if (box.empty()) throw InputError(culprit, "has no voxels to compress");
@@ -320,9 +326,8 @@ BaselineResult runBaseline(const openvdb::GridBase& source, const BaselineSettin
     try {
         result.streamBytes = std::filesystem::file_size(streamPath);
         const auto start = Clock::now();
-        result.reconstruction =
-            reconstructionOf(source, readStream(settings, samples, box, streamPath), streamPath,
-                             phase(progress, 0.5, 1.0));
+        result.reconstruction = reconstructionOf(source, readStream(settings, samples, box, streamPath), streamPath,
+                                                 phase(progress, 0.5, 1.0));
         result.decompressSeconds = secondsSince(start);
     } catch (...) {
         std::error_code ignored;

@@ -6,7 +6,7 @@
 namespace gvr {
 namespace {
 
-constexpr double kValueStep = 1.02;     // floats: the search's precision
+constexpr double kValueStep = 1.02;      // floats: the search's precision
 constexpr double kSmallestShare = 1e-7;  // floats: about a float32's precision over the range
 
 /// One tried bound of a search.
@@ -24,8 +24,8 @@ BoundLadder BoundLadder::wholeSamples(double sampleStep, double span, double rou
 
 BoundLadder BoundLadder::values(double span) {
     const double smallest = span * kSmallestShare;
-    return BoundLadder(false, smallest, std::size_t(std::ceil(std::log(1.0 / kSmallestShare) / std::log(kValueStep))) + 1,
-                       0.0);
+    return BoundLadder(false, smallest,
+                       std::size_t(std::ceil(std::log(1.0 / kSmallestShare) / std::log(kValueStep))) + 1, 0.0);
 }
 
 double BoundLadder::bound(std::size_t index) const {

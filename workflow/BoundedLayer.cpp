@@ -29,8 +29,9 @@ double parseMaxError(const std::string& text, double dataRange) {
         used = 0;
     }
     if (used == 0 || used != number.size()) {
-        throw InputError("`max_error`", "'" + text + "' is not a number (of the source's units, or a percentage of "
-                                        "its data range such as 0.5%)");
+        throw InputError("`max_error`", "'" + text +
+                                            "' is not a number (of the source's units, or a percentage of "
+                                            "its data range such as 0.5%)");
     }
     return relative ? value / 100.0 * dataRange : value;
 }
@@ -82,8 +83,9 @@ Prediction predictionOf(std::string_view assetBytes, const std::string& name, co
     const GaussianAsset asset = decodeAsset(assetBytes, name);
     const openvdb::Vec3i dims = asset.source.dims;
     if (source.dims != openvdb::Coord(dims.x(), dims.y(), dims.z()) || source.channels != asset.params.channels) {
-        throw InputError(name, "the source as read is not on the asset's lattice, so no residual layer can be "
-                               "placed on it");
+        throw InputError(name,
+                         "the source as read is not on the asset's lattice, so no residual layer can be "
+                         "placed on it");
     }
     const bool grey = asset.params.channels == 1;
     return {gaussianPrediction(asset, progress),
@@ -141,9 +143,8 @@ std::string addErrorBound(std::string_view assetBytes, const std::string& name, 
                           const BoundRequest& request, BoundedLayerReport& report, const ProgressFn& progress) {
     const auto start = std::chrono::steady_clock::now();
     const Prediction prediction = predictionOf(assetBytes, name, source, progress);
-    const double bound = request.searched()
-                             ? searchedBound(assetBytes, name, source, prediction, request.ratio, report)
-                             : parseMaxError(request.maxError, prediction.dataRange);
+    const double bound = request.searched() ? searchedBound(assetBytes, name, source, prediction, request.ratio, report)
+                                            : parseMaxError(request.maxError, prediction.dataRange);
     ResidualLayer layer = encodeResidualLayer(source, prediction.values, bound, prediction.domain);
     const FloatVolume reconstruction = decodeResidualLayer(layer, prediction.values);
     report.maxError = maxAbsoluteError(source, reconstruction);

@@ -45,10 +45,10 @@ struct BoundRequest {
 };
 
 struct BoundedLayerReport {
-    double bound = 0.0;          ///< in the source's units
-    bool integers = false;       ///< coded in the source's stored samples
-    double maxError = 0.0;       ///< measured on the decoded reconstruction, every voxel
-    std::size_t exactVoxels = 0; ///< stored exactly: the prediction could not reach them
+    double bound = 0.0;           ///< in the source's units
+    bool integers = false;        ///< coded in the source's stored samples
+    double maxError = 0.0;        ///< measured on the decoded reconstruction, every voxel
+    std::size_t exactVoxels = 0;  ///< stored exactly: the prediction could not reach them
     std::uint64_t gaussianBytes = 0, fileBytes = 0;
     double searchedRatio = 0.0;  ///< the whole asset's ratio a searched bound was fitted to (0: not searched)
     int encodes = 1;             ///< layers encoded to find the bound

@@ -22,8 +22,11 @@ AssetEncoding partEncoding() {
 }
 
 nlohmann::json encodingJson(const AssetEncoding& e) {
-    return {{"mean_step", e.meanStep}, {"rotation_bits", e.rotationBits}, {"scale_bits", e.logScaleBits},
-            {"amplitude_bits", e.amplitudeBits}, {"zstd_level", e.zstdLevel}};
+    return {{"mean_step", e.meanStep},
+            {"rotation_bits", e.rotationBits},
+            {"scale_bits", e.logScaleBits},
+            {"amplitude_bits", e.amplitudeBits},
+            {"zstd_level", e.zstdLevel}};
 }
 
 /// @throw std::runtime_error for depths that `gvr fit` never writes.
@@ -104,7 +107,8 @@ void checkSameFit(const GaussianAsset& first, const GaussianAsset& part, const s
         part.params.channels != first.params.channels || part.cutoffSigmas != first.cutoffSigmas ||
         part.worldFromIndex != first.worldFromIndex || part.source.dims != first.source.dims ||
         part.mapping.scale != first.mapping.scale || part.mapping.offset != first.mapping.offset) {
-        throw InputError(name, "is a brick of another fit (other volume, settings, ratio or brick count) than the first part");
+        throw InputError(
+            name, "is a brick of another fit (other volume, settings, ratio or brick count) than the first part");
     }
 }
 
@@ -121,8 +125,8 @@ BrickPlan planBrickedFit(const VolumeTarget& target, const std::string& name, co
     plan.skeleton = assetSkeleton(target, plan.settings, options, name);
     plan.settings.gaussians = budgetedGaussians(plan.skeleton, options, plan.maxBytes);
     plan.lattice = brickLattice(target.box(), bricks.count);
-    plan.skeleton.fitSettings["bricks"] = {{"count", bricks.count}, {"lattice", coordJson(plan.lattice)},
-                                           {"halo", bricks.halo}};
+    plan.skeleton.fitSettings["bricks"] = {
+        {"count", bricks.count}, {"lattice", coordJson(plan.lattice)}, {"halo", bricks.halo}};
     plan.bricks = planBricks(target, plan.lattice, bricks.halo, plan.settings.gaussians);
     return plan;
 }
@@ -186,8 +190,12 @@ GaussianAsset mergeBrickParts(std::vector<GaussianAsset> parts, const std::vecto
     for (std::size_t p = 0; p < parts.size(); ++p) {
         const auto [index, count] = brickOfPart(parts[p], names.at(p));
         checkSameFit(parts.front(), parts[p], names.at(p));
-        if (count != of || index >= of) throw InputError(names.at(p), "is brick " + std::to_string(index) + " of " + std::to_string(count) + ", the first part says " + std::to_string(of) + " bricks");
-        if (order[index] != parts.size()) throw InputError(names.at(p), "repeats brick " + std::to_string(index) + " (also in " + names.at(order[index]) + ")");
+        if (count != of || index >= of)
+            throw InputError(names.at(p), "is brick " + std::to_string(index) + " of " + std::to_string(count) +
+                                              ", the first part says " + std::to_string(of) + " bricks");
+        if (order[index] != parts.size())
+            throw InputError(names.at(p),
+                             "repeats brick " + std::to_string(index) + " (also in " + names.at(order[index]) + ")");
         order[index] = p;
     }
     std::string missing;

@@ -26,8 +26,8 @@ struct BrickOptions {
 
 /// What every brick of one fit shares.
 struct BrickPlan {
-    GaussianAsset skeleton;  ///< the merged asset without its Gaussians
-    FitSettings settings;    ///< checked; settings.seconds is each process's own budget
+    GaussianAsset skeleton;      ///< the merged asset without its Gaussians
+    FitSettings settings;        ///< checked; settings.seconds is each process's own budget
     std::uint64_t maxBytes = 0;  ///< the merged asset's byte budget (0: an exact count)
     openvdb::Coord lattice;
     int halo = kDefaultBrickHalo;

@@ -1,12 +1,11 @@
 #include "workflow/ComparisonInput.h"
 
-#include "io/formats/FileKind.h"
-#include "io/asset/AssetExport.h"
-#include "io/asset/AssetFile.h"
 #include "io/DenseCopy.h"
 #include "io/GridBuilder.h"
+#include "io/asset/AssetExport.h"
+#include "io/asset/AssetFile.h"
+#include "io/formats/FileKind.h"
 #include "io/formats/GridFile.h"
-
 #include "io/formats/Readers.h"
 #include "pipeline/Error.h"
 #include "pipeline/Luminance.h"
@@ -44,7 +43,8 @@ FloatVolume readImage(OIIO::ImageInput& input, const std::string& path) {
     if (!input.read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.values.data())) {
         throw InputError(path, "cannot decode the image: " + input.geterror());
     }
-    const auto nonFinite = std::count_if(image.values.begin(), image.values.end(), [](float v) { return !std::isfinite(v); });
+    const auto nonFinite =
+        std::count_if(image.values.begin(), image.values.end(), [](float v) { return !std::isfinite(v); });
     if (nonFinite > 0) throw InputError(path, std::to_string(nonFinite) + " samples are NaN or Inf");
     return image;
 }
@@ -93,8 +93,8 @@ ComparisonInput sourceAsRead(const std::string& path, IngestOptions options) {
     setApartPaddingAndBackground(input, metadata);
     input.readAs = "the source as read, every voxel";
     if (metadata.markedPadding) {
-        input.readAs += "; " + std::to_string(input.excludedVoxels) + " voxels at " + formatNumber(*metadata.markedPadding) +
-                        ", which the file marks as padding (no data), left out";
+        input.readAs += "; " + std::to_string(input.excludedVoxels) + " voxels at " +
+                        formatNumber(*metadata.markedPadding) + ", which the file marks as padding (no data), left out";
     }
     return input;
 }
@@ -120,8 +120,9 @@ ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions
         input = comparisonInputOf(loadOrIngest(path, options).grid, path);
         const auto metadata = readVolumeMetadata(*input.grid);
         input.readAs = metadata && metadata->threshold
-                           ? "the grid as stored: voxels at or below its threshold " + formatNumber(*metadata->threshold) +
-                                 " hold its background " + formatNumber(metadata->background)
+                           ? "the grid as stored: voxels at or below its threshold " +
+                                 formatNumber(*metadata->threshold) + " hold its background " +
+                                 formatNumber(metadata->background)
                            : "the grid as stored";
         return input;
     }

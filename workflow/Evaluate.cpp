@@ -1,14 +1,14 @@
 #include "workflow/Evaluate.h"
 
-#include "io/formats/FileKind.h"
+#include "io/LabelGrid.h"
 #include "io/asset/AssetFile.h"
-#include "workflow/ReportNumbers.h"
+#include "io/formats/FileKind.h"
 #include "io/formats/GridFile.h"
 #include "io/formats/ImageFile.h"
-#include "io/LabelGrid.h"
 #include "pipeline/Error.h"
 #include "pipeline/Fitter.h"
 #include "pipeline/Luminance.h"
+#include "workflow/ReportNumbers.h"
 
 #include <algorithm>
 #include <chrono>
@@ -19,12 +19,13 @@ namespace gvr {
 namespace {
 
 std::string dimsText(const FloatVolume& v) {
-    return std::to_string(v.dims.x()) + "x" + std::to_string(v.dims.y()) + "x" + std::to_string(v.dims.z()) +
-           " with " + std::to_string(v.channels) + " channel(s)";
+    return std::to_string(v.dims.x()) + "x" + std::to_string(v.dims.y()) + "x" + std::to_string(v.dims.z()) + " with " +
+           std::to_string(v.channels) + " channel(s)";
 }
 
 /// Brings @a test onto the reference's samples, or says why it cannot.
-void matchGeometry(const std::string& testPath, bool resample, const ComparisonInput& reference, ComparisonInput& test) {
+void matchGeometry(const std::string& testPath, bool resample, const ComparisonInput& reference,
+                   ComparisonInput& test) {
     const FloatVolume& ref = reference.volume;
     FloatVolume& other = test.volume;
     if (reference.isImage != test.isImage) {
@@ -32,21 +33,23 @@ void matchGeometry(const std::string& testPath, bool resample, const ComparisonI
     }
     if (ref.channels != other.channels) {
         throw InputError(testPath, "has " + std::to_string(other.channels) + " channel(s), the reference " +
-                                         std::to_string(ref.channels));
+                                       std::to_string(ref.channels));
     }
     const bool sameDims = ref.dims == other.dims;
     const bool sameTransform = reference.isImage || samePlacement(ref.worldFromIndex, other.worldFromIndex, 1e-5);
     if (sameDims && sameTransform) return;
     if (!resample || reference.isImage) {
-        throw InputError(testPath, (sameDims ? std::string("is placed differently in the world than the reference")
-                                               : "is " + dimsText(other) + ", the reference " + dimsText(ref)) +
-                                         (reference.isImage ? "" : "; pass `resample` to resample it onto the reference"));
+        throw InputError(testPath,
+                         (sameDims ? std::string("is placed differently in the world than the reference")
+                                   : "is " + dimsText(other) + ", the reference " + dimsText(ref)) +
+                             (reference.isImage ? "" : "; pass `resample` to resample it onto the reference"));
     }
     other = resampleTrilinear(other, ref.dims, ref.worldFromIndex);
 }
 
 /// The voxels that count as foreground, and how they were chosen.
-std::vector<std::uint8_t> foregroundMask(const EvalOptions& options, const ComparisonInput& reference, std::string& rule) {
+std::vector<std::uint8_t> foregroundMask(const EvalOptions& options, const ComparisonInput& reference,
+                                         std::string& rule) {
     const FloatVolume& ref = reference.volume;
     std::vector<std::uint8_t> mask(ref.voxelCount(), 0);
     if (!options.mask.empty()) {
@@ -99,7 +102,8 @@ void evaluateStructures(const EvalOptions& options, const openvdb::Int32Grid& la
                         const FloatVolume& test, EvalResult& e) {
     e.labelTable = labelTableOf(labels);
     const std::string spec = options.structures.empty() ? "all" : options.structures;
-    const std::vector<int> ids = selectLabels(e.labelTable, spec, options.structures.empty() ? options.labels : "`structures`");
+    const std::vector<int> ids =
+        selectLabels(e.labelTable, spec, options.structures.empty() ? options.labels : "`structures`");
     e.structures = structureQuality(ref, test, labelsOnSamples(ref, labels), ids, e.peak);
 }
 
@@ -120,14 +124,16 @@ openvdb::Int32Grid::Ptr loadLabelGrid(const EvalOptions& options, const Comparis
 std::string assetStructures(const std::string& path) {
     if (fileKind(path) != FileKind::Asset) return "";
     std::string spec;
-    for (const auto& [id, name] : readAsset(path).labelTable.names) spec += (spec.empty() ? "" : ",") + std::to_string(id);
+    for (const auto& [id, name] : readAsset(path).labelTable.names)
+        spec += (spec.empty() ? "" : ",") + std::to_string(id);
     return spec;
 }
 
 bool isRendering(const ComparisonInput& input) { return input.isImage && input.volume.channels == 4; }
 
 /// Refuses a difference image that cannot be made, as soon as the reference is known.
-void checkDifferenceRequest(const EvalOptions& options, const ComparisonInput& reference, const std::string& referenceName) {
+void checkDifferenceRequest(const EvalOptions& options, const ComparisonInput& reference,
+                            const std::string& referenceName) {
     if (!options.differenceImage.empty() && !isRendering(reference)) {
         throw InputError("`difference`", "needs two RGBA images (renderings); " + referenceName + " is not one");
     }
@@ -150,8 +156,9 @@ std::pair<FloatVolume, FloatVolume> withExcludedAlike(const ComparisonInput& ref
     FloatVolume a = reference.volume, b = test;
     float lowest = INFINITY;
     for (std::size_t n = 0; n < reference.excluded.size(); ++n) {
-        if (!reference.excluded[n]) lowest = std::min(lowest, *std::min_element(a.values.begin() + n * a.channels,
-                                                                                 a.values.begin() + (n + 1) * a.channels));
+        if (!reference.excluded[n])
+            lowest = std::min(
+                lowest, *std::min_element(a.values.begin() + n * a.channels, a.values.begin() + (n + 1) * a.channels));
     }
     for (std::size_t n = 0; n < reference.excluded.size(); ++n) {
         if (!reference.excluded[n]) continue;
@@ -170,8 +177,9 @@ EvalResult compare(const ComparisonInput& reference, ComparisonInput test, const
     EvalResult e;
     e.peak = options.peak.value_or(reference.dataRange);
     if (!(e.peak > 0.0) || !std::isfinite(e.peak)) {
-        throw InputError(options.peak ? "`peak`" : referenceName,
-                         options.peak ? "must be a positive number" : "has no data range (a constant volume); give `peak`");
+        throw InputError(
+            options.peak ? "`peak`" : referenceName,
+            options.peak ? "must be a positive number" : "has no data range (a constant volume); give `peak`");
     }
     std::vector<std::uint8_t> mask = foregroundMask(options, reference, e.foregroundRule);
     const std::vector<std::uint8_t> kept = keptVoxels(reference);
@@ -247,12 +255,19 @@ EvalResult evaluate(const std::string& referencePath, const std::string& testPat
 }
 
 nlohmann::json evalResultJson(const EvalResult& e) {
-    nlohmann::json out = {{"mse", e.mse}, {"psnr", jsonNumber(e.psnr)}, {"max_error", e.maxError},
-                          {"fg_mse", e.foregroundVoxels ? nlohmann::json(e.foregroundMse) : nullptr}, {"fg_psnr", e.foregroundVoxels ? jsonNumber(e.foregroundPsnr) : nullptr},
-                          {"fg_voxels", e.foregroundVoxels}, {"fg_rule", e.foregroundRule},
-                          {"ssim", e.ssim}, {"ms_ssim", e.msSsim.value},
-                          {"ms_ssim_scales", e.msSsim.scales}, {"peak", e.peak},
-                          {"reference_read_as", e.referenceReadAs}, {"excluded_voxels", e.excludedVoxels},
+    nlohmann::json out = {{"mse", e.mse},
+                          {"psnr", jsonNumber(e.psnr)},
+                          {"max_error", e.maxError},
+                          {"fg_mse", e.foregroundVoxels ? nlohmann::json(e.foregroundMse) : nullptr},
+                          {"fg_psnr", e.foregroundVoxels ? jsonNumber(e.foregroundPsnr) : nullptr},
+                          {"fg_voxels", e.foregroundVoxels},
+                          {"fg_rule", e.foregroundRule},
+                          {"ssim", e.ssim},
+                          {"ms_ssim", e.msSsim.value},
+                          {"ms_ssim_scales", e.msSsim.scales},
+                          {"peak", e.peak},
+                          {"reference_read_as", e.referenceReadAs},
+                          {"excluded_voxels", e.excludedVoxels},
                           {"seconds", e.seconds}};
     if (e.rendering) {
         out["rendering"] = {{"psnr", jsonNumber(e.rendering->psnr)},
@@ -261,8 +276,12 @@ nlohmann::json evalResultJson(const EvalResult& e) {
                             {"covered_pixels", e.rendering->coveredPixels}};
     }
     for (const StructureQuality& q : e.structures) {
-        out["structures"].push_back({{"id", q.id}, {"name", e.labelTable.nameOf(q.id)}, {"voxels", q.voxels},
-                                     {"mse", q.mse}, {"psnr", jsonNumber(q.psnr)}, {"ssim", q.ssim}});
+        out["structures"].push_back({{"id", q.id},
+                                     {"name", e.labelTable.nameOf(q.id)},
+                                     {"voxels", q.voxels},
+                                     {"mse", q.mse},
+                                     {"psnr", jsonNumber(q.psnr)},
+                                     {"ssim", q.ssim}});
     }
     return out;
 }

@@ -3,10 +3,10 @@
 /// MS-SSIM, and per structure, as `gvr eval` reports them.
 #pragma once
 
-#include "workflow/ComparisonInput.h"
 #include "pipeline/LabelTable.h"
 #include "pipeline/QualityMetrics.h"
 #include "pipeline/StructureQuality.h"
+#include "workflow/ComparisonInput.h"
 
 #include <nlohmann/json.hpp>
 
@@ -17,18 +17,18 @@
 namespace gvr {
 
 struct EvalOptions {
-    std::string mask;                  ///< foreground = the non-zero voxels of this volume
-    std::optional<double> threshold;   ///< foreground = reference above this (physical; luminance for RGB)
-    std::optional<double> peak;        ///< PSNR peak; default: the reference's data range
-    bool resample = false;             ///< resample the test onto the reference when they differ
+    std::string mask;                 ///< foreground = the non-zero voxels of this volume
+    std::optional<double> threshold;  ///< foreground = reference above this (physical; luminance for RGB)
+    std::optional<double> peak;       ///< PSNR peak; default: the reference's data range
+    bool resample = false;            ///< resample the test onto the reference when they differ
     /// Also report per structure, from the label grid that ingest --labels stored in
     /// this .vdb, or from a label volume ingest reads (an atlas such as aal.nii.gz).
     std::string labels;
-    std::string labelNames;            ///< with a label volume: "ID NAME" lines (as ingest --label-names)
+    std::string labelNames;  ///< with a label volume: "ID NAME" lines (as ingest --label-names)
     /// With @a labels, the structures to report (ids or names); default: those of a
     /// labelled test asset, else all.
     std::string structures;
-    IngestOptions ingest;              ///< how inputs that are not .vdb files are read
+    IngestOptions ingest;  ///< how inputs that are not .vdb files are read
     /// For two RGBA renderings: write where they differ (renderingDifference) to this
     /// image, its errors times differenceGain.
     std::string differenceImage;
@@ -52,7 +52,7 @@ struct EvalResult {
     std::optional<RenderingQuality> rendering;  ///< for two RGBA images
     std::size_t foregroundVoxels = 0;
     MsSsim msSsim;
-    std::string foregroundRule;  ///< how the foreground was chosen, in words
+    std::string foregroundRule;   ///< how the foreground was chosen, in words
     std::string referenceReadAs;  ///< how the reference was read (ComparisonInput::readAs)
     /// Reference voxels left out of MSE and PSNR, and given the same value in both
     /// volumes for SSIM: those its format marks as no data.

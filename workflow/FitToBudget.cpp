@@ -15,18 +15,29 @@ namespace {
 
 /// The settings as the asset records them, with the names of `gvr fit`'s flags.
 nlohmann::json settingsJson(const FitSettings& s, const std::string& ablation) {
-    return {{"ablation", ablation},              {"seed", s.seed},
-            {"iterations", s.iterations},        {"seconds", s.seconds},
-            {"batch", s.voxelBatch},             {"refresh_every", s.refreshEvery},
-            {"row_stride", s.rowStride},         {"rebin_every", s.rebinEvery},
+    return {{"ablation", ablation},
+            {"seed", s.seed},
+            {"iterations", s.iterations},
+            {"seconds", s.seconds},
+            {"batch", s.voxelBatch},
+            {"refresh_every", s.refreshEvery},
+            {"row_stride", s.rowStride},
+            {"rebin_every", s.rebinEvery},
             {"min_samples", s.minSamplesPerGaussian},
-            {"mc_lambda", s.importance.uniformShare}, {"mc_epsilon", s.importance.epsilon},
-            {"slice_pixels", s.slicePixels},     {"slice_max", s.sliceMax},
-            {"slice_gamma", s.sliceGamma},       {"slice_beta", s.sliceBeta},
-            {"lr", s.learningRate},              {"lr_final", s.finalRateFactor},
-            {"gradient_share", s.gradientSeedShare}, {"uniform_share", s.uniformSeedShare},
-            {"prune_every", s.pruneEvery},       {"prune_amplitude", s.pruneAmplitude},
-            {"solve_iterations", s.amplitudeSolveIterations}, {"solve_share", s.amplitudeSolveShare}};
+            {"mc_lambda", s.importance.uniformShare},
+            {"mc_epsilon", s.importance.epsilon},
+            {"slice_pixels", s.slicePixels},
+            {"slice_max", s.sliceMax},
+            {"slice_gamma", s.sliceGamma},
+            {"slice_beta", s.sliceBeta},
+            {"lr", s.learningRate},
+            {"lr_final", s.finalRateFactor},
+            {"gradient_share", s.gradientSeedShare},
+            {"uniform_share", s.uniformSeedShare},
+            {"prune_every", s.pruneEvery},
+            {"prune_amplitude", s.pruneAmplitude},
+            {"solve_iterations", s.amplitudeSolveIterations},
+            {"solve_share", s.amplitudeSolveShare}};
 }
 
 void checkRatio(double ratio) {
@@ -57,7 +68,8 @@ GaussianAsset assetSkeleton(const VolumeTarget& target, const FitSettings& setti
     return asset;
 }
 
-std::function<std::size_t(const GaussianParameters&)> roomInBytes(const GaussianAsset& skeleton, std::uint64_t maxBytes) {
+std::function<std::size_t(const GaussianParameters&)> roomInBytes(const GaussianAsset& skeleton,
+                                                                  std::uint64_t maxBytes) {
     return [skeleton, maxBytes](const GaussianParameters& params) {
         GaussianAsset now = skeleton;
         now.params = params;
@@ -146,27 +158,29 @@ double samplesPerGaussian(const BudgetedFitResult& result) {
     return count ? result.fit.voxelSamples / double(count) : 0.0;
 }
 
-std::string undertrainedNote(const BudgetedFitResult& result, const FitSettings& settings, const std::string& tradeOption) {
+std::string undertrainedNote(const BudgetedFitResult& result, const FitSettings& settings,
+                             const std::string& tradeOption) {
     const std::size_t count = result.asset.params.count();
     const FitReport& fit = result.fit;
     if (!(settings.seconds > 0.0) || count == 0) return "";
     std::ostringstream note;
     if (fit.iterations == 0) {  // no iteration to time: only the set-up's cost is known
         note << std::fixed << std::setprecision(1) << "undertrained: the " << settings.seconds
-             << " s budget ended before the first iteration, the set-up alone taking " << fit.setupSeconds
-             << " s; the " << count << " Gaussians are as seeded";
+             << " s budget ended before the first iteration, the set-up alone taking " << fit.setupSeconds << " s; the "
+             << count << " Gaussians are as seeded";
         return note.str();
     }
     const double perGaussian = samplesPerGaussian(result);
     if (perGaussian >= kTrainedSamplesPerGaussian) return "";
     // Only the iterations' time grows with the samples; set-up, solve and measurement stay.
     const double iterationSeconds = std::max(fit.adamSeconds - fit.setupSeconds, 0.0);
-    const double needed = settings.seconds + iterationSeconds * (kTrainedSamplesPerGaussian / std::max(perGaussian, 1.0) - 1.0);
-    note << "undertrained: " << std::llround(settings.seconds) << " s gave each of the " << count
-         << " Gaussians about " << std::llround(perGaussian) << " voxel samples; about "
-         << std::llround(std::ceil(needed / 10.0) * 10.0) << " s would give each "
-         << std::llround(kTrainedSamplesPerGaussian) << " (" << tradeOption << (!tradeOption.empty() && tradeOption.back() == '=' ? "" : " ")
-         << std::llround(kTrainedSamplesPerGaussian) << " fits fewer Gaussians in this time instead, above the ratio)";
+    const double needed =
+        settings.seconds + iterationSeconds * (kTrainedSamplesPerGaussian / std::max(perGaussian, 1.0) - 1.0);
+    note << "undertrained: " << std::llround(settings.seconds) << " s gave each of the " << count << " Gaussians about "
+         << std::llround(perGaussian) << " voxel samples; about " << std::llround(std::ceil(needed / 10.0) * 10.0)
+         << " s would give each " << std::llround(kTrainedSamplesPerGaussian) << " (" << tradeOption
+         << (!tradeOption.empty() && tradeOption.back() == '=' ? "" : " ") << std::llround(kTrainedSamplesPerGaussian)
+         << " fits fewer Gaussians in this time instead, above the ratio)";
     return note.str();
 }
 
@@ -179,8 +193,9 @@ FitSettings checkedSettings(const BudgetedFitOptions& options) {
     return settings;
 }
 
-BudgetedFitResult fitToBudget(const openvdb::GridBase::Ptr& grid, const std::string& name, const BudgetedFitOptions& options,
-                        const FitObserver& observer, const openvdb::Int32Grid* labels) {
+BudgetedFitResult fitToBudget(const openvdb::GridBase::Ptr& grid, const std::string& name,
+                              const BudgetedFitOptions& options, const FitObserver& observer,
+                              const openvdb::Int32Grid* labels) {
     checkedSettings(options);  // before the target reads the grid
     return fitToBudget(VolumeTarget(grid, name), name, options, observer, labels);
 }
@@ -214,11 +229,12 @@ void fitGaussiansInto(const VolumeTarget& target, const BudgetedFitOptions& opti
 }  // namespace
 
 BudgetedFitResult fitToBudget(const VolumeTarget& target, const std::string& name, const BudgetedFitOptions& options,
-                        const FitObserver& userObserver, const openvdb::Int32Grid* labels) {
+                              const FitObserver& userObserver, const openvdb::Int32Grid* labels) {
     const FitSettings settings = checkedSettings(options);
     if (options.cancel && options.cancel->load()) throw Cancelled(name);
     const FitObserver observer = cancellable(userObserver, options.cancel, name);
-    if (!options.labels.empty() && !labels) throw InputError(name, "holds no label grid; ingest the image with `labels=LABELS`, or give the label volume");
+    if (!options.labels.empty() && !labels)
+        throw InputError(name, "holds no label grid; ingest the image with `labels=LABELS`, or give the label volume");
 
     BudgetedFitResult result;
     result.asset = assetSkeleton(target, settings, options, name);

@@ -45,11 +45,11 @@ struct BudgetedFitOptions {
 };
 
 struct BudgetedFitResult {
-    GaussianAsset asset;          ///< within the byte budget, in storage order
-    std::string file;             ///< the asset coded: writeAssetBytes() it
-    FitReport fit;                ///< summed over the structures of a labelled fit
-    std::uint64_t maxBytes = 0;   ///< the byte budget; 0 when a count was asked for
-    std::size_t dropped = 0;      ///< Gaussians dropped so that the file fits the budget
+    GaussianAsset asset;                   ///< within the byte budget, in storage order
+    std::string file;                      ///< the asset coded: writeAssetBytes() it
+    FitReport fit;                         ///< summed over the structures of a labelled fit
+    std::uint64_t maxBytes = 0;            ///< the byte budget; 0 when a count was asked for
+    std::size_t dropped = 0;               ///< Gaussians dropped so that the file fits the budget
     std::vector<StructureFit> structures;  ///< one per structure of a labelled fit
 };
 
@@ -60,7 +60,8 @@ double samplesPerGaussian(const BudgetedFitResult& result);
 /// voxel samples each: one line saying so, with the budget that would have, and
 /// @a tradeOption, the option that trades Gaussians for training ("--min-samples",
 /// or "min_samples=" where the value follows without a space). Else empty.
-std::string undertrainedNote(const BudgetedFitResult& result, const FitSettings& settings, const std::string& tradeOption);
+std::string undertrainedNote(const BudgetedFitResult& result, const FitSettings& settings,
+                             const std::string& tradeOption);
 
 /// The fit settings fitToBudget() uses: the ablation applied, and no ceiling on the
 /// count when an exact count was asked for. Cheap: callers check options with it
@@ -81,7 +82,8 @@ std::size_t budgetedGaussians(const GaussianAsset& asset, const BudgetedFitOptio
 /// FitSettings::roomInBudget for Gaussians stored with @a skeleton in @a maxBytes:
 /// what 99 % of it still holds, since the training after the last fill makes the
 /// Gaussians code a little larger and the writer drops the weakest that no longer fit.
-std::function<std::size_t(const GaussianParameters&)> roomInBytes(const GaussianAsset& skeleton, std::uint64_t maxBytes);
+std::function<std::size_t(const GaussianParameters&)> roomInBytes(const GaussianAsset& skeleton,
+                                                                  std::uint64_t maxBytes);
 
 /// Fits @a grid (an ingested volume, or any float or Vec3s grid) and returns the
 /// asset. @a name names the volume in errors and, for a grid that gvr did not
@@ -91,12 +93,13 @@ std::function<std::size_t(const GaussianParameters&)> roomInBytes(const Gaussian
 /// @throw InputError for settings that validate() refuses, a ratio below 1 or too
 ///        high for one Gaussian, or labels asked for without a label grid;
 ///        Cancelled once options.cancel is set.
-BudgetedFitResult fitToBudget(const openvdb::GridBase::Ptr& grid, const std::string& name, const BudgetedFitOptions& options,
-                        const FitObserver& observer = {}, const openvdb::Int32Grid* labels = nullptr);
+BudgetedFitResult fitToBudget(const openvdb::GridBase::Ptr& grid, const std::string& name,
+                              const BudgetedFitOptions& options, const FitObserver& observer = {},
+                              const openvdb::Int32Grid* labels = nullptr);
 
 /// The same, for a caller that holds the grid's VolumeTarget already (to measure the
 /// result against it, say): the target's grid is fitted.
 BudgetedFitResult fitToBudget(const VolumeTarget& target, const std::string& name, const BudgetedFitOptions& options,
-                        const FitObserver& observer = {}, const openvdb::Int32Grid* labels = nullptr);
+                              const FitObserver& observer = {}, const openvdb::Int32Grid* labels = nullptr);
 
 }  // namespace gvr

@@ -72,7 +72,8 @@ std::vector<BrickOutcome> MpiTeam::gather(std::vector<BrickOutcome> mine, const 
 void MpiTeam::broadcast(std::string& bytes) const {
     std::uint64_t size = bytes.size();
     MPI_Bcast(&size, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
-    if (size > std::uint64_t(INT_MAX)) throw std::runtime_error("an asset of " + std::to_string(size) + " bytes is too large for one MPI message");
+    if (size > std::uint64_t(INT_MAX))
+        throw std::runtime_error("an asset of " + std::to_string(size) + " bytes is too large for one MPI message");
     bytes.resize(size);
     MPI_Bcast(bytes.data(), int(size), MPI_CHAR, 0, MPI_COMM_WORLD);
 }

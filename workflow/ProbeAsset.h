@@ -20,6 +20,7 @@ namespace gvr {
 /// reach the point either way.
 /// @throw InputError as boundedReconstruction.
 std::vector<AssetProbe::Sample> probeAsset(const GaussianAsset& asset, const std::vector<std::array<double, 3>>& points,
-                                           AssetLayers layers, const std::string& name, const ProgressFn& progress = {});
+                                           AssetLayers layers, const std::string& name,
+                                           const ProgressFn& progress = {});
 
 }  // namespace gvr

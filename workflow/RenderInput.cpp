@@ -1,10 +1,10 @@
 #include "workflow/RenderInput.h"
 
-#include "io/formats/FileKind.h"
-#include "io/asset/AssetFile.h"
 #include "io/GridBuilder.h"
-#include "io/guard/MemoryBudget.h"
+#include "io/asset/AssetFile.h"
+#include "io/formats/FileKind.h"
 #include "io/formats/TransferFunctionFile.h"
+#include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 #include "render/VolumeClassifier.h"
 
@@ -43,7 +43,8 @@ std::unique_ptr<RenderVolume> assetRenderVolume(const GaussianAsset& asset, Asse
     // An asset is drawn from its voxels: at worst a float grid of its source's size.
     const openvdb::Vec3i& dims = asset.source.dims;
     checkVolumeFitsInMemory(name, {dims.x(), dims.y(), dims.z()}, asset.params.channels, 0, "render");
-    if (readsResidualLayer(asset, layers)) return std::make_unique<GridRenderVolume>(boundedGrid(asset, name, progress));
+    if (readsResidualLayer(asset, layers))
+        return std::make_unique<GridRenderVolume>(boundedGrid(asset, name, progress));
     return std::make_unique<GaussianRenderVolume>(asset, minScale);
 }
 

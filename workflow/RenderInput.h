@@ -4,8 +4,8 @@
 /// given by preset or file.
 #pragma once
 
-#include "io/asset/AssetExport.h"
 #include "io/Ingest.h"
+#include "io/asset/AssetExport.h"
 #include "pipeline/GaussianAsset.h"
 #include "render/Classifier.h"
 #include "render/RenderVolume.h"
@@ -42,7 +42,8 @@ RenderInput loadRenderInput(const std::string& path, const std::string& show, co
 
 /// The transfer function @a tf names: a JSON file, else a preset fitted to @a volume
 /// (empty: the preset for data like these). @a mismatch: as for presetFor.
-TransferFunction transferFunctionFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch = nullptr);
+TransferFunction transferFunctionFor(const std::string& tf, const RenderVolume& volume,
+                                     std::string* mismatch = nullptr);
 
 /// volumeClassifier() of transferFunctionFor().
 Classifier classifierFor(const std::string& tf, const RenderVolume& volume, std::string* mismatch = nullptr);

@@ -28,7 +28,8 @@ std::optional<std::size_t> brickMadeToFail() {
 
 GaussianAsset fitPart(const openvdb::GridBase::ConstPtr& grid, const std::string& name, const BrickPlan& plan,
                       std::size_t index, double seconds, int rank, const FitObserver& observer) {
-    if (brickMadeToFail() == index) throw InputError("GVR_TEST_FAIL_BRICK", "brick " + std::to_string(index) + " failed on purpose");
+    if (brickMadeToFail() == index)
+        throw InputError("GVR_TEST_FAIL_BRICK", "brick " + std::to_string(index) + " failed on purpose");
     return fitBrickPart(grid, name, plan, index, seconds, observer, rank);
 }
 
@@ -63,7 +64,8 @@ std::vector<BrickOutcome> fitMine(const openvdb::GridBase::ConstPtr& grid, const
 std::vector<GaussianAsset> partsOf(const std::vector<BrickOutcome>& outcomes, std::vector<std::string>& names) {
     std::vector<GaussianAsset> parts;
     for (const BrickOutcome& outcome : outcomes) {
-        const std::string name = "brick " + std::to_string(outcome.brick) + " (rank " + std::to_string(outcome.rank) + ")";
+        const std::string name =
+            "brick " + std::to_string(outcome.brick) + " (rank " + std::to_string(outcome.rank) + ")";
         if (!outcome.ok) throw InputError(name, outcome.bytes);
         parts.push_back(decodeAsset(outcome.bytes, name));
         names.push_back(name);
@@ -134,9 +136,9 @@ std::vector<SliceSums> slicesOf(const std::string& bytes) {
 }
 
 /// This rank's bricks' cores measured, one outcome per brick.
-std::vector<BrickOutcome> measureMine(const GaussianField& field, const ThresholdCut& cut,
-                                     const VolumeTarget& target, const TeamFitResult& fit,
-                                     const std::vector<std::size_t>& mine, int rank, const ProgressFn& progress) {
+std::vector<BrickOutcome> measureMine(const GaussianField& field, const ThresholdCut& cut, const VolumeTarget& target,
+                                      const TeamFitResult& fit, const std::vector<std::size_t>& mine, int rank,
+                                      const ProgressFn& progress) {
     const BrickSeams seams(fit.layout, kSeamWidth);
     const VoxelMarking nearFace = [&](const openvdb::Coord& ijk) { return seams.near(ijk); };
     std::vector<BrickOutcome> outcomes;
@@ -145,7 +147,8 @@ std::vector<BrickOutcome> measureMine(const GaussianField& field, const Threshol
             if (progress) progress((double(n) + fraction) / double(mine.size()));
         };
         const Brick& brick = fit.layout[mine[n]];
-        outcomes.push_back({brick.index, rank, true, bytesOf(measureSliceSums(field, target, brick.core, share, nearFace, cut))});
+        outcomes.push_back(
+            {brick.index, rank, true, bytesOf(measureSliceSums(field, target, brick.core, share, nearFace, cut))});
     }
     return outcomes;
 }
@@ -153,7 +156,7 @@ std::vector<BrickOutcome> measureMine(const GaussianField& field, const Threshol
 /// Every brick core's slices added into the whole box's, in brick order: the same
 /// sums, bit for bit, whichever rank measured which brick.
 std::vector<SliceSums> wholeBoxSlices(const std::vector<BrickOutcome>& outcomes, const std::vector<Brick>& layout,
-                                       const VolumeTarget& target) {
+                                      const VolumeTarget& target) {
     std::vector<SliceSums> whole(std::size_t(target.box().dim().z()));
     for (const BrickOutcome& outcome : outcomes) {
         openvdb::CoordBBox core = layout[outcome.brick].core;
@@ -173,8 +176,9 @@ FieldAccuracy measureAcrossTeam(const BrickTeam& team, const std::string& saved,
     try {
         const GaussianAsset asset = decodeAsset(saved, "the merged asset");
         const GaussianField field(quantisedCopy(asset.params, asset.encoding), asset.cutoffSigmas);
-        std::vector<BrickOutcome> outcomes = measureMine(field, defaultExportCut(asset), target, fit, bricksOf(team.rank(), fit.owners),
-                                                         team.rank(), team.isRoot() ? progress : ProgressFn{});
+        std::vector<BrickOutcome> outcomes =
+            measureMine(field, defaultExportCut(asset), target, fit, bricksOf(team.rank(), fit.owners), team.rank(),
+                        team.isRoot() ? progress : ProgressFn{});
         outcomes = team.gather(std::move(outcomes), fit.owners);
         return team.isRoot() ? fieldAccuracyOf(wholeBoxSlices(outcomes, fit.layout, target), target) : FieldAccuracy{};
     } catch (const std::exception& error) {
@@ -183,12 +187,13 @@ FieldAccuracy measureAcrossTeam(const BrickTeam& team, const std::string& saved,
     }
 }
 
-GaussianAsset fitOneBrick(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
-                          const std::string& name, const BudgetedFitOptions& options, const BrickOptions& bricks,
-                          std::size_t index, const FitObserver& observer) {
+GaussianAsset fitOneBrick(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target, const std::string& name,
+                          const BudgetedFitOptions& options, const BrickOptions& bricks, std::size_t index,
+                          const FitObserver& observer) {
     const BrickPlan plan = planBrickedFit(target, name, options, bricks);
     if (index >= plan.bricks.size()) {
-        throw InputError("`brick`", std::to_string(index) + " is not below `of=" + std::to_string(plan.bricks.size()) + "`");
+        throw InputError("`brick`",
+                         std::to_string(index) + " is not below `of=" + std::to_string(plan.bricks.size()) + "`");
     }
     return fitPart(grid, name, plan, index, plan.settings.seconds, 0, observer);
 }

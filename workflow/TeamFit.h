@@ -50,8 +50,8 @@ FieldAccuracy measureAcrossTeam(const BrickTeam& team, const std::string& saved,
 
 /// Brick @a index of @a bricks alone, as a part asset for a job array's merge.
 /// @throw InputError naming `brick` when @a index is not below the brick count.
-GaussianAsset fitOneBrick(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target,
-                          const std::string& name, const BudgetedFitOptions& options, const BrickOptions& bricks,
-                          std::size_t index, const FitObserver& observer = {});
+GaussianAsset fitOneBrick(const openvdb::GridBase::ConstPtr& grid, const VolumeTarget& target, const std::string& name,
+                          const BudgetedFitOptions& options, const BrickOptions& bricks, std::size_t index,
+                          const FitObserver& observer = {});
 
 }  // namespace gvr

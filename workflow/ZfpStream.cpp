@@ -71,8 +71,8 @@ std::vector<float> scaledSamples(const FloatVolume& volume, double scale) {
 
 /// One channel of interleaved samples as a strided 3D field, so no channel is copied out.
 ZfpPtr<zfp_field> channelField(float* values, const openvdb::Coord& dims, int channels, int channel) {
-    ZfpPtr<zfp_field> field(zfp_field_3d(values + channel, zfp_type_float, std::size_t(dims.x()),
-                                         std::size_t(dims.y()), std::size_t(dims.z())));
+    ZfpPtr<zfp_field> field(zfp_field_3d(values + channel, zfp_type_float, std::size_t(dims.x()), std::size_t(dims.y()),
+                                         std::size_t(dims.z())));
     const std::ptrdiff_t sx = channels, sy = sx * dims.x(), sz = sy * dims.y();
     zfp_field_set_stride_3d(field.get(), sx, sy, sz);
     return field;
@@ -150,9 +150,9 @@ Header parseHeader(const std::string& bytes, const std::string& path) {
     }
     const std::uint64_t expected = headerBytes(header.channels) + payload;
     if (bytes.size() != expected) {
-        throw InputError(path, (bytes.size() < expected ? "truncated zfp stream: " : "zfp stream has trailing bytes: ") +
-                                   std::to_string(bytes.size()) + " bytes, the header implies " +
-                                   std::to_string(expected));
+        throw InputError(path,
+                         (bytes.size() < expected ? "truncated zfp stream: " : "zfp stream has trailing bytes: ") +
+                             std::to_string(bytes.size()) + " bytes, the header implies " + std::to_string(expected));
     }
     checkVolumeFitsInMemory(path, dims, header.channels, sizeof(float));
     header.dims = openvdb::Coord(int(dims[0]), int(dims[1]), int(dims[2]));
@@ -195,8 +195,9 @@ std::string encodeZfp(const FloatVolume& volume, const ZfpSettings& settings, do
     appendLittleEndian(bytes, kVersion);
     appendLittleEndian(bytes, std::uint32_t(volume.channels));
     for (int a = 0; a < 3; ++a) appendLittleEndian(bytes, std::uint32_t(volume.dims[a]));
-    appendLittleEndian(bytes, std::uint32_t(settings.mode == ZfpMode::FixedRate ? zfp_mode_fixed_rate : zfp_mode_fixed_accuracy));
-    appendLittleEndian(bytes, effective);  // decoding with it sets zfp up exactly as here
+    appendLittleEndian(
+        bytes, std::uint32_t(settings.mode == ZfpMode::FixedRate ? zfp_mode_fixed_rate : zfp_mode_fixed_accuracy));
+    appendLittleEndian(bytes, effective);                         // decoding with it sets zfp up exactly as here
     bytes.append(sizeof(std::uint64_t) * volume.channels, '\0');  // the counts, filled in below
     std::vector<float> samples = scaledSamples(volume, sampleScale(settings));
     for (int c = 0; c < volume.channels; ++c) {

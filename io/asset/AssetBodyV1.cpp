@@ -1,7 +1,7 @@
 #include "io/asset/AssetBodyV1.h"
 
-#include "io/guard/ByteOrder.h"
 #include "io/asset/Quantisation.h"
+#include "io/guard/ByteOrder.h"
 
 #include <cmath>
 #include <cstring>
@@ -48,12 +48,15 @@ GaussianParameters decodeAssetBodyV1(std::string_view body, std::size_t count, i
     const char* cursor = body.data();
     GaussianParameters params(count, channels);
     for (std::size_t i = 0; i < count; ++i) {
-        for (int a = 0; a < 3; ++a) params.at(kMeans, i)[a] = dequantise16(takeLittleEndian<std::uint16_t>(cursor), meanMin[a], meanMax[a]);
+        for (int a = 0; a < 3; ++a)
+            params.at(kMeans, i)[a] = dequantise16(takeLittleEndian<std::uint16_t>(cursor), meanMin[a], meanMax[a]);
     }
-    for (std::size_t i = 0; i < count; ++i) unpackQuaternion(takeLittleEndian<std::uint32_t>(cursor), params.at(kRotations, i));
+    for (std::size_t i = 0; i < count; ++i)
+        unpackQuaternion(takeLittleEndian<std::uint32_t>(cursor), params.at(kRotations, i));
     for (std::size_t i = 0; i < count; ++i) {
         for (int a = 0; a < 3; ++a) {
-            params.at(kLogScales, i)[a] = dequantise16(takeLittleEndian<std::uint16_t>(cursor), scaleMin[a], scaleMax[a]);
+            params.at(kLogScales, i)[a] =
+                dequantise16(takeLittleEndian<std::uint16_t>(cursor), scaleMin[a], scaleMax[a]);
         }
     }
     for (std::size_t i = 0; i < count; ++i) {
@@ -62,7 +65,8 @@ GaussianParameters decodeAssetBodyV1(std::string_view body, std::size_t count, i
     }
     for (std::size_t i = 0; i < count; ++i) {
         for (int c = 0; c < channels; ++c) {
-            params.at(kColours, i)[c] = dequantise16(takeLittleEndian<std::uint16_t>(cursor), colourMin[c], colourMax[c]);
+            params.at(kColours, i)[c] =
+                dequantise16(takeLittleEndian<std::uint16_t>(cursor), colourMin[c], colourMax[c]);
         }
     }
     return params;

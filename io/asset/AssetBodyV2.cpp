@@ -1,8 +1,8 @@
 #include "io/asset/AssetBodyV2.h"
 
-#include "io/guard/ByteOrder.h"
 #include "io/asset/Quantisation.h"
 #include "io/asset/ZstdFrame.h"
+#include "io/guard/ByteOrder.h"
 #include "pipeline/GaussianKernel.h"
 #include "pipeline/MortonCode.h"
 
@@ -46,7 +46,8 @@ void packQuaternion(const float raw[4], int bits, std::uint64_t& largestOut, std
 void unpackQuaternion(std::uint64_t largest, const std::uint64_t rest[3], int bits, float q[4]) {
     int slot = 0;
     for (int k = 0; k < 4; ++k) {
-        if (k != int(largest)) q[k] = dequantise(std::uint32_t(rest[slot++]), -float(M_SQRT1_2), float(M_SQRT1_2), bits);
+        if (k != int(largest))
+            q[k] = dequantise(std::uint32_t(rest[slot++]), -float(M_SQRT1_2), float(M_SQRT1_2), bits);
     }
     completeQuaternion(int(largest), q);
 }
@@ -72,9 +73,9 @@ void readPlanes(std::string_view body, std::size_t& cursor, std::size_t count, S
 /// The streams of the body, in file order, sized for @a count Gaussians.
 /// Where each attribute's streams stand in the body, in this order.
 enum StreamIndex : std::size_t {
-    kPositionStream = 0,        ///< Morton code steps
-    kLargestComponentStream,    ///< which quaternion component was left out
-    kRotationStreams,           ///< the other three, one stream each
+    kPositionStream = 0,      ///< Morton code steps
+    kLargestComponentStream,  ///< which quaternion component was left out
+    kRotationStreams,         ///< the other three, one stream each
     kLogScaleStreams = kRotationStreams + 3,
     kAmplitudeStreams = kLogScaleStreams + 3,  ///< one per channel
 };
@@ -209,8 +210,8 @@ std::vector<Stream> quantiseStreams(const GaussianParameters& params, const Quan
         }
         const float opacity = sigmoid(*params.at(kOpacityLogits, i));
         for (int c = 0; c < q.channels; ++c) {
-            streams[kAmplitudeStreams + c].values[i] = quantise(opacity * params.at(kColours, i)[c], q.amplitudeMin[c],
-                                                q.amplitudeMax[c], e.amplitudeBits);
+            streams[kAmplitudeStreams + c].values[i] =
+                quantise(opacity * params.at(kColours, i)[c], q.amplitudeMin[c], q.amplitudeMax[c], e.amplitudeBits);
         }
     }
     return streams;
@@ -234,19 +235,18 @@ GaussianParameters dequantiseStreams(const std::vector<Stream>& streams, std::si
                                        streams[kRotationStreams + 2].values[i]};
         unpackQuaternion(largest, rest, e.rotationBits, params.at(kRotations, i));
         for (int a = 0; a < 3; ++a) {
-            params.at(kLogScales, i)[a] = dequantise(std::uint32_t(streams[kLogScaleStreams + a].values[i]), q.logScaleMin[a],
-                                                     q.logScaleMax[a], e.logScaleBits);
+            params.at(kLogScales, i)[a] = dequantise(std::uint32_t(streams[kLogScaleStreams + a].values[i]),
+                                                     q.logScaleMin[a], q.logScaleMax[a], e.logScaleBits);
         }
         // Only opacity * colour reaches the field: store it as opacity 1/2 (logit 0).
         *params.at(kOpacityLogits, i) = 0.0f;
         for (int c = 0; c < q.channels; ++c) {
-            params.at(kColours, i)[c] = 2.0f * dequantise(std::uint32_t(streams[kAmplitudeStreams + c].values[i]), q.amplitudeMin[c],
-                                                          q.amplitudeMax[c], e.amplitudeBits);
+            params.at(kColours, i)[c] = 2.0f * dequantise(std::uint32_t(streams[kAmplitudeStreams + c].values[i]),
+                                                          q.amplitudeMin[c], q.amplitudeMax[c], e.amplitudeBits);
         }
     }
     return params;
 }
-
 
 std::string encodeAssetBodyV2(const GaussianParameters& params, const QuantisationV2& q, AttributeBytes* bytes) {
     const std::vector<Stream> streams = quantiseStreams(params, q);
@@ -268,7 +268,6 @@ std::string encodeAssetBodyV2(const GaussianParameters& params, const Quantisati
     }
     return body;
 }
-
 
 GaussianParameters decodeAssetBodyV2(std::string_view body, std::size_t count, const QuantisationV2& q) {
     std::vector<Stream> streams = emptyStreams(q, 0);

@@ -1,7 +1,7 @@
 #include "io/asset/AssetExport.h"
 
-#include "io/asset/AssetResidual.h"
 #include "io/Ingest.h"
+#include "io/asset/AssetResidual.h"
 #include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 #include "pipeline/FloatVolume.h"
@@ -189,9 +189,10 @@ FloatVolume boundedReconstruction(const GaussianAsset& asset, const std::string&
     if (!asset.residual) throw std::logic_error("boundedReconstruction needs an asset with a residual layer");
     FloatVolume reconstruction = decodeResidualLayer(*asset.residual, gaussianPrediction(asset, progress));
     if (reconstructionChecksum(reconstruction) != asset.residual->reconstructionChecksum) {
-        throw InputError(name, "its residual layer decodes to other values than when it was written (the "
-                               "Gaussians' field differs in the last bits on this machine), so its bound is not "
-                               "known to hold; export with the Gaussians alone, or fit again here");
+        throw InputError(name,
+                         "its residual layer decodes to other values than when it was written (the "
+                         "Gaussians' field differs in the last bits on this machine), so its bound is not "
+                         "known to hold; export with the Gaussians alone, or fit again here");
     }
     return reconstruction;
 }
@@ -206,7 +207,8 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     const openvdb::Vec3i dims = asset.source.dims;
     ExportResult result;
     result.lattice = settings.lattice.value_or(sourceLattice(asset.worldFromIndex, dims));
-    if (settings.threshold && std::isnan(*settings.threshold)) throw InputError("`threshold`", "must be a number, not NaN");
+    if (settings.threshold && std::isnan(*settings.threshold))
+        throw InputError("`threshold`", "must be a number, not NaN");
     result.threshold = settings.threshold.value_or(defaultExportThreshold(asset.source));
     result.thresholdAbove = defaultExportThresholdAbove(asset.source);
     const openvdb::Coord size = result.lattice.box.dim();
@@ -216,12 +218,14 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
     openvdb::GridBase::Ptr values;
     if (readsResidualLayer(asset, settings.layers)) {
         if (!isSourceLattice(result.lattice, asset)) {
-            throw InputError(name, "its residual layer holds its bound on the source's own grid only; export "
-                                   "there, or the Gaussians alone (`layers` gaussians) on another grid");
+            throw InputError(name,
+                             "its residual layer holds its bound on the source's own grid only; export "
+                             "there, or the Gaussians alone (`layers` gaussians) on another grid");
         }
         result.threshold = std::numeric_limits<float>::lowest();  // every voxel is kept
         result.thresholdAbove.reset();
-        values = gridOfEveryVoxel(boundedReconstruction(asset, name, progress), result.lattice, asset.source.background);
+        values =
+            gridOfEveryVoxel(boundedReconstruction(asset, name, progress), result.lattice, asset.source.background);
     } else {
         const GaussianField field(asset.params, asset.cutoffSigmas);
         const FieldToGridSettings sampling{asset.mapping, result.threshold, result.thresholdAbove,
@@ -232,7 +236,8 @@ ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& setti
         if (auto grey = openvdb::GridBase::grid<openvdb::FloatGrid>(values)) {
             result.grids = dccGrids(*grey, *settings.dcc, settings.naming);
         } else {
-            result.grids = dccGrids(*openvdb::GridBase::grid<openvdb::Vec3SGrid>(values), *settings.dcc, settings.naming);
+            result.grids =
+                dccGrids(*openvdb::GridBase::grid<openvdb::Vec3SGrid>(values), *settings.dcc, settings.naming);
         }
     } else {
         result.grids.push_back(values);
@@ -260,8 +265,6 @@ Lattice latticeOf(const openvdb::GridBase& grid, const std::string& name) {
     return {shift * worldFromIndex, openvdb::CoordBBox(openvdb::Coord(0), box.dim() - openvdb::Coord(1))};
 }
 
-Lattice latticeLike(const std::string& path) {
-    return latticeOf(*loadOrIngest(path, IngestOptions{}).grid, path);
-}
+Lattice latticeLike(const std::string& path) { return latticeOf(*loadOrIngest(path, IngestOptions{}).grid, path); }
 
 }  // namespace gvr

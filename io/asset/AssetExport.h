@@ -74,8 +74,7 @@ struct ExportResult {
 /// voxel active, so that every voxel is within the layer's bound of the source. Grey data gives a float fog volume "density" in physical
 /// units; RGB a Vec3s "color" (or "Cd") plus a float fog volume "density". Every
 /// grid carries the source's metadata, with the lattice's dimensions and spacing.
-ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& settings,
-                         const ProgressFn& progress = {});
+ExportResult exportAsset(const GaussianAsset& asset, const ExportSettings& settings, const ProgressFn& progress = {});
 
 /// The Gaussians alone at every voxel of the source's lattice (no threshold): what
 /// a residual layer is encoded over and decoded onto.
@@ -85,8 +84,7 @@ FloatVolume gaussianPrediction(const GaussianAsset& asset, const ProgressFn& pro
 /// its bound of the source. @throw InputError naming @a name when the result is not
 /// bit for bit what the encoder decoded (its checksum), since the bound then is not
 /// known to hold.
-FloatVolume boundedReconstruction(const GaussianAsset& asset, const std::string& name,
-                                  const ProgressFn& progress = {});
+FloatVolume boundedReconstruction(const GaussianAsset& asset, const std::string& name, const ProgressFn& progress = {});
 
 /// The lattice of @a grid (its gvr dimensions, or its active voxels), moved so that
 /// its first voxel has index (0, 0, 0). @throw InputError naming @a name when it has

@@ -1,14 +1,12 @@
 #include "io/asset/AssetFile.h"
 
-#include "io/formats/FileKind.h"
-
 #include "io/asset/AssetBodyV1.h"
 #include "io/asset/AssetResidual.h"
-
+#include "io/formats/FileKind.h"
+#include "io/formats/JsonText.h"
 #include "io/guard/AtomicFile.h"
 #include "io/guard/ByteOrder.h"
 #include "io/guard/InputFile.h"
-#include "io/formats/JsonText.h"
 #include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 #include "pipeline/GaussianKernel.h"
@@ -32,17 +30,21 @@ constexpr std::size_t kChecksumBytes = 4;
 constexpr std::size_t kMaxGaussians = std::size_t(1) << 31;
 constexpr std::size_t kMaxGaussiansPerBodyByte = 8;
 constexpr std::size_t kMaxHeaderDepth = 64;
-constexpr double kMaxWorldMm = 1e9;          // a thousand kilometres
-constexpr float kMaxMeanVoxels = 1 << 24;    // where float positions still step by a voxel
-constexpr float kLogScaleSlack = 0.5f;       // quantisation may step a little past the kernel's range
+constexpr double kMaxWorldMm = 1e9;        // a thousand kilometres
+constexpr float kMaxMeanVoxels = 1 << 24;  // where float positions still step by a voxel
+constexpr float kLogScaleSlack = 0.5f;     // quantisation may step a little past the kernel's range
 
 nlohmann::json sourceJson(const VolumeMetadata& m) {
-    nlohmann::json j = {{"file", m.sourceFile},         {"modality", m.modality},
-                        {"type", m.sourceType},         {"channels", m.channels},
+    nlohmann::json j = {{"file", m.sourceFile},
+                        {"modality", m.modality},
+                        {"type", m.sourceType},
+                        {"channels", m.channels},
                         {"dims", {m.dims.x(), m.dims.y(), m.dims.z()}},
                         {"spacing_mm", {m.spacingMm.x(), m.spacingMm.y(), m.spacingMm.z()}},
-                        {"value_min", m.valueMin},      {"value_max", m.valueMax},
-                        {"background", m.background},   {"raw_bytes", m.rawSourceBytes()}};
+                        {"value_min", m.valueMin},
+                        {"value_max", m.valueMax},
+                        {"background", m.background},
+                        {"raw_bytes", m.rawSourceBytes()}};
     if (m.threshold) j["threshold"] = *m.threshold;
     if (m.thresholdAbove) j["threshold_above"] = *m.thresholdAbove;
     if (m.padding) j["padding"] = {{"value", *m.padding}, {"voxels", m.paddingVoxels}};
@@ -105,7 +107,8 @@ void readLabelGroups(const nlohmann::json& groups, std::size_t count, GaussianAs
     for (const nlohmann::json& group : groups) {
         const int id = group.at("id").get<int>();
         const std::size_t n = group.at("count").get<std::size_t>();
-        if (n > count - asset.labels.size()) throw std::runtime_error("label groups hold more Gaussians than the asset");
+        if (n > count - asset.labels.size())
+            throw std::runtime_error("label groups hold more Gaussians than the asset");
         asset.labelTable.names[id] = group.at("name").get<std::string>();
         asset.labels.insert(asset.labels.end(), n, id);
     }
@@ -115,17 +118,11 @@ void readLabelGroups(const nlohmann::json& groups, std::size_t count, GaussianAs
 std::string headerJson(const GaussianAsset& asset, const nlohmann::json& quantisation) {
     std::vector<double> matrix(16);
     for (int k = 0; k < 16; ++k) matrix[k] = asset.worldFromIndex.asPointer()[k];
-    nlohmann::json header = {
-        {"format", "gvr-gaussians"},
-        {"count", asset.params.count()},
-        {"channels", asset.params.channels},
-        {"cutoff_sigmas", asset.cutoffSigmas},
-        {"world_from_index", matrix},
-        {"value_offset", asset.mapping.offset},
-        {"value_scale", asset.mapping.scale},
-        {"quantisation", quantisation},
-        {"source", sourceJson(asset.source)},
-        {"fit", asset.fitSettings}};
+    nlohmann::json header = {{"format", "gvr-gaussians"},          {"count", asset.params.count()},
+                             {"channels", asset.params.channels},  {"cutoff_sigmas", asset.cutoffSigmas},
+                             {"world_from_index", matrix},         {"value_offset", asset.mapping.offset},
+                             {"value_scale", asset.mapping.scale}, {"quantisation", quantisation},
+                             {"source", sourceJson(asset.source)}, {"fit", asset.fitSettings}};
     if (!asset.labels.empty()) header["labels"] = labelGroupsJson(asset);
     return jsonText(header);
 }
@@ -170,7 +167,8 @@ std::string encodeAsset(GaussianAsset& asset) {
     appendLittleEndian(bytes, std::uint32_t(header.size()));
     bytes += header;
     bytes += encodeAssetBodyV2(asset.params, quantisation);
-    appendLittleEndian(bytes, std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size()))));
+    appendLittleEndian(bytes,
+                       std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size()))));
     // A layer read from a file goes back over the same Gaussians' bytes: a decoded
     // asset's parameters quantise to what they were (a test holds save to the byte).
     return asset.residual ? withResidualLayer(bytes, *asset.residual) : bytes;
@@ -197,7 +195,8 @@ void checkCountAgainstSize(std::uint32_t version, std::size_t count, int channel
     const std::uint64_t decodedBytes = std::uint64_t(count) * floats * sizeof(float) * 2;
     if (decodedBytes > availableMemoryBytes()) {
         throw std::runtime_error(std::to_string(count) + " Gaussians would need " + std::to_string(decodedBytes >> 20) +
-                                 " MiB to decode; " + std::to_string(availableMemoryBytes() >> 20) + " MiB are available");
+                                 " MiB to decode; " + std::to_string(availableMemoryBytes() >> 20) +
+                                 " MiB are available");
     }
 }
 
@@ -210,8 +209,10 @@ std::size_t jsonDepth(std::string_view text) {
     for (std::size_t n = 0; n < text.size(); ++n) {
         const char c = text[n];
         if (inString) {
-            if (c == '\\') ++n;
-            else if (c == '"') inString = false;
+            if (c == '\\')
+                ++n;
+            else if (c == '"')
+                inString = false;
         } else if (c == '"') {
             inString = true;
         } else if (c == '[' || c == '{') {
@@ -232,8 +233,9 @@ void checkAssetFields(const GaussianAsset& asset, const std::string& path) {
     const auto withinFloat = [](double v) { return std::isfinite(v) && std::abs(v) <= double(FLT_MAX); };
     if (!(m.scale > 0.0) || !withinFloat(m.scale) || !withinFloat(m.offset[0]) || !withinFloat(m.offset[1]) ||
         !withinFloat(m.offset[2])) {
-        throw InputError(path, "corrupt asset: value_scale and value_offset must be finite, within the float "
-                               "range, and the scale positive");
+        throw InputError(path,
+                         "corrupt asset: value_scale and value_offset must be finite, within the float "
+                         "range, and the scale positive");
     }
     const openvdb::math::Mat4d& t = asset.worldFromIndex;
     bool affine = t(0, 3) == 0.0 && t(1, 3) == 0.0 && t(2, 3) == 0.0 && t(3, 3) == 1.0;
@@ -250,8 +252,8 @@ void checkAssetFields(const GaussianAsset& asset, const std::string& path) {
         for (int a = 0; a < 3; ++a) {
             if (!(logScale[a] >= kMinLogScale - kLogScaleSlack && logScale[a] <= kMaxLogScale + kLogScaleSlack)) {
                 throw InputError(path, "corrupt asset: Gaussian " + std::to_string(g) + " has log-scale " +
-                                           std::to_string(logScale[a]) + " (gvr writes " + std::to_string(kMinLogScale) +
-                                           " to " + std::to_string(kMaxLogScale) + ")");
+                                           std::to_string(logScale[a]) + " (gvr writes " +
+                                           std::to_string(kMinLogScale) + " to " + std::to_string(kMaxLogScale) + ")");
             }
             if (!(std::abs(mean[a]) <= kMaxMeanVoxels)) {
                 throw InputError(path, "corrupt asset: Gaussian " + std::to_string(g) + " lies at " +
@@ -268,7 +270,8 @@ std::string_view splitOffResidual(std::string_view body, const nlohmann::json& d
     if (sectionBytes > body.size()) throw std::runtime_error("the residual section runs past the body");
     const openvdb::Vec3i dims = asset.source.dims;
     if (dims.x() < 1 || dims.y() < 1 || dims.z() < 1) throw std::runtime_error("a residual layer over no voxels");
-    checkVolumeFitsInMemory(path, {dims.x(), dims.y(), dims.z()}, channels, 3 * sizeof(float), "decode its residual layer");
+    checkVolumeFitsInMemory(path, {dims.x(), dims.y(), dims.z()}, channels, 3 * sizeof(float),
+                            "decode its residual layer");
     asset.residual = std::make_shared<const ResidualLayer>(decodeResidualSection(
         body.substr(body.size() - sectionBytes), description, openvdb::Coord(dims.x(), dims.y(), dims.z()), channels));
     return body.substr(0, body.size() - sectionBytes);
@@ -290,9 +293,11 @@ std::string withResidualLayer(std::string_view assetBytes, const ResidualLayer& 
     appendLittleEndian(bytes, kBoundedAssetVersion);
     appendLittleEndian(bytes, std::uint32_t(text.size()));
     bytes += text;
-    bytes += assetBytes.substr(kPreambleBytes + headerBytes, assetBytes.size() - kPreambleBytes - headerBytes - kChecksumBytes);
+    bytes += assetBytes.substr(kPreambleBytes + headerBytes,
+                               assetBytes.size() - kPreambleBytes - headerBytes - kChecksumBytes);
     bytes += section;
-    appendLittleEndian(bytes, std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size()))));
+    appendLittleEndian(bytes,
+                       std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size()))));
     return bytes;
 }
 
@@ -378,7 +383,8 @@ GaussianAsset readAsset(const std::string& path) {
 
 GaussianAsset decodeAsset(std::string_view bytes, const std::string& path) {
     const std::uint64_t size = bytes.size();
-    if (size < kPreambleBytes + kChecksumBytes || !std::equal(kAssetMagic, kAssetMagic + sizeof kAssetMagic, bytes.data())) {
+    if (size < kPreambleBytes + kChecksumBytes ||
+        !std::equal(kAssetMagic, kAssetMagic + sizeof kAssetMagic, bytes.data())) {
         throw InputError(path, "not a gvr asset (no GVRASSET magic)");
     }
     const auto* cursor = reinterpret_cast<const unsigned char*>(bytes.data()) + sizeof kAssetMagic;
@@ -396,12 +402,12 @@ GaussianAsset decodeAsset(std::string_view bytes, const std::string& path) {
     std::size_t count = 0;
     int channels = 1;
     if (jsonDepth(bytes.substr(kPreambleBytes, headerBytes)) > kMaxHeaderDepth) {
-        throw InputError(path, "corrupt asset header: JSON nested more than " + std::to_string(kMaxHeaderDepth) +
-                                   " deep");
+        throw InputError(path,
+                         "corrupt asset header: JSON nested more than " + std::to_string(kMaxHeaderDepth) + " deep");
     }
     try {
-        const nlohmann::json header = nlohmann::json::parse(bytes.begin() + kPreambleBytes,
-                                                            bytes.begin() + kPreambleBytes + headerBytes);
+        const nlohmann::json header =
+            nlohmann::json::parse(bytes.begin() + kPreambleBytes, bytes.begin() + kPreambleBytes + headerBytes);
         count = header.at("count").get<std::size_t>();
         channels = header.at("channels").get<int>();
         if ((channels != 1 && channels != 3) || count > kMaxGaussians) {
@@ -423,7 +429,8 @@ GaussianAsset decodeAsset(std::string_view bytes, const std::string& path) {
     }
     std::uint32_t stored;
     std::memcpy(&stored, bytes.data() + size - kChecksumBytes, sizeof stored);
-    const auto computed = std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(size - kChecksumBytes)));
+    const auto computed =
+        std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(size - kChecksumBytes)));
     if (stored != computed) throw InputError(path, "corrupt asset: checksum mismatch (truncated or damaged)");
 
     std::string_view body(bytes.data() + kPreambleBytes + headerBytes,
@@ -445,8 +452,8 @@ GaussianAsset decodeAsset(std::string_view bytes, const std::string& path) {
     }
     // Valid numbers can still describe nothing usable: a fit never writes these.
     if (!(asset.cutoffSigmas >= 1.0f && asset.cutoffSigmas <= 10.0f)) {
-        throw InputError(path, "corrupt asset: cutoff of " + std::to_string(asset.cutoffSigmas) +
-                                   " sigmas (gvr writes 1 to 10)");
+        throw InputError(
+            path, "corrupt asset: cutoff of " + std::to_string(asset.cutoffSigmas) + " sigmas (gvr writes 1 to 10)");
     }
     const double determinant = asset.worldFromIndex.getMat3().det();
     if (!std::isfinite(determinant) || std::abs(determinant) < 1e-12) {

@@ -1,8 +1,8 @@
 #include "io/asset/AssetResidual.h"
 
-#include "io/guard/ByteOrder.h"
 #include "io/asset/ResidualCodes.h"
 #include "io/asset/ZstdFrame.h"
+#include "io/guard/ByteOrder.h"
 #include "pipeline/Block.h"
 
 #include <zlib.h>
@@ -37,7 +37,8 @@ std::vector<std::string_view> takeStreams(std::string_view section, std::size_t&
         if (section.size() - cursor < sizeof(std::uint64_t)) throw std::runtime_error("residual codes: cut short");
         const auto length = loadLittleEndian<std::uint64_t>(section.data() + cursor);
         cursor += sizeof length;
-        if (length > section.size() - cursor) throw std::runtime_error("residual codes: a stream runs past the section");
+        if (length > section.size() - cursor)
+            throw std::runtime_error("residual codes: a stream runs past the section");
         streams.push_back(section.substr(cursor, length));
         cursor += length;
     }
@@ -80,7 +81,8 @@ ResidualLayer decodeResidualSection(std::string_view section, const nlohmann::js
     }
     const std::string domain = description.at("domain").get<std::string>();
     if (domain != "integers" && domain != "values") throw std::runtime_error("residual: unknown domain " + domain);
-    layer.domain = {domain == "integers", description.at("slope").get<double>(), description.at("intercept").get<double>()};
+    layer.domain = {domain == "integers", description.at("slope").get<double>(),
+                    description.at("intercept").get<double>()};
     if (!(layer.bound >= 0.0) || !std::isfinite(layer.bound) || !(layer.domain.slope != 0.0) ||
         !std::isfinite(layer.domain.slope) || !std::isfinite(layer.domain.intercept)) {
         throw std::runtime_error("residual: its bound or domain is not a valid number");
@@ -88,7 +90,8 @@ ResidualLayer decodeResidualSection(std::string_view section, const nlohmann::js
     if (description.at("slab_slices").get<int>() != kResidualSlabSlices) {
         throw std::runtime_error("residual: slabs of another size than this gvr codes");
     }
-    if (description.at("coder").get<std::string>() != kCoder) throw std::runtime_error("residual: a coder this gvr does not know");
+    if (description.at("coder").get<std::string>() != kCoder)
+        throw std::runtime_error("residual: a coder this gvr does not know");
     layer.dims = dims;
     layer.channels = channels;
     layer.reconstructionChecksum = description.at("reconstruction_crc32").get<std::uint32_t>();

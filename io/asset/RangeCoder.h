@@ -63,7 +63,8 @@ private:
     void shiftLow() {
         if (std::uint32_t(mLow) < 0xff000000u || (mLow >> 32) != 0) {
             const auto carry = std::uint8_t(mLow >> 32);
-            for (std::uint8_t byte = mCache; mPending != 0; --mPending, byte = 0xff) mBytes.push_back(char(byte + carry));
+            for (std::uint8_t byte = mCache; mPending != 0; --mPending, byte = 0xff)
+                mBytes.push_back(char(byte + carry));
             mCache = std::uint8_t(mLow >> 24);
         }
         ++mPending;

@@ -12,7 +12,7 @@ namespace gvr {
 
 namespace {
 
-constexpr int kLongestCode = 30;              // the bit length of kMaxResidualCode
+constexpr int kLongestCode = 30;                // the bit length of kMaxResidualCode
 constexpr int kExactLength = kLongestCode + 1;  // the "length" that says: stored exactly
 constexpr int kBuckets = 16;
 constexpr std::uint32_t kLargeMagnitude = 1u << 12;  // an exact neighbour counts as this large
@@ -22,7 +22,7 @@ static_assert(kMaxResidualCode == (1 << kLongestCode) - 1, "a code's length must
 /// The adaptive probabilities of one channel's codes.
 struct CodeModel {
     BitModel zero[kBuckets];
-    BitModel longer[kBuckets][kExactLength];  ///< [bucket][n - 1]: is the length more than n?
+    BitModel longer[kBuckets][kExactLength];    ///< [bucket][n - 1]: is the length more than n?
     BitModel bits[kExactLength][kLongestCode];  ///< [length][bit position] under the top bit
     BitModel negative[9];                       ///< by the signs of the codes before and above
 };
@@ -97,7 +97,8 @@ std::int32_t decodeCode(RangeDecoder& coder, CodeModel& model, const Neighbourho
     while (length < kExactLength && coder.decode(model.longer[bucket][length - 1])) ++length;
     if (length == kExactLength) return kResidualExact;
     std::uint32_t magnitude = 1;
-    for (int bit = length - 2; bit >= 0; --bit) magnitude = (magnitude << 1) | std::uint32_t(coder.decode(model.bits[length][bit]));
+    for (int bit = length - 2; bit >= 0; --bit)
+        magnitude = (magnitude << 1) | std::uint32_t(coder.decode(model.bits[length][bit]));
     const auto code = std::int32_t(magnitude);
     return coder.decode(model.negative[around.signContext()]) ? -code : code;
 }
@@ -130,7 +131,8 @@ void decodeResidualCodes(const std::vector<std::string_view>& streams, ResidualL
         });
         overran[slab] = coder.overran();
     });
-    if (std::count(overran.begin(), overran.end(), 1) != 0) throw std::runtime_error("residual codes: a stream is cut short");
+    if (std::count(overran.begin(), overran.end(), 1) != 0)
+        throw std::runtime_error("residual codes: a stream is cut short");
 }
 
 }  // namespace gvr

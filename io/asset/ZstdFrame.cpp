@@ -28,7 +28,8 @@ std::string takeZstdFrame(std::string_view body, std::size_t& cursor, std::size_
     }
     std::string plain(expectedBytes, '\0');
     const std::size_t size = ZSTD_decompress(plain.data(), expectedBytes, frame, length);
-    if (ZSTD_isError(size) || size != expectedBytes) throw std::runtime_error(std::string(what) + ": does not decompress");
+    if (ZSTD_isError(size) || size != expectedBytes)
+        throw std::runtime_error(std::string(what) + ": does not decompress");
     cursor += length;
     return plain;
 }

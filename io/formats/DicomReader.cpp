@@ -4,18 +4,17 @@
 // normal and to check that the series is consistent; only then are slices
 // decoded, a slab at a time, in parallel.
 
+#include "io/formats/Readers.h"
+#include "io/formats/SliceSource.h"
 #include "io/guard/ByteOrder.h"
 #include "io/guard/DicomStructure.h"
 #include "io/guard/MemoryBudget.h"
-#include "io/formats/Readers.h"
-#include "io/formats/SliceSource.h"
 #include "pipeline/Error.h"
 
 #include <gdcmImageHelper.h>
 #include <gdcmImageReader.h>
 #include <gdcmReader.h>
 #include <gdcmTrace.h>
-
 #include <openvdb/Types.h>
 
 #include <algorithm>
@@ -79,13 +78,17 @@ std::optional<std::int64_t> paddingValueOf(const gdcm::File& dicom, const gdcm::
 SampleType sampleTypeOf(const gdcm::PixelFormat& format, const std::string& file) {
     const bool isSigned = format.GetPixelRepresentation() == 1;
     switch (format.GetBitsAllocated()) {
-        case 8: return isSigned ? SampleType::Int8 : SampleType::UInt8;
-        case 16: return isSigned ? SampleType::Int16 : SampleType::UInt16;
-        case 32: return isSigned ? SampleType::Int32 : SampleType::UInt32;
-        default: break;
+        case 8:
+            return isSigned ? SampleType::Int8 : SampleType::UInt8;
+        case 16:
+            return isSigned ? SampleType::Int16 : SampleType::UInt16;
+        case 32:
+            return isSigned ? SampleType::Int32 : SampleType::UInt32;
+        default:
+            break;
     }
-    throw InputError(file, "unsupported DICOM pixel format: " +
-                               std::to_string(format.GetBitsAllocated()) + " bits allocated");
+    throw InputError(
+        file, "unsupported DICOM pixel format: " + std::to_string(format.GetBitsAllocated()) + " bits allocated");
 }
 
 Vec3d vec3(const std::vector<double>& values, std::size_t offset) {
@@ -103,7 +106,8 @@ void checkSpacing(const std::vector<double>& spacing, const std::string& file) {
 /// stand would be the wrong picture.
 void checkPhotometric(const gdcm::DataSet& dataSet, const std::string& file) {
     const std::string photometric = stringElement(dataSet, gdcm::Tag(0x0028, 0x0004));
-    if (photometric.empty() || photometric == "MONOCHROME1" || photometric == "MONOCHROME2" || photometric == "RGB") return;
+    if (photometric.empty() || photometric == "MONOCHROME1" || photometric == "MONOCHROME2" || photometric == "RGB")
+        return;
     // Compressed YBR is turned into RGB by the decoder; stored as it is, it is not.
     const bool compressedYbr = photometric.rfind("YBR_", 0) == 0 && photometric != "YBR_FULL";
     if (compressedYbr) return;
@@ -148,8 +152,9 @@ SliceHeader readSliceHeader(const std::string& file, SeriesHeader& series, bool 
         throw InputError(file, "DICOM header has no image dimensions");
     }
     if (dims.size() > 2 && dims[2] > 1) {
-        throw InputError(file, "multi-frame DICOM files are not supported; gvr reads series "
-                               "of single-frame slices");
+        throw InputError(file,
+                         "multi-frame DICOM files are not supported; gvr reads series "
+                         "of single-frame slices");
     }
 
     checkSpacing(spacing, file);
@@ -180,24 +185,21 @@ SliceHeader readSliceHeader(const std::string& file, SeriesHeader& series, bool 
         if (!modality.empty()) series.modality = modality;
         series.paddingStored = paddingValueOf(dicom, format);
     } else if (dims[0] != series.columns || dims[1] != series.rows) {
-        throw InputError(file, "slice is " + std::to_string(dims[0]) + "x" +
-                                   std::to_string(dims[1]) + " but the series is " +
-                                   std::to_string(series.columns) + "x" +
+        throw InputError(file, "slice is " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) +
+                                   " but the series is " + std::to_string(series.columns) + "x" +
                                    std::to_string(series.rows));
     } else if (!sameDirections(cosines, series) || spacing.at(0) != series.columnSpacing ||
                spacing.at(1) != series.rowSpacing) {
-        throw InputError(file, "ImageOrientationPatient or PixelSpacing differs from the series' first slice; "
-                               "gvr stacks slices of one geometry");
+        throw InputError(file,
+                         "ImageOrientationPatient or PixelSpacing differs from the series' first slice; "
+                         "gvr stacks slices of one geometry");
     } else if (uid != series.seriesUid) {
-        throw InputError(file, "belongs to another series (SeriesInstanceUID " + uid +
-                                   "); put one series per folder");
-    } else if (sampleTypeOf(format, file) != series.type ||
-               format.GetSamplesPerPixel() != series.samplesPerPixel) {
+        throw InputError(file, "belongs to another series (SeriesInstanceUID " + uid + "); put one series per folder");
+    } else if (sampleTypeOf(format, file) != series.type || format.GetSamplesPerPixel() != series.samplesPerPixel) {
         throw InputError(file, "pixel format differs from the rest of the series");
     }
     if (series.samplesPerPixel != 1 && series.samplesPerPixel != 3) {
-        throw InputError(file, "unsupported DICOM samples per pixel: " +
-                                   std::to_string(series.samplesPerPixel));
+        throw InputError(file, "unsupported DICOM samples per pixel: " + std::to_string(series.samplesPerPixel));
     }
     return slice;
 }
@@ -228,8 +230,7 @@ SeriesHeader readSeriesHeader(const std::string& folder) {
               [](const SliceHeader& a, const SliceHeader& b) { return a.along < b.along; });
     for (std::size_t s = 1; s < series.slices.size(); ++s) {
         if (std::abs(series.slices[s].along - series.slices[s - 1].along) < 1e-4) {
-            throw InputError(series.slices[s].file, "lies at the same position as " +
-                                                        series.slices[s - 1].file);
+            throw InputError(series.slices[s].file, "lies at the same position as " + series.slices[s - 1].file);
         }
     }
     return series;
@@ -251,9 +252,8 @@ Vec3d sliceStep(const SeriesHeader& series, DenseVolume& volume) {
         largest = std::max(largest, gap);
     }
     if (largest > 1.1 * smallest) {
-        volume.warnings.push_back("slice spacing is not uniform (" + std::to_string(smallest) +
-                                  " to " + std::to_string(largest) +
-                                  " mm); using the mean, positions may be off");
+        volume.warnings.push_back("slice spacing is not uniform (" + std::to_string(smallest) + " to " +
+                                  std::to_string(largest) + " mm); using the mean, positions may be off");
     }
     return step;
 }
@@ -277,16 +277,14 @@ void setGeometry(const SeriesHeader& series, DenseVolume& volume) {
 
 bool rescaleIsUniform(const SeriesHeader& series) {
     const SliceHeader& first = series.slices.front();
-    return std::all_of(series.slices.begin(), series.slices.end(), [&](const SliceHeader& s) {
-        return s.slope == first.slope && s.intercept == first.intercept;
-    });
+    return std::all_of(series.slices.begin(), series.slices.end(),
+                       [&](const SliceHeader& s) { return s.slope == first.slope && s.intercept == first.intercept; });
 }
 
 /// GDCM decodes what it can of a cut-off file without complaint, so check that
 /// native pixel data holds every byte (checkDicomStructure() has already seen
 /// compressed pixel data end with its delimiter).
-void checkPixelDataComplete(const gdcm::DataSet& dataSet, const std::string& file,
-                            std::size_t storedBytes) {
+void checkPixelDataComplete(const gdcm::DataSet& dataSet, const std::string& file, std::size_t storedBytes) {
     const gdcm::Tag pixelData(0x7fe0, 0x0010);
     if (!dataSet.FindDataElement(pixelData)) throw InputError(file, "has no pixel data");
     const gdcm::ByteValue* value = dataSet.GetDataElement(pixelData).GetByteValue();
@@ -309,8 +307,7 @@ std::vector<char> interleavedFromPlanes(const std::vector<char>& planes, std::si
 
 /// Decodes one slice into @a destination, rescaled to float when the series mixes
 /// rescale parameters.
-void decodeSlice(const SeriesHeader& series, std::size_t index, unsigned char* destination,
-                 bool perSliceRescale) {
+void decodeSlice(const SeriesHeader& series, std::size_t index, unsigned char* destination, bool perSliceRescale) {
     const SliceHeader& slice = series.slices[index];
     gdcm::ImageReader reader;
     reader.SetFileName(slice.file.c_str());
@@ -390,7 +387,8 @@ std::unique_ptr<SliceSource> openDicomSeries(const std::string& folder, const Re
         layout.slope = series.slices.front().slope;
         layout.intercept = series.slices.front().intercept;
         // Slices rescaled alike share one physical padding value; others have none.
-        if (series.paddingStored) layout.markedPadding = layout.slope * double(*series.paddingStored) + layout.intercept;
+        if (series.paddingStored)
+            layout.markedPadding = layout.slope * double(*series.paddingStored) + layout.intercept;
     }
     return std::make_unique<DicomSeries>(std::move(layout), folder, std::move(series), perSliceRescale);
 }

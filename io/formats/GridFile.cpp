@@ -1,7 +1,6 @@
 #include "io/formats/GridFile.h"
 
 #include "io/formats/FileKind.h"
-
 #include "io/guard/AtomicFile.h"
 #include "io/guard/InputFile.h"
 #include "io/guard/MemoryBudget.h"
@@ -53,8 +52,9 @@ void checkTransforms(const openvdb::GridPtrVec& grids, const std::string& path) 
     for (const auto& grid : grids) {
         // A frustum's affine part is the identity: read as it, the voxels would move.
         if (!grid->transform().isLinear()) {
-            throw InputError(path, "grid '" + grid->getName() + "' has a non-linear (frustum) transform; "
-                                   "gvr reads linear transforms only");
+            throw InputError(path, "grid '" + grid->getName() +
+                                       "' has a non-linear (frustum) transform; "
+                                       "gvr reads linear transforms only");
         }
         bool usable = false;
         try {
@@ -86,8 +86,9 @@ void checkVolumeMetadata(const openvdb::GridPtrVec& grids, const std::string& pa
         }
         for (int axis = 0; axis < 3; ++axis) {
             if (!(metadata->spacingMm[axis] > 0.0) || !std::isfinite(metadata->spacingMm[axis])) {
-                throw InputError(path, "grid '" + grid->getName() + "' has a gvr_spacing_mm that is not a "
-                                                                    "positive finite size");
+                throw InputError(path, "grid '" + grid->getName() +
+                                           "' has a gvr_spacing_mm that is not a "
+                                           "positive finite size");
             }
         }
     }
@@ -108,9 +109,12 @@ enum class Voxels { Now, OnDemand, None };
 
 openvdb::GridPtrVecPtr loadGrids(const std::string& path, Voxels voxels, bool hasGridOffsets) {
     switch (voxels) {
-        case Voxels::Now: return streamGrids(path);
-        case Voxels::OnDemand: return hasGridOffsets ? mappedGrids(path) : streamGrids(path);
-        case Voxels::None: return gridMetadata(path, hasGridOffsets);
+        case Voxels::Now:
+            return streamGrids(path);
+        case Voxels::OnDemand:
+            return hasGridOffsets ? mappedGrids(path) : streamGrids(path);
+        case Voxels::None:
+            return gridMetadata(path, hasGridOffsets);
     }
     return nullptr;
 }
@@ -137,8 +141,7 @@ openvdb::GridPtrVecPtr readGrids(const std::string& path, Voxels voxels) {
 }
 
 bool holdsVolumeValues(const openvdb::GridBase& grid) {
-    return grid.isType<openvdb::FloatGrid>() || grid.isType<openvdb::DoubleGrid>() ||
-           grid.isType<openvdb::Vec3SGrid>();
+    return grid.isType<openvdb::FloatGrid>() || grid.isType<openvdb::DoubleGrid>() || grid.isType<openvdb::Vec3SGrid>();
 }
 
 }  // namespace
@@ -168,8 +171,8 @@ openvdb::GridBase::Ptr chooseVolumeGrid(const openvdb::GridPtrVec& grids, const 
     if (!candidates.empty()) return candidates.front();
     std::string found;
     for (const auto& grid : grids) found += " " + grid->getName() + " (" + grid->valueType() + ")";
-    throw InputError(path, "holds no float, double or Vec3s grid; found:" +
-                               (found.empty() ? std::string(" nothing") : found));
+    throw InputError(
+        path, "holds no float, double or Vec3s grid; found:" + (found.empty() ? std::string(" nothing") : found));
 }
 
 namespace {

@@ -39,7 +39,8 @@ std::vector<std::uint8_t> straightBytes(int width, int height, const float* rgba
 void writeImage(const std::string& path, int width, int height, const float* premultipliedRgba) {
     const OutputFormat format = outputFormat(path);
     if (format != OutputFormat::Png && format != OutputFormat::Exr) {
-        throw InputError(path, "unknown image format '" + lowerExtension(path) + "'; write .png (8-bit) or .exr (float)");
+        throw InputError(path,
+                         "unknown image format '" + lowerExtension(path) + "'; write .png (8-bit) or .exr (float)");
     }
     // Encoded in memory, then written here: OpenImageIO's PNG writer does not see a
     // short write (a full disk, ulimit -f) and would leave a cut file behind.
@@ -50,8 +51,8 @@ void writeImage(const std::string& path, int width, int height, const float* pre
     const bool png = format == OutputFormat::Png;
     OIIO::ImageSpec spec(width, height, 4, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
     spec.attribute("oiio:UnassociatedAlpha", png ? 1 : 0);
-    const std::vector<std::uint8_t> bytes = png ? straightBytes(width, height, premultipliedRgba)
-                                                : std::vector<std::uint8_t>();
+    const std::vector<std::uint8_t> bytes =
+        png ? straightBytes(width, height, premultipliedRgba) : std::vector<std::uint8_t>();
     const bool written = out->open(path, spec) &&
                          (png ? out->write_image(OIIO::TypeDesc::UINT8, bytes.data())
                               : out->write_image(OIIO::TypeDesc::FLOAT, premultipliedRgba)) &&

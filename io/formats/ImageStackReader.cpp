@@ -1,10 +1,10 @@
 // Stacks of 2D images (PNG, TIFF, JPEG, ...) and multi-page TIFF, through OpenImageIO.
 // Every page of every file becomes one slice, in the order given.
 
-#include "io/guard/ImageFraming.h"
-#include "io/guard/MemoryBudget.h"
 #include "io/formats/Readers.h"
 #include "io/formats/SliceSource.h"
+#include "io/guard/ImageFraming.h"
+#include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 
 #include <OpenImageIO/imageio.h>
@@ -23,8 +23,8 @@ struct Page {
 
 struct StackLayout {
     int width = 0, height = 0;
-    int channels = 0;  // 1 grey or 3 RGB, after dropping alpha
-    bool alpha = false; // some slice had an alpha channel
+    int channels = 0;    // 1 grey or 3 RGB, after dropping alpha
+    bool alpha = false;  // some slice had an alpha channel
     SampleType type = SampleType::UInt8;
     std::vector<Page> pages;
 };
@@ -65,8 +65,7 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& file) {
     return input;
 }
 
-void addPage(const std::string& file, int subimage, const OIIO::ImageSpec& spec,
-             StackLayout& layout) {
+void addPage(const std::string& file, int subimage, const OIIO::ImageSpec& spec, StackLayout& layout) {
     const int channels = spec.nchannels >= 3 ? 3 : 1;
     const SampleType type = sampleTypeOf(spec.format);
     if (layout.pages.empty()) {
@@ -75,17 +74,15 @@ void addPage(const std::string& file, int subimage, const OIIO::ImageSpec& spec,
         layout.channels = channels;
         layout.type = type;
     } else if (spec.width != layout.width || spec.height != layout.height) {
-        throw InputError(file, "slice is " + std::to_string(spec.width) + "x" +
-                                   std::to_string(spec.height) + " but earlier slices are " +
-                                   std::to_string(layout.width) + "x" +
+        throw InputError(file, "slice is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                                   " but earlier slices are " + std::to_string(layout.width) + "x" +
                                    std::to_string(layout.height));
     } else if (channels != layout.channels) {
         throw InputError(file, std::string("slice is ") + (channels == 3 ? "colour" : "grey") +
-                                   " but earlier slices are " +
-                                   (layout.channels == 3 ? "colour" : "grey"));
+                                   " but earlier slices are " + (layout.channels == 3 ? "colour" : "grey"));
     } else if (type != layout.type) {
-        throw InputError(file, "slice stores " + sampleTypeName(type) +
-                                   " but earlier slices store " + sampleTypeName(layout.type));
+        throw InputError(
+            file, "slice stores " + sampleTypeName(type) + " but earlier slices store " + sampleTypeName(layout.type));
     }
     if (spec.depth > 1) throw InputError(file, "volume images are not supported as slices");
     layout.alpha = layout.alpha || spec.alpha_channel >= 0 || spec.nchannels == 2 || spec.nchannels == 4;
@@ -101,8 +98,8 @@ void checkFileCanHoldItsPages(const std::string& file, const OIIO::ImageSpec& sp
     // OpenImageIO reads a TIFF a strip at a time, into a buffer of the header's
     // RowsPerStrip rows, however few rows the image has.
     const double rows = std::max(double(spec.height), double(spec.get_int_attribute("tiff:RowsPerStrip", 0)));
-    const double decoded = double(spec.width) * rows * double(std::max(spec.depth, 1)) *
-                           double(spec.nchannels) * double(spec.format.size()) * double(pages);
+    const double decoded = double(spec.width) * rows * double(std::max(spec.depth, 1)) * double(spec.nchannels) *
+                           double(spec.format.size()) * double(pages);
     const double fileBytes = double(std::filesystem::file_size(file));
     if (decoded > fileBytes * kMostDecodedBytesPerFileByte) {
         const std::string strips =

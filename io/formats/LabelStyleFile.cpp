@@ -48,11 +48,14 @@ std::map<std::string, LabelStyle> readLabelStyles(const std::string& path) {
     requireRegularFile(path);
     std::ifstream in(path);
     if (!in) throw InputError(path, "cannot open the label styles");
-    const nlohmann::json file = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-    if (file.is_discarded() || !file.is_object()) throw InputError(path, "not a JSON object of structure styles");
-    std::map<std::string, LabelStyle> styles;
-    for (const auto& [key, entry] : file.items()) styles[key] = parseStyle(entry, path, key);
-    return styles;
+    return parseLabelStyles(nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false), path);
+}
+
+std::map<std::string, LabelStyle> parseLabelStyles(const nlohmann::json& styles, const std::string& name) {
+    if (styles.is_discarded() || !styles.is_object()) throw InputError(name, "not a JSON object of structure styles");
+    std::map<std::string, LabelStyle> parsed;
+    for (const auto& [key, entry] : styles.items()) parsed[key] = parseStyle(entry, name, key);
+    return parsed;
 }
 
 }  // namespace gvr

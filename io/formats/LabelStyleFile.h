@@ -9,6 +9,8 @@
 
 #include "pipeline/LabelStyle.h"
 
+#include <nlohmann/json.hpp>
+
 #include <map>
 #include <string>
 
@@ -17,5 +19,9 @@ namespace gvr {
 /// @return styles by the key as written (resolve names and ids with selectLabels).
 /// @throw InputError naming @a path for anything else.
 std::map<std::string, LabelStyle> readLabelStyles(const std::string& path);
+
+/// The styles of a JSON object as the file holds it (Python's dict of them).
+/// @throw InputError naming @a name, as readLabelStyles.
+std::map<std::string, LabelStyle> parseLabelStyles(const nlohmann::json& styles, const std::string& name);
 
 }  // namespace gvr

@@ -63,12 +63,10 @@ MetaHeader readHeader(const std::string& path) {
     MetaHeader header;
     std::string line;
     constexpr std::size_t kMaxHeaderLines = 200;
-    for (std::size_t lineCount = 0; lineCount < kMaxHeaderLines && std::getline(in, line);
-         ++lineCount) {
+    for (std::size_t lineCount = 0; lineCount < kMaxHeaderLines && std::getline(in, line); ++lineCount) {
         const auto equals = line.find('=');
         if (equals == std::string::npos) {
-            throw InputError(path, "corrupt MetaImage header: line '" + line.substr(0, 40) +
-                                       "' is not 'Key = Value'");
+            throw InputError(path, "corrupt MetaImage header: line '" + line.substr(0, 40) + "' is not 'Key = Value'");
         }
         const std::string key = trim(line.substr(0, equals));
         header.fields[key] = trim(line.substr(equals + 1));
@@ -106,15 +104,14 @@ std::vector<double> numbers(const MetaHeader& header, const std::string& key, st
     std::vector<double> values(count);
     for (double& value : values) {
         if (!(in >> value)) {
-            throw InputError(path, "MetaImage " + key + " needs " + std::to_string(count) +
-                                       " numbers");
+            throw InputError(path, "MetaImage " + key + " needs " + std::to_string(count) + " numbers");
         }
     }
     return values;
 }
 
-std::vector<double> numbersOr(const MetaHeader& header, const std::string& key,
-                              std::vector<double> fallback, const std::string& path) {
+std::vector<double> numbersOr(const MetaHeader& header, const std::string& key, std::vector<double> fallback,
+                              const std::string& path) {
     if (!header.fields.count(key)) return fallback;
     return numbers(header, key, fallback.size(), path);
 }
@@ -130,9 +127,8 @@ int countOr(const MetaHeader& header, const std::string& key, double fallback, c
 
 SampleType sampleTypeOf(const std::string& elementType, const std::string& path) {
     static const std::map<std::string, SampleType> types = {
-        {"MET_UCHAR", SampleType::UInt8},   {"MET_CHAR", SampleType::Int8},
-        {"MET_USHORT", SampleType::UInt16}, {"MET_SHORT", SampleType::Int16},
-        {"MET_UINT", SampleType::UInt32},   {"MET_INT", SampleType::Int32},
+        {"MET_UCHAR", SampleType::UInt8},   {"MET_CHAR", SampleType::Int8},     {"MET_USHORT", SampleType::UInt16},
+        {"MET_SHORT", SampleType::Int16},   {"MET_UINT", SampleType::UInt32},   {"MET_INT", SampleType::Int32},
         {"MET_FLOAT", SampleType::Float32}, {"MET_DOUBLE", SampleType::Float64}};
     const auto found = types.find(elementType);
     if (found == types.end()) {
@@ -192,8 +188,8 @@ DenseVolume readMetaImage(const std::string& path, const ReadOptions& options) {
     volume.type = sampleTypeOf(field(header, "ElementType", path), path);
     volume.channels = countOr(header, "ElementNumberOfChannels", 1.0, path);
     if (volume.channels != 1 && volume.channels != 3) {
-        throw InputError(path, "MetaImage has " + std::to_string(volume.channels) +
-                                   " channels; gvr reads 1 (grey) or 3 (RGB)");
+        throw InputError(
+            path, "MetaImage has " + std::to_string(volume.channels) + " channels; gvr reads 1 (grey) or 3 (RGB)");
     }
     volume.worldFromIndex = worldFromIndexOf(header, ndims, path);
     const bool bigEndian = isTrue(header, "BinaryDataByteOrderMSB") || isTrue(header, "ElementByteOrderMSB");

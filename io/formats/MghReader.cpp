@@ -1,9 +1,9 @@
 // FreeSurfer MGH, and MGZ (the same, gzip'd). A 284-byte big-endian header, then
 // the frames one after the other. Layout from FreeSurfer's mghformat documentation.
 
-#include "io/guard/ByteOrder.h"
 #include "io/formats/Readers.h"
 #include "io/formats/SampleFile.h"
+#include "io/guard/ByteOrder.h"
 #include "pipeline/Error.h"
 
 #include <zlib.h>
@@ -48,19 +48,23 @@ struct GzipFile {  // closes on every path out
 
 SampleType sampleTypeOf(std::int32_t code, const std::string& path) {
     switch (code) {
-        case 0: return SampleType::UInt8;
-        case 1: return SampleType::Int32;
-        case 3: return SampleType::Float32;
-        case 4: return SampleType::Int16;
-        default: break;
+        case 0:
+            return SampleType::UInt8;
+        case 1:
+            return SampleType::Int32;
+        case 3:
+            return SampleType::Float32;
+        case 4:
+            return SampleType::Int16;
+        default:
+            break;
     }
-    throw InputError(path, "unsupported MGH data type " + std::to_string(code) +
-                               " (gvr reads 0 uchar, 1 int, 3 float, 4 short)");
+    throw InputError(
+        path, "unsupported MGH data type " + std::to_string(code) + " (gvr reads 0 uchar, 1 int, 3 float, 4 short)");
 }
 
 /// FreeSurfer's vox2ras: direction cosines times voxel size, centred on c_ras.
-openvdb::math::Mat4d worldFromIndexOf(BigEndianCursor& cursor, const DenseVolume& volume,
-                                      bool goodRas) {
+openvdb::math::Mat4d worldFromIndexOf(BigEndianCursor& cursor, const DenseVolume& volume, bool goodRas) {
     double spacing[3], cosines[3][3], centre[3];
     for (double& s : spacing) s = cursor.float32();
     for (auto& axis : cosines) {
@@ -94,14 +98,14 @@ DenseVolume readMgh(const std::string& path, const ReadOptions& options) {
     BigEndianCursor cursor(header);
     const std::int32_t version = cursor.int32();
     if (version != 1) {
-        throw InputError(path, "corrupt MGH header: version is " + std::to_string(version) +
-                                   " (expected 1)");
+        throw InputError(path, "corrupt MGH header: version is " + std::to_string(version) + " (expected 1)");
     }
     DenseVolume volume;
     for (auto& d : volume.dims) d = cursor.int32();
     const std::int32_t frames = cursor.int32();
     if (frames < 1) {
-        throw InputError(path, "corrupt MGH header: nframes is " + std::to_string(frames) + "; a volume has at least one");
+        throw InputError(path,
+                         "corrupt MGH header: nframes is " + std::to_string(frames) + "; a volume has at least one");
     }
     volume.type = sampleTypeOf(cursor.int32(), path);
     cursor.int32();  // degrees of freedom: unused
@@ -110,8 +114,7 @@ DenseVolume readMgh(const std::string& path, const ReadOptions& options) {
     volume.modality = "MR";
     if (options.volumeIndex < 0 || options.volumeIndex >= frames) {
         throw InputError(path, "`volume=" + std::to_string(options.volumeIndex) + "`" +
-                                   " is out of range: the file holds " + std::to_string(frames) +
-                                   " frame(s)");
+                                   " is out of range: the file holds " + std::to_string(frames) + " frame(s)");
     }
     reserveSamples(volume, path);  // the sample reader allocates as data arrives
 

@@ -1,9 +1,9 @@
 // NIfTI-1 and NIfTI-2 through nifticlib's nifti2 API, which reads both.
 
-#include "io/guard/ByteOrder.h"
 #include "io/formats/NiftiImage.h"
 #include "io/formats/Readers.h"
 #include "io/formats/SampleFile.h"
+#include "io/guard/ByteOrder.h"
 #include "pipeline/Error.h"
 
 #include <nifti2_io.h>
@@ -21,10 +21,10 @@ namespace {
 /// What nifticlib does not tell: the header's size, and vox_offset as written
 /// (nifticlib quietly moves an offset it cannot use to the end of the header).
 struct RawHeader {
-    int size = 0;           // 348 (NIfTI-1) or 540 (NIfTI-2)
-    bool swap = false;      // written in the other byte order
+    int size = 0;       // 348 (NIfTI-1) or 540 (NIfTI-2)
+    bool swap = false;  // written in the other byte order
     double voxOffset = 0.0;
-    std::int64_t dimensions = 0;  // dim[0], as written
+    std::int64_t dimensions = 0;         // dim[0], as written
     double pixdim[3] = {1.0, 1.0, 1.0};  // as written: nifticlib turns 0 and NaN into 1
 };
 
@@ -50,9 +50,10 @@ RawHeader readRawHeader(const std::string& path) {
         header.size = size;
         header.swap = swap;
         // NIfTI-1 writes vox_offset as a float, NIfTI-2 as an int64.
-        header.voxOffset = size == 348 ? double(fieldAt<float>(bytes, 108, swap))
-                                       : double(fieldAt<std::int64_t>(bytes, 168, swap));
-        header.dimensions = size == 348 ? fieldAt<std::int16_t>(bytes, 40, swap) : fieldAt<std::int64_t>(bytes, 16, swap);
+        header.voxOffset =
+            size == 348 ? double(fieldAt<float>(bytes, 108, swap)) : double(fieldAt<std::int64_t>(bytes, 168, swap));
+        header.dimensions =
+            size == 348 ? fieldAt<std::int16_t>(bytes, 40, swap) : fieldAt<std::int64_t>(bytes, 16, swap);
         for (int axis = 0; axis < 3; ++axis) {
             header.pixdim[axis] = size == 348 ? double(fieldAt<float>(bytes, 80 + 4 * axis, swap))
                                               : fieldAt<double>(bytes, 112 + 8 * axis, swap);
@@ -84,7 +85,8 @@ void checkExtensionCount(const std::string& path, const RawHeader& header) {
         const std::int32_t esize = fieldAt<std::int32_t>(bytes, 0, header.swap);
         if (esize < 16 || esize % 16 != 0) return;  // no extension nifticlib would read
         if (count == kMaxExtensions) {
-            throw InputError(path, "corrupt NIfTI header: more than " + std::to_string(kMaxExtensions) + " header extensions");
+            throw InputError(
+                path, "corrupt NIfTI header: more than " + std::to_string(kMaxExtensions) + " header extensions");
         }
         position += esize;
         if (gzseek(file, position, SEEK_SET) < 0) return;
@@ -99,8 +101,8 @@ void checkVoxOffset(const std::string& path, const RawHeader& header, const nift
     const double offset = header.voxOffset;
     if (!(offset >= lowest) || offset != std::floor(offset) || double(image.iname_offset) != offset) {
         std::ostringstream text;
-        text << "corrupt NIfTI header: vox_offset " << offset << " is not a usable data offset (a whole number of bytes, at least "
-             << lowest << ")";
+        text << "corrupt NIfTI header: vox_offset " << offset
+             << " is not a usable data offset (a whole number of bytes, at least " << lowest << ")";
         throw InputError(path, text.str());
     }
 }
@@ -112,20 +114,29 @@ struct Layout {
 
 Layout layoutOf(const nifti_image& image, const std::string& path) {
     switch (image.datatype) {
-        case NIFTI_TYPE_UINT8: return {SampleType::UInt8, 1};
-        case NIFTI_TYPE_INT8: return {SampleType::Int8, 1};
-        case NIFTI_TYPE_UINT16: return {SampleType::UInt16, 1};
-        case NIFTI_TYPE_INT16: return {SampleType::Int16, 1};
-        case NIFTI_TYPE_UINT32: return {SampleType::UInt32, 1};
-        case NIFTI_TYPE_INT32: return {SampleType::Int32, 1};
-        case NIFTI_TYPE_FLOAT32: return {SampleType::Float32, 1};
-        case NIFTI_TYPE_FLOAT64: return {SampleType::Float64, 1};
-        case NIFTI_TYPE_RGB24: return {SampleType::UInt8, 3};
-        default: break;
+        case NIFTI_TYPE_UINT8:
+            return {SampleType::UInt8, 1};
+        case NIFTI_TYPE_INT8:
+            return {SampleType::Int8, 1};
+        case NIFTI_TYPE_UINT16:
+            return {SampleType::UInt16, 1};
+        case NIFTI_TYPE_INT16:
+            return {SampleType::Int16, 1};
+        case NIFTI_TYPE_UINT32:
+            return {SampleType::UInt32, 1};
+        case NIFTI_TYPE_INT32:
+            return {SampleType::Int32, 1};
+        case NIFTI_TYPE_FLOAT32:
+            return {SampleType::Float32, 1};
+        case NIFTI_TYPE_FLOAT64:
+            return {SampleType::Float64, 1};
+        case NIFTI_TYPE_RGB24:
+            return {SampleType::UInt8, 3};
+        default:
+            break;
     }
     const char* name = nifti_datatype_to_string(image.datatype);
-    throw InputError(path, std::string("unsupported NIfTI datatype ") + name + " (" +
-                               std::to_string(image.datatype) +
+    throw InputError(path, std::string("unsupported NIfTI datatype ") + name + " (" + std::to_string(image.datatype) +
                                "); gvr reads uint8, int8, uint16, int16, uint32, int32, "
                                "float32, float64 and RGB24");
 }
@@ -137,7 +148,8 @@ void warnAboutMissingVoxelSizes(const RawHeader& header, DenseVolume& volume) {
         const double size = header.pixdim[axis];
         if (size != 0.0 && std::isfinite(size)) continue;
         std::ostringstream text;
-        text << "pixdim[" << axis + 1 << "] is " << size << ", not a voxel size: using 1 mm along axis " << "xyz"[axis];
+        text << "pixdim[" << axis + 1 << "] is " << size << ", not a voxel size: using 1 mm along axis "
+             << "xyz"[axis];
         volume.warnings.push_back(text.str());
     }
 }
@@ -146,11 +158,11 @@ void warnAboutMissingVoxelSizes(const RawHeader& header, DenseVolume& volume) {
 openvdb::math::Mat4d worldFromIndexOf(const std::string& path, const nifti_image& image, const RawHeader& header,
                                       DenseVolume& volume) {
     const nifti_dmat44* matrix = nullptr;
-    if (image.sform_code > 0) matrix = &image.sto_xyz;
-    else if (image.qform_code > 0) matrix = &image.qto_xyz;
-    double rows[3][4] = {{std::abs(image.dx), 0, 0, 0},
-                         {0, std::abs(image.dy), 0, 0},
-                         {0, 0, std::abs(image.dz), 0}};
+    if (image.sform_code > 0)
+        matrix = &image.sto_xyz;
+    else if (image.qform_code > 0)
+        matrix = &image.qto_xyz;
+    double rows[3][4] = {{std::abs(image.dx), 0, 0, 0}, {0, std::abs(image.dy), 0, 0}, {0, 0, std::abs(image.dz), 0}};
     if (matrix != &image.sto_xyz) warnAboutMissingVoxelSizes(header, volume);
     if (matrix) {
         for (int r = 0; r < 3; ++r) {
@@ -192,29 +204,27 @@ DenseVolume readNifti(const std::string& path, const ReadOptions& options) {
     volume.dims = {image->nx, image->ny, image->nz};
     for (int d = 5; d <= 7; ++d) {
         if (image->dim[0] >= d && image->dim[d] > 1) {
-            throw InputError(path, "has " + std::to_string(image->dim[0]) +
-                                       " dimensions; gvr reads 3D volumes and 4D series");
+            throw InputError(
+                path, "has " + std::to_string(image->dim[0]) + " dimensions; gvr reads 3D volumes and 4D series");
         }
     }
     const std::int64_t volumeCount = image->dim[0] >= 4 ? std::max<std::int64_t>(image->nt, 1) : 1;
     if (options.volumeIndex < 0 || options.volumeIndex >= volumeCount) {
         throw InputError(path, "`volume=" + std::to_string(options.volumeIndex) + "`" +
-                                   " is out of range: the file holds " +
-                                   std::to_string(volumeCount) + " volume(s), 0.." +
-                                   std::to_string(volumeCount - 1));
+                                   " is out of range: the file holds " + std::to_string(volumeCount) +
+                                   " volume(s), 0.." + std::to_string(volumeCount - 1));
     }
     if (volumeCount > 1) {
-        volume.warnings.push_back("4D series of " + std::to_string(volumeCount) +
-                                  " volumes: reading volume " +
+        volume.warnings.push_back("4D series of " + std::to_string(volumeCount) + " volumes: reading volume " +
                                   std::to_string(options.volumeIndex) + " (choose with `volume`)");
     }
     volume.worldFromIndex = worldFromIndexOf(path, *image, header, volume);
-    if (image->scl_slope != 0.0 && std::isfinite(image->scl_slope) &&
-        std::isfinite(image->scl_inter)) {
+    if (image->scl_slope != 0.0 && std::isfinite(image->scl_slope) && std::isfinite(image->scl_inter)) {
         volume.slope = image->scl_slope;
         volume.intercept = image->scl_inter;
     }
-    volume.niftiCodes = NiftiCodes{image->sform_code, image->qform_code, SPACE_TIME_TO_XYZT(image->xyz_units, image->time_units)};
+    volume.niftiCodes =
+        NiftiCodes{image->sform_code, image->qform_code, SPACE_TIME_TO_XYZT(image->xyz_units, image->time_units)};
 
     reserveSamples(volume, path);  // the sample reader allocates as data arrives
     // The samples are read with zlib rather than nifticlib, which prints to stderr

@@ -1,7 +1,7 @@
 #include "io/formats/NiftiWriter.h"
 
-#include "io/guard/AtomicFile.h"
 #include "io/formats/NiftiImage.h"
+#include "io/guard/AtomicFile.h"
 #include "pipeline/Error.h"
 
 #include <nifti2_io.h>
@@ -9,8 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <type_traits>
 #include <memory>
+#include <type_traits>
 
 namespace gvr {
 
@@ -18,14 +18,22 @@ namespace {
 
 int niftiDatatype(SampleType type) {
     switch (type) {
-        case SampleType::UInt8: return NIFTI_TYPE_UINT8;
-        case SampleType::Int8: return NIFTI_TYPE_INT8;
-        case SampleType::UInt16: return NIFTI_TYPE_UINT16;
-        case SampleType::Int16: return NIFTI_TYPE_INT16;
-        case SampleType::UInt32: return NIFTI_TYPE_UINT32;
-        case SampleType::Int32: return NIFTI_TYPE_INT32;
-        case SampleType::Float32: return NIFTI_TYPE_FLOAT32;
-        case SampleType::Float64: break;
+        case SampleType::UInt8:
+            return NIFTI_TYPE_UINT8;
+        case SampleType::Int8:
+            return NIFTI_TYPE_INT8;
+        case SampleType::UInt16:
+            return NIFTI_TYPE_UINT16;
+        case SampleType::Int16:
+            return NIFTI_TYPE_INT16;
+        case SampleType::UInt32:
+            return NIFTI_TYPE_UINT32;
+        case SampleType::Int32:
+            return NIFTI_TYPE_INT32;
+        case SampleType::Float32:
+            return NIFTI_TYPE_FLOAT32;
+        case SampleType::Float64:
+            break;
     }
     return NIFTI_TYPE_FLOAT64;
 }

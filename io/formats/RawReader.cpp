@@ -1,9 +1,9 @@
 // Headerless raw samples, laid out as the user says (--raw-dims, --raw-type, ...).
 
-#include "io/guard/ByteOrder.h"
-#include "io/guard/MemoryBudget.h"
 #include "io/formats/Readers.h"
 #include "io/formats/SliceSource.h"
+#include "io/guard/ByteOrder.h"
+#include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 
 #include <filesystem>
@@ -39,8 +39,8 @@ private:
 void checkFileSize(const std::string& path, const RawLayout& raw, DenseVolume& layout) {
     const std::uint64_t size = std::filesystem::file_size(path);
     // long double: with dimensions up to 2^30 the product overflows 64 bits.
-    const long double needed = (long double)raw.headerBytes + (long double)raw.dims[0] * raw.dims[1] *
-                                                                  raw.dims[2] * raw.channels * bytesPerSample(raw.type);
+    const long double needed = (long double)raw.headerBytes + (long double)raw.dims[0] * raw.dims[1] * raw.dims[2] *
+                                                                  raw.channels * bytesPerSample(raw.type);
     if ((long double)size < needed) {
         throw InputError(path, "truncated: voxel data needs " + std::to_string(std::uint64_t(needed)) +
                                    " bytes, the file has " + std::to_string(size));

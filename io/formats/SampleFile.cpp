@@ -24,13 +24,12 @@ void toHostOrder(DenseVolume& volume, bool bigEndian) {
 
 }  // namespace
 
-void readPlainSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
-                      DenseVolume& volume) {
+void readPlainSamples(const std::string& file, std::uint64_t offset, bool bigEndian, DenseVolume& volume) {
     const std::uint64_t size = std::filesystem::file_size(file);
     const std::uint64_t needed = offset + volume.sampleBytes();
     if (size < needed) {
-        throw InputError(file, "truncated: voxel data needs " + std::to_string(needed) +
-                                   " bytes, the file has " + std::to_string(size));
+        throw InputError(file, "truncated: voxel data needs " + std::to_string(needed) + " bytes, the file has " +
+                                   std::to_string(size));
     }
     if (size > needed) {
         volume.warnings.push_back(file + ": " + std::to_string(size - needed) +
@@ -44,8 +43,7 @@ void readPlainSamples(const std::string& file, std::uint64_t offset, bool bigEnd
     toHostOrder(volume, bigEndian);
 }
 
-void readGzipSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
-                     DenseVolume& volume) {
+void readGzipSamples(const std::string& file, std::uint64_t offset, bool bigEndian, DenseVolume& volume) {
     gzFile stream = gzopen(file.c_str(), "rb");
     if (!stream) throw InputError(file, "cannot open file");
     volume.samples.clear();
@@ -78,14 +76,13 @@ void readGzipSamples(const std::string& file, std::uint64_t offset, bool bigEndi
         throw InputError(file, "truncated: the compressed stream ends before its checksum");
     }
     if (filled != expected) {
-        throw InputError(file, "truncated: voxel data holds " + std::to_string(filled) +
-                                   " bytes, expected " + std::to_string(expected));
+        throw InputError(file, "truncated: voxel data holds " + std::to_string(filled) + " bytes, expected " +
+                                   std::to_string(expected));
     }
     toHostOrder(volume, bigEndian);
 }
 
-void readDeflatedSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
-                         DenseVolume& volume) {
+void readDeflatedSamples(const std::string& file, std::uint64_t offset, bool bigEndian, DenseVolume& volume) {
     std::ifstream in(file, std::ios::binary);
     in.seekg(std::streamoff(offset));
     z_stream stream{};
@@ -121,13 +118,11 @@ void readDeflatedSamples(const std::string& file, std::uint64_t offset, bool big
     inflateEnd(&stream);
     volume.samples.resize(std::min(produced, expected));
     if (status != Z_OK && status != Z_STREAM_END) {
-        throw InputError(file, "corrupt compressed voxel data (zlib error " +
-                                   std::to_string(status) + ")");
+        throw InputError(file, "corrupt compressed voxel data (zlib error " + std::to_string(status) + ")");
     }
     if (produced < expected) {
-        throw InputError(file, "truncated: compressed voxel data inflates to " +
-                                   std::to_string(produced) + " bytes, expected " +
-                                   std::to_string(expected));
+        throw InputError(file, "truncated: compressed voxel data inflates to " + std::to_string(produced) +
+                                   " bytes, expected " + std::to_string(expected));
     }
     if (status != Z_STREAM_END) throw InputError(file, "truncated: the compressed stream ends before its checksum");
     toHostOrder(volume, bigEndian);

@@ -16,16 +16,13 @@ namespace gvr {
 /// file holds costs no memory.
 /// @throw InputError naming @a file when it holds fewer bytes than the volume needs,
 ///        or when compressed data fails its CRC or Adler-32 check.
-void readPlainSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
-                      DenseVolume& volume);
+void readPlainSamples(const std::string& file, std::uint64_t offset, bool bigEndian, DenseVolume& volume);
 
 /// As readPlainSamples, for a file that may be gzip'd as a whole (.nii.gz, .mgz);
 /// @a offset counts bytes of the uncompressed stream.
-void readGzipSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
-                     DenseVolume& volume);
+void readGzipSamples(const std::string& file, std::uint64_t offset, bool bigEndian, DenseVolume& volume);
 
 /// As readPlainSamples, for a zlib or gzip stream starting at @a offset.
-void readDeflatedSamples(const std::string& file, std::uint64_t offset, bool bigEndian,
-                         DenseVolume& volume);
+void readDeflatedSamples(const std::string& file, std::uint64_t offset, bool bigEndian, DenseVolume& volume);
 
 }  // namespace gvr

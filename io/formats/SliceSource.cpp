@@ -40,8 +40,7 @@ void SliceSource::decodeEachSlice(std::int64_t first, std::int64_t count, unsign
 
 DenseVolume readWholeVolume(const SliceSource& source, const ProgressFn& progress) {
     const DenseVolume& layout = source.layout();
-    checkVolumeFitsInMemory(source.culprit(), layout.dims, layout.channels, bytesPerSample(layout.type),
-                            "read whole");
+    checkVolumeFitsInMemory(source.culprit(), layout.dims, layout.channels, bytesPerSample(layout.type), "read whole");
     DenseVolume volume;
     source.readSlab(0, layout.dims[2], volume, progress);
     volume.warnings = layout.warnings;

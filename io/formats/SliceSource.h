@@ -33,15 +33,13 @@ public:
     /// Decodes slices [first, first + count) into @a slab, reusing its buffer:
     /// slab becomes the layout with dims[2] = count.
     /// @throw InputError naming the file of a slice that is truncated or corrupt.
-    void readSlab(std::int64_t first, std::int64_t count, DenseVolume& slab,
-                  const ProgressFn& progress = {}) const;
+    void readSlab(std::int64_t first, std::int64_t count, DenseVolume& slab, const ProgressFn& progress = {}) const;
 
     /// Bytes of one decoded slice: width x height x channels x bytes a sample.
     std::uint64_t sliceBytes() const;
 
 protected:
-    SliceSource(DenseVolume layout, std::string culprit)
-        : mLayout(std::move(layout)), mCulprit(std::move(culprit)) {}
+    SliceSource(DenseVolume layout, std::string culprit) : mLayout(std::move(layout)), mCulprit(std::move(culprit)) {}
 
     /// Decodes slices [first, first + count) to @a destination, which holds
     /// count * sliceBytes().
@@ -50,8 +48,7 @@ protected:
 
     /// For sources whose slices decode independently: decodeSlice(index, destination)
     /// for each slice of the range, in parallel.
-    void decodeEachSlice(std::int64_t first, std::int64_t count, unsigned char* destination,
-                         const ProgressFn& progress,
+    void decodeEachSlice(std::int64_t first, std::int64_t count, unsigned char* destination, const ProgressFn& progress,
                          const std::function<void(std::int64_t, unsigned char*)>& decodeSlice) const;
 
 private:

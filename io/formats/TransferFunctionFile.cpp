@@ -1,8 +1,8 @@
 #include "io/formats/TransferFunctionFile.h"
 
+#include "io/formats/JsonText.h"
 #include "io/guard/AtomicFile.h"
 #include "io/guard/InputFile.h"
-#include "io/formats/JsonText.h"
 #include "pipeline/Error.h"
 
 #include <nlohmann/json.hpp>
@@ -24,8 +24,8 @@ TransferFunction readTransferFunction(const std::string& path) {
     for (const nlohmann::json& entry : file["points"]) {
         if (!entry.is_array() || entry.size() != 5 ||
             !std::all_of(entry.begin(), entry.end(), [](const nlohmann::json& v) { return v.is_number(); })) {
-            throw InputError(path, "point " + std::to_string(points.size()) +
-                                       " is not [value, r, g, b, a] with five numbers");
+            throw InputError(
+                path, "point " + std::to_string(points.size()) + " is not [value, r, g, b, a] with five numbers");
         }
         TransferPoint point;
         point.value = entry[0].get<double>();
@@ -33,7 +33,8 @@ TransferFunction readTransferFunction(const std::string& path) {
             // Checked as a double: a float cast of 1e300 is undefined behaviour.
             const double channel = entry[c + 1].get<double>();
             if (!(channel >= 0.0 && channel <= 1.0)) {
-                throw InputError(path, "point " + std::to_string(points.size()) + ": colour and opacity must lie in [0, 1]");
+                throw InputError(path,
+                                 "point " + std::to_string(points.size()) + ": colour and opacity must lie in [0, 1]");
             }
             point.rgba[c] = float(channel);
         }

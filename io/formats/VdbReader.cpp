@@ -48,8 +48,7 @@ DenseVolume readVdb(const std::string& path, const ReadOptions& options) {
     // Dense index 0 sits at the box's minimum corner.
     volume.worldFromIndex = openvdb::math::Mat4d::identity();
     volume.worldFromIndex.setTranslation(openvdb::Vec3d(box.min().asVec3d()));
-    volume.worldFromIndex = volume.worldFromIndex *
-                            grid->transform().baseMap()->getAffineMap()->getMat4();
+    volume.worldFromIndex = volume.worldFromIndex * grid->transform().baseMap()->getAffineMap()->getMat4();
     allocateSamples(volume, path);
 
     if (auto floats = openvdb::GridBase::grid<openvdb::FloatGrid>(grid)) {

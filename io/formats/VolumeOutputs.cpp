@@ -1,9 +1,9 @@
 #include "io/formats/VolumeOutputs.h"
 
-#include "io/formats/FileKind.h"
-#include "io/guard/AtomicFile.h"
 #include "io/DenseCopy.h"
+#include "io/formats/FileKind.h"
 #include "io/formats/GridFile.h"
+#include "io/guard/AtomicFile.h"
 #include "io/guard/InputFile.h"
 #include "pipeline/Error.h"
 #include "pipeline/VolumeMetadata.h"
@@ -31,9 +31,12 @@ WrittenVolume writeOne(const std::string& path, const std::string& staging, cons
 
 VolumeFileFormat volumeFileFormat(const std::string& path) {
     switch (outputFormat(path)) {
-        case OutputFormat::Vdb: return VolumeFileFormat::Vdb;
-        case OutputFormat::Nifti: return VolumeFileFormat::Nifti;
-        default: break;
+        case OutputFormat::Vdb:
+            return VolumeFileFormat::Vdb;
+        case OutputFormat::Nifti:
+            return VolumeFileFormat::Nifti;
+        default:
+            break;
     }
     throw InputError(path, "unknown output extension: use .vdb (OpenVDB), .nii or .nii.gz (NIfTI)");
 }
@@ -51,8 +54,8 @@ void checkVolumeOutputs(const std::string& flag, const std::vector<std::string>&
         requireNoNulByte(output);  // before its extension, which a NUL byte hides
         const int format = int(volumeFileFormat(output));
         if (seen[format]) {
-            throw InputError(flag, "two outputs of the same format (" + output +
-                                       "): give at most one .vdb and one .nii/.nii.gz");
+            throw InputError(
+                flag, "two outputs of the same format (" + output + "): give at most one .vdb and one .nii/.nii.gz");
         }
         seen[format] = true;
         checkOutputPath(flag, output, inputs);
@@ -67,9 +70,8 @@ std::vector<WrittenVolume> writeVolumeOutputs(const std::vector<std::string>& ou
     std::vector<WrittenVolume> written;
     std::vector<std::function<void(const std::string&)>> writes;
     for (const std::string& path : outputs) {
-        writes.push_back([&, path](const std::string& staging) {
-            written.push_back(writeOne(path, staging, grids, box, storage));
-        });
+        writes.push_back(
+            [&, path](const std::string& staging) { written.push_back(writeOne(path, staging, grids, box, storage)); });
     }
     writeAllOrNone(outputs, writes);
     return written;

@@ -84,8 +84,9 @@ std::unique_ptr<SliceSource> openFolder(const std::string& folder, const ReadOpt
     if (folderHasDicom(folder)) return openDicomSeries(folder, options);
     const std::vector<std::string> images = imagesInFolder(folder);
     if (images.empty()) {
-        throw InputError(folder, "folder holds neither DICOM files nor images "
-                                 "(.png, .tif, .tiff, .jpg, .jpeg, .bmp, .exr)");
+        throw InputError(folder,
+                         "folder holds neither DICOM files nor images "
+                         "(.png, .tif, .tiff, .jpg, .jpeg, .bmp, .exr)");
     }
     return openImageStack(images, folder, options);
 }
@@ -93,23 +94,30 @@ std::unique_ptr<SliceSource> openFolder(const std::string& folder, const ReadOpt
 /// The formats that are read whole, all of which carry their own geometry.
 DenseVolume readFileByFormat(const std::string& path, const ReadOptions& options) {
     switch (fileKind(path)) {
-        case FileKind::Vdb: return readVdb(path, options);
-        case FileKind::Nifti: return readNifti(path, options);
-        case FileKind::Mgh: return readMgh(path, options);
-        case FileKind::MetaImage: return readMetaImage(path, options);
-        default: break;
+        case FileKind::Vdb:
+            return readVdb(path, options);
+        case FileKind::Nifti:
+            return readNifti(path, options);
+        case FileKind::Mgh:
+            return readMgh(path, options);
+        case FileKind::MetaImage:
+            return readMetaImage(path, options);
+        default:
+            break;
     }
     if (fileKindByName(path) == FileKind::Vdb) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
-    throw InputError(path, "unknown volume format; gvr reads .nii/.nii.gz, .mgh/.mgz, .mha/.mhd, "
-                           ".vdb, a DICOM folder, image stacks, or raw data with `raw_dims`");
+    throw InputError(path,
+                     "unknown volume format; gvr reads .nii/.nii.gz, .mgh/.mgz, .mha/.mhd, "
+                     ".vdb, a DICOM folder, image stacks, or raw data with `raw_dims`");
 }
 
 }  // namespace
 
 void setGivenSpacing(const ReadOptions& options, DenseVolume& volume) {
     if (!options.spacingMm) {
-        volume.warnings.push_back("voxel spacing is unknown for this format; assuming 1 x 1 x 1 mm "
-                                  "(set it with `spacing=X,Y,Z`)");
+        volume.warnings.push_back(
+            "voxel spacing is unknown for this format; assuming 1 x 1 x 1 mm "
+            "(set it with `spacing=X,Y,Z`)");
     }
     volume.worldFromIndex = worldFromSpacing(options.spacingMm.value_or(openvdb::Vec3d(1.0)));
 }

@@ -1,7 +1,7 @@
 #include "io/guard/AtomicFile.h"
 
-#include "io/guard/InputFile.h"
 #include "io/formats/Readers.h"
+#include "io/guard/InputFile.h"
 #include "pipeline/Error.h"
 
 #include <signal.h>

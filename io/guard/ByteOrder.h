@@ -25,8 +25,7 @@ inline void swapBytes(unsigned char* data, std::size_t wordCount, std::size_t wi
 }
 
 /// Converts words stored with the given byte order to the host's order.
-inline void toHostOrder(unsigned char* data, std::size_t wordCount, std::size_t width,
-                        bool storedBigEndian) {
+inline void toHostOrder(unsigned char* data, std::size_t wordCount, std::size_t width, bool storedBigEndian) {
     if (storedBigEndian != hostIsBigEndian()) swapBytes(data, wordCount, width);
 }
 
@@ -42,7 +41,9 @@ T loadWord(const void* bytes, bool storedBigEndian) {
 }
 
 template <typename T>
-T loadLittleEndian(const void* bytes) { return loadWord<T>(bytes, false); }
+T loadLittleEndian(const void* bytes) {
+    return loadWord<T>(bytes, false);
+}
 
 /// Reads a little-endian T at @a cursor and moves the cursor past it.
 template <typename T, typename Byte>

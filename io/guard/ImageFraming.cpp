@@ -7,8 +7,8 @@
 #include <zlib.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <cstdint>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 
@@ -19,9 +19,15 @@ namespace {
 constexpr char kPngSignature[] = "\x89PNG\r\n\x1a\n";
 constexpr std::size_t kPngSignatureBytes = 8;
 
-std::uint32_t bigEndian32(const std::string& bytes, std::size_t at) { return loadWord<std::uint32_t>(&bytes[at], true); }
-std::uint32_t littleEndian32(const std::string& bytes, std::size_t at) { return loadLittleEndian<std::uint32_t>(&bytes[at]); }
-std::uint32_t littleEndian16(const std::string& bytes, std::size_t at) { return loadLittleEndian<std::uint16_t>(&bytes[at]); }
+std::uint32_t bigEndian32(const std::string& bytes, std::size_t at) {
+    return loadWord<std::uint32_t>(&bytes[at], true);
+}
+std::uint32_t littleEndian32(const std::string& bytes, std::size_t at) {
+    return loadLittleEndian<std::uint32_t>(&bytes[at]);
+}
+std::uint32_t littleEndian16(const std::string& bytes, std::size_t at) {
+    return loadLittleEndian<std::uint16_t>(&bytes[at]);
+}
 
 std::string readBytes(std::ifstream& in, std::streamoff from, std::streamoff count) {
     std::string bytes(std::size_t(count), '\0');
@@ -69,8 +75,10 @@ void checkBmpHeader(const std::string& file, const std::string& header, std::str
     if (!core && (infoBytes < 40 || header.size() < 34)) throw InputError(file, "corrupt BMP: unknown header");
     // Signed: a negative height marks a top-down BMP. (Both branches as int64, or the
     // conditional's common type, uint32, would turn -2 rows into 4 billion.)
-    const std::int64_t width = core ? std::int64_t(littleEndian16(header, 18)) : std::int64_t(std::int32_t(littleEndian32(header, 18)));
-    const std::int64_t height = core ? std::int64_t(littleEndian16(header, 20)) : std::int64_t(std::int32_t(littleEndian32(header, 22)));
+    const std::int64_t width =
+        core ? std::int64_t(littleEndian16(header, 18)) : std::int64_t(std::int32_t(littleEndian32(header, 18)));
+    const std::int64_t height =
+        core ? std::int64_t(littleEndian16(header, 20)) : std::int64_t(std::int32_t(littleEndian32(header, 22)));
     const std::uint32_t bits = littleEndian16(header, core ? 24 : 28);
     const std::uint32_t compression = core ? 0 : littleEndian32(header, 30);
     const bool standardDepth = bits == 1 || bits == 4 || bits == 8 || bits == 16 || bits == 24 || bits == 32;

@@ -60,16 +60,15 @@ void setMemoryCeiling(std::uint64_t bytes) { gCeiling.store(bytes); }
 void checkDimensions(const std::string& file, const std::array<std::int64_t, 3>& dims) {
     for (std::int64_t d : dims) {
         if (d < 1 || d > kMaxDimension) {
-            throw InputError(file, "dimensions " + std::to_string(dims[0]) + "x" +
-                                       std::to_string(dims[1]) + "x" + std::to_string(dims[2]) +
-                                       " are out of range (each must be 1.." +
+            throw InputError(file, "dimensions " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
+                                       std::to_string(dims[2]) + " are out of range (each must be 1.." +
                                        std::to_string(kMaxDimension) + ")");
         }
     }
 }
 
-void checkVolumeFitsInMemory(const std::string& file, const std::array<std::int64_t, 3>& dims,
-                             int channels, std::size_t bytesPerSample, const std::string& task) {
+void checkVolumeFitsInMemory(const std::string& file, const std::array<std::int64_t, 3>& dims, int channels,
+                             std::size_t bytesPerSample, const std::string& task) {
     checkDimensions(file, dims);
     // long double: the product of three 2^30 dimensions overflows 64 bits.
     const long double samples = (long double)dims[0] * dims[1] * dims[2] * channels;
@@ -80,10 +79,9 @@ void checkVolumeFitsInMemory(const std::string& file, const std::array<std::int6
                                                   : "; NIfTI, MGH, MetaImage and VDB volumes are read whole, while raw "
                                                     "files (`raw_dims`), image stacks and DICOM series are streamed "
                                                     "slab by slab and need memory only for their active voxels";
-        throw InputError(file, "a volume of " + std::to_string(dims[0]) + "x" +
-                                   std::to_string(dims[1]) + "x" + std::to_string(dims[2]) +
-                                   " voxels needs " + gibibytes(needed) + " to " + task + ", but only " +
-                                   gibibytes(available) + " is available" + hint);
+        throw InputError(file, "a volume of " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
+                                   std::to_string(dims[2]) + " voxels needs " + gibibytes(needed) + " to " + task +
+                                   ", but only " + gibibytes(available) + " is available" + hint);
     }
 }
 

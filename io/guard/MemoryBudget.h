@@ -28,8 +28,8 @@ void checkDimensions(const std::string& file, const std::array<std::int64_t, 3>&
 /// @param task  what the memory is for, as the message says it ("ingest", "export");
 ///              for "ingest" the message says which formats stream instead
 /// @throw InputError naming @a file with the size that was asked for.
-void checkVolumeFitsInMemory(const std::string& file, const std::array<std::int64_t, 3>& dims,
-                             int channels, std::size_t bytesPerSample, const std::string& task = "ingest");
+void checkVolumeFitsInMemory(const std::string& file, const std::array<std::int64_t, 3>& dims, int channels,
+                             std::size_t bytesPerSample, const std::string& task = "ingest");
 
 /// A streamed ingest holds one slab of samples and, at worst, the same voxels
 /// again as new grid leaves; this checks that they fit.

@@ -76,8 +76,8 @@ std::vector<std::uint64_t> entryValues(const TiffReader& tiff, const std::string
     const std::uint64_t type = tiff.word(entry, 2, 2);
     const std::uint64_t width = type == 3 ? 2 : type == 4 ? 4 : type == 16 ? 8 : 0;
     if (width == 0) {
-        throw InputError(tiff.file(), "corrupt TIFF: " + page + " gives its pixel locations as field type " +
-                                          std::to_string(type));
+        throw InputError(tiff.file(),
+                         "corrupt TIFF: " + page + " gives its pixel locations as field type " + std::to_string(type));
     }
     const std::uint64_t count = tiff.word(entry, 4, words.offsetBytes());
     const std::size_t valueField = 4 + std::size_t(words.offsetBytes());
@@ -88,7 +88,8 @@ std::vector<std::uint64_t> entryValues(const TiffReader& tiff, const std::string
         throw InputError(tiff.file(), "corrupt TIFF: " + page + " lists " + std::to_string(count) +
                                           " pixel pieces, more than the file can hold");
     } else {
-        values = tiff.bytesAt(tiff.word(entry, valueField, words.offsetBytes()), count * width, page + "'s strip table");
+        values =
+            tiff.bytesAt(tiff.word(entry, valueField, words.offsetBytes()), count * width, page + "'s strip table");
     }
     std::vector<std::uint64_t> result(static_cast<std::size_t>(count));
     for (std::size_t i = 0; i < result.size(); ++i) result[i] = tiff.word(values, i * width, width);
@@ -115,8 +116,8 @@ std::uint64_t checkPage(const TiffReader& tiff, std::uint64_t at, const std::str
     constexpr std::uint16_t kTags[4] = {kStripOffsets, kStripByteCounts, kTileOffsets, kTileByteCounts};
     std::vector<std::uint64_t> values[4];
     for (std::uint64_t e = 0; e < entries; ++e) {
-        const std::string entry = directory.substr(std::size_t(words.countBytes() + e * words.entryBytes()),
-                                                   std::size_t(words.entryBytes()));
+        const std::string entry =
+            directory.substr(std::size_t(words.countBytes() + e * words.entryBytes()), std::size_t(words.entryBytes()));
         const std::uint64_t tag = tiff.word(entry, 0, 2);
         for (int t = 0; t < 4; ++t) {
             if (tag == kTags[t]) values[t] = entryValues(tiff, entry, page);

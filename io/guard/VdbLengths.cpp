@@ -13,9 +13,9 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <map>
-#include <fstream>
 #include <string>
 
 namespace gvr {
@@ -180,7 +180,8 @@ public:
             {"int32", {4, 4}}, {"int64", {8, 8}},  {"vec3i", {12, 12}}};
         const std::string prefix = "Tree_", suffix = "_5_4_3", half = "_HalfFloat";
         std::string name = gridType;
-        const bool isHalf = name.size() > half.size() && name.compare(name.size() - half.size(), half.size(), half) == 0;
+        const bool isHalf =
+            name.size() > half.size() && name.compare(name.size() - half.size(), half.size(), half) == 0;
         if (isHalf) name.resize(name.size() - half.size());
         if (name.rfind(prefix, 0) != 0 || name.size() < prefix.size() + suffix.size() ||
             name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) {
@@ -257,8 +258,13 @@ private:
     /// io::readCompressedValues(): a flag byte, up to two inactive values, maybe a
     /// selection mask, then all @a count values or only the @a active ones.
     void walkCompressedValues(std::uint32_t count, std::uint32_t active) {
-        enum : std::int8_t { kOneInactive = 2, kMaskNoInactive = 3, kMaskOneInactive = 4, kMaskTwoInactive = 5,
-                             kAllValues = 6 };
+        enum : std::int8_t {
+            kOneInactive = 2,
+            kMaskNoInactive = 3,
+            kMaskOneInactive = 4,
+            kMaskTwoInactive = 5,
+            kAllValues = 6
+        };
         const std::int8_t flag = read<std::int8_t>("a compressed block's flag");
         if (flag == kOneInactive || flag == kMaskOneInactive || flag == kMaskTwoInactive) {
             skip(mTree.valueBytes, "an inactive value");
@@ -280,11 +286,11 @@ private:
             return;
         }
         const std::int64_t stored = read<std::int64_t>("a compressed block's size");
-        if (stored <= 0) {  // stored uncompressed
+        if (stored <= 0) {                                           // stored uncompressed
             const std::uint64_t stated = 0 - std::uint64_t(stored);  // -stored, even for INT64_MIN
             if (stated != bytes) {
-                corrupt("an uncompressed block of " + std::to_string(stated) + " bytes where " +
-                        std::to_string(bytes) + " belong");
+                corrupt("an uncompressed block of " + std::to_string(stated) + " bytes where " + std::to_string(bytes) +
+                        " belong");
             }
             skip(bytes, "a voxel block");
             return;
@@ -320,12 +326,10 @@ bool checkVdbLengths(const std::string& path) {
     LengthWalker file(path);
     file.skip(8, "the magic number");
     const std::uint32_t version = file.read<std::uint32_t>("the format version");
-    if (version < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION ||
-        version > openvdb::OPENVDB_FILE_VERSION) {
+    if (version < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION || version > openvdb::OPENVDB_FILE_VERSION) {
         throw InputError(path, "VDB format version " + std::to_string(version) + " (gvr reads " +
                                    std::to_string(openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION) + " to " +
-                                   std::to_string(openvdb::OPENVDB_FILE_VERSION) +
-                                   ": OpenVDB 3.0, 2014, and later)");
+                                   std::to_string(openvdb::OPENVDB_FILE_VERSION) + ": OpenVDB 3.0, 2014, and later)");
     }
     const std::uint32_t libraryMajor = file.read<std::uint32_t>("the library version");
     const std::uint32_t libraryMinor = file.read<std::uint32_t>("the library version");

@@ -8,12 +8,12 @@
 
 #include "bench/BenchManifest.h"
 #include "bench/BenchTable.h"
+#include "io/Ingest.h"
 #include "io/asset/AssetFile.h"
 #include "io/formats/GridFile.h"
-#include "io/Ingest.h"
 #include "io/formats/LabelStyleFile.h"
-#include "io/guard/MemoryBudget.h"
 #include "io/formats/TransferFunctionFile.h"
+#include "io/guard/MemoryBudget.h"
 #include "pipeline/Error.h"
 #include "pipeline/SampleType.h"
 #include "render/SliceStack.h"
@@ -36,8 +36,8 @@ namespace fs = std::filesystem;
 constexpr std::uint64_t kMemoryCeiling = 512ull << 20;
 
 struct Format {
-    const char* file;   // the input's name inside the scratch folder
-    bool asFolder;      // ingest the folder (DICOM series, image stack), not the file
+    const char* file;  // the input's name inside the scratch folder
+    bool asFolder;     // ingest the folder (DICOM series, image stack), not the file
 };
 
 Format format() {
@@ -80,8 +80,8 @@ gvr::ReadOptions rawOptions(const std::uint8_t* data, std::size_t size) {
     std::uint8_t bytes[16] = {};
     std::memcpy(bytes, data, std::min<std::size_t>(size, 16));
     for (int a = 0; a < 3; ++a) layout.dims[a] = 1 + (bytes[2 * a] | (bytes[2 * a + 1] << 8));
-    const gvr::SampleType types[] = {gvr::SampleType::UInt8,  gvr::SampleType::Int8,    gvr::SampleType::UInt16,
-                                     gvr::SampleType::Int16,  gvr::SampleType::UInt32,  gvr::SampleType::Int32,
+    const gvr::SampleType types[] = {gvr::SampleType::UInt8,   gvr::SampleType::Int8,   gvr::SampleType::UInt16,
+                                     gvr::SampleType::Int16,   gvr::SampleType::UInt32, gvr::SampleType::Int32,
                                      gvr::SampleType::Float32, gvr::SampleType::Float64};
     layout.type = types[bytes[6] % 8];
     layout.channels = bytes[7] % 2 == 0 ? 1 : 3;
@@ -144,7 +144,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     } else if (std::string(GVR_FUZZ_FORMAT) == "results" && size > 0 && data[0] % 4 != 0) {
         // Most inputs are rows under the header a bench writes, so that the fuzzer
         // reaches the rows' checks; the rest are whole files, headers included.
-        const std::string bytes = gvr::resultsCsvHeader() + std::string(reinterpret_cast<const char*>(data) + 1, size - 1);
+        const std::string bytes =
+            gvr::resultsCsvHeader() + std::string(reinterpret_cast<const char*>(data) + 1, size - 1);
         writeFile(path, reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
     } else {
         writeFile(path, data, size);

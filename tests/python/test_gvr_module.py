@@ -145,6 +145,45 @@ def test_a_render_is_gvr_render(work, cli_asset, option):
     assert alpha.max() > 0.5  # the head is there
 
 
+def straight_rgba_bytes(rgba):
+    """A premultiplied render as the 8-bit straight RGBA that gvr render writes."""
+    alpha = rgba[..., 3:]
+    straight = np.where(alpha > 0, rgba[..., :3] / np.maximum(alpha, 1e-30), 0.0)
+    return np.round(np.clip(np.concatenate([straight, alpha], axis=2), 0, 1) * 255)
+
+
+def test_the_ray_marcher_from_python_is_gvr_render_renderer_raymarch(work, cli_asset):
+    png = str(work / "marched.png")
+    run("render", cli_asset, "-o", png, "--size", "48x40", "--renderer", "raymarch", "--step", "0.4", "--samples", "2")
+    rgba = gvr.render(cli_asset, size=(48, 40), renderer="raymarch", step=0.4, samples=2)
+    theirs = np.asarray(Image.open(png).convert("RGBA"), dtype=np.float64)
+    np.testing.assert_array_equal(straight_rgba_bytes(rgba), theirs)
+    assert np.abs(rgba - gvr.render(cli_asset, size=(48, 40))).max() > 0  # not the shear-warp image
+    with pytest.raises(gvr.Error, match="renderer: 'cone' is neither shear-warp nor raymarch"):
+        gvr.render(cli_asset, renderer="cone")
+    with pytest.raises(gvr.Error, match="samples applies to the ray marcher"):
+        gvr.render(cli_asset, samples=2)
+    with pytest.raises(gvr.Error, match="step must be in"):
+        gvr.render(cli_asset, renderer="raymarch", step=0.9)
+
+
+def test_label_styles_from_python_are_gvr_render_label_style(labelled_scene):
+    work = labelled_scene
+    asset, png, style = str(work / "blobs.gvr"), str(work / "styled.png"), {"Right": {"color": [1, 0, 0], "opacity": 2}}
+    with open(work / "style.json", "w") as file:
+        json.dump(style, file)
+    run("render", asset, "-o", png, "--size", "64x48", "--label-style", str(work / "style.json"))
+    from_dict = gvr.render(asset, size=(64, 48), label_style=style)
+    theirs = np.asarray(Image.open(png).convert("RGBA"), dtype=np.float64)
+    np.testing.assert_array_equal(straight_rgba_bytes(from_dict), theirs)
+    np.testing.assert_array_equal(gvr.render(asset, size=(64, 48), label_style=str(work / "style.json")), from_dict)
+    assert np.abs(from_dict - gvr.render(asset, size=(64, 48))).max() > 0.05
+    with pytest.raises(gvr.Error, match="no structure is named 'Middle'"):
+        gvr.render(asset, label_style={"Middle": {"opacity": 0.5}})
+    with pytest.raises(gvr.Error, match="styles the structures of a Gaussian asset fitted with labels"):
+        gvr.render(asset, renderer="raymarch", label_style=style)
+
+
 def test_render_refuses_a_supersampling_outside_1_to_4_and_an_unknown_classification(cli_asset):
     with pytest.raises(gvr.Error, match="supersample"):
         gvr.render(cli_asset, supersample=0.5)
