@@ -113,7 +113,7 @@ openvdb::Int32Grid::Ptr buildLabelGrid(const std::string& path, const ReadOption
     const DenseVolume volume = readVolume(path, options);
     const std::vector<std::int32_t> labels = integerLabels(volume, path);
     const std::optional<VolumeMetadata> metadata = readVolumeMetadata(image);
-    if (!metadata) throw InputError(path, "labels need an image grid written by gvr ingest");
+    if (!metadata) throw InputError(path, "labels need an image grid written by ingest");
     const std::array<std::int64_t, 3> imageDims{metadata->dims.x(), metadata->dims.y(), metadata->dims.z()};
     const openvdb::math::Mat4d imageMatrix = matrixOf(image);
     const bool sameLattice = volume.dims == imageDims && samePlacement(volume.worldFromIndex, imageMatrix, 1e-4);

@@ -169,7 +169,7 @@ TEST(LabelGrid, AnImageNotFromIngestIsRefused) {
     EXPECT_EQ(test::errorMessageOf<InputError>([&] {
                   buildLabelGrid(path, rawOptions({2, 1, 1}, SampleType::UInt8), *bare, {});
               }),
-              path + ": labels need an image grid written by gvr ingest");
+              path + ": labels need an image grid written by ingest");
 }
 
 TEST(LabelGrid, OnlyAnInt32GridNamedLabelsIsTheLabelGrid) {

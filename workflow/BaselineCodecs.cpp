@@ -309,11 +309,11 @@ openvdb::GridBase::Ptr reconstructionOf(const openvdb::GridBase& source, FloatVo
 
 BaselineResult runBaseline(const openvdb::GridBase& source, const BaselineSettings& settings,
                            const std::string& streamPath, const ProgressFn& progress) {
-    if (const std::string problem = settings.validate(); !problem.empty()) throw InputError("gvr baseline", problem);
+    if (const std::string problem = settings.validate(); !problem.empty()) throw InputError("baseline", problem);
     const std::string culprit = "grid '" + source.getName() + "'";
     if (!source.isType<openvdb::FloatGrid>() && !source.isType<openvdb::Vec3SGrid>()) {
         throw InputError(culprit, "holds " + source.valueType() +
-                                      "; gvr baseline takes float and vec3s grids, "
+                                      "; a baseline takes float and vec3s grids, "
                                       "as ingest writes them");
     }
     const openvdb::CoordBBox box = volumeBox(source);

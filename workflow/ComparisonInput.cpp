@@ -33,7 +33,8 @@ std::unique_ptr<OIIO::ImageInput> openSingleImage(const std::string& path) {
 
 FloatVolume readImage(OIIO::ImageInput& input, const std::string& path) {
     const OIIO::ImageSpec& spec = input.spec();
-    if (spec.depth > 1) throw InputError(path, "is a volume image; gvr eval compares 2D images or volumes");
+    if (spec.depth > 1)
+        throw InputError(path, "is a volume image; 2D images are compared with 2D images, volumes with volumes");
     if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 ||
         std::uint64_t(spec.width) * spec.height * spec.nchannels > (std::uint64_t(1) << 30)) {
         throw InputError(path, "image of " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
