@@ -17,6 +17,8 @@ packages=(
   # Loads the completion that cmake --install puts in share/bash-completion/completions
   # when an interactive bash starts; the completion test sources it directly.
   bash-completion
+  # The layout check (tests/code_format.sh): every C++ file as .clang-format lays it out.
+  clang-format
   # The sanitizer build and the libFuzzer targets (.ci/sanitize.sh).
   clang
   libclang-rt-14-dev

@@ -595,9 +595,8 @@ py::array render(const Renderable& what, double azimuth, double elevation, std::
     {
         const WithoutGil released;
         const RenderInput input = renderInputOf(what, chosen, request.minScale());
-        const OrthoCamera camera = makeCamera({azimuth, elevation},
-                                              worldCorners(input.volume->worldFromIndex(), input.volume->box()),
-                                              width, height);
+        const OrthoCamera camera = makeCamera(
+            {azimuth, elevation}, worldCorners(input.volume->worldFromIndex(), input.volume->box()), width, height);
         RenderJob job(input, classifierOf(*input.volume, tf), request);
         FrameStats stats;
         image = job.render(camera, stats);

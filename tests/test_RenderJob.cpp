@@ -61,8 +61,8 @@ TEST(RenderJob, RefusesInvalidSettingsAndStylesOfAGrid) {
     RenderRequest styled;
     styled.labelStyles["Left"] = LabelStyle{};
     styled.labelStylesName = "style.json";
-    const std::string message = test::errorMessageOf<InputError>(
-        [&] { RenderJob(input, classifierFor("mri", *input.volume), styled); });
+    const std::string message =
+        test::errorMessageOf<InputError>([&] { RenderJob(input, classifierFor("mri", *input.volume), styled); });
     EXPECT_NE(message.find("style.json: styles the structures of a Gaussian asset"), std::string::npos) << message;
 }
 
