@@ -39,7 +39,8 @@ struct RenderRequest {
     std::string validate() const;
 };
 
-/// Draws views of one input, read by loadRenderInput() with request.minScale().
+/// Draws views of one input, read by loadRenderInput() with request.minScale(),
+/// which must outlive the job.
 class RenderJob {
 public:
     /// @throw InputError when the request is invalid, or styles structures of

@@ -19,8 +19,8 @@ enum class FileKind {
     Other,      ///< none of these (raw data, a missing file, a FIFO, a .vdb without the magic)
 };
 
-/// The kind from the name alone, for files listed in a folder: Asset, Folder and
-/// Other never; Vdb for the .vdb extension.
+/// The kind from the name alone, for files listed in a folder: never Asset or
+/// Folder; Vdb for the .vdb extension, Other for a name no reader claims.
 FileKind fileKindByName(const std::string& path);
 
 /// The kind of @a path: a folder, else the magic numbers of an asset and of OpenVDB
