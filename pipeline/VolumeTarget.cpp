@@ -4,6 +4,7 @@
 #include "pipeline/FiniteValues.h"
 #include "pipeline/Luminance.h"
 #include "pipeline/Trilinear.h"
+#include "pipeline/VolumeGrid.h"
 #include "pipeline/VolumeMetadata.h"
 
 #include <cfloat>
@@ -106,10 +107,7 @@ VolumeTarget::VolumeTarget(openvdb::GridBase::ConstPtr grid, const std::string& 
     : mGrid(std::move(grid)), mTaper(taper) {
     mFloat = openvdb::GridBase::constGrid<openvdb::FloatGrid>(mGrid);
     mColour = openvdb::GridBase::constGrid<openvdb::Vec3SGrid>(mGrid);
-    if (!mFloat && !mColour) {
-        throw InputError(name, "grid '" + mGrid->getName() + "' is " + mGrid->valueType() +
-                                   "; gvr fits float (grey) or vec3s (RGB) grids");
-    }
+    if (!isVolumeGrid(*mGrid)) throw InputError(name, notAVolumeGrid(*mGrid));
     mChannels = mFloat ? 1 : 3;
     const auto metadata = readVolumeMetadata(*mGrid);
     Range range;

@@ -5,6 +5,7 @@
 #include "pipeline/FloatVolume.h"
 #include "pipeline/Luminance.h"
 #include "pipeline/VolumeBorder.h"
+#include "pipeline/VolumeGrid.h"
 #include "pipeline/VolumeMetadata.h"
 #include "render/ValueRange.h"
 #include "render/VoxelBrick.h"
@@ -452,10 +453,7 @@ VolumeStatistics GaussianRenderVolume::gatherStatistics() const {
 GridRenderVolume::GridRenderVolume(openvdb::GridBase::ConstPtr grid) : mGrid(std::move(grid)) {
     mFloat = openvdb::GridBase::constGrid<openvdb::FloatGrid>(mGrid);
     mColour = openvdb::GridBase::constGrid<openvdb::Vec3SGrid>(mGrid);
-    if (!mFloat && !mColour) {
-        throw InputError("grid '" + mGrid->getName() + "'",
-                         "holds " + mGrid->valueType() + "; gvr renders float or vec3s grids");
-    }
+    if (!isVolumeGrid(*mGrid)) throw InputError("render", notAVolumeGrid(*mGrid));
     mWorldFromIndex = mGrid->transform().baseMap()->getAffineMap()->getMat4();
     mBox = volumeBox(*mGrid);
     if (mColour) {  // colours scale by the brightest channel, not the luminance

@@ -6,6 +6,7 @@
 #include "pipeline/BoxAverage.h"
 #include "pipeline/Error.h"
 #include "pipeline/FloatVolume.h"
+#include "pipeline/VolumeGrid.h"
 #include "pipeline/VolumeMetadata.h"
 #include "workflow/ZfpStream.h"
 
@@ -310,12 +311,8 @@ openvdb::GridBase::Ptr reconstructionOf(const openvdb::GridBase& source, FloatVo
 BaselineResult runBaseline(const openvdb::GridBase& source, const BaselineSettings& settings,
                            const std::string& streamPath, const ProgressFn& progress) {
     if (const std::string problem = settings.validate(); !problem.empty()) throw InputError("baseline", problem);
+    if (!isVolumeGrid(source)) throw InputError("baseline", notAVolumeGrid(source));
     const std::string culprit = "grid '" + source.getName() + "'";
-    if (!source.isType<openvdb::FloatGrid>() && !source.isType<openvdb::Vec3SGrid>()) {
-        throw InputError(culprit, "holds " + source.valueType() +
-                                      "; a baseline takes float and vec3s grids, "
-                                      "as ingest writes them");
-    }
     const openvdb::CoordBBox box = volumeBox(source);
     if (box.empty()) throw InputError(culprit, "has no voxels to compress");
     const FloatVolume samples = denseCopy(source, box, culprit, "compress");
