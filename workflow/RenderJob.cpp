@@ -42,11 +42,8 @@ std::string RenderRequest::validate() const {
 RenderJob::RenderJob(const RenderInput& input, const Classifier& classifier, const RenderRequest& request)
     : mVolume(*input.volume), mClassifier(classifier), mRequest(request) {
     if (const std::string problem = request.validate(); !problem.empty()) throw InputError("render", problem);
-    if (request.renderer == RendererKind::RayMarch) {
-        styledLayersOf(input, classifier, request);  // refuses styles, which the ray marcher does not draw
-        return;
-    }
-    mStyled = styledLayersOf(input, classifier, request);
+    mStyled = styledLayersOf(input, classifier, request);  // none for the ray marcher, which refuses them
+    if (request.renderer == RendererKind::RayMarch) return;
     if (mStyled.layers.empty()) mStyled.layers.push_back({&mVolume, mClassifier});
     mShearWarp.emplace(std::move(mStyled.layers), request.shearWarp);
 }
