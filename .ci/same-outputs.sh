@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Refactoring check: two gvr builds (say the commit before, copied aside, and this one)
 # make the same bytes from the same fixed-iteration work. Runs every command on the
-# shared Colin27 MRI and colour perfusion volumes: fits (full, A3, RGB, a 1 % bound,
+# shared Colin27 MRI and colour perfusion volumes: fits (full, A3, RGB, bounds over a grid and a source,
 # by structure, in bricks), exports, renders (shear-warp stills, an orbit, segments, the
 # ray marcher, structures hidden, a bounded asset, a grid), downsampling baselines,
 # eval and probe, then compares each output (.vdb files past their header's random UUID).
@@ -19,6 +19,7 @@ outputs() {
   "$gvr" fit ch2.vdb -o a3.gvr --iterations 20 --ablation A3 -q > /dev/null
   "$gvr" fit "$rgb" -o rgb.gvr --iterations 20 -q > /dev/null
   "$gvr" fit ch2.vdb -o bound.gvr --iterations 10 --max-error 1% -q > /dev/null
+  "$gvr" fit "$ch2" -o bound-source.gvr --iterations 10 --max-error 2 -q > /dev/null
   "$gvr" fit "$ch2" -o lab.gvr --iterations 10 --labels all --label-volume "$data/mri-colin27-aal/aal.nii.gz" \
     --label-names "$data/mri-colin27-aal/aal.nii.txt" -q > /dev/null
   "$gvr" fit ch2.vdb -o bricks.gvr --iterations 10 --bricks 3 -q > /dev/null

@@ -16,9 +16,7 @@
 #include "pipeline/GaussianField.h"
 #include "pipeline/LabelBudget.h"
 #include "pipeline/ProcessMemory.h"
-#include "workflow/BoundedLayer.h"
-#include "workflow/ComparisonInput.h"
-#include "workflow/FitToBudget.h"
+#include "workflow/FitJob.h"
 #include "workflow/MpiTeam.h"
 #include "workflow/PhaseTimes.h"
 #include "workflow/ReportNumbers.h"
@@ -52,7 +50,6 @@ struct FitFlags {
     std::string input, output, logPath, labelVolume, labelNames;
     std::string maxError;     ///< --max-error as given: empty, a number, a percentage or auto
     bool ratioGiven = false;  ///< --ratio on the command line (else a bound's preview takes kBoundedPreviewRatio)
-    std::optional<BoundRequest> bound;  ///< --max-error with --ratio as given, before the Gaussians take theirs
     std::size_t threads = 0;
     bool json = false, quiet = false;
     BudgetedFitOptions options;
@@ -87,6 +84,27 @@ BrickObservers brickBars(bool shown) {
         return FitObserver([bar, observe = brickObserver(*bar, brick)](const FitProgress& p) { observe(p); });
     };
 }
+
+/// The fit's bar, then from the residual layer's first report the layer's: one bar
+/// drawn at a time, each timing its own step.
+class FitBars {
+public:
+    explicit FitBars(bool shown) : mShown(shown), mFitting(std::make_unique<ProgressBar>("fitting", shown)) {}
+
+    FitJobObservers observers(FitLog& log) {
+        return {progressObserver(*mFitting, log), {}, [this](double fraction) {
+                    if (!mLayer) {
+                        mFitting.reset();
+                        mLayer = std::make_unique<ProgressBar>("residual layer", mShown);
+                    }
+                    mLayer->update(fraction);
+                }};
+    }
+
+private:
+    bool mShown;
+    std::unique_ptr<ProgressBar> mFitting, mLayer;
+};
 
 /// Rank @a rank's error, before it ends the team.
 void reportTeamError(int rank, int size, const std::exception& error) {
@@ -293,14 +311,43 @@ void report(const FitFlags& flags, const BudgetedFitResult& result, double peak,
     if (bricked) reportBricks(*bricked, error);
 }
 
+/// The fit the flags ask for; FitJob checks it again, cheaply.
+/// @throw InputError for bad flags, before anything is read.
+FitRequest requestOf(const FitFlags& flags) {
+    FitRequest request;
+    request.options = flags.options;
+    // --time covers the measurement the report makes; a bricked fit's bricks have their own budgets.
+    request.options.settings.reserveMeasurement = !flags.bricks.any();
+    if (!flags.maxError.empty()) {
+        request.bound = BoundRequest{flags.maxError, flags.ratioGiven ? flags.options.ratio : 0.0};
+    }
+    request.bricks = flags.bricks.options();
+    return checkedFitRequest(std::move(request));
+}
+
+/// The input read (ingested first unless it is a .vdb), its warnings printed.
+/// @param vdbOnDemand  a .vdb's voxels are read as they are first touched
+FitJob readInput(const FitFlags& flags, const FitRequest& request, bool vdbOnDemand) {
+    FitInput input;
+    input.path = flags.input;
+    input.ingest = toIngestOptions(flags.source);
+    input.ingest.labels = flags.labelVolume;
+    input.ingest.labelNames = flags.labelNames;
+    input.ingest.vdbOnDemand = vdbOnDemand;
+    FitJob job(std::move(input), request);
+    for (const std::string& warning : job.warnings())
+        diagnostics() << "gvr: warning: " << inCommandLineTerms(warning) << "\n";
+    return job;
+}
+
 /// --brick I --of N: the part, written as it is, and what it holds.
-void writePart(const FitFlags& flags, const IngestResult& loaded, const VolumeTarget& target) {
+void writePart(const FitFlags& flags, const FitJob& job) {
     const std::size_t index = *flags.bricks.only;
     GaussianAsset part;
     {
         ProgressBar bar("fitting", !flags.quiet);
-        part = fitOneBrick(loaded.grid, target, flags.input, flags.options, flags.bricks.options(), index,
-                           brickObserver(bar, index));
+        part = fitOneBrick(job.loaded().grid, job.target(), job.name(), job.request().options, job.request().bricks,
+                           index, brickObserver(bar, index));
     }
     writeAsset(flags.output, part);
     const BrickRun run = brickRunOf(part, flags.output);
@@ -317,41 +364,19 @@ void writePart(const FitFlags& flags, const IngestResult& loaded, const VolumeTa
               << run.seconds << " s; join the parts with gvr merge\n";
 }
 
-/// The input as a grid (ingested first unless it is a .vdb), warnings printed.
-/// @param vdbOnDemand  a .vdb's voxels are read as they are first touched
-IngestResult loadInput(const FitFlags& flags, bool vdbOnDemand) {
-    IngestOptions ingestOptions = toIngestOptions(flags.source);
-    ingestOptions.labels = flags.labelVolume;
-    ingestOptions.labelNames = flags.labelNames;
-    ingestOptions.vdbOnDemand = vdbOnDemand;
-    IngestResult loaded = loadOrIngest(flags.input, ingestOptions);
-    for (const std::string& warning : loaded.warnings)
-        diagnostics() << "gvr: warning: " << inCommandLineTerms(warning) << "\n";
-    return loaded;
-}
-
-VolumeTarget targetOf(const FitFlags& flags, const IngestResult& loaded) {
-    VolumeTarget target(loaded.grid, flags.input);
-    if (target.activeVoxelCount() == 0) {
-        diagnostics() << "gvr: warning: " << flags.input << " has no active voxels; writing an empty asset\n";
-    }
-    return target;
-}
-
 /// --bricks N, alone or across the ranks of an mpirun: rank 0 merges, writes and
 /// reports; every rank measures the saved asset's error on its own bricks. Ranks
 /// of a team read a .vdb input on demand, so each holds little more than its bricks.
-void runBrickedFit(const FitFlags& flags, PhaseTimes& phases) {
+void runBrickedFit(const FitFlags& flags, const FitRequest& request, PhaseTimes& phases) {
     const std::unique_ptr<BrickTeam> joined = teamOfThisLaunch(reportTeamError);
     const BrickTeam& team = *joined;
     const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, team.threadsPerRank());
-    const IngestResult loaded = loadInput(flags, /*vdbOnDemand=*/team.size() > 1);
-    const VolumeTarget target = targetOf(flags, loaded);
+    const FitJob job = readInput(flags, request, /*vdbOnDemand=*/team.size() > 1);
     phases.lap("load");
     TeamFitResult bricked;
     std::string saved;  // the asset's bytes as written; empty while rank 0 has none
     try {
-        bricked = fitAllBricks(team, loaded.grid, target, flags.input, flags.options, flags.bricks.options(),
+        bricked = fitAllBricks(team, job.loaded().grid, job.target(), job.name(), request.options, request.bricks,
                                brickBars(!flags.quiet));
         phases.lap("fit");
         if (team.isRoot()) {
@@ -367,68 +392,42 @@ void runBrickedFit(const FitFlags& flags, PhaseTimes& phases) {
     team.broadcast(saved);
     if (saved.empty()) return;
     ProgressBar measuring("measuring", !flags.quiet && team.isRoot());
-    const FieldAccuracy error = measureAcrossTeam(team, saved, target, bricked, measuring.callback());
+    const FieldAccuracy error = measureAcrossTeam(team, saved, job.target(), bricked, measuring.callback());
     phases.lap("measure");
-    if (team.isRoot()) report(flags, bricked.result, target.peak(), error, &bricked, phases);
+    if (team.isRoot()) report(flags, bricked.result, job.target().peak(), error, &bricked, phases);
 }
 
-/// The fit's file with the residual layer of --max-error, over the source as read.
-std::string boundedFile(const FitFlags& flags, const BudgetedFitResult& result, BoundedLayerReport& layer,
-                        ProgressBar& bar) {
-    const ComparisonInput asRead = loadComparisonInput(flags.input, toIngestOptions(flags.source));
-    return addErrorBound(result.file, flags.output, asRead.volume, *flags.bound, layer, bar.callback());
-}
-
-/// Under --max-error, the Gaussians take the request's ratio; a bad request is
-/// refused before anything is read.
-void applyBoundRequest(FitFlags& flags) {
-    if (flags.maxError.empty()) return;
-    flags.bound = BoundRequest{flags.maxError, flags.ratioGiven ? flags.options.ratio : 0.0};
-    checkBoundRequest(*flags.bound, "--max-error", "--ratio");
-    flags.bound->applyTo(flags.options);
-}
-
-void runFit(FitFlags& flags) {
+void runFit(const FitFlags& flags) {
     tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                                 flags.threads > 0 ? flags.threads : tbb::this_task_arena::max_concurrency());
-    checkedSettings(flags.options);  // bad flags are refused before anything is read
-    applyBoundRequest(flags);
+    const FitRequest request = requestOf(flags);
     checkOutputPath("-o", flags.output, {flags.input, flags.labelVolume, flags.labelNames});
     if (!flags.logPath.empty()) {
         checkOutputPath("--log", flags.logPath, {flags.input, flags.output, flags.labelVolume, flags.labelNames});
     }
 
     PhaseTimes phases;
-    if (flags.bricks.any() && !flags.bricks.only) return runBrickedFit(flags, phases);
-    const IngestResult loaded = loadInput(flags, /*vdbOnDemand=*/false);
-    const VolumeTarget target = targetOf(flags, loaded);
+    if (flags.bricks.any() && !flags.bricks.only) return runBrickedFit(flags, request, phases);
+    const FitJob job = readInput(flags, request, /*vdbOnDemand=*/false);
     phases.lap("load");
-    if (flags.bricks.only) return writePart(flags, loaded, target);
+    if (flags.bricks.only) return writePart(flags, job);
 
     FitLog log(flags.logPath, phases.total());
-    BudgetedFitResult result;
-    flags.options.settings.reserveMeasurement = true;  // --time covers the measurement below
+    FitOutcome outcome;
     {
-        ProgressBar bar("fitting", !flags.quiet);
-        result = fitToBudget(target, flags.input, flags.options, progressObserver(bar, log), loaded.labels.get());
+        FitBars bars(!flags.quiet);
+        outcome = job.run(bars.observers(log), &phases);
     }
-    phases.lap("fit");
-    std::optional<BoundedLayerReport> layer;
-    if (flags.bound) {
-        layer.emplace();
-        ProgressBar bounding("residual layer", !flags.quiet);
-        result.file = boundedFile(flags, result, *layer, bounding);
-        phases.lap("layer");
-    }
+    const BudgetedFitResult& result = outcome.result;
     writeAssetBytes(flags.output, result.file);
     log.finish();
     phases.lap("write");
     ProgressBar measuring("measuring", !flags.quiet);
     const GaussianField saved(quantisedCopy(result.asset.params, result.asset.encoding), result.asset.cutoffSigmas);
     const FieldAccuracy error =
-        measureFieldAccuracy(saved, target, measuring.callback(), {}, defaultExportCut(result.asset));
+        measureFieldAccuracy(saved, job.target(), measuring.callback(), {}, defaultExportCut(result.asset));
     phases.lap("measure");
-    report(flags, result, target.peak(), error, nullptr, phases, layer ? &*layer : nullptr);
+    report(flags, result, job.target().peak(), error, nullptr, phases, outcome.layer ? &*outcome.layer : nullptr);
 }
 
 void addBrickFlags(CLI::App& command, BrickFlags& flags) {

@@ -20,14 +20,12 @@
 #include "render/Camera.h"
 #include "render/ShearWarp.h"
 #include "render/VolumeClassifier.h"
-#include "workflow/BoundedLayer.h"
 #include "workflow/ComparisonInput.h"
 #include "workflow/Evaluate.h"
-#include "workflow/FitToBudget.h"
+#include "workflow/FitJob.h"
 #include "workflow/ProbeAsset.h"
 #include "workflow/RenderInput.h"
 #include "workflow/RenderJob.h"
-#include "workflow/TeamFit.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -356,15 +354,6 @@ FitObserver pythonObserver(const std::optional<py::function>& progress, std::opt
     };
 }
 
-/// A whole fit, or with @a bricks a bricked one in this process (as `gvr fit --bricks`).
-BudgetedFitResult fitLoaded(const IngestResult& loaded, const std::string& name, const BudgetedFitOptions& options,
-                            std::size_t bricks, int halo, const std::optional<py::function>& progress) {
-    if (bricks == 0) return fitToBudget(loaded.grid, name, options, pythonObserver(progress, {}), loaded.labels.get());
-    const VolumeTarget target(loaded.grid, name);
-    const BrickObservers observers = [&progress](std::size_t brick) { return pythonObserver(progress, brick); };
-    return fitAllBricks(SoloTeam(), loaded.grid, target, name, options, {bricks, halo}, observers).result;
-}
-
 /// max_error: a number in the source's units, or text such as "0.5%" of its data range, or "auto".
 using MaxError = std::variant<double, std::string>;
 
@@ -373,16 +362,25 @@ BoundRequest boundRequestOf(const MaxError& maxError, std::optional<double> rati
     return {std::get<std::string>(maxError), ratio.value_or(0.0)};
 }
 
-/// The fitted asset with the residual layer of max_error over its source as read
-/// (a file: every voxel, as gvr fit --max-error reads it; a Volume: its voxels, the
-/// inactive ones at its background).
-GaussianAsset withErrorBound(const BudgetedFitResult& result, const BoundRequest& request, const std::string& path,
-                             const Volume& volume) {
-    const std::string name = path.empty() ? "volume" : path;
-    const FloatVolume source =
-        path.empty() ? comparisonInputOf(volume.grid, name).volume : loadComparisonInput(path, IngestOptions{}).volume;
-    BoundedLayerReport report;
-    return decodeAsset(addErrorBound(result.file, name, source, request, report), name);
+/// A file, read as `gvr fit` reads it, or a Volume in memory.
+FitInput fitInputOf(const std::variant<Volume, std::string>& input) {
+    FitInput fitInput;
+    if (const auto* path = std::get_if<std::string>(&input)) {
+        fitInput.path = *path;
+    } else {
+        const Volume& volume = std::get<Volume>(input);
+        fitInput.inMemory = {volume.grid, volume.labels, {}};
+    }
+    return fitInput;
+}
+
+/// Each line as a UserWarning, from a thread that does not hold the GIL.
+void warnEach(const std::vector<std::string>& lines) {
+    if (lines.empty()) return;
+    py::gil_scoped_acquire acquire;
+    for (const std::string& line : lines) {
+        if (PyErr_WarnEx(PyExc_UserWarning, inPythonTerms(line).c_str(), 1) != 0) throw py::error_already_set();
+    }
 }
 
 GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<double> ratio,
@@ -394,41 +392,32 @@ GaussianAsset fit(const std::variant<Volume, std::string>& input, std::optional<
     if (ratio && gaussians > 0) throw InputError("`gaussians`", "cannot be combined with `ratio`: both set the count");
     if (seconds && iterations > 0)
         throw InputError("`iterations`", "cannot be combined with `seconds`: both end the fit");
-    std::optional<BoundRequest> bound;
-    if (maxError) {
-        if (bricks > 0) throw InputError("`max_error`", "does not combine with `bricks`");
-        bound = boundRequestOf(*maxError, ratio);
-        checkBoundRequest(*bound, "`max_error`", "`ratio`");
-    }
-    BudgetedFitOptions options;
+    FitRequest request;
+    BudgetedFitOptions& options = request.options;
     options.settings.minSamplesPerGaussian = minSamples;
     options.labels = labels;
     options.ratio = ratio.value_or(options.ratio);
     options.gaussians = gaussians;
-    if (bound) bound->applyTo(options);
     options.ablation = ablation;
     options.settings.seed = seed;
     options.settings.iterations = iterations;
     options.settings.seconds = iterations > 0 ? 0.0 : seconds.value_or(kDefaultFitSeconds);
+    if (maxError) request.bound = boundRequestOf(*maxError, ratio);
+    request.bricks = {bricks, halo};
     try {
         const WithoutGil released;
-        const auto* path = std::get_if<std::string>(&input);
-        const Volume volume = path ? Volume{} : std::get<Volume>(input);
-        const IngestResult loaded =
-            path ? loadOrIngest(*path, IngestOptions{}) : IngestResult{volume.grid, volume.labels, {}};
-        BudgetedFitResult result = fitLoaded(loaded, path ? *path : "volume", options, bricks, halo, progress);
-        std::string note = undertrainedNote(result, options.settings, "min_samples=");
-        if (loaded.grid->activeVoxelCount() == 0) {  // as `gvr fit` warns: an empty asset is rarely what was meant
-            note =
-                "the volume has no active voxels (every voxel at or below its threshold), so the asset holds "
-                "no Gaussians";
-        }
-        if (!note.empty()) {
-            py::gil_scoped_acquire acquire;
-            if (PyErr_WarnEx(PyExc_UserWarning, note.c_str(), 1) != 0) throw py::error_already_set();
-        }
-        if (bound) return withErrorBound(result, *bound, path ? *path : std::string(), volume);
-        return std::move(result.asset);
+        const FitJob job(fitInputOf(input), std::move(request));
+        FitJobObservers observers;
+        observers.fit = pythonObserver(progress, {});
+        observers.bricks = [&progress](std::size_t brick) { return pythonObserver(progress, brick); };
+        FitOutcome outcome = job.run(observers);
+        std::vector<std::string> warnings = job.warnings();
+        const std::string undertrained =
+            undertrainedNote(outcome.result, job.request().options.settings, "min_samples=");
+        if (!undertrained.empty()) warnings.push_back(undertrained);
+        warnEach(warnings);
+        if (outcome.layer) return decodeAsset(outcome.result.file, job.name());
+        return std::move(outcome.result.asset);
     } catch (const PythonErrorPending&) {
         throw py::error_already_set();
     }

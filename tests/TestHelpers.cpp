@@ -2,9 +2,7 @@
 
 #include "io/GridBuilder.h"
 #include "io/asset/AssetFile.h"
-#include "workflow/BoundedLayer.h"
-#include "workflow/ComparisonInput.h"
-#include "workflow/FitToBudget.h"
+#include "workflow/FitJob.h"
 
 #include <sys/wait.h>
 
@@ -146,14 +144,15 @@ std::string smallGrid(const TempDir& dir, bool empty) {
 }
 
 GaussianAsset boundedAsset(const openvdb::GridBase::Ptr& grid, std::size_t gaussians, double bound) {
-    BudgetedFitOptions options;
-    options.gaussians = gaussians;
-    options.settings.seconds = 0.0;
-    options.settings.iterations = 3;
-    const BudgetedFitResult fitted = fitToBudget(grid, "grid", options);
-    BoundedLayerReport report;
-    const FloatVolume source = comparisonInputOf(grid, "grid").volume;
-    return decodeAsset(addErrorBound(fitted.file, "grid", source, BoundRequest::exactly(bound), report), "grid");
+    FitInput input;
+    input.inMemory.grid = grid;
+    FitRequest request;
+    request.options.gaussians = gaussians;
+    request.options.settings.seconds = 0.0;
+    request.options.settings.iterations = 3;
+    request.bound = BoundRequest::exactly(bound);
+    const FitJob job(input, request);
+    return decodeAsset(job.run().result.file, job.name());
 }
 
 GaussianParameters randomGaussians(std::size_t count, int channels, float extent, unsigned seed) {

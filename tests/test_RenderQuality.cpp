@@ -4,6 +4,7 @@
 // (docs/benchmarks.md, "Samples on the voxel centres, slices off the voxel planes").
 
 #include "io/Ingest.h"
+#include "pipeline/Fitter.h"
 #include "pipeline/QualityMetrics.h"
 #include "render/Camera.h"
 #include "render/RayMarcher.h"
