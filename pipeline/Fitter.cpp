@@ -184,8 +184,10 @@ private:
     /// its first pass, one iteration and its closing pass, each about a measurement.
     bool solving() const {
         if (mSettings.amplitudeSolveIterations == 0) return false;
-        return mSettings.seconds <= 0.0 ||
-               mSettings.amplitudeSolveShare * mSettings.seconds >= 3.0 * mMeasurementSeconds;
+        if (mSettings.seconds <= 0.0) return true;
+        // A share of nothing holds no pass, even before a pass has been timed.
+        const double share = mSettings.amplitudeSolveShare * mSettings.seconds;
+        return share > 0.0 && share >= 3.0 * mMeasurementSeconds;
     }
 
     /// Why the amplitude solve does not run, in words for the report; empty if it does.
