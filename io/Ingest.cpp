@@ -89,17 +89,18 @@ IngestResult ingest(const std::string& input, IngestOptions options) {
     }
 }
 
+IngestResult loadGridFile(const std::string& path, const IngestOptions& options) {
+    const openvdb::GridPtrVecPtr grids = options.vdbOnDemand ? readGridFileOnDemand(path) : readGridFile(path);
+    IngestResult result;
+    result.grid = chooseVolumeGrid(*grids, path);
+    // Read on demand, the voxels stay unread until used: each brick's target checks its own.
+    if (!options.vdbOnDemand) requireFiniteValues(*result.grid, path);
+    result.labels = options.labels.empty() ? storedLabelGrid(*grids) : readLabels(options, *result.grid);
+    return result;
+}
+
 IngestResult loadOrIngest(const std::string& input, const IngestOptions& options) {
-    if (fileKind(input) == FileKind::Vdb) {
-        const openvdb::GridPtrVecPtr grids = options.vdbOnDemand ? readGridFileOnDemand(input) : readGridFile(input);
-        IngestResult result;
-        result.grid = chooseVolumeGrid(*grids, input);
-        // Read on demand, the voxels stay unread until used: each brick's target checks its own.
-        if (!options.vdbOnDemand) requireFiniteValues(*result.grid, input);
-        result.labels = options.labels.empty() ? storedLabelGrid(*grids) : readLabels(options, *result.grid);
-        return result;
-    }
-    return ingest(input, options);
+    return fileKind(input) == FileKind::Vdb ? loadGridFile(input, options) : ingest(input, options);
 }
 
 openvdb::Int32Grid::Ptr readLabels(const IngestOptions& options, const openvdb::GridBase& image) {

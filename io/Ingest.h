@@ -31,8 +31,11 @@ struct IngestResult {
 /// @throw InputError naming the input, or the label volume, at fault.
 IngestResult ingest(const std::string& input, IngestOptions options);
 
-/// The volume grid of a .vdb file as it is (with its label grid, if any), or any
-/// other input ingested with @a options.
+/// The volume grid of a .vdb file as it is, with the label grid it holds, or with
+/// options.labels placed on it; a file that is not a .vdb is refused.
+IngestResult loadGridFile(const std::string& path, const IngestOptions& options);
+
+/// loadGridFile() for a .vdb file, else the input ingested with @a options.
 IngestResult loadOrIngest(const std::string& input, const IngestOptions& options);
 
 /// The label volume options.labels (its first volume) placed on @a image's voxels

@@ -40,7 +40,7 @@ FitJob::FitJob(FitInput input, FitRequest request)
 
 IngestResult FitJob::read(const FitInput& input, FileKind kind) {
     if (input.path.empty()) return input.inMemory;
-    if (kind == FileKind::Vdb) return loadOrIngest(input.path, input.ingest);
+    if (kind == FileKind::Vdb) return loadGridFile(input.path, input.ingest);
     return ingest(input.path, input.ingest);
 }
 

@@ -1,6 +1,5 @@
 #include "io/formats/GridFile.h"
 
-#include "io/formats/FileKind.h"
 #include "io/guard/AtomicFile.h"
 #include "io/guard/InputFile.h"
 #include "io/guard/MemoryBudget.h"
@@ -122,8 +121,7 @@ openvdb::GridPtrVecPtr loadGrids(const std::string& path, Voxels voxels, bool ha
 openvdb::GridPtrVecPtr readGrids(const std::string& path, Voxels voxels) {
     initializeOpenVdb();
     requireRegularFile(path);
-    if (fileKind(path) != FileKind::Vdb) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
-    const bool hasGridOffsets = checkVdbLengths(path);
+    const bool hasGridOffsets = checkVdbLengths(path);  // the magic number first
     openvdb::GridPtrVecPtr grids;
     try {
         grids = loadGrids(path, voxels, hasGridOffsets);

@@ -71,6 +71,14 @@ public:
         }
     }
 
+    /// Whether the file begins with OpenVDB's magic number, written as 64 bits; reads past it.
+    bool readMagic() {
+        if (left() < 8) return false;
+        const std::int32_t magic = read<std::int32_t>("the magic number");
+        skip(4, "the magic number");
+        return magic == openvdb::OPENVDB_MAGIC;
+    }
+
     void seek(std::int64_t position, const char* what) {
         if (position < std::int64_t(mIn.tellg()) || std::uint64_t(position) > mSize) {
             throw InputError(mPath, std::string("corrupt VDB file: ") + what + " points outside the file");
@@ -324,7 +332,7 @@ private:
 
 bool checkVdbLengths(const std::string& path) {
     LengthWalker file(path);
-    file.skip(8, "the magic number");
+    if (!file.readMagic()) throw InputError(path, "not a VDB file (no OpenVDB magic number)");
     const std::uint32_t version = file.read<std::uint32_t>("the format version");
     if (version < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION || version > openvdb::OPENVDB_FILE_VERSION) {
         throw InputError(path, "VDB format version " + std::to_string(version) + " (gvr reads " +

@@ -19,7 +19,8 @@ namespace gvr {
 /// and the tree (node masks, and each compressed block against the size it must
 /// decode to, Blosc's header included).
 /// @return whether the file carries grid offsets (io::File may then seek to each grid).
-/// @throw InputError naming @a path for a number that does not fit, for a format
+/// @throw InputError naming @a path for a file without OpenVDB's magic number, for a
+///        number that does not fit, for a format
 ///        version before 222 (OpenVDB 3.0), and for a grid type it cannot walk
 ///        (anything but the standard 5-4-3 trees of float, double, int32, int64,
 ///        vec3s, vec3d and vec3i).
