@@ -224,7 +224,7 @@ TEST(Cli, FileNamesThatAreNotUtf8StayInTheJsonReports) {
                                                                                 "del.vdb"));
     const test::CommandResult info = test::runGvr("info '" + latin1 + "' --json", dir);
     ASSERT_EQ(info.exitCode, 0) << info.err;
-    EXPECT_NO_THROW(nlohmann::json::parse(info.out));
+    EXPECT_TRUE(nlohmann::json::accept(info.out)) << info.out;
 }
 
 TEST(Cli, IngestThenInfoAsJson) {

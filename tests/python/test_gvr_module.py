@@ -527,6 +527,18 @@ def test_an_empty_volume_fits_with_a_warning():
         assert gvr.fit(empty, gaussians=10, iterations=2).count == 0
 
 
+def test_a_fit_warns_of_what_ingest_noticed_as_gvr_fit_does(work):
+    image = nibabel.Nifti1Image(np.arange(8 * 8 * 8).reshape(8, 8, 8).astype(np.uint8), np.eye(4))
+    image.set_sform(None, code=0)
+    image.set_qform(None, code=0)
+    path = str(work / "unplaced.nii")
+    nibabel.save(image, path)
+    assert "no sform or qform" in subprocess.run([GVR, "fit", path, "-o", str(work / "u.gvr"), "--gaussians", "8",
+                                                  "--iterations", "1", "-q"], capture_output=True, text=True).stderr
+    with pytest.warns(UserWarning, match="no sform or qform"):
+        gvr.fit(path, gaussians=8, iterations=1)
+
+
 def test_version_and_reprs(cli_asset, ch2_vdb):
     assert gvr.__version__ == run("-V").split()[1]
     assert repr(gvr.ingest(CH2)).startswith("<gvr.Volume 181x217x181 uint8, 1x1x1 mm, from ch2.nii.gz")
