@@ -16,7 +16,7 @@ struct IngestOptions {
     std::string labels;
     std::string labelNames;       ///< "ID NAME" lines naming the atlas's labels
     bool resampleLabels = false;  ///< an atlas on another lattice is resampled, not refused
-    /// loadOrIngest(): a .vdb's voxels are read when first touched (readGridFileOnDemand).
+    /// loadGridFile() and loadOrIngest(): a .vdb's voxels are read when first touched (readGridFileOnDemand).
     bool vdbOnDemand = false;
 };
 

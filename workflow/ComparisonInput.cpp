@@ -118,7 +118,7 @@ ComparisonInput loadComparisonInput(const std::string& path, const IngestOptions
         return input;
     }
     if (kind == FileKind::Vdb) {
-        input = comparisonInputOf(loadOrIngest(path, options).grid, path);
+        input = comparisonInputOf(loadGridFile(path, options).grid, path);
         const auto metadata = readVolumeMetadata(*input.grid);
         input.readAs = metadata && metadata->threshold
                            ? "the grid as stored: voxels at or below its threshold " +
