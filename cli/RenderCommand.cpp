@@ -172,7 +172,7 @@ void runRender(RenderFlags& flags) {
     for (const auto& s : stats) {
         std::cout << "wrote " << s["file"].get<std::string>() << ": " << std::fixed << std::setprecision(1)
                   << s["total_ms"].get<double>() << " ms"
-                  << (flags.renderer == "raymarch"
+                  << (request.renderer == RendererKind::RayMarch
                           ? " (ray marched)"
                           : (s["reused"].get<bool>()
                                  ? " (stack reused)"

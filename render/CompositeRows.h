@@ -8,6 +8,7 @@
 #include "render/ShearWarp.h"
 
 #include <cstdint>
+#include <numeric>
 #include <vector>
 
 namespace gvr::compositing {

@@ -3,20 +3,10 @@
 #include "render/RowCompositor.h"
 #include "render/Warp.h"
 
-#include <tbb/parallel_for.h>
-
-#if defined(__SSE2__)
-#include <immintrin.h>
-#endif
-
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <iterator>
-#include <numeric>
-#include <type_traits>
 
 namespace gvr {
 

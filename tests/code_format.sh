@@ -3,6 +3,7 @@
 # `clang-format -i FILE` on any file this names.
 set -euo pipefail
 cd "$1"
+command -v clang-format > /dev/null || { echo "code_format: no clang-format (.ci/install-deps.sh installs it)"; exit 1; }
 # find, not git ls-files: the suite runs where only .ci/install-deps.sh's packages are installed.
 mapfile -t files < <(find pipeline io render workflow bench cli python tests examples \
   -path tests/data -prune -o \( -name '*.cpp' -o -name '*.h' \) -print | sort)

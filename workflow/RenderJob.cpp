@@ -55,8 +55,7 @@ Framebuffer RenderJob::render(const OrthoCamera& camera, FrameStats& stats) {
     settings.terminationOpacity = mRequest.shearWarp.terminationOpacity;
     Framebuffer image = rayMarch(mVolume, mClassifier, camera, settings);
     stats.index = mFrames++;
-    stats.compositeMs = stats.totalMs =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    stats.compositeMs = stats.totalMs = millisecondsSince(start);
     return image;
 }
 
